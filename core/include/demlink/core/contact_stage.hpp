@@ -1,0 +1,106 @@
+#pragma once
+/// Force stage loops: particle-particle (over the half neighbour list) and
+/// particle-plane (over each plane's near list). Templated on the contact law
+/// and on whether rolling resistance is active, so the compiled loop contains
+/// exactly what the scene uses; the world picks one instantiation at set-up.
+#include "demlink/core/contact_law.hpp"
+#include "demlink/core/contact_pair_table.hpp"
+#include "demlink/core/neighbour_list.hpp"
+#include "demlink/core/particle_arrays.hpp"
+#include "demlink/core/plane_wall.hpp"
+
+namespace demlink::core {
+
+template <class Law, bool kRolling>
+void particleContactForces(ParticleArrays& p, NeighbourList& list, const ContactPairTable& table, double dt) {
+  const std::span<const std::uint32_t> offsets = list.offsets();
+  const std::span<const std::uint32_t> partners = list.partners();
+  const std::span<Vec3> history = list.history();
+  const std::size_t n = p.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3 xi = p.position[i];
+    const double ri = p.radius[i];
+    for (std::uint32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
+      const std::uint32_t j = partners[k];
+      Vec3 d = p.position[j] - xi;
+      const double radiusSum = ri + p.radius[j];
+      const double dist2 = d.squaredNorm();
+      if (dist2 >= radiusSum * radiusSum) {
+        history[k].setZero();
+        continue;
+      }
+      const double dist = std::sqrt(dist2);
+      // Coincident centres have no defined normal: push along +z rather than produce NaN.
+      const Vec3 normal = dist > 0.0 ? Vec3(d / dist) : Vec3::UnitZ();
+      const double overlap = radiusSum - dist;
+      const double armI = ri - 0.5 * overlap;
+      const double armJ = p.radius[j] - 0.5 * overlap;
+      const Vec3 vRel =
+          p.velocity[j] - p.velocity[i] - (armI * p.angular_velocity[i] + armJ * p.angular_velocity[j]).cross(normal);
+      const double rStar = ri * p.radius[j] / radiusSum;
+      const double mStar = 1.0 / (p.inv_mass[i] + p.inv_mass[j]);
+      const ContactPairParams& params = table(p.material[i], p.material[j]);
+      double normalForce = 0.0;
+      const Vec3 f = contactForce<Law>(params, normal, overlap, vRel, rStar, mStar, dt, history[k], normalForce);
+      p.force[j] += f;
+      p.force[i] -= f;
+      const Vec3 nxf = normal.cross(f);
+      p.torque[i] -= armI * nxf;
+      p.torque[j] -= armJ * nxf;
+      if constexpr (kRolling) {
+        if (params.rolling_friction > 0.0) {
+          const double reducedInertia = 1.0 / (p.inv_inertia[i] + p.inv_inertia[j]);
+          const Vec3 t = rollingResistanceTorque(params.rolling_friction, rStar, normalForce, normal,
+                                                 p.angular_velocity[j] - p.angular_velocity[i], reducedInertia, dt);
+          p.torque[j] += t;
+          p.torque[i] -= t;
+        }
+      }
+    }
+  }
+}
+
+/// Contact of particle `slot` with a rigid wall surface at `contactPoint` whose
+/// unit normal points to the particle; wallVelocity is the wall's velocity at the
+/// contact point. Returns the force on the particle; adds force and torque to it.
+template <class Law, bool kRolling>
+inline Vec3 particleWallContact(ParticleArrays& p, std::size_t slot, const ContactPairParams& params,
+                                const Vec3& normal, double overlap, const Vec3& wallVelocity, double dt, Vec3& history) {
+  // A rigid wall does not deform: the contact point is on its surface.
+  const double arm = p.radius[slot] - overlap;
+  const Vec3 vRel = p.velocity[slot] - arm * p.angular_velocity[slot].cross(normal) - wallVelocity;
+  const double rStar = p.radius[slot];
+  const double mStar = p.mass[slot];
+  double normalForce = 0.0;
+  const Vec3 f = contactForce<Law>(params, normal, overlap, vRel, rStar, mStar, dt, history, normalForce);
+  p.force[slot] += f;
+  p.torque[slot] -= arm * normal.cross(f);
+  if constexpr (kRolling) {
+    if (params.rolling_friction > 0.0) {
+      p.torque[slot] += rollingResistanceTorque(params.rolling_friction, rStar, normalForce, normal,
+                                                p.angular_velocity[slot], 1.0 / p.inv_inertia[slot], dt);
+    }
+  }
+  return f;
+}
+
+template <class Law, bool kRolling>
+void planeContactForces(ParticleArrays& p, PlaneWall& wall, const ContactPairTable& table, double dt) {
+  const Vec3 normal = wall.spec.normal;
+  for (std::size_t k = 0; k < wall.near_slots.size(); ++k) {
+    const std::uint32_t slot = wall.near_slots[k];
+    const double distance = (p.position[slot] - wall.spec.point).dot(normal);
+    const double overlap = p.radius[slot] - distance;
+    if (overlap <= 0.0) {
+      wall.near_history[k].setZero();
+      continue;
+    }
+    const Vec3 f = particleWallContact<Law, kRolling>(p, slot, table(p.material[slot], wall.spec.material), normal,
+                                                      overlap, Vec3::Zero(), dt, wall.near_history[k]);
+    const Vec3 contactPoint = p.position[slot] - distance * normal;
+    wall.force -= f;
+    wall.torque -= (contactPoint - wall.spec.point).cross(f);
+  }
+}
+
+}  // namespace demlink::core

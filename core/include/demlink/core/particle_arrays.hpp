@@ -1,0 +1,54 @@
+#pragma once
+/// Particle state as structure-of-arrays. Hot columns (position, velocity,
+/// angular velocity, force, torque: 5 x 24 bytes) are what the force and
+/// integration stages stream through; per-particle constants (radius, inverse
+/// mass and inertia, material: 28 bytes) sit in their own columns; the stable id
+/// is cold. Slots are dense [0, size()); they are reordered only by permute(),
+/// which the world calls when it compacts removed particles or sorts by cell.
+#include <cstdint>
+#include <limits>
+#include <span>
+#include <vector>
+
+#include "demlink/core/math_types.hpp"
+
+namespace demlink::core {
+
+/// Marks a removed slot in a slot mapping (newSlotOfOld).
+inline constexpr std::uint32_t kRemovedSlot = std::numeric_limits<std::uint32_t>::max();
+
+/// Everything needed to create one sphere.
+struct ParticleSpec {
+  Vec3 position = Vec3::Zero();          ///< [m]
+  Vec3 velocity = Vec3::Zero();          ///< [m/s]
+  Vec3 angular_velocity = Vec3::Zero();  ///< [rad/s]
+  double radius = 0.0;                   ///< [m]
+  std::uint32_t material = 0;            ///< index into the world's materials
+};
+
+struct ParticleArrays {
+  std::vector<Vec3> position;          ///< [m]
+  std::vector<Vec3> velocity;          ///< [m/s]
+  std::vector<Vec3> angular_velocity;  ///< [rad/s]
+  std::vector<Vec3> force;             ///< contact force of the last evaluation [N] (gravity excluded)
+  std::vector<Vec3> torque;            ///< contact torque about the centre [N m]
+  std::vector<double> radius;          ///< [m]
+  std::vector<double> mass;            ///< [kg]
+  std::vector<double> inv_mass;        ///< [1/kg]
+  std::vector<double> inv_inertia;     ///< 1 / (2/5 m R^2) [1/(kg m^2)]
+  std::vector<std::uint32_t> material;
+  std::vector<std::uint64_t> id;       ///< stable, never reused
+
+  [[nodiscard]] std::size_t size() const { return position.size(); }
+
+  /// Appends a sphere with the given density [kg/m^3] and id.
+  void append(const ParticleSpec& spec, double density, std::uint64_t stableId);
+
+  /// Reorders (and possibly shrinks) every column: new slot k takes old slot
+  /// oldSlotOfNew[k].
+  void permute(std::span<const std::uint32_t> oldSlotOfNew);
+
+  void reserve(std::size_t n);
+};
+
+}  // namespace demlink::core

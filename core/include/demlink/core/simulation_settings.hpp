@@ -1,0 +1,42 @@
+#pragma once
+/// Scene-wide settings: the speed/accuracy knobs a user chooses (time step,
+/// contact law, integrator, skin) and the world's extent. All SI.
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "demlink/core/contact_model.hpp"
+#include "demlink/core/math_types.hpp"
+
+namespace demlink::core {
+
+/// Axis-aligned box outside which particles are removed (and counted).
+struct DomainBounds {
+  Vec3 lower = Vec3::Zero();  ///< [m]
+  Vec3 upper = Vec3::Zero();  ///< [m]
+};
+
+struct SimulationSettings {
+  double time_step = 1.0e-5;                      ///< [s]
+  Vec3 gravity = Vec3(0.0, 0.0, -9.81);           ///< [m/s^2]
+  ContactModel contact_model = ContactModel::HertzMindlin;
+  IntegratorKind integrator = IntegratorKind::VelocityVerlet;
+  /// Verlet-list skin [m]; 0 chooses half the smallest particle radius.
+  double neighbour_skin = 0.0;
+  /// Largest expected impact speed [m/s]; sets the contact-duration limit on the
+  /// time step and the linear law's matched stiffness.
+  double max_impact_velocity = 2.0;
+  /// Linear law only: normal stiffness [N/m]; 0 derives it from Hertz (see
+  /// ContactPairTable) at the mean radius and max_impact_velocity.
+  double linear_normal_stiffness = 0.0;
+  /// Accept a time step above the critical limit (a warning instead of an error).
+  bool allow_unsafe_time_step = false;
+  std::optional<DomainBounds> bounds;
+  /// Re-sort particle slots by grid cell every this many neighbour builds (0: never).
+  std::uint32_t sort_every_builds = 16;
+
+  /// Throws InputError naming `fieldPrefix + ".<field>"`.
+  void validate(const std::string& fieldPrefix) const;
+};
+
+}  // namespace demlink::core

@@ -1,0 +1,96 @@
+#pragma once
+/// The particle world and its step pipeline (see docs/architecture.md):
+///   1. prescribed motion of meshes
+///   2. removal at the domain bounds
+///   3. first half kick + drift (Verlet) or the explicit Euler update
+///   4. neighbour update (only when the skin is used up)
+///   5. forces: particle-particle, particle-plane, particle-mesh
+///   6. second half kick (Verlet)
+/// Only the stages the scene needs run: no planes, no plane pass; no rolling
+/// friction in any material pair, a force kernel compiled without it.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "demlink/core/contact_pair_table.hpp"
+#include "demlink/core/critical_time_step.hpp"
+#include "demlink/core/material.hpp"
+#include "demlink/core/neighbour_list.hpp"
+#include "demlink/core/particle_arrays.hpp"
+#include "demlink/core/plane_wall.hpp"
+#include "demlink/core/simulation_settings.hpp"
+
+namespace demlink::core {
+
+/// Particles removed because they left the domain bounds.
+struct RemovalTally {
+  std::uint64_t count = 0;
+  double mass = 0.0;  ///< [kg]
+};
+
+class World {
+ public:
+  explicit World(SimulationSettings settings);
+
+  /// Adds a validated material; returns its index. Names must be unique.
+  std::uint32_t addMaterial(const Material& material);
+  [[nodiscard]] std::optional<std::uint32_t> findMaterial(const std::string& name) const;
+  /// Adds a validated sphere; returns its stable id. fieldPrefix names it in errors.
+  std::uint64_t addParticle(const ParticleSpec& spec, const std::string& fieldPrefix = "particle");
+  /// Adds a validated plane (normal is normalised); returns its index.
+  std::size_t addPlane(PlaneSpec plane, const std::string& fieldPrefix = "plane");
+
+  /// Mixes material pairs, checks the time step against the critical limit
+  /// (throws InputError unless allow_unsafe_time_step), selects the force kernel
+  /// and evaluates the initial forces. Call once before step().
+  void initialize();
+  /// Advances one time step.
+  void step();
+
+  [[nodiscard]] const SimulationSettings& settings() const { return settings_; }
+  [[nodiscard]] std::uint64_t stepCount() const { return step_count_; }
+  [[nodiscard]] double time() const { return static_cast<double>(step_count_) * settings_.time_step; }
+  [[nodiscard]] ParticleArrays& particles() { return particles_; }
+  [[nodiscard]] const ParticleArrays& particles() const { return particles_; }
+  [[nodiscard]] const std::vector<Material>& materials() const { return materials_; }
+  [[nodiscard]] const std::vector<PlaneWall>& planes() const { return planes_; }
+  [[nodiscard]] const TimeStepReport& timeStepReport() const { return time_step_report_; }
+  [[nodiscard]] const ContactPairTable& pairTable() const { return pair_table_; }
+  [[nodiscard]] const RemovalTally& removedAtBounds() const { return removed_at_bounds_; }
+  [[nodiscard]] const NeighbourList& neighbourList() const { return neighbours_; }
+  /// Names of the stages this scene runs, for the compile report.
+  [[nodiscard]] std::vector<std::string> activeStages() const;
+  /// Translational + rotational kinetic energy [J].
+  [[nodiscard]] double kineticEnergy() const;
+  /// Total particle mass [kg].
+  [[nodiscard]] double totalMass() const;
+  [[nodiscard]] bool initialized() const { return initialized_; }
+
+ private:
+  template <class Law, bool kRolling>
+  void computeForces();
+  void removeOutsideBounds();
+  void applySlotMapping(const std::vector<std::uint32_t>& oldSlotOfNew);
+  void rebuildNeighbours();
+
+  SimulationSettings settings_;
+  std::vector<Material> materials_;
+  ParticleArrays particles_;
+  std::vector<PlaneWall> planes_;
+  ContactPairTable pair_table_;
+  TimeStepReport time_step_report_;
+  NeighbourList neighbours_;
+  void (World::*compute_forces_)() = nullptr;
+  bool rolling_active_ = false;
+  bool initialized_ = false;
+  bool rebuild_pending_ = true;
+  /// Slot of every particle of the last neighbour build in the current numbering
+  /// (empty: unchanged). Composed across removals and sorts until the next build.
+  std::vector<std::uint32_t> pending_new_slot_of_old_;
+  std::uint64_t next_id_ = 1;
+  std::uint64_t step_count_ = 0;
+  RemovalTally removed_at_bounds_;
+};
+
+}  // namespace demlink::core

@@ -1,0 +1,84 @@
+#include "demlink/core/neighbour_list.hpp"
+
+#include <algorithm>
+
+namespace demlink::core {
+
+bool NeighbourList::needsRebuild(std::span<const Vec3> positions) const {
+  if (positions.size() != position_at_build_.size()) return true;
+  const double limit2 = 0.25 * skin_ * skin_;
+  for (std::size_t i = 0; i < positions.size(); ++i) {
+    if ((positions[i] - position_at_build_[i]).squaredNorm() > limit2) return true;
+  }
+  return false;
+}
+
+void NeighbourList::build(const ParticleArrays& particles, std::span<const std::uint32_t> newSlotOfOld) {
+  const std::size_t n = particles.size();
+  const std::span<const Vec3> x = particles.position;
+  const std::span<const double> r = particles.radius;
+  const double maxRadius = n > 0 ? *std::max_element(r.begin(), r.end()) : 0.0;
+  grid_.build(x, 2.0 * maxRadius + skin_);
+
+  std::vector<std::uint32_t> oldOffsets;
+  std::vector<std::uint32_t> oldPartners;
+  std::vector<Vec3> oldHistory;
+  oldOffsets.swap(offsets_);
+  oldPartners.swap(partners_);
+  oldHistory.swap(history_);
+
+  offsets_.assign(n + 1, 0);
+  partners_.reserve(oldPartners.size() + oldPartners.size() / 8 + 16);
+  const auto& dims = grid_.dims();
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto c = grid_.cellCoords(x[i]);
+    for (std::int64_t dz = -1; dz <= 1; ++dz) {
+      const std::int64_t iz = c[2] + dz;
+      if (iz < 0 || iz >= dims[2]) continue;
+      for (std::int64_t dy = -1; dy <= 1; ++dy) {
+        const std::int64_t iy = c[1] + dy;
+        if (iy < 0 || iy >= dims[1]) continue;
+        for (std::int64_t dx = -1; dx <= 1; ++dx) {
+          const std::int64_t ix = c[0] + dx;
+          if (ix < 0 || ix >= dims[0]) continue;
+          for (const std::uint32_t j : grid_.cell(grid_.cellIndex(ix, iy, iz))) {
+            if (j <= i) continue;
+            const double cutoff = r[i] + r[j] + skin_;
+            if ((x[j] - x[i]).squaredNorm() < cutoff * cutoff) partners_.push_back(j);
+          }
+        }
+      }
+    }
+    // Ascending partners: deterministic order independent of cell traversal.
+    std::sort(partners_.begin() + offsets_[i], partners_.end());
+    offsets_[i + 1] = static_cast<std::uint32_t>(partners_.size());
+  }
+  history_.assign(partners_.size(), Vec3::Zero());
+
+  // Carry the history of pairs that were touching (non-zero spring) over.
+  const std::size_t oldCount = oldOffsets.empty() ? 0 : oldOffsets.size() - 1;
+  for (std::size_t oi = 0; oi < oldCount; ++oi) {
+    const std::uint32_t a0 = newSlotOfOld.empty() ? static_cast<std::uint32_t>(oi) : newSlotOfOld[oi];
+    if (a0 == kRemovedSlot) continue;
+    for (std::uint32_t k = oldOffsets[oi]; k < oldOffsets[oi + 1]; ++k) {
+      if (oldHistory[k].isZero(0.0)) continue;
+      const std::uint32_t b0 = newSlotOfOld.empty() ? oldPartners[k] : newSlotOfOld[oldPartners[k]];
+      if (b0 == kRemovedSlot) continue;
+      // Ownership may flip when slots are reordered; the spring of B relative to A
+      // then changes sign.
+      const bool flipped = b0 < a0;
+      const std::uint32_t a = flipped ? b0 : a0;
+      const std::uint32_t b = flipped ? a0 : b0;
+      const auto rowBegin = partners_.begin() + offsets_[a];
+      const auto rowEnd = partners_.begin() + offsets_[a + 1];
+      const auto it = std::lower_bound(rowBegin, rowEnd, b);
+      if (it != rowEnd && *it == b) {
+        history_[static_cast<std::size_t>(it - partners_.begin())] = flipped ? Vec3(-oldHistory[k]) : oldHistory[k];
+      }
+    }
+  }
+  position_at_build_.assign(x.begin(), x.end());
+  ++builds_;
+}
+
+}  // namespace demlink::core

@@ -1,0 +1,61 @@
+#include "demlink/core/particle_arrays.hpp"
+
+#include <numbers>
+
+namespace demlink::core {
+namespace {
+
+template <class T>
+void permuteColumn(std::vector<T>& column, std::span<const std::uint32_t> oldSlotOfNew) {
+  std::vector<T> reordered(oldSlotOfNew.size());
+  for (std::size_t k = 0; k < oldSlotOfNew.size(); ++k) reordered[k] = column[oldSlotOfNew[k]];
+  column.swap(reordered);
+}
+
+}  // namespace
+
+void ParticleArrays::append(const ParticleSpec& spec, double density, std::uint64_t stableId) {
+  // Sphere mass is 4/3 pi R^3 rho (the solver paper's table 3 prints 3/4, a typo).
+  const double m = 4.0 / 3.0 * std::numbers::pi * spec.radius * spec.radius * spec.radius * density;
+  position.push_back(spec.position);
+  velocity.push_back(spec.velocity);
+  angular_velocity.push_back(spec.angular_velocity);
+  force.push_back(Vec3::Zero());
+  torque.push_back(Vec3::Zero());
+  radius.push_back(spec.radius);
+  mass.push_back(m);
+  inv_mass.push_back(1.0 / m);
+  inv_inertia.push_back(1.0 / (0.4 * m * spec.radius * spec.radius));
+  material.push_back(spec.material);
+  id.push_back(stableId);
+}
+
+void ParticleArrays::permute(std::span<const std::uint32_t> oldSlotOfNew) {
+  permuteColumn(position, oldSlotOfNew);
+  permuteColumn(velocity, oldSlotOfNew);
+  permuteColumn(angular_velocity, oldSlotOfNew);
+  permuteColumn(force, oldSlotOfNew);
+  permuteColumn(torque, oldSlotOfNew);
+  permuteColumn(radius, oldSlotOfNew);
+  permuteColumn(mass, oldSlotOfNew);
+  permuteColumn(inv_mass, oldSlotOfNew);
+  permuteColumn(inv_inertia, oldSlotOfNew);
+  permuteColumn(material, oldSlotOfNew);
+  permuteColumn(id, oldSlotOfNew);
+}
+
+void ParticleArrays::reserve(std::size_t n) {
+  position.reserve(n);
+  velocity.reserve(n);
+  angular_velocity.reserve(n);
+  force.reserve(n);
+  torque.reserve(n);
+  radius.reserve(n);
+  mass.reserve(n);
+  inv_mass.reserve(n);
+  inv_inertia.reserve(n);
+  material.reserve(n);
+  id.reserve(n);
+}
+
+}  // namespace demlink::core

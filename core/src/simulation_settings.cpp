@@ -1,0 +1,32 @@
+#include "demlink/core/simulation_settings.hpp"
+
+#include "demlink/core/input_error.hpp"
+
+namespace demlink::core {
+
+namespace {
+void requireFiniteVector(const std::string& field, const Vec3& v) {
+  for (int k = 0; k < 3; ++k) requireFinite(field + "[" + std::to_string(k) + "]", v[k]);
+}
+}  // namespace
+
+void SimulationSettings::validate(const std::string& fieldPrefix) const {
+  requirePositive(fieldPrefix + ".time_step", time_step);
+  requireFiniteVector(fieldPrefix + ".gravity", gravity);
+  requireNonNegative(fieldPrefix + ".neighbour_skin", neighbour_skin);
+  requirePositive(fieldPrefix + ".max_impact_velocity", max_impact_velocity);
+  requireNonNegative(fieldPrefix + ".linear_normal_stiffness", linear_normal_stiffness);
+  if (bounds) {
+    requireFiniteVector(fieldPrefix + ".bounds.lower", bounds->lower);
+    requireFiniteVector(fieldPrefix + ".bounds.upper", bounds->upper);
+    for (int k = 0; k < 3; ++k) {
+      if (!(bounds->upper[k] > bounds->lower[k])) {
+        throw InputError(fieldPrefix + ".bounds.upper[" + std::to_string(k) + "]", formatValue(bounds->upper[k]),
+                         "must be greater than bounds.lower[" + std::to_string(k) + "] = " +
+                             formatValue(bounds->lower[k]));
+      }
+    }
+  }
+}
+
+}  // namespace demlink::core

@@ -1,0 +1,218 @@
+#include "demlink/core/world.hpp"
+
+#include <algorithm>
+#include <numeric>
+
+#include "demlink/core/contact_stage.hpp"
+#include "demlink/core/input_error.hpp"
+#include "demlink/core/integrator.hpp"
+
+namespace demlink::core {
+namespace {
+
+void requireFiniteVector(const std::string& field, const Vec3& v) {
+  for (int k = 0; k < 3; ++k) requireFinite(field + "[" + std::to_string(k) + "]", v[k]);
+}
+
+}  // namespace
+
+World::World(SimulationSettings settings) : settings_(std::move(settings)) {
+  settings_.validate("simulation_box");
+}
+
+std::uint32_t World::addMaterial(const Material& material) {
+  const std::string prefix = "materials[" + material.name + "]";
+  material.validate(prefix);
+  if (findMaterial(material.name)) throw InputError(prefix + ".name", material.name, "material name already used");
+  materials_.push_back(material);
+  return static_cast<std::uint32_t>(materials_.size() - 1);
+}
+
+std::optional<std::uint32_t> World::findMaterial(const std::string& name) const {
+  for (std::size_t k = 0; k < materials_.size(); ++k) {
+    if (materials_[k].name == name) return static_cast<std::uint32_t>(k);
+  }
+  return std::nullopt;
+}
+
+std::uint64_t World::addParticle(const ParticleSpec& spec, const std::string& fieldPrefix) {
+  requirePositive(fieldPrefix + ".radius", spec.radius);
+  requireFiniteVector(fieldPrefix + ".position", spec.position);
+  requireFiniteVector(fieldPrefix + ".velocity", spec.velocity);
+  requireFiniteVector(fieldPrefix + ".angular_velocity", spec.angular_velocity);
+  if (spec.material >= materials_.size()) {
+    throw InputError(fieldPrefix + ".material", std::to_string(spec.material), "no such material");
+  }
+  const std::uint64_t id = next_id_++;
+  particles_.append(spec, materials_[spec.material].density, id);
+  rebuild_pending_ = true;
+  return id;
+}
+
+std::size_t World::addPlane(PlaneSpec plane, const std::string& fieldPrefix) {
+  requireFiniteVector(fieldPrefix + ".point", plane.point);
+  requireFiniteVector(fieldPrefix + ".normal", plane.normal);
+  const double length = plane.normal.norm();
+  if (!(length > 0.0)) throw InputError(fieldPrefix + ".normal", "(0, 0, 0)", "must be a non-zero vector");
+  if (plane.material >= materials_.size()) {
+    throw InputError(fieldPrefix + ".material", std::to_string(plane.material), "no such material");
+  }
+  plane.normal /= length;
+  planes_.push_back(PlaneWall{std::move(plane), {}, {}, Vec3::Zero(), Vec3::Zero()});
+  rebuild_pending_ = true;
+  return planes_.size() - 1;
+}
+
+void World::initialize() {
+  if (materials_.empty()) throw InputError("materials", "[]", "a scene needs at least one material");
+  std::vector<double> minRadius(materials_.size(), 0.0);
+  double radiusSum = 0.0;
+  for (std::size_t i = 0; i < particles_.size(); ++i) {
+    double& r = minRadius[particles_.material[i]];
+    r = r > 0.0 ? std::min(r, particles_.radius[i]) : particles_.radius[i];
+    radiusSum += particles_.radius[i];
+  }
+  const double meanRadius = particles_.size() > 0 ? radiusSum / static_cast<double>(particles_.size()) : 0.0;
+  if (settings_.contact_model == ContactModel::LinearSpringDashpot && meanRadius <= 0.0 &&
+      settings_.linear_normal_stiffness <= 0.0) {
+    throw InputError("simulation_box.linear_normal_stiffness", "0",
+                     "the linear law needs a stiffness when the scene starts without particles");
+  }
+  pair_table_ = ContactPairTable(materials_, settings_.contact_model,
+                                 {meanRadius, settings_.max_impact_velocity, settings_.linear_normal_stiffness});
+  time_step_report_ = criticalTimeStep(materials_, pair_table_, settings_.contact_model, minRadius,
+                                       settings_.max_impact_velocity);
+  if (settings_.time_step > time_step_report_.limit && !settings_.allow_unsafe_time_step) {
+    throw InputError("simulation_box.time_step", formatValue(settings_.time_step),
+                     "exceeds the critical limit " + formatValue(time_step_report_.limit) + " s (limited by " +
+                         time_step_report_.limited_by + ": Rayleigh T_R = " +
+                         formatValue(time_step_report_.rayleigh_time_step) + " s x " +
+                         formatValue(kRayleighSafetyFraction) + ", contact duration " +
+                         formatValue(time_step_report_.contact_duration) + " s / " +
+                         formatValue(kMinStepsPerContact) +
+                         "); lower it or set allow_unsafe_time_step to accept the risk");
+  }
+  if (settings_.neighbour_skin <= 0.0) {
+    double smallest = 0.0;
+    for (double r : minRadius) {
+      if (r > 0.0) smallest = smallest > 0.0 ? std::min(smallest, r) : r;
+    }
+    settings_.neighbour_skin = smallest > 0.0 ? 0.5 * smallest : 1.0e-3;
+  }
+  neighbours_ = NeighbourList(settings_.neighbour_skin);
+
+  rolling_active_ = pair_table_.anyRollingFriction();
+  const bool hertz = settings_.contact_model == ContactModel::HertzMindlin;
+  if (hertz) {
+    compute_forces_ = rolling_active_ ? &World::computeForces<HertzMindlinLaw, true>
+                                      : &World::computeForces<HertzMindlinLaw, false>;
+  } else {
+    compute_forces_ = rolling_active_ ? &World::computeForces<LinearSpringDashpotLaw, true>
+                                      : &World::computeForces<LinearSpringDashpotLaw, false>;
+  }
+  initialized_ = true;
+  rebuildNeighbours();
+  (this->*compute_forces_)();
+}
+
+void World::step() {
+  if (!initialized_) initialize();
+  const double dt = settings_.time_step;
+  if (settings_.bounds) removeOutsideBounds();
+  if (settings_.integrator == IntegratorKind::VelocityVerlet) {
+    kick(particles_, settings_.gravity, 0.5 * dt);
+    drift(particles_, dt);
+  } else {
+    explicitEulerStep(particles_, settings_.gravity, dt);
+  }
+  if (rebuild_pending_ || neighbours_.needsRebuild(particles_.position)) rebuildNeighbours();
+  (this->*compute_forces_)();
+  if (settings_.integrator == IntegratorKind::VelocityVerlet) kick(particles_, settings_.gravity, 0.5 * dt);
+  ++step_count_;
+}
+
+template <class Law, bool kRolling>
+void World::computeForces() {
+  std::fill(particles_.force.begin(), particles_.force.end(), Vec3::Zero());
+  std::fill(particles_.torque.begin(), particles_.torque.end(), Vec3::Zero());
+  const double dt = settings_.time_step;
+  particleContactForces<Law, kRolling>(particles_, neighbours_, pair_table_, dt);
+  for (PlaneWall& wall : planes_) {
+    wall.force.setZero();
+    wall.torque.setZero();
+    planeContactForces<Law, kRolling>(particles_, wall, pair_table_, dt);
+  }
+}
+
+void World::removeOutsideBounds() {
+  const DomainBounds& b = *settings_.bounds;
+  std::vector<std::uint32_t> keep;
+  keep.reserve(particles_.size());
+  for (std::size_t i = 0; i < particles_.size(); ++i) {
+    const Vec3& x = particles_.position[i];
+    const bool inside = (x.array() >= b.lower.array()).all() && (x.array() <= b.upper.array()).all();
+    if (inside) {
+      keep.push_back(static_cast<std::uint32_t>(i));
+    } else {
+      ++removed_at_bounds_.count;
+      removed_at_bounds_.mass += particles_.mass[i];
+    }
+  }
+  if (keep.size() != particles_.size()) applySlotMapping(keep);
+}
+
+void World::applySlotMapping(const std::vector<std::uint32_t>& oldSlotOfNew) {
+  const std::size_t before = particles_.size();
+  particles_.permute(oldSlotOfNew);
+  std::vector<std::uint32_t> newOfCurrent(before, kRemovedSlot);
+  for (std::size_t k = 0; k < oldSlotOfNew.size(); ++k) newOfCurrent[oldSlotOfNew[k]] = static_cast<std::uint32_t>(k);
+  if (pending_new_slot_of_old_.empty()) {
+    pending_new_slot_of_old_ = std::move(newOfCurrent);
+  } else {
+    for (std::uint32_t& slot : pending_new_slot_of_old_) {
+      if (slot != kRemovedSlot) slot = newOfCurrent[slot];
+    }
+  }
+  rebuild_pending_ = true;
+}
+
+void World::rebuildNeighbours() {
+  const std::uint32_t every = settings_.sort_every_builds;
+  if (every > 0 && neighbours_.buildCount() % every == 0 && particles_.size() > 1) {
+    // Cell-ordered slots keep neighbours close in memory for the force loop.
+    CellGrid grid;
+    grid.build(particles_.position, 2.0 * *std::max_element(particles_.radius.begin(), particles_.radius.end()) +
+                                        neighbours_.skin());
+    applySlotMapping(grid.sortedSlots());
+  }
+  neighbours_.build(particles_, pending_new_slot_of_old_);
+  for (PlaneWall& wall : planes_) wall.buildNearList(particles_, neighbours_.skin(), pending_new_slot_of_old_);
+  pending_new_slot_of_old_.clear();
+  rebuild_pending_ = false;
+}
+
+std::vector<std::string> World::activeStages() const {
+  std::vector<std::string> stages;
+  if (settings_.bounds) stages.emplace_back("bounds_removal");
+  stages.emplace_back(std::string(toString(settings_.integrator)));
+  stages.emplace_back("neighbour_list");
+  stages.emplace_back(std::string("particle_contacts:") + std::string(toString(settings_.contact_model)));
+  if (!planes_.empty()) stages.emplace_back("plane_contacts");
+  if (rolling_active_) stages.emplace_back("rolling_resistance");
+  return stages;
+}
+
+double World::kineticEnergy() const {
+  double energy = 0.0;
+  for (std::size_t i = 0; i < particles_.size(); ++i) {
+    energy += 0.5 * particles_.mass[i] * particles_.velocity[i].squaredNorm() +
+              0.5 / particles_.inv_inertia[i] * particles_.angular_velocity[i].squaredNorm();
+  }
+  return energy;
+}
+
+double World::totalMass() const {
+  return std::accumulate(particles_.mass.begin(), particles_.mass.end(), 0.0);
+}
+
+}  // namespace demlink::core

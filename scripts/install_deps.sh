@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# Installs the Debian packages DEMLink needs to build, test and benchmark.
+# Idempotent: only missing packages are installed; safe to run again.
+# Usage: scripts/install_deps.sh [--with-peers]   (--with-peers adds LIGGGHTS for bench/)
+set -euo pipefail
+
+packages=(
+  build-essential cmake ninja-build pkg-config
+  libasio-dev libprotobuf-dev protobuf-compiler
+  libeigen3-dev libspdlog-dev libfmt-dev
+  googletest libgtest-dev libgmock-dev libbenchmark-dev
+  python3 python3-protobuf
+)
+if [[ "${1:-}" == "--with-peers" ]]; then
+  packages+=(liggghts time)
+fi
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if ((${#missing[@]} == 0)); then
+  echo "install_deps: all ${#packages[@]} packages present"
+  exit 0
+fi
+
+echo "install_deps: installing ${missing[*]}"
+SUDO=""
+if [[ $(id -u) -ne 0 ]]; then SUDO="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
