@@ -76,10 +76,13 @@ inline Vec3 contactForce(const ContactPairParams& p, const Vec3& n, double overl
   const double ftMax = p.sliding_friction * normalForce;
   const double ft2 = ft.squaredNorm();
   if (ft2 > ftMax * ftMax) {
-    // Gross sliding: Coulomb force along the trial direction; reset the spring so
-    // it is consistent with the capped force (no stored elastic energy beyond it).
+    // Gross sliding: Coulomb force along the trial direction, and the spring alone
+    // made to carry it. (Folding the damping term into the spring, as in
+    // xi = -(F_t + gamma_t v_t)/S_t, stores a displacement opposite to the slip
+    // while damping dominates; as S_t grows with the overlap that stored spring
+    // then drives the slip instead of resisting it.)
     ft *= ftMax / std::sqrt(ft2);
-    if (k.tangential_stiffness > 0.0) xi = -(ft + gammaT * vt) / k.tangential_stiffness;
+    if (k.tangential_stiffness > 0.0) xi = -ft / k.tangential_stiffness;
   }
   return normalForce * n + ft;
 }
