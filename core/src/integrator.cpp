@@ -1,23 +1,27 @@
 #include "demlink/core/integrator.hpp"
 
+#include "demlink/core/parallel.hpp"
+
 namespace demlink::core {
 
-void kick(ParticleArrays& p, const Vec3& gravity, double h) {
-  const std::size_t n = p.size();
-  for (std::size_t i = 0; i < n; ++i) {
-    p.velocity[i] += (p.force[i] * p.inv_mass[i] + gravity) * h;
-    p.angular_velocity[i] += p.torque[i] * (p.inv_inertia[i] * h);
-  }
+void kick(ParticleArrays& p, const Vec3& gravity, double h, std::uint32_t threads) {
+  parallelChunks(p.size(), threads, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      p.velocity[i] += (p.force[i] * p.inv_mass[i] + gravity) * h;
+      p.angular_velocity[i] += p.torque[i] * (p.inv_inertia[i] * h);
+    }
+  });
 }
 
-void drift(ParticleArrays& p, double dt) {
-  const std::size_t n = p.size();
-  for (std::size_t i = 0; i < n; ++i) p.position[i] += p.velocity[i] * dt;
+void drift(ParticleArrays& p, double dt, std::uint32_t threads) {
+  parallelChunks(p.size(), threads, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) p.position[i] += p.velocity[i] * dt;
+  });
 }
 
-void explicitEulerStep(ParticleArrays& p, const Vec3& gravity, double dt) {
-  drift(p, dt);
-  kick(p, gravity, dt);
+void explicitEulerStep(ParticleArrays& p, const Vec3& gravity, double dt, std::uint32_t threads) {
+  drift(p, dt, threads);
+  kick(p, gravity, dt, threads);
 }
 
 }  // namespace demlink::core

@@ -2,15 +2,25 @@
 
 #include <algorithm>
 
+#include "demlink/core/parallel.hpp"
+
 namespace demlink::core {
 
-bool NeighbourList::needsRebuild(std::span<const Vec3> positions) const {
+bool NeighbourList::needsRebuild(std::span<const Vec3> positions, std::uint32_t threads) const {
   if (positions.size() != position_at_build_.size()) return true;
   const double limit2 = 0.25 * skin_ * skin_;
-  for (std::size_t i = 0; i < positions.size(); ++i) {
-    if ((positions[i] - position_at_build_[i]).squaredNorm() > limit2) return true;
-  }
-  return false;
+  std::vector<char> moved(threads, 0);
+  parallelParts(threads, [&](std::uint32_t part) {
+    const std::size_t begin = positions.size() * part / threads;
+    const std::size_t end = positions.size() * (part + 1) / threads;
+    for (std::size_t i = begin; i < end; ++i) {
+      if ((positions[i] - position_at_build_[i]).squaredNorm() > limit2) {
+        moved[part] = 1;
+        return;
+      }
+    }
+  });
+  return std::find(moved.begin(), moved.end(), 1) != moved.end();
 }
 
 void NeighbourList::build(const ParticleArrays& particles, std::span<const std::uint32_t> newSlotOfOld) {

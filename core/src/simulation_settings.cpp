@@ -16,6 +16,9 @@ void SimulationSettings::validate(const std::string& fieldPrefix) const {
   requireNonNegative(fieldPrefix + ".neighbour_skin", neighbour_skin);
   requirePositive(fieldPrefix + ".max_impact_velocity", max_impact_velocity);
   requireNonNegative(fieldPrefix + ".linear_normal_stiffness", linear_normal_stiffness);
+  if (threads < 1 || threads > 1024) {
+    throw InputError(fieldPrefix + ".threads", std::to_string(threads), "must be between 1 and 1024");
+  }
   if (bounds) {
     requireFiniteVector(fieldPrefix + ".bounds.lower", bounds->lower);
     requireFiniteVector(fieldPrefix + ".bounds.upper", bounds->upper);

@@ -6,6 +6,7 @@
 #include "demlink/core/contact_stage.hpp"
 #include "demlink/core/input_error.hpp"
 #include "demlink/core/integrator.hpp"
+#include "demlink/core/parallel.hpp"
 
 namespace demlink::core {
 namespace {
@@ -120,27 +121,58 @@ void World::step() {
   const double dt = settings_.time_step;
   if (settings_.bounds) removeOutsideBounds();
   if (settings_.integrator == IntegratorKind::VelocityVerlet) {
-    kick(particles_, settings_.gravity, 0.5 * dt);
-    drift(particles_, dt);
+    kick(particles_, settings_.gravity, 0.5 * dt, settings_.threads);
+    drift(particles_, dt, settings_.threads);
   } else {
-    explicitEulerStep(particles_, settings_.gravity, dt);
+    explicitEulerStep(particles_, settings_.gravity, dt, settings_.threads);
   }
-  if (rebuild_pending_ || neighbours_.needsRebuild(particles_.position)) rebuildNeighbours();
+  if (rebuild_pending_ || neighbours_.needsRebuild(particles_.position, settings_.threads)) rebuildNeighbours();
   (this->*compute_forces_)();
-  if (settings_.integrator == IntegratorKind::VelocityVerlet) kick(particles_, settings_.gravity, 0.5 * dt);
+  if (settings_.integrator == IntegratorKind::VelocityVerlet) {
+    kick(particles_, settings_.gravity, 0.5 * dt, settings_.threads);
+  }
   ++step_count_;
 }
 
 template <class Law, bool kRolling>
 void World::computeForces() {
-  std::fill(particles_.force.begin(), particles_.force.end(), Vec3::Zero());
-  std::fill(particles_.torque.begin(), particles_.torque.end(), Vec3::Zero());
   const double dt = settings_.time_step;
-  particleContactForces<Law, kRolling>(particles_, neighbours_, pair_table_, dt);
+  ParticleArrays& p = particles_;
+  parallelChunks(p.size(), settings_.threads, [&](std::size_t begin, std::size_t end) {
+    std::fill(p.force.begin() + static_cast<std::ptrdiff_t>(begin), p.force.begin() + static_cast<std::ptrdiff_t>(end),
+              Vec3::Zero());
+    std::fill(p.torque.begin() + static_cast<std::ptrdiff_t>(begin),
+              p.torque.begin() + static_cast<std::ptrdiff_t>(end), Vec3::Zero());
+  });
+  parallelParts(partition_.parts(), [&](std::uint32_t part) {
+    const std::size_t begin = partition_.rowBegin(part);
+    const std::size_t end = partition_.rowEnd(part);
+    if (part == 0) {
+      particleContactRows<Law, kRolling>(p, neighbours_, pair_table_, dt, begin, end, p.force.data(),
+                                         p.torque.data(), 0);
+      return;
+    }
+    std::vector<Vec3>& f = partition_.force(part);
+    std::vector<Vec3>& t = partition_.torque(part);
+    std::fill(f.begin(), f.end(), Vec3::Zero());
+    std::fill(t.begin(), t.end(), Vec3::Zero());
+    particleContactRows<Law, kRolling>(p, neighbours_, pair_table_, dt, begin, end, f.data(), t.data(), begin);
+  });
+  if (partition_.parts() > 1) {
+    parallelChunks(p.size(), settings_.threads, [&](std::size_t begin, std::size_t end) {
+      for (std::uint32_t part = 1; part < partition_.parts(); ++part) {
+        const std::size_t base = partition_.rowBegin(part);
+        for (std::size_t k = std::max(begin, base); k < end; ++k) {
+          p.force[k] += partition_.force(part)[k - base];
+          p.torque[k] += partition_.torque(part)[k - base];
+        }
+      }
+    });
+  }
   for (PlaneWall& wall : planes_) {
     wall.force.setZero();
     wall.torque.setZero();
-    planeContactForces<Law, kRolling>(particles_, wall, pair_table_, dt);
+    planeContactForces<Law, kRolling>(p, wall, pair_table_, dt);
   }
 }
 
@@ -186,6 +218,7 @@ void World::rebuildNeighbours() {
     applySlotMapping(grid.sortedSlots());
   }
   neighbours_.build(particles_, pending_new_slot_of_old_);
+  partition_.plan(neighbours_.offsets(), settings_.threads);
   for (PlaneWall& wall : planes_) wall.buildNearList(particles_, neighbours_.skin(), pending_new_slot_of_old_);
   pending_new_slot_of_old_.clear();
   rebuild_pending_ = false;

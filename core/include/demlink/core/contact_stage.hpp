@@ -11,18 +11,23 @@
 
 namespace demlink::core {
 
+/// Particle-particle contacts of rows [rowBegin, rowEnd) of the half list.
+/// Forces and torques of slot s are added to force[s - base], torque[s - base]
+/// (see PairLoopPartition for why every touched slot is >= base).
 template <class Law, bool kRolling>
-void particleContactForces(ParticleArrays& p, NeighbourList& list, const ContactPairTable& table, double dt) {
+void particleContactRows(ParticleArrays& p, NeighbourList& list, const ContactPairTable& table, double dt,
+                         std::size_t rowBegin, std::size_t rowEnd, Vec3* force, Vec3* torque, std::size_t base) {
   const std::span<const std::uint32_t> offsets = list.offsets();
   const std::span<const std::uint32_t> partners = list.partners();
   const std::span<Vec3> history = list.history();
-  const std::size_t n = p.size();
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = rowBegin; i < rowEnd; ++i) {
     const Vec3 xi = p.position[i];
     const double ri = p.radius[i];
+    Vec3 forceI = Vec3::Zero();
+    Vec3 torqueI = Vec3::Zero();
     for (std::uint32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
       const std::uint32_t j = partners[k];
-      Vec3 d = p.position[j] - xi;
+      const Vec3 d = p.position[j] - xi;
       const double radiusSum = ri + p.radius[j];
       const double dist2 = d.squaredNorm();
       if (dist2 >= radiusSum * radiusSum) {
@@ -42,21 +47,23 @@ void particleContactForces(ParticleArrays& p, NeighbourList& list, const Contact
       const ContactPairParams& params = table(p.material[i], p.material[j]);
       double normalForce = 0.0;
       const Vec3 f = contactForce<Law>(params, normal, overlap, vRel, rStar, mStar, dt, history[k], normalForce);
-      p.force[j] += f;
-      p.force[i] -= f;
       const Vec3 nxf = normal.cross(f);
-      p.torque[i] -= armI * nxf;
-      p.torque[j] -= armJ * nxf;
+      forceI -= f;
+      torqueI -= armI * nxf;
+      force[j - base] += f;
+      torque[j - base] -= armJ * nxf;
       if constexpr (kRolling) {
         if (params.rolling_friction > 0.0) {
           const double reducedInertia = 1.0 / (p.inv_inertia[i] + p.inv_inertia[j]);
           const Vec3 t = rollingResistanceTorque(params.rolling_friction, rStar, normalForce, normal,
                                                  p.angular_velocity[j] - p.angular_velocity[i], reducedInertia, dt);
-          p.torque[j] += t;
-          p.torque[i] -= t;
+          torque[j - base] += t;
+          torqueI -= t;
         }
       }
     }
+    force[i - base] += forceI;
+    torque[i - base] += torqueI;
   }
 }
 

@@ -10,11 +10,11 @@
 namespace demlink::core {
 
 /// v += (F/m + g) h;  omega += (T/I) h.
-void kick(ParticleArrays& p, const Vec3& gravity, double h);
+void kick(ParticleArrays& p, const Vec3& gravity, double h, std::uint32_t threads = 1);
 /// x += v dt.
-void drift(ParticleArrays& p, double dt);
+void drift(ParticleArrays& p, double dt, std::uint32_t threads = 1);
 /// Paper eqs. 14-17: positions advance with the OLD velocities, then velocities
 /// with the old accelerations.
-void explicitEulerStep(ParticleArrays& p, const Vec3& gravity, double dt);
+void explicitEulerStep(ParticleArrays& p, const Vec3& gravity, double dt, std::uint32_t threads = 1);
 
 }  // namespace demlink::core

@@ -22,7 +22,7 @@ class NeighbourList {
   [[nodiscard]] double skin() const { return skin_; }
 
   /// True when the largest displacement since the last build exceeds skin/2.
-  [[nodiscard]] bool needsRebuild(std::span<const Vec3> positions) const;
+  [[nodiscard]] bool needsRebuild(std::span<const Vec3> positions, std::uint32_t threads = 1) const;
 
   /// Rebuilds the list. newSlotOfOld maps every slot of the previous build to its
   /// current slot (kRemovedSlot if removed); empty means slots are unchanged.

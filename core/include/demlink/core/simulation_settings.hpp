@@ -32,6 +32,9 @@ struct SimulationSettings {
   /// Accept a time step above the critical limit (a warning instead of an error).
   bool allow_unsafe_time_step = false;
   std::optional<DomainBounds> bounds;
+  /// Threads for the force, integration and neighbour stages (OpenMP). Results
+  /// are deterministic for a fixed thread count; 1 runs everything serially.
+  std::uint32_t threads = 1;
   /// Re-sort particle slots by grid cell every this many neighbour builds (0: never).
   std::uint32_t sort_every_builds = 16;
 

@@ -17,6 +17,7 @@
 #include "demlink/core/critical_time_step.hpp"
 #include "demlink/core/material.hpp"
 #include "demlink/core/neighbour_list.hpp"
+#include "demlink/core/pair_loop_partition.hpp"
 #include "demlink/core/particle_arrays.hpp"
 #include "demlink/core/plane_wall.hpp"
 #include "demlink/core/simulation_settings.hpp"
@@ -81,6 +82,7 @@ class World {
   ContactPairTable pair_table_;
   TimeStepReport time_step_report_;
   NeighbourList neighbours_;
+  PairLoopPartition partition_;
   void (World::*compute_forces_)() = nullptr;
   bool rolling_active_ = false;
   bool initialized_ = false;
