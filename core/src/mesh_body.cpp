@@ -30,8 +30,8 @@ TriangleMesh axisAlignedBoxMesh(const Vec3& lo, const Vec3& hi) {
   requireFiniteVec("box.lo", lo);
   requireFiniteVec("box.hi", hi);
   if (!(hi.array() > lo.array()).all()) {
-    throw InputError("box.hi", formatVec(hi), "must exceed box.lo " + formatVec(lo) +
-                                                  " in every component");
+    throw InputError("box.hi", formatVec(hi),
+                     "must exceed box.lo " + formatVec(lo) + " in every component");
   }
   TriangleMesh mesh;
   // Corner k has x = hi.x if bit 0 of k is set, y = hi.y if bit 1, z = hi.z if bit 2.
@@ -76,8 +76,7 @@ TriangleMesh rectangleMesh(const Vec3& centre, double halfX, double halfY, std::
 }
 
 MeshBody::MeshBody(std::string name, std::vector<Vec3> localVertices,
-                   std::vector<std::array<std::uint32_t, 3>> triangles,
-                   std::uint32_t materialIndex)
+                   std::vector<std::array<std::uint32_t, 3>> triangles, std::uint32_t materialIndex)
     : name_(std::move(name)),
       localVertices_(std::move(localVertices)),
       triangles_(std::move(triangles)),
@@ -92,9 +91,9 @@ MeshBody::MeshBody(std::string name, std::vector<Vec3> localVertices,
   for (std::size_t t = 0; t < triangles_.size(); ++t) {
     for (const std::uint32_t idx : triangles_[t]) {
       if (idx >= localVertices_.size()) {
-        throw InputError(prefix + ".triangles[" + std::to_string(t) + "]", std::to_string(idx),
-                         "vertex index out of range (" + std::to_string(localVertices_.size()) +
-                             " vertices)");
+        throw InputError(
+            prefix + ".triangles[" + std::to_string(t) + "]", std::to_string(idx),
+            "vertex index out of range (" + std::to_string(localVertices_.size()) + " vertices)");
       }
     }
     const auto& tri = triangles_[t];
@@ -112,8 +111,7 @@ MeshBody MeshBody::fromStl(std::string name, const std::string& path,
   requireFiniteVec("reference_point", referencePointInFile);
   StlMesh stl = readStl(path);
   for (Vec3& v : stl.vertices) v -= referencePointInFile;
-  MeshBody body(std::move(name), std::move(stl.vertices), std::move(stl.triangles),
-                materialIndex);
+  MeshBody body(std::move(name), std::move(stl.vertices), std::move(stl.triangles), materialIndex);
   body.loadWarnings_ = std::move(stl.warnings);
   body.setPose(referencePointInFile, Quat::Identity());
   body.markNeighbourBuild();
@@ -126,8 +124,8 @@ void MeshBody::setPose(const Vec3& position, const Quat& orientation) {
   if (!orientation.coeffs().allFinite() || !(norm > 1e-12)) {
     const auto& q = orientation;
     throw InputError("pose.orientation",
-                     "(w=" + formatValue(q.w()) + ", x=" + formatValue(q.x()) + ", y=" +
-                         formatValue(q.y()) + ", z=" + formatValue(q.z()) + ")",
+                     "(w=" + formatValue(q.w()) + ", x=" + formatValue(q.x()) +
+                         ", y=" + formatValue(q.y()) + ", z=" + formatValue(q.z()) + ")",
                      "quaternion must be finite with non-zero norm");
   }
   position_ = position;

@@ -21,14 +21,14 @@ using Triangle = std::array<std::uint32_t, 3>;
 /// Removes the contacts in out[base, end) whose overlap is negative, preserving order.
 void compactMarked(std::vector<MeshContactPoint>& out, std::size_t base) {
   const auto first = out.begin() + static_cast<std::ptrdiff_t>(base);
-  out.erase(std::remove_if(first, out.end(),
-                           [](const MeshContactPoint& c) { return c.overlap < 0.0; }),
-            out.end());
+  out.erase(
+      std::remove_if(first, out.end(), [](const MeshContactPoint& c) { return c.overlap < 0.0; }),
+      out.end());
 }
 
 double distanceToTriangle(const Vec3& p, const Triangle& tri, std::span<const Vec3> vertices) {
-  const ClosestPoint cp = closestPointOnTriangle(p, vertices[tri[0]], vertices[tri[1]],
-                                                 vertices[tri[2]]);
+  const ClosestPoint cp =
+      closestPointOnTriangle(p, vertices[tri[0]], vertices[tri[1]], vertices[tri[2]]);
   return (cp.point - p).norm();
 }
 
@@ -57,10 +57,9 @@ void collectSphereMeshContacts(const Vec3& centre, double radius,
     const Vec3 toCentre = centre - cp.point;
     const double dist2 = toCentre.squaredNorm();
     if (!(dist2 < radius2)) continue;
-    const bool duplicate = std::any_of(out.begin() + static_cast<std::ptrdiff_t>(base), out.end(),
-                                       [index](const MeshContactPoint& m) {
-                                         return m.triangle == index;
-                                       });
+    const bool duplicate =
+        std::any_of(out.begin() + static_cast<std::ptrdiff_t>(base), out.end(),
+                    [index](const MeshContactPoint& m) { return m.triangle == index; });
     if (duplicate) continue;
     const double dist = std::sqrt(dist2);
     Vec3 normal;

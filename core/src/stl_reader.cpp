@@ -28,6 +28,7 @@ namespace {
 
 constexpr std::size_t kHeaderBytes = 84;
 constexpr std::size_t kFacetBytes = 50;
+constexpr std::size_t kMaxListedDegenerate = 1000;  ///< individual warnings; then a summary
 
 /// A token for error messages: at most 40 bytes, non-printable bytes shown as '?'.
 std::string printable(std::string_view s) {
@@ -116,7 +117,6 @@ class Lexer {
   void skipRestOfLine() {
     while (pos_ < text_.size() && text_[pos_] != '\n') ++pos_;
   }
-  [[nodiscard]] std::size_t line() const { return line_; }
 
  private:
   std::string_view text_;
@@ -148,7 +148,9 @@ class AsciiParser {
                      t.text.empty() ? std::string("<end of file>") : printable(t.text), reason);
   }
   void expect(const Lexer::Token& t, std::string_view keyword) const {
-    if (!equalsIgnoreCase(t.text, keyword)) fail(t, "expected keyword '" + std::string(keyword) + "'");
+    if (!equalsIgnoreCase(t.text, keyword)) {
+      fail(t, "expected keyword '" + std::string(keyword) + "'");
+    }
   }
   double number(bool mustBeFinite) {
     const Lexer::Token t = lex_.next();
@@ -238,19 +240,24 @@ void buildMesh(const std::vector<Vec3>& corners, const std::string& field, StlMe
   }
   const double minArea = kStlDegenerateAreaFactor * diag2;
 
+  std::size_t dropped = 0;
+  const auto drop = [&](std::size_t t, const std::string& why) {
+    if (++dropped <= kMaxListedDegenerate) {
+      mesh.warnings.push_back("triangle " + std::to_string(t) +
+                              " (0-based, file order) dropped: " + why);
+    }
+  };
   std::vector<std::uint32_t> newId(corners.size(), std::numeric_limits<std::uint32_t>::max());
   for (std::size_t t = 0; t < nTri; ++t) {
     const std::uint32_t r[3] = {rep[3 * t], rep[3 * t + 1], rep[3 * t + 2]};
-    const std::string prefix = "triangle " + std::to_string(t) + " (0-based, file order) dropped: ";
     if (r[0] == r[1] || r[1] == r[2] || r[0] == r[2]) {
-      mesh.warnings.push_back(prefix + "repeated vertex (degenerate)");
+      drop(t, "repeated vertex (degenerate)");
       continue;
     }
     const double area =
         0.5 * (corners[r[1]] - corners[r[0]]).cross(corners[r[2]] - corners[r[0]]).norm();
     if (!(area > 0.0) || area < minArea) {
-      mesh.warnings.push_back(prefix + "area " + formatValue(area) +
-                              " below 1e-12 * bounding-box diagonal^2 (degenerate)");
+      drop(t, "area " + formatValue(area) + " below 1e-12 * bounding-box diagonal^2 (degenerate)");
       continue;
     }
     std::array<std::uint32_t, 3> tri{};
@@ -263,20 +270,26 @@ void buildMesh(const std::vector<Vec3>& corners, const std::string& field, StlMe
     }
     mesh.triangles.push_back(tri);
   }
+  if (dropped > kMaxListedDegenerate) {
+    mesh.warnings.push_back(std::to_string(dropped) +
+                            " degenerate triangles dropped in total (first " +
+                            std::to_string(kMaxListedDegenerate) + " listed)");
+  }
   if (mesh.triangles.empty()) {
     throw InputError(field, std::to_string(nTri) + " triangles", "all triangles are degenerate");
   }
 }
 
 void validateForWrite(const std::string& field, const std::vector<Vec3>& vertices,
-                      const std::vector<std::array<std::uint32_t, 3>>& triangles,
-                      bool floatRange) {
+                      const std::vector<std::array<std::uint32_t, 3>>& triangles, bool floatRange) {
   for (std::size_t i = 0; i < vertices.size(); ++i) {
     const double m = vertices[i].cwiseAbs().maxCoeff();
-    const bool ok = floatRange ? m <= static_cast<double>(std::numeric_limits<float>::max())
-                               : std::isfinite(m);
-    if (!ok) throw InputError(field + ":vertices[" + std::to_string(i) + "]", formatValue(m),
-                              "coordinate not finite or out of range");
+    const bool ok =
+        floatRange ? m <= static_cast<double>(std::numeric_limits<float>::max()) : std::isfinite(m);
+    if (!ok) {
+      throw InputError(field + ":vertices[" + std::to_string(i) + "]", formatValue(m),
+                       "coordinate not finite or out of range");
+    }
   }
   for (std::size_t t = 0; t < triangles.size(); ++t) {
     for (const std::uint32_t idx : triangles[t]) {
@@ -329,17 +342,17 @@ StlMesh parseStl(std::string_view data, const std::string& sourceName) {
     buildMesh(corners, field, mesh);
     return mesh;
   }
-  const std::string notAscii = startsSolid ? "starts with 'solid' but contains binary bytes"
-                                           : "does not start with 'solid'";
+  const std::string notAscii =
+      startsSolid ? "starts with 'solid' but contains binary bytes" : "does not start with 'solid'";
   if (data.size() < kHeaderBytes) {
-    throw InputError(field, sizeText,
-                     "not an ASCII STL (" + notAscii +
-                         ") and shorter than the 84-byte binary STL header");
+    throw InputError(
+        field, sizeText,
+        "not an ASCII STL (" + notAscii + ") and shorter than the 84-byte binary STL header");
   }
   const std::uint64_t count = readLe32(data, 80);
   throw InputError(field, sizeText,
-                   "truncated or invalid binary STL: the header declares " +
-                       std::to_string(count) + " triangles, which needs " +
+                   "truncated or invalid binary STL: the header declares " + std::to_string(count) +
+                       " triangles, which needs " +
                        std::to_string(kHeaderBytes + kFacetBytes * count) +
                        " bytes (not an ASCII STL either: " + notAscii + ")");
 }
@@ -370,7 +383,9 @@ void writeStlBinary(const std::string& path, const std::vector<Vec3>& vertices,
   bytes.resize(80, ' ');
   appendLe32(bytes, static_cast<std::uint32_t>(triangles.size()));
   const auto putVec = [&bytes](const Vec3& v) {
-    for (int d = 0; d < 3; ++d) appendLe32(bytes, std::bit_cast<std::uint32_t>(static_cast<float>(v[d])));
+    for (int d = 0; d < 3; ++d) {
+      appendLe32(bytes, std::bit_cast<std::uint32_t>(static_cast<float>(v[d])));
+    }
   };
   for (const auto& tri : triangles) {
     const Vec3& a = vertices[tri[0]];

@@ -29,10 +29,9 @@ ClosestPoint closestOnSegment(const Vec3& p, const Vec3& s, const Vec3& e, Trian
 /// Fallback for (numerically) degenerate triangles: the best of the three edges.
 ClosestPoint closestOnEdges(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
   using F = TriangleFeature;
-  const ClosestPoint candidates[3] = {
-      closestOnSegment(p, a, b, F::Edge0, F::Vertex0, F::Vertex1),
-      closestOnSegment(p, b, c, F::Edge1, F::Vertex1, F::Vertex2),
-      closestOnSegment(p, c, a, F::Edge2, F::Vertex2, F::Vertex0)};
+  const ClosestPoint candidates[3] = {closestOnSegment(p, a, b, F::Edge0, F::Vertex0, F::Vertex1),
+                                      closestOnSegment(p, b, c, F::Edge1, F::Vertex1, F::Vertex2),
+                                      closestOnSegment(p, c, a, F::Edge2, F::Vertex2, F::Vertex0)};
   const ClosestPoint* best = &candidates[0];
   double bestDist2 = (p - best->point).squaredNorm();
   for (const ClosestPoint& cand : candidates) {

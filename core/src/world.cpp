@@ -64,6 +64,16 @@ std::size_t World::addPlane(PlaneSpec plane, const std::string& fieldPrefix) {
   return planes_.size() - 1;
 }
 
+std::size_t World::addMesh(MeshBody mesh, const std::string& fieldPrefix) {
+  if (mesh.materialIndex() >= materials_.size()) {
+    throw InputError(fieldPrefix + ".material", std::to_string(mesh.materialIndex()), "no such material");
+  }
+  meshes_.push_back(std::move(mesh));
+  mesh_near_.emplace_back();
+  rebuild_pending_ = true;
+  return meshes_.size() - 1;
+}
+
 void World::initialize() {
   if (materials_.empty()) throw InputError("materials", "[]", "a scene needs at least one material");
   std::vector<double> minRadius(materials_.size(), 0.0);
@@ -119,6 +129,11 @@ void World::initialize() {
 void World::step() {
   if (!initialized_) initialize();
   const double dt = settings_.time_step;
+  bool meshMovedFar = false;
+  for (MeshBody& mesh : meshes_) {
+    if (!mesh.linearVelocity().isZero(0.0) || !mesh.angularVelocity().isZero(0.0)) mesh.advance(dt);
+    meshMovedFar = meshMovedFar || mesh.maxDisplacementSinceMark() > 0.5 * neighbours_.skin();
+  }
   if (settings_.bounds) removeOutsideBounds();
   if (settings_.integrator == IntegratorKind::VelocityVerlet) {
     kick(particles_, settings_.gravity, 0.5 * dt, settings_.threads);
@@ -126,7 +141,9 @@ void World::step() {
   } else {
     explicitEulerStep(particles_, settings_.gravity, dt, settings_.threads);
   }
-  if (rebuild_pending_ || neighbours_.needsRebuild(particles_.position, settings_.threads)) rebuildNeighbours();
+  if (rebuild_pending_ || meshMovedFar || neighbours_.needsRebuild(particles_.position, settings_.threads)) {
+    rebuildNeighbours();
+  }
   (this->*compute_forces_)();
   if (settings_.integrator == IntegratorKind::VelocityVerlet) {
     kick(particles_, settings_.gravity, 0.5 * dt, settings_.threads);
@@ -174,6 +191,10 @@ void World::computeForces() {
     wall.torque.setZero();
     planeContactForces<Law, kRolling>(p, wall, pair_table_, dt);
   }
+  for (std::size_t m = 0; m < meshes_.size(); ++m) {
+    meshes_[m].clearWrench();
+    meshContactForces<Law, kRolling>(p, meshes_[m], mesh_near_[m], pair_table_, dt, mesh_contacts_scratch_);
+  }
 }
 
 void World::removeOutsideBounds() {
@@ -220,6 +241,10 @@ void World::rebuildNeighbours() {
   neighbours_.build(particles_, pending_new_slot_of_old_);
   partition_.plan(neighbours_.offsets(), settings_.threads);
   for (PlaneWall& wall : planes_) wall.buildNearList(particles_, neighbours_.skin(), pending_new_slot_of_old_);
+  for (std::size_t m = 0; m < meshes_.size(); ++m) {
+    mesh_near_[m].build(particles_, meshes_[m], neighbours_.grid(), neighbours_.skin(), pending_new_slot_of_old_);
+    meshes_[m].markNeighbourBuild();
+  }
   pending_new_slot_of_old_.clear();
   rebuild_pending_ = false;
 }
@@ -231,6 +256,7 @@ std::vector<std::string> World::activeStages() const {
   stages.emplace_back("neighbour_list");
   stages.emplace_back(std::string("particle_contacts:") + std::string(toString(settings_.contact_model)));
   if (!planes_.empty()) stages.emplace_back("plane_contacts");
+  if (!meshes_.empty()) stages.emplace_back("mesh_motion_and_contacts");
   if (rolling_active_) stages.emplace_back("rolling_resistance");
   return stages;
 }

@@ -1,10 +1,14 @@
 #pragma once
-/// Force stage loops: particle-particle (over the half neighbour list) and
-/// particle-plane (over each plane's near list). Templated on the contact law
+/// Force stage loops: particle-particle (over the half neighbour list),
+/// particle-plane (over each plane's near list) and particle-mesh (over each
+/// mesh's near list). Templated on the contact law
 /// and on whether rolling resistance is active, so the compiled loop contains
 /// exactly what the scene uses; the world picks one instantiation at set-up.
 #include "demlink/core/contact_law.hpp"
 #include "demlink/core/contact_pair_table.hpp"
+#include "demlink/core/mesh_body.hpp"
+#include "demlink/core/mesh_contact.hpp"
+#include "demlink/core/mesh_near_list.hpp"
 #include "demlink/core/neighbour_list.hpp"
 #include "demlink/core/particle_arrays.hpp"
 #include "demlink/core/plane_wall.hpp"
@@ -107,6 +111,57 @@ void planeContactForces(ParticleArrays& p, PlaneWall& wall, const ContactPairTab
     const Vec3 contactPoint = p.position[slot] - distance * normal;
     wall.force -= f;
     wall.torque -= (contactPoint - wall.spec.point).cross(f);
+  }
+}
+
+/// Particle-mesh contacts. Per particle, the de-duplicated contacts with its
+/// candidate triangles (mesh_contact.hpp) each get the wall contact law with the
+/// mesh's velocity at the contact point. Each candidate keeps its own tangential
+/// spring; when a particle rolls from one triangle onto the next, the spring of
+/// the triangle it left is handed to the new contact instead of being dropped, so
+/// a finely meshed flat floor behaves like a plane.
+template <class Law, bool kRolling>
+void meshContactForces(ParticleArrays& p, MeshBody& mesh, MeshNearList& near, const ContactPairTable& table,
+                       double dt, std::vector<MeshContactPoint>& contacts) {
+  const std::span<const Vec3> vertices = mesh.worldVertices();
+  const std::span<const std::array<std::uint32_t, 3>> triangles = mesh.triangles();
+  for (std::size_t k = 0; k < near.slots.size(); ++k) {
+    const std::uint32_t slot = near.slots[k];
+    const std::uint32_t rowBegin = near.offsets[k];
+    const std::uint32_t rowEnd = near.offsets[k + 1];
+    contacts.clear();
+    collectSphereMeshContacts(p.position[slot], p.radius[slot],
+                              std::span<const std::uint32_t>(near.triangles.data() + rowBegin, rowEnd - rowBegin),
+                              vertices, triangles, contacts);
+    auto entryOf = [&](std::uint32_t triangle) {
+      return static_cast<std::uint32_t>(
+          std::lower_bound(near.triangles.begin() + rowBegin, near.triangles.begin() + rowEnd, triangle) -
+          near.triangles.begin());
+    };
+    // Springs of candidates that touched last step but not now are released ...
+    std::uint32_t released[4];
+    std::uint32_t releasedCount = 0;
+    for (std::uint32_t e = rowBegin; e < rowEnd; ++e) {
+      if (near.history[e].isZero(0.0)) continue;
+      const bool touching = std::any_of(contacts.begin(), contacts.end(),
+                                        [&](const MeshContactPoint& c) { return c.triangle == near.triangles[e]; });
+      if (touching) continue;
+      if (releasedCount < 4) released[releasedCount++] = e; else near.history[e].setZero();
+    }
+    const ContactPairParams& params = table(p.material[slot], mesh.materialIndex());
+    for (const MeshContactPoint& c : contacts) {
+      Vec3& history = near.history[entryOf(c.triangle)];
+      // ... and handed to a new contact of the same particle.
+      if (history.isZero(0.0) && releasedCount > 0) {
+        const std::uint32_t from = released[--releasedCount];
+        history = near.history[from];
+        near.history[from].setZero();
+      }
+      const Vec3 f = particleWallContact<Law, kRolling>(p, slot, params, c.normal, c.overlap,
+                                                        mesh.velocityAt(c.point), dt, history);
+      mesh.addContactForce(-f, c.point);
+    }
+    for (std::uint32_t r = 0; r < releasedCount; ++r) near.history[released[r]].setZero();
   }
 }
 

@@ -15,7 +15,8 @@
 ///
 /// Degenerate triangles (a repeated vertex index after merging, or area below
 /// 1e-12 * (bounding-box diagonal)^2) carry no surface; they are dropped and reported in
-/// `warnings`. Vertices referenced only by dropped triangles are removed as well.
+/// `warnings` (one line per triangle with its 0-based file index, at most 1000 lines plus a
+/// summary line with the total). Vertices referenced only by dropped triangles are removed.
 #include <array>
 #include <cstdint>
 #include <string>

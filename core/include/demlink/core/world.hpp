@@ -16,6 +16,9 @@
 #include "demlink/core/contact_pair_table.hpp"
 #include "demlink/core/critical_time_step.hpp"
 #include "demlink/core/material.hpp"
+#include "demlink/core/mesh_body.hpp"
+#include "demlink/core/mesh_contact.hpp"
+#include "demlink/core/mesh_near_list.hpp"
 #include "demlink/core/neighbour_list.hpp"
 #include "demlink/core/pair_loop_partition.hpp"
 #include "demlink/core/particle_arrays.hpp"
@@ -42,6 +45,10 @@ class World {
   /// Adds a validated plane (normal is normalised); returns its index.
   std::size_t addPlane(PlaneSpec plane, const std::string& fieldPrefix = "plane");
 
+  /// Adds a mesh body under prescribed motion (its material index must exist);
+  /// returns its index. Set its pose and velocity through mesh(index).
+  std::size_t addMesh(MeshBody mesh, const std::string& fieldPrefix = "mesh");
+
   /// Mixes material pairs, checks the time step against the critical limit
   /// (throws InputError unless allow_unsafe_time_step), selects the force kernel
   /// and evaluates the initial forces. Call once before step().
@@ -56,6 +63,8 @@ class World {
   [[nodiscard]] const ParticleArrays& particles() const { return particles_; }
   [[nodiscard]] const std::vector<Material>& materials() const { return materials_; }
   [[nodiscard]] const std::vector<PlaneWall>& planes() const { return planes_; }
+  [[nodiscard]] const std::vector<MeshBody>& meshes() const { return meshes_; }
+  [[nodiscard]] MeshBody& mesh(std::size_t index) { return meshes_.at(index); }
   [[nodiscard]] const TimeStepReport& timeStepReport() const { return time_step_report_; }
   [[nodiscard]] const ContactPairTable& pairTable() const { return pair_table_; }
   [[nodiscard]] const RemovalTally& removedAtBounds() const { return removed_at_bounds_; }
@@ -79,6 +88,9 @@ class World {
   std::vector<Material> materials_;
   ParticleArrays particles_;
   std::vector<PlaneWall> planes_;
+  std::vector<MeshBody> meshes_;
+  std::vector<MeshNearList> mesh_near_;
+  std::vector<MeshContactPoint> mesh_contacts_scratch_;
   ContactPairTable pair_table_;
   TimeStepReport time_step_report_;
   NeighbourList neighbours_;
