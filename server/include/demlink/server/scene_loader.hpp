@@ -1,0 +1,27 @@
+#pragma once
+/// Reading and writing scene files.
+///
+/// A scene file is the canonical protobuf JSON form of demlink.v1.Scene (see
+/// proto/demlink/v1/scene.proto): the same component declarations a client sends
+/// over TCP. Parsing is strict: an unknown field is an error (it is almost always
+/// a typo that would otherwise silently take a default). Field names may be the
+/// proto names (snake_case) or their lowerCamelCase JSON names.
+#include <string>
+
+#include "demlink/v1/scene.pb.h"
+
+namespace demlink::server {
+
+/// Parses a scene file. Throws core::InputError with field = `path` for a missing
+/// or unreadable file and for invalid JSON or schema errors (the reason carries
+/// the parser's message, which names the offending field, e.g.
+/// "(components[0].simulation_box) time_stepp: Cannot find field.").
+[[nodiscard]] v1::Scene loadSceneFile(const std::string& path);
+
+/// Parses scene JSON held in memory; `sourceName` takes the place of the path in errors.
+[[nodiscard]] v1::Scene parseSceneJson(const std::string& json, const std::string& sourceName);
+
+/// The scene as indented JSON with proto field names (what a scene file looks like).
+[[nodiscard]] std::string sceneToJson(const v1::Scene& scene);
+
+}  // namespace demlink::server

@@ -1,0 +1,91 @@
+/// The demlink-run tool as a user runs it: exit codes 0 / 2, summary.csv rows,
+/// the field named in the error message, no crash on garbage.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdlib>
+
+#include "test_support.hpp"
+
+namespace demlink::server {
+namespace {
+
+struct Result {
+  int exit_code = -1;
+  std::string output;  ///< stdout and stderr
+};
+
+/// Runs demlink-run with `arguments` (each passed quoted), output captured in dir/tool.log.
+Result runTool(const std::vector<std::string>& arguments, const std::filesystem::path& dir) {
+  const std::filesystem::path log = dir / "tool.log";
+  // Built with append(): GCC 12 reports a false -Wrestrict for `"literal" + std::string` at -O3.
+  std::string command;
+  command.append("\"").append(DEMLINK_RUN_EXE).append("\"");
+  for (const std::string& argument : arguments) command.append(" \"").append(argument).append("\"");
+  command.append(" > \"").append(log.string()).append("\" 2>&1");
+  const int status = std::system(command.c_str());
+  Result result;
+  if (status != -1 && WIFEXITED(status)) result.exit_code = WEXITSTATUS(status);
+  result.output = test::readText(log);
+  return result;
+}
+
+std::size_t lineCount(const std::string& text) { return test::countOccurrences(text, "\n"); }
+
+TEST(DemlinkRun, TinySceneExitsZeroAndWritesOneSummaryRowPerFrame) {
+  const test::ScratchDir scratch;
+  const std::filesystem::path& dir = scratch.path();
+  test::writeText(dir / "tiny.json", test::tinySceneJson(0.01, 0.0025));
+  const Result result = runTool({(dir / "tiny.json").string(), "--output", (dir / "out").string()}, dir);
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  // Frames at 0, 0.0025, 0.005, 0.0075, 0.01 s, plus the header.
+  EXPECT_EQ(lineCount(test::readText(dir / "out" / "summary.csv")), 6u);
+  EXPECT_NE(result.output.find("critical time step"), std::string::npos) << "compile report first";
+  EXPECT_NE(result.output.find("finished"), std::string::npos) << result.output;
+}
+
+TEST(DemlinkRun, EndTimeOverrideAndQuiet) {
+  const test::ScratchDir scratch;
+  const std::filesystem::path& dir = scratch.path();
+  test::writeText(dir / "tiny.json", test::tinySceneJson(0.01, 0.0025));
+  const Result result = runTool(
+      {(dir / "tiny.json").string(), "--quiet", "--end-time", "0.005", "--output=" + (dir / "out").string()}, dir);
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  EXPECT_EQ(lineCount(test::readText(dir / "out" / "summary.csv")), 4u);
+  EXPECT_EQ(result.output.find("finished"), std::string::npos) << "--quiet prints no info lines";
+}
+
+TEST(DemlinkRun, BadSceneExitsTwoNamingTheField) {
+  const test::ScratchDir scratch;
+  const std::filesystem::path& dir = scratch.path();
+  std::string json = test::tinySceneJson(0.01, 0.0025);
+  json.replace(json.find("\"density\": 2500"), 15, "\"density\": -1");
+  test::writeText(dir / "bad.json", json);
+  const Result result = runTool({(dir / "bad.json").string(), "--output", (dir / "out").string()}, dir);
+  EXPECT_EQ(result.exit_code, 2) << result.output;
+  EXPECT_NE(result.output.find("error: components[1].material.density = -1: must be > 0"), std::string::npos)
+      << result.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "out" / "summary.csv"));
+}
+
+TEST(DemlinkRun, BadInputNeverCrashes) {
+  const test::ScratchDir scratch;
+  const std::filesystem::path& dir = scratch.path();
+  test::writeText(dir / "garbage.json", std::string("\x7f\x45\x4c\x46\x00\xff{[\"", 9));
+  test::writeText(dir / "typo.json", R"({"components": [{"name": "b", "simulation_box": {"end_tme": 1}}]})");
+  const std::string typoScene = (dir / "typo.json").string();
+  EXPECT_EQ(runTool({(dir / "garbage.json").string()}, dir).exit_code, 2);
+  const Result typo = runTool({typoScene}, dir);
+  EXPECT_EQ(typo.exit_code, 2);
+  EXPECT_NE(typo.output.find("end_tme"), std::string::npos) << typo.output;
+  EXPECT_EQ(runTool({(dir / "missing.json").string()}, dir).exit_code, 2);
+  EXPECT_EQ(runTool({}, dir).exit_code, 2) << "no scene";
+  EXPECT_EQ(runTool({typoScene, "--frobnicate"}, dir).exit_code, 2);
+  EXPECT_EQ(runTool({typoScene, "--end-time", "-1"}, dir).exit_code, 2);
+  EXPECT_EQ(runTool({typoScene, "--end-time"}, dir).exit_code, 2);
+  EXPECT_EQ(runTool({typoScene, "second.json"}, dir).exit_code, 2);
+  EXPECT_EQ(runTool({"--help"}, dir).exit_code, 0);
+}
+
+}  // namespace
+}  // namespace demlink::server
