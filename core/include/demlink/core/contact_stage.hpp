@@ -35,7 +35,7 @@ void particleContactRows(ParticleArrays& p, NeighbourList& list, const ContactPa
       const double radiusSum = ri + p.radius[j];
       const double dist2 = d.squaredNorm();
       if (dist2 >= radiusSum * radiusSum) {
-        history[k].setZero();
+        if (!history[k].isZero(0.0)) history[k].setZero();  // no store traffic for idle pairs
         continue;
       }
       const double dist = std::sqrt(dist2);
@@ -75,7 +75,7 @@ void particleContactRows(ParticleArrays& p, NeighbourList& list, const ContactPa
 /// unit normal points to the particle; wallVelocity is the wall's velocity at the
 /// contact point. Returns the force on the particle; adds force and torque to it.
 template <class Law, bool kRolling>
-inline Vec3 particleWallContact(ParticleArrays& p, std::size_t slot, const ContactPairParams& params,
+DEMLINK_FORCE_INLINE Vec3 particleWallContact(ParticleArrays& p, std::size_t slot, const ContactPairParams& params,
                                 const Vec3& normal, double overlap, const Vec3& wallVelocity, double dt, Vec3& history) {
   // A rigid wall does not deform: the contact point is on its surface.
   const double arm = p.radius[slot] - overlap;
