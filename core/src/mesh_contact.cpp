@@ -12,6 +12,7 @@
 #include <cassert>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 
 namespace demlink::core {
 namespace {
@@ -42,7 +43,14 @@ void collectSphereMeshContacts(const Vec3& centre, double radius,
   assert(radius > 0.0);
   const std::size_t base = out.size();
   const double radius2 = radius * radius;
-  const double tol = kMeshContactRelTolerance * radius;
+  // Point tolerance: relative to the radius, plus a few ulps of the coordinate magnitude,
+  // because closest points of far-from-origin meshes carry rounding of about eps * |x|.
+  // Computed distances carry the same absolute rounding (distSlack).
+  const double coordScale = centre.cwiseAbs().maxCoeff() + radius;
+  const double distSlack =
+      kMeshContactUlpFactor * std::numeric_limits<double>::epsilon() * coordScale;
+  const double tol = kMeshContactRelTolerance * radius + distSlack;
+  const double tolDiff = 0.25 * tol;
 
   // Stage 0: raw contacts, one per distinct candidate triangle within reach.
   for (const std::uint32_t index : candidateTriangles) {
@@ -61,39 +69,65 @@ void collectSphereMeshContacts(const Vec3& centre, double radius,
         std::any_of(out.begin() + static_cast<std::ptrdiff_t>(base), out.end(),
                     [index](const MeshContactPoint& m) { return m.triangle == index; });
     if (duplicate) continue;
-    const double dist = std::sqrt(dist2);
+    double dist = std::sqrt(dist2);
     Vec3 normal;
-    if (dist > 0.0) {
-      normal = toCentre / dist;
-    } else {
-      // Centre exactly on the triangle: the only meaningful direction is the face normal.
+    if (cp.feature == TriangleFeature::Face || !(dist > 0.0)) {
+      // Face region: the direction to the centre is +-(unit face normal) exactly; using the
+      // face normal avoids the rounding of (centre - point)/dist for small distances and makes
+      // the contact identical to an infinite-plane contact. This also covers a centre lying
+      // exactly on the triangle (dist == 0), where no other direction is defined.
       const Vec3 n = (b - a).cross(c - a);
       const double nNorm = n.norm();
-      if (!(nNorm > 0.0)) continue;
-      normal = n / nNorm;
+      if (!(nNorm > 0.0)) {
+        if (!(dist > 0.0)) continue;  // zero-area triangle and centre on it: no direction
+        normal = toCentre / dist;
+      } else {
+        const Vec3 unit = n / nNorm;
+        const double height = (centre - a).dot(unit);
+        normal = height < 0.0 ? Vec3(-unit) : unit;
+        if (cp.feature == TriangleFeature::Face) dist = std::abs(height);
+      }
+    } else {
+      normal = toCentre / dist;
     }
+    if (!(dist < radius)) continue;
     out.push_back({index, cp.point, normal, radius - dist, cp.feature});
   }
   const std::size_t count = out.size() - base;
   if (count < 2) return;
 
   // Stage 1: drop edge/vertex contacts whose point lies on another contacting triangle that
-  // has a face contact or a strictly closer closest point.
+  // has a face contact or a closer closest point (see the header for the rule).
+  bool anyKept = false;
   for (std::size_t i = base; i < out.size(); ++i) {
     MeshContactPoint& ci = out[i];
-    if (ci.feature == TriangleFeature::Face) continue;
+    if (ci.feature == TriangleFeature::Face) {
+      anyKept = true;
+      continue;
+    }
     const double distI = (centre - ci.point).norm();
-    for (std::size_t j = base; j < out.size(); ++j) {
+    bool drop = false;
+    for (std::size_t j = base; j < out.size() && !drop; ++j) {
       if (j == i) continue;
       const MeshContactPoint& cj = out[j];
       const double distJ = (centre - cj.point).norm();
-      const bool betterThere = cj.feature == TriangleFeature::Face || distJ < distI - tol;
-      if (!betterThere) continue;
-      if (distanceToTriangle(ci.point, triangles[cj.triangle], worldVertices) < tol) {
-        ci.overlap = -std::abs(ci.overlap);  // mark; decided against the unmarked geometry
-        break;
-      }
+      const bool closer = cj.feature == TriangleFeature::Face || distJ < distI ||
+                          (distJ <= distI + distSlack && (cj.point - ci.point).norm() > tolDiff);
+      drop = closer && distanceToTriangle(ci.point, triangles[cj.triangle], worldVertices) < tol;
     }
+    if (drop) {
+      ci.overlap = -ci.overlap;  // mark; later decisions still see the full geometry
+    } else {
+      anyKept = true;
+    }
+  }
+  if (!anyKept) {
+    // Only reachable through rounding in near-degenerate ties: keep the closest contact.
+    auto best = out.begin() + static_cast<std::ptrdiff_t>(base);
+    for (auto it = best; it != out.end(); ++it) {
+      if (-it->overlap > -best->overlap) best = it;  // marked overlaps are negated
+    }
+    best->overlap = -best->overlap;
   }
   compactMarked(out, base);
 
@@ -102,7 +136,7 @@ void collectSphereMeshContacts(const Vec3& centre, double radius,
     for (std::size_t j = base; j < out.size(); ++j) {
       if (j == i || out[j].triangle > out[i].triangle) continue;
       if ((out[j].point - out[i].point).norm() < tol) {
-        out[i].overlap = -std::abs(out[i].overlap);
+        out[i].overlap = -out[i].overlap;
         break;
       }
     }

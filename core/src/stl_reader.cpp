@@ -361,7 +361,10 @@ StlMesh readStl(const std::string& path) {
   const std::string field = "stl:" + path;
   std::error_code ec;
   const auto status = std::filesystem::status(path, ec);
-  if (!std::filesystem::exists(status)) throw InputError(field, path, "file does not exist");
+  if (status.type() == std::filesystem::file_type::not_found) {
+    throw InputError(field, path, "file does not exist");
+  }
+  if (ec) throw InputError(field, path, "cannot be accessed: " + ec.message());
   if (!std::filesystem::is_regular_file(status)) {
     throw InputError(field, path, "is not a regular file");
   }

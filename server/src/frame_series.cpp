@@ -103,12 +103,28 @@ FrameStats FrameSeries::writeFrame(const core::World& world, double wallSeconds)
   core::writeParticlesVtp((directory_ / file).string(), world.particles());
   entries_.push_back({stats.time, file});
   core::writePvd((directory_ / "particles.pvd").string(), entries_);
+  if (!world.meshes().empty()) writeMeshes(world, stats.time);
   summary_ << fmt::format("{:.9g},{},{:.9g},{:.9g},{:.9g},{},{:.3f}\n", stats.time, stats.particles,
                           stats.kinetic_energy, stats.mean_z, stats.max_z, stats.neighbour_builds,
                           stats.wall_seconds);
   summary_.flush();
   if (!summary_) throw std::runtime_error("cannot write " + (directory_ / "summary.csv").string());
   return stats;
+}
+
+void FrameSeries::writeMeshes(const core::World& world, double time) {
+  // All meshes of the frame in one file, so ParaView shows them as one series.
+  std::vector<core::Vec3> vertices;
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+  for (const core::MeshBody& mesh : world.meshes()) {
+    const auto base = static_cast<std::uint32_t>(vertices.size());
+    vertices.insert(vertices.end(), mesh.worldVertices().begin(), mesh.worldVertices().end());
+    for (const auto& t : mesh.triangles()) triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+  }
+  const std::string file = fmt::format("meshes_{:06}.vtp", mesh_entries_.size());
+  core::writeMeshVtp((directory_ / file).string(), vertices, triangles);
+  mesh_entries_.push_back({time, file});
+  core::writePvd((directory_ / "meshes.pvd").string(), mesh_entries_);
 }
 
 }  // namespace demlink::server

@@ -10,9 +10,12 @@
 /// "components[i].<kind>.<field>", so a user can find it in the scene file.
 #include "demlink/server/scene_translator.hpp"
 
+#include <algorithm>
+
 #include <map>
 #include <string_view>
 #include <system_error>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -103,6 +106,9 @@ core::SimulationSettings toSettings(const v1::SimulationBox& box, const std::str
   if (box.has_max_impact_velocity()) settings.max_impact_velocity = box.max_impact_velocity();
   settings.linear_normal_stiffness = box.linear_normal_stiffness();
   settings.allow_unsafe_time_step = box.allow_unsafe_time_step();
+  if (box.has_threads()) {
+    settings.threads = box.threads() == 0 ? std::max(1u, std::thread::hardware_concurrency()) : box.threads();
+  }
   if (box.has_bounds()) {
     const v1::SimulationBox::Bounds& bounds = box.bounds();
     if (!bounds.has_lower()) throw InputError(prefix + ".bounds.lower", "(missing)", "required when bounds is given");
@@ -234,6 +240,25 @@ MeshBodyDeclaration translateMeshBody(const v1::MeshBody& mesh, const std::strin
   return out;
 }
 
+namespace {
+
+/// Loads the STL, places it at the declared pose and hands it to the engine.
+void addMeshBody(const MeshBodyDeclaration& declaration, const std::string& prefix, core::World& world) {
+  core::MeshBody body = [&] {
+    try {
+      return core::MeshBody::fromStl(declaration.name, declaration.stl_file.string(), declaration.reference_point,
+                                     declaration.material);
+    } catch (const InputError& e) {
+      throw InputError(prefix + ".stl_file", e.value(), e.what());
+    }
+  }();
+  body.setPose(declaration.position, declaration.orientation);
+  body.setVelocity(declaration.linear_velocity, declaration.angular_velocity);
+  world.addMesh(std::move(body), prefix);
+}
+
+}  // namespace
+
 TranslatedScene translateScene(const v1::Scene& scene, const std::filesystem::path& sceneDirectory) {
   const int boxIndex = checkStructure(scene);
   const std::string boxPrefix = componentPath(boxIndex) + ".simulation_box";
@@ -260,7 +285,8 @@ TranslatedScene translateScene(const v1::Scene& scene, const std::filesystem::pa
         const std::uint32_t material = resolveMaterial(materials, mesh.material(), prefix + ".material");
         const MeshBodyDeclaration declaration =
             translateMeshBody(mesh, component.name(), material, sceneDirectory, prefix);
-        throw InputError(prefix, quoted(declaration.name), "mesh_body not yet supported by the engine");
+        addMeshBody(declaration, prefix, out.world);
+        break;
       }
       case v1::ComponentDeclaration::kSimulationBox:
       case v1::ComponentDeclaration::kMaterial:

@@ -1,15 +1,16 @@
 /// Tests for sphere-vs-mesh contacts and their de-duplication. Expected values come from
 /// independent geometry: the infinite plane for flat meshes, and the exact closest point of an
 /// axis-aligned box (component-wise clamp) for the convex box.
-#include "demlink/core/mesh_contact.hpp"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <numbers>
 #include <numeric>
 #include <random>
 
 #include "demlink/core/mesh_body.hpp"
+#include "demlink/core/mesh_contact.hpp"
 
 namespace demlink::core {
 namespace {
@@ -39,10 +40,9 @@ void expectSinglePlaneContact(const std::vector<MeshContactPoint>& contacts, con
 
 /// Number of triangles using vertex v.
 int valence(const TriangleMesh& mesh, std::uint32_t v) {
-  return static_cast<int>(std::count_if(mesh.triangles.begin(), mesh.triangles.end(),
-                                        [v](const auto& t) {
-                                          return t[0] == v || t[1] == v || t[2] == v;
-                                        }));
+  return static_cast<int>(
+      std::count_if(mesh.triangles.begin(), mesh.triangles.end(),
+                    [v](const auto& t) { return t[0] == v || t[1] == v || t[2] == v; }));
 }
 
 class FlatMesh : public ::testing::Test {
@@ -62,14 +62,14 @@ TEST_F(FlatMesh, InteriorOfATriangleGivesOneFaceContact) {
 
 TEST_F(FlatMesh, ExactlyAboveSharedGridEdgeGivesOneContact) {
   const Vec3 centre(0.25, 0.0, height_);  // midpoint of the edge (0,0)-(0.5,0)
-  expectSinglePlaneContact(contactsWithAll(centre, radius_, mesh_), centre, radius_,
-                           Vec3::Zero(), Vec3::UnitZ());
+  expectSinglePlaneContact(contactsWithAll(centre, radius_, mesh_), centre, radius_, Vec3::Zero(),
+                           Vec3::UnitZ());
 }
 
 TEST_F(FlatMesh, ExactlyAboveSharedDiagonalEdgeGivesOneContact) {
   const Vec3 centre(0.25, 0.25, height_);  // midpoint of the diagonal (0,0)-(0.5,0.5)
-  expectSinglePlaneContact(contactsWithAll(centre, radius_, mesh_), centre, radius_,
-                           Vec3::Zero(), Vec3::UnitZ());
+  expectSinglePlaneContact(contactsWithAll(centre, radius_, mesh_), centre, radius_, Vec3::Zero(),
+                           Vec3::UnitZ());
 }
 
 TEST_F(FlatMesh, ExactlyAboveVertexSharedBySixTrianglesGivesOneContact) {
@@ -82,6 +82,22 @@ TEST_F(FlatMesh, ExactlyAboveVertexSharedBySixTrianglesGivesOneContact) {
   EXPECT_TRUE(isVertex(contacts[0].feature));
 }
 
+TEST_F(FlatMesh, CentresVeryCloseToSharedVerticesAndEdgesMatchInfinitePlane) {
+  // Offsets of 1e-8 .. 1e-3 radii from a valence-6 vertex: distance differences between the
+  // neighbouring triangles' closest points are then far below any "1e-9 * radius" tolerance.
+  std::mt19937_64 rng(4);
+  std::uniform_real_distribution<double> angle(0.0, 2.0 * std::numbers::pi);
+  std::uniform_real_distribution<double> logOffset(-8.0, -3.0);
+  for (int k = 0; k < 3000; ++k) {
+    const double delta = radius_ * std::pow(10.0, logOffset(rng));
+    const double phi = angle(rng);
+    const Vec3 base = (k % 2 == 0) ? Vec3(0.0, 0.0, 0.0) : Vec3(0.25, 0.25, 0.0);  // vertex/edge
+    const Vec3 centre = base + Vec3(delta * std::cos(phi), delta * std::sin(phi), height_);
+    expectSinglePlaneContact(contactsWithAll(centre, radius_, mesh_), centre, radius_, Vec3::Zero(),
+                             Vec3::UnitZ());
+  }
+}
+
 TEST_F(FlatMesh, RandomCentresOverInteriorMatchInfinitePlane) {
   std::mt19937_64 rng(99);
   std::uniform_real_distribution<double> xy(-0.85, 0.85);
@@ -92,8 +108,8 @@ TEST_F(FlatMesh, RandomCentresOverInteriorMatchInfinitePlane) {
     const bool snap = (k % 2) == 1;
     const Vec3 centre(snap ? 0.125 * grid(rng) : xy(rng), snap ? 0.125 * grid(rng) : xy(rng),
                       h(rng));
-    expectSinglePlaneContact(contactsWithAll(centre, radius_, mesh_), centre, radius_,
-                             Vec3::Zero(), Vec3::UnitZ());
+    expectSinglePlaneContact(contactsWithAll(centre, radius_, mesh_), centre, radius_, Vec3::Zero(),
+                             Vec3::UnitZ());
   }
 }
 
@@ -114,6 +130,32 @@ TEST(MeshContact, TiltedFlatMeshMatchesInfinitePlaneIncludingVerticesAndEdges) {
     const Vec3 local(snap ? 0.125 * grid(rng) : xy(rng), snap ? 0.125 * grid(rng) : xy(rng), 0.0);
     const Vec3 centre = rot * local + shift + h(rng) * n;
     expectSinglePlaneContact(contactsWithAll(centre, radius, mesh), centre, radius, shift, n);
+  }
+}
+
+TEST(MeshContact, SmallSphereOnFineMeshFarFromOriginGivesOneContact) {
+  // Millimetre cells 300 km from the origin: coordinate rounding (ulp 6e-11 m) far exceeds
+  // 1e-9 * radius, so the de-duplication tolerance must account for coordinate magnitude.
+  // The rounded vertices also tilt each triangle by up to ~1e-7 rad, hence the tolerances.
+  const double cell = 2e-3;
+  const TriangleMesh flat = rectangleMesh(Vec3::Zero(), 2 * cell, 2 * cell, 4, 4);
+  const Mat3 rot = Eigen::AngleAxisd(0.4, Vec3(0.3, -1.0, 0.2).normalized()).toRotationMatrix();
+  const Vec3 shift(3.0e5, -3.0e3, 5.0e2);
+  TriangleMesh mesh = flat;
+  for (Vec3& v : mesh.vertices) v = rot * v + shift;
+  const Vec3 n = rot * Vec3::UnitZ();
+  const double radius = 1e-3;
+  std::mt19937_64 rng(8);
+  std::uniform_real_distribution<double> h(0.05 * radius, 0.95 * radius);
+  std::uniform_int_distribution<int> grid(-6, 6);
+  for (int k = 0; k < 1000; ++k) {
+    const Vec3 local(0.25 * cell * grid(rng), 0.25 * cell * grid(rng), 0.0);
+    const double height = h(rng);
+    const Vec3 centre = rot * local + shift + height * n;
+    const auto contacts = contactsWithAll(centre, radius, mesh);
+    ASSERT_EQ(contacts.size(), 1u) << "local " << local.transpose();
+    EXPECT_NEAR(contacts[0].overlap, radius - height, 3e-10);
+    EXPECT_NEAR((contacts[0].normal - n).norm(), 0.0, 1e-6);
   }
 }
 
@@ -216,6 +258,35 @@ TEST(MeshContact, ConcaveValleyGivesTwoFaceContacts) {
   EXPECT_NEAR(contacts[1].overlap, 0.05, 1e-12);
 }
 
+TEST(MeshContact, RandomCentresInsideBoxGiveOneFaceContactPerWallInReach) {
+  // Inside a closed box every wall within reach is a separate concave contact (two-sided
+  // triangles, normal pointing inward towards the centre).
+  const Vec3 lo(0.0, 0.0, 0.0), hi(1.0, 0.8, 0.6);
+  const TriangleMesh box = axisAlignedBoxMesh(lo, hi);
+  const double radius = 0.2;
+  std::mt19937_64 rng(77);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int k = 0; k < 2000; ++k) {
+    const Vec3 centre = lo + (hi - lo).cwiseProduct(Vec3(u(rng), u(rng), u(rng)));
+    std::vector<std::pair<Vec3, double>> expected;  // (normal, overlap) per wall in reach
+    for (int axis = 0; axis < 3; ++axis) {
+      const double toLo = centre[axis] - lo[axis];
+      const double toHi = hi[axis] - centre[axis];
+      if (toLo < radius) expected.emplace_back(Vec3::Unit(axis), radius - toLo);
+      if (toHi < radius) expected.emplace_back(-Vec3::Unit(axis), radius - toHi);
+    }
+    const auto contacts = contactsWithAll(centre, radius, box);
+    ASSERT_EQ(contacts.size(), expected.size()) << "centre " << centre.transpose();
+    for (const auto& [normal, overlap] : expected) {
+      const auto match = std::find_if(contacts.begin(), contacts.end(), [&](const auto& c) {
+        return (c.normal - normal).norm() < 1e-12 && std::abs(c.overlap - overlap) < 1e-12 &&
+               c.feature == F::Face;
+      });
+      EXPECT_NE(match, contacts.end()) << "centre " << centre.transpose();
+    }
+  }
+}
+
 TEST(MeshContact, OpenBoundaryEdgeGivesOneEdgeContact) {
   const TriangleMesh mesh = rectangleMesh(Vec3::Zero(), 1.0, 1.0, 4, 4);
   const double radius = 0.1;
@@ -271,8 +342,8 @@ TEST(MeshContact, DuplicateCandidatesAreIgnored) {
   const std::vector<std::uint32_t> candidates = {1, 1, 3, 1};
   std::vector<MeshContactPoint> out;
   // Inside triangle 3 = upper-left half of cell (i=1, j=0): (0,-1), (1,0), (0,0).
-  collectSphereMeshContacts(Vec3(0.2, -0.3, 0.05), 0.1, candidates, mesh.vertices,
-                            mesh.triangles, out);
+  collectSphereMeshContacts(Vec3(0.2, -0.3, 0.05), 0.1, candidates, mesh.vertices, mesh.triangles,
+                            out);
   ASSERT_EQ(out.size(), 1u);
   EXPECT_EQ(out[0].triangle, 3u);
   EXPECT_EQ(out[0].feature, F::Face);

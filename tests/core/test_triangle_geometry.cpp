@@ -1,7 +1,5 @@
 /// Tests for closestPointOnTriangle: every Voronoi region against hand-computed answers, and
 /// random triangles/points against brute-force minimisation over a fine barycentric grid.
-#include "demlink/core/triangle_geometry.hpp"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -10,6 +8,8 @@
 #include <limits>
 #include <random>
 #include <utility>
+
+#include "demlink/core/triangle_geometry.hpp"
 
 namespace demlink::core {
 namespace {
@@ -28,14 +28,14 @@ TEST(TriangleGeometry, EveryVoronoiRegionOfRightTriangle) {
   const RegionCase cases[] = {
       {Vec3(0.2, 0.3, 0.5), Vec3(0.2, 0.3, 0.0), F::Face},
       {Vec3(0.2, 0.3, -0.7), Vec3(0.2, 0.3, 0.0), F::Face},
-      {Vec3(0.5, -0.3, 0.4), Vec3(0.5, 0.0, 0.0), F::Edge0},   // below ab
-      {Vec3(0.8, 0.8, -0.2), Vec3(0.5, 0.5, 0.0), F::Edge1},   // beyond bc: projection (0.5,0.5)
-      {Vec3(0.9, 0.3, 0.0), Vec3(0.8, 0.2, 0.0), F::Edge1},    // t = (p-b).(c-b)/|c-b|^2 = 0.2
-      {Vec3(-0.3, 0.5, 0.1), Vec3(0.0, 0.5, 0.0), F::Edge2},   // left of ca
+      {Vec3(0.5, -0.3, 0.4), Vec3(0.5, 0.0, 0.0), F::Edge0},  // below ab
+      {Vec3(0.8, 0.8, -0.2), Vec3(0.5, 0.5, 0.0), F::Edge1},  // beyond bc: projection (0.5,0.5)
+      {Vec3(0.9, 0.3, 0.0), Vec3(0.8, 0.2, 0.0), F::Edge1},   // t = (p-b).(c-b)/|c-b|^2 = 0.2
+      {Vec3(-0.3, 0.5, 0.1), Vec3(0.0, 0.5, 0.0), F::Edge2},  // left of ca
       {Vec3(-0.5, -0.5, 0.3), a, F::Vertex0},
       {Vec3(-0.1, -0.0, 2.0), a, F::Vertex0},
       {Vec3(1.5, -0.2, 0.0), b, F::Vertex1},
-      {Vec3(2.0, 0.5, 0.0), b, F::Vertex1},                     // (c-b).(p-b) = -1+0.5 < 0
+      {Vec3(2.0, 0.5, 0.0), b, F::Vertex1},  // (c-b).(p-b) = -1+0.5 < 0
       {Vec3(-0.1, 1.5, 1.0), c, F::Vertex2},
   };
   for (const auto& tc : cases) {
@@ -105,7 +105,9 @@ Vec3 referenceClosestPoint(const Vec3& p, const Vec3& a, const Vec3& b, const Ve
 TEST(TriangleGeometry, RandomPointsMatchBruteForceAndFeatureIsConsistent) {
   std::mt19937_64 rng(12345);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
-  const auto randVec = [&](double scale) -> Vec3 { return Vec3(unit(rng), unit(rng), unit(rng)) * scale; };
+  const auto randVec = [&](double scale) -> Vec3 {
+    return Vec3(unit(rng), unit(rng), unit(rng)) * scale;
+  };
   constexpr int kGrid = 120;
   std::array<int, 7> seen{};
   for (int trial = 0; trial < 400; ++trial) {
@@ -147,9 +149,15 @@ TEST(TriangleGeometry, RandomPointsMatchBruteForceAndFeatureIsConsistent) {
         EXPECT_NEAR(bc[1], 0.0, eps);
         EXPECT_NEAR(d.dot((a - c).normalized()), 0.0, 1e-9);
         break;
-      case F::Vertex0: EXPECT_EQ(cp.point, a); break;
-      case F::Vertex1: EXPECT_EQ(cp.point, b); break;
-      case F::Vertex2: EXPECT_EQ(cp.point, c); break;
+      case F::Vertex0:
+        EXPECT_EQ(cp.point, a);
+        break;
+      case F::Vertex1:
+        EXPECT_EQ(cp.point, b);
+        break;
+      case F::Vertex2:
+        EXPECT_EQ(cp.point, c);
+        break;
     }
     ++seen[static_cast<std::size_t>(cp.feature)];
   }

@@ -2,6 +2,9 @@
 /// references between components, file paths relative to the scene.
 #include <gtest/gtest.h>
 
+#include "demlink/core/mesh_body.hpp"
+#include "demlink/core/stl_reader.hpp"
+
 #include "demlink/core/input_error.hpp"
 #include "demlink/server/scene_loader.hpp"
 #include "demlink/server/scene_translator.hpp"
@@ -177,16 +180,36 @@ TEST(SceneTranslator, ParticleFileIsRelativeToTheSceneDirectory) {
   EXPECT_NE(std::string(missing.what()).find("not found"), std::string::npos) << missing.what();
 }
 
-TEST(SceneTranslator, MeshBodyIsRefusedUntilTheEngineSupportsIt) {
+TEST(SceneTranslator, MeshBodyIsLoadedPlacedAndMoving) {
   const test::ScratchDir scratch;
   const std::filesystem::path& dir = scratch.path();
-  test::writeText(dir / "part.stl", "solid x\nendsolid x\n");
-  const v1::Scene scene =
-      sceneOf({kBox, kGlass, R"({"name": "bucket", "mesh_body": {"stl_file": "part.stl", "material": "glass"}})"});
-  const core::InputError error = translationError(scene, dir);
-  EXPECT_EQ(error.field(), "components[2].mesh_body");
-  EXPECT_NE(std::string(error.what()).find("mesh_body not yet supported by the engine"), std::string::npos);
+  const core::TriangleMesh box = core::axisAlignedBoxMesh(core::Vec3(0, 0, 0), core::Vec3(0.1, 0.2, 0.3));
+  core::writeStlBinary((dir / "part.stl").string(), box.vertices, box.triangles);
+  const v1::Scene scene = sceneOf({kBox, kGlass, R"({"name": "bucket", "mesh_body": {"stl_file": "part.stl",
+      "material": "glass", "position": {"x": 1.0}, "reference_point": {"x": 0.05},
+      "linear_velocity": {"z": -0.5}}})"});
+  TranslatedScene translated = translateScene(scene, dir);
+  ASSERT_EQ(translated.world.meshes().size(), 1u);
+  const core::MeshBody& mesh = translated.world.meshes()[0];
+  EXPECT_EQ(mesh.name(), "bucket");
+  EXPECT_EQ(mesh.triangles().size(), 12u);
+  // The file's x = 0.05 (reference point) sits at world x = 1.0: x in [0.95, 1.05].
+  double minX = 1e9;
+  double maxX = -1e9;
+  for (const core::Vec3& v : mesh.worldVertices()) {
+    minX = std::min(minX, v.x());
+    maxX = std::max(maxX, v.x());
+  }
+  // Binary STL stores float32 coordinates: 1e-7 relative.
+  EXPECT_NEAR(minX, 0.95, 1e-7);
+  EXPECT_NEAR(maxX, 1.05, 1e-7);
+  EXPECT_EQ(mesh.linearVelocity(), core::Vec3(0, 0, -0.5));
 
+  test::writeText(dir / "empty.stl", "solid x\nendsolid x\n");
+  const v1::Scene empty =
+      sceneOf({kBox, kGlass, R"({"name": "bucket", "mesh_body": {"stl_file": "empty.stl", "material": "glass"}})"});
+  const core::InputError error = translationError(empty, dir);
+  EXPECT_EQ(error.field(), "components[2].mesh_body.stl_file");
   const core::InputError missing = translationError(scene, dir / "elsewhere");
   EXPECT_EQ(missing.field(), "components[2].mesh_body.stl_file");
 }

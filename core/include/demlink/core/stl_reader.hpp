@@ -10,8 +10,11 @@
 /// Format detection: a binary STL is an 80-byte header, a little-endian uint32 triangle count
 /// and 50 bytes per triangle, so its size is exactly 84 + 50 * count. Binary files are allowed
 /// to start with "solid", hence the size test decides first. Otherwise a file starting with
-/// "solid" whose bytes are all text (no NUL/control bytes) is parsed as ASCII; anything else
-/// is reported as a truncated or invalid binary file.
+/// "solid" whose bytes are all text (no NUL/control bytes other than whitespace; UTF-8 is
+/// fine) is parsed as ASCII; anything else is reported as a truncated or invalid binary file.
+/// ASCII keywords are matched case-insensitively; several solids in one file are concatenated;
+/// a missing final "endsolid" is only a warning. Facet normals must be numbers but may be
+/// non-finite (they are ignored).
 ///
 /// Degenerate triangles (a repeated vertex index after merging, or area below
 /// 1e-12 * (bounding-box diagonal)^2) carry no surface; they are dropped and reported in

@@ -40,7 +40,8 @@ class FrameSeries {
   /// Does nothing for a scene without planes.
   void writePlanes(const core::World& world);
 
-  /// Writes particles_<frame>.vtp, rewrites particles.pvd and appends a summary row.
+  /// Writes particles_<frame>.vtp, rewrites particles.pvd and appends a summary row;
+  /// with meshes, also meshes_<frame>.vtp (all meshes at their current pose) and meshes.pvd.
   /// Returns the frame's statistics.
   FrameStats writeFrame(const core::World& world, double wallSeconds);
 
@@ -49,7 +50,10 @@ class FrameSeries {
 
  private:
   std::filesystem::path directory_;
+  void writeMeshes(const core::World& world, double time);
+
   std::vector<core::PvdEntry> entries_;
+  std::vector<core::PvdEntry> mesh_entries_;
   std::ofstream summary_;
 };
 
