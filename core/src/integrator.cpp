@@ -19,6 +19,16 @@ void drift(ParticleArrays& p, double dt, std::uint32_t threads) {
   });
 }
 
+void kickAndDrift(ParticleArrays& p, const Vec3& gravity, double h, double dt, std::uint32_t threads) {
+  parallelChunks(p.size(), threads, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      p.velocity[i] += (p.force[i] * p.inv_mass[i] + gravity) * h;
+      p.angular_velocity[i] += p.torque[i] * (p.inv_inertia[i] * h);
+      p.position[i] += p.velocity[i] * dt;
+    }
+  });
+}
+
 void explicitEulerStep(ParticleArrays& p, const Vec3& gravity, double dt, std::uint32_t threads) {
   drift(p, dt, threads);
   kick(p, gravity, dt, threads);

@@ -136,8 +136,7 @@ void World::step() {
   }
   if (settings_.bounds) removeOutsideBounds();
   if (settings_.integrator == IntegratorKind::VelocityVerlet) {
-    kick(particles_, settings_.gravity, 0.5 * dt, settings_.threads);
-    drift(particles_, dt, settings_.threads);
+    kickAndDrift(particles_, settings_.gravity, 0.5 * dt, dt, settings_.threads);
   } else {
     explicitEulerStep(particles_, settings_.gravity, dt, settings_.threads);
   }
@@ -155,37 +154,41 @@ template <class Law, bool kRolling>
 void World::computeForces() {
   const double dt = settings_.time_step;
   ParticleArrays& p = particles_;
-  parallelChunks(p.size(), settings_.threads, [&](std::size_t begin, std::size_t end) {
+  PairLoopPartition& parts = partition_;
+  // One region, three phases: clear, pair rows (part 0 into the arrays, other
+  // parts into their own buffers), then add the buffers in fixed part order.
+  parallelRegion(settings_.threads, [&](const ParallelRegion& region) {
+    const auto [begin, end] = region.share(p.size());
     std::fill(p.force.begin() + static_cast<std::ptrdiff_t>(begin), p.force.begin() + static_cast<std::ptrdiff_t>(end),
               Vec3::Zero());
     std::fill(p.torque.begin() + static_cast<std::ptrdiff_t>(begin),
               p.torque.begin() + static_cast<std::ptrdiff_t>(end), Vec3::Zero());
-  });
-  parallelParts(partition_.parts(), [&](std::uint32_t part) {
-    const std::size_t begin = partition_.rowBegin(part);
-    const std::size_t end = partition_.rowEnd(part);
-    if (part == 0) {
-      particleContactRows<Law, kRolling>(p, neighbours_, pair_table_, dt, begin, end, p.force.data(),
-                                         p.torque.data(), 0);
-      return;
-    }
-    std::vector<Vec3>& f = partition_.force(part);
-    std::vector<Vec3>& t = partition_.torque(part);
-    std::fill(f.begin(), f.end(), Vec3::Zero());
-    std::fill(t.begin(), t.end(), Vec3::Zero());
-    particleContactRows<Law, kRolling>(p, neighbours_, pair_table_, dt, begin, end, f.data(), t.data(), begin);
-  });
-  if (partition_.parts() > 1) {
-    parallelChunks(p.size(), settings_.threads, [&](std::size_t begin, std::size_t end) {
-      for (std::uint32_t part = 1; part < partition_.parts(); ++part) {
-        const std::size_t base = partition_.rowBegin(part);
-        for (std::size_t k = std::max(begin, base); k < end; ++k) {
-          p.force[k] += partition_.force(part)[k - base];
-          p.torque[k] += partition_.torque(part)[k - base];
-        }
+    region.barrier();
+    for (std::uint32_t part = region.thread(); part < parts.parts(); part += region.count()) {
+      const std::size_t rowBegin = parts.rowBegin(part);
+      const std::size_t rowEnd = parts.rowEnd(part);
+      if (part == 0) {
+        particleContactRows<Law, kRolling>(p, neighbours_, pair_table_, dt, rowBegin, rowEnd, p.force.data(),
+                                           p.torque.data(), 0);
+        continue;
       }
-    });
-  }
+      std::vector<Vec3>& f = parts.force(part);
+      std::vector<Vec3>& t = parts.torque(part);
+      std::fill(f.begin(), f.end(), Vec3::Zero());
+      std::fill(t.begin(), t.end(), Vec3::Zero());
+      particleContactRows<Law, kRolling>(p, neighbours_, pair_table_, dt, rowBegin, rowEnd, f.data(), t.data(),
+                                         rowBegin);
+    }
+    if (parts.parts() == 1) return;
+    region.barrier();
+    for (std::uint32_t part = 1; part < parts.parts(); ++part) {
+      const std::size_t base = parts.rowBegin(part);
+      for (std::size_t k = std::max(begin, base); k < end; ++k) {
+        p.force[k] += parts.force(part)[k - base];
+        p.torque[k] += parts.torque(part)[k - base];
+      }
+    }
+  });
   for (PlaneWall& wall : planes_) {
     wall.force.setZero();
     wall.torque.setZero();

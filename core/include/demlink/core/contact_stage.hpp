@@ -40,7 +40,8 @@ void particleContactRows(ParticleArrays& p, NeighbourList& list, const ContactPa
       }
       const double dist = std::sqrt(dist2);
       // Coincident centres have no defined normal: push along +z rather than produce NaN.
-      const Vec3 normal = dist > 0.0 ? Vec3(d / dist) : Vec3::UnitZ();
+      // (One reciprocal: Eigen's d / dist would issue three divisions.)
+      const Vec3 normal = dist > 0.0 ? Vec3(d * (1.0 / dist)) : Vec3::UnitZ();
       const double overlap = radiusSum - dist;
       const double armI = ri - 0.5 * overlap;
       const double armJ = p.radius[j] - 0.5 * overlap;

@@ -13,6 +13,8 @@ namespace demlink::core {
 void kick(ParticleArrays& p, const Vec3& gravity, double h, std::uint32_t threads = 1);
 /// x += v dt.
 void drift(ParticleArrays& p, double dt, std::uint32_t threads = 1);
+/// kick(h) then drift(dt) in one pass over the particles.
+void kickAndDrift(ParticleArrays& p, const Vec3& gravity, double h, double dt, std::uint32_t threads = 1);
 /// Paper eqs. 14-17: positions advance with the OLD velocities, then velocities
 /// with the old accelerations.
 void explicitEulerStep(ParticleArrays& p, const Vec3& gravity, double dt, std::uint32_t threads = 1);
