@@ -35,23 +35,6 @@ double totalEnergy(const World& world) {
   return energy;
 }
 
-/// Pairs (by id) currently in contact, read from the neighbour list.
-std::set<std::pair<std::uint64_t, std::uint64_t>> contactsOf(const World& world) {
-  std::set<std::pair<std::uint64_t, std::uint64_t>> contacts;
-  const ParticleArrays& p = world.particles();
-  const auto offsets = world.neighbourList().offsets();
-  const auto partners = world.neighbourList().partners();
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    for (std::uint32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
-      const std::uint32_t j = partners[k];
-      if ((p.position[j] - p.position[i]).norm() < p.radius[i] + p.radius[j]) {
-        contacts.emplace(std::min(p.id[i], p.id[j]), std::max(p.id[i], p.id[j]));
-      }
-    }
-  }
-  return contacts;
-}
-
 TEST(Conservation, ElasticGasKeepsEnergyOver10kCollisions) {
   constexpr double kRadius = 0.001;
   constexpr double kBox = 0.02;
@@ -81,11 +64,11 @@ TEST(Conservation, ElasticGasKeepsEnergyOver10kCollisions) {
   world.initialize();
   const double e0 = totalEnergy(world);
   std::uint64_t collisions = 0;
-  auto previous = contactsOf(world);
+  auto previous = test::listedContacts(world);
   double worstDrift = 0.0;
   while (collisions < 10'000) {
     world.step();
-    const auto current = contactsOf(world);
+    const auto current = test::listedContacts(world);
     for (const auto& pair : current) collisions += previous.count(pair) == 0 ? 1 : 0;
     previous = current;
     if (world.stepCount() % 2000 == 0) worstDrift = std::max(worstDrift, std::abs(totalEnergy(world) / e0 - 1.0));

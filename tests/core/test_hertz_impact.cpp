@@ -70,15 +70,7 @@ TEST(HertzImpact, SphereOnPlaneMatchesClosedForm) {
 TEST(HertzImpact, SphereOnSphereMatchesClosedForm) {
   World world(test::fineSettings(kDt, kSpeed));
   world.addMaterial(test::testMaterial(1.0));
-  ParticleSpec a;
-  a.radius = kRadius;
-  a.position = Vec3(-kRadius - 1e-5, 0.0, 0.0);
-  a.velocity = Vec3(0.5 * kSpeed, 0.0, 0.0);
-  ParticleSpec b = a;
-  b.position = -a.position;
-  b.velocity = -a.velocity;
-  world.addParticle(a);
-  world.addParticle(b);
+  test::addHeadOnPair(world, kRadius, kSpeed, 2e-5);
   world.initialize();
   auto& p = world.particles();
   // Slots may be reordered by the cell sort: identify particles by id.

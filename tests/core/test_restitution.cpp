@@ -40,15 +40,7 @@ TEST_P(Restitution, SphereOnSphere) {
   const Case c = GetParam();
   World world(test::fineSettings(kDt, kSpeed, c.model));
   world.addMaterial(test::testMaterial(c.e));
-  ParticleSpec a;
-  a.radius = kRadius;
-  a.position = Vec3(-kRadius - 1e-6, 0.0, 0.0);
-  a.velocity = Vec3(0.5 * kSpeed, 0.0, 0.0);
-  ParticleSpec b = a;
-  b.position = -a.position;
-  b.velocity = -a.velocity;
-  world.addParticle(a);
-  world.addParticle(b);
+  test::addHeadOnPair(world, kRadius, kSpeed, 2e-6);
   world.initialize();
   auto& p = world.particles();
   const auto steps = test::stepUntil(

@@ -4,6 +4,9 @@
 #include <cmath>
 #include <functional>
 #include <numbers>
+#include <random>
+#include <set>
+#include <utility>
 
 #include "demlink/core/world.hpp"
 
@@ -44,6 +47,66 @@ inline std::uint64_t stepUntil(World& world, const std::function<bool()>& done, 
     ++n;
   }
   return n;
+}
+
+/// Two equal spheres on the x axis, `gap` apart, approaching head-on at relative
+/// speed `speed` (each moving at speed/2).
+inline void addHeadOnPair(World& world, double radius, double speed, double gap) {
+  ParticleSpec a;
+  a.radius = radius;
+  a.position = Vec3(-radius - 0.5 * gap, 0.0, 0.0);
+  a.velocity = Vec3(0.5 * speed, 0.0, 0.0);
+  ParticleSpec b = a;
+  b.position = -a.position;
+  b.velocity = -a.velocity;
+  world.addParticle(a);
+  world.addParticle(b);
+}
+
+/// A 0.03 m square box (frictionless side planes) with 294 spheres of radius
+/// 1.6-2.0 mm on a loose lattice above the floor; the floor is added by the caller
+/// (plane or mesh) with the returned grain material.
+inline std::uint32_t addBoxedLattice(World& world) {
+  const auto grains = world.addMaterial(testMaterial(0.3, 0.5));
+  Material smooth = testMaterial(0.3, 0.0);
+  smooth.name = "smooth_wall";
+  const auto walls = world.addMaterial(smooth);
+  constexpr double kBox = 0.03;
+  world.addPlane({"x0", Vec3::Zero(), Vec3::UnitX(), walls});
+  world.addPlane({"x1", Vec3::Constant(kBox), -Vec3::UnitX(), walls});
+  world.addPlane({"y0", Vec3::Zero(), Vec3::UnitY(), walls});
+  world.addPlane({"y1", Vec3::Constant(kBox), -Vec3::UnitY(), walls});
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int layer = 0; layer < 6; ++layer) {
+    for (int ix = 0; ix < 7; ++ix) {
+      for (int iy = 0; iy < 7; ++iy) {
+        ParticleSpec p;
+        p.radius = 0.0018 + 0.0002 * u(rng);
+        p.position = Vec3(0.0025 + ix * 0.0042, 0.0025 + iy * 0.0042, 0.003 + layer * 0.0045);
+        world.addParticle(p);
+      }
+    }
+  }
+  return grains;
+}
+
+/// Particle pairs (by id, lower first) whose spheres overlap, as found through
+/// the world's neighbour list.
+inline std::set<std::pair<std::uint64_t, std::uint64_t>> listedContacts(const World& world) {
+  std::set<std::pair<std::uint64_t, std::uint64_t>> contacts;
+  const ParticleArrays& p = world.particles();
+  const auto offsets = world.neighbourList().offsets();
+  const auto partners = world.neighbourList().partners();
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    for (std::uint32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
+      const std::uint32_t j = partners[k];
+      if ((p.position[j] - p.position[i]).norm() < p.radius[i] + p.radius[j]) {
+        contacts.emplace(std::min(p.id[i], p.id[j]), std::max(p.id[i], p.id[j]));
+      }
+    }
+  }
+  return contacts;
 }
 
 }  // namespace demlink::core::test
