@@ -65,8 +65,9 @@ if ((rebuild)) || [[ ! -x "$bench" ]]; then
   echo "== building demlink-bench-deposition (release)"
   (cd "$repo" && cmake --preset release -G Ninja >/dev/null &&
      cmake --build build/release --target demlink-bench-deposition)
-elif [[ -n "$(find "$repo/core" "$repo/bench" -path "$repo/bench/work" -prune -o -newer "$bench" \( -name '*.cpp' -o -name '*.hpp' -o -name CMakeLists.txt \) -print -quit)" ]]; then
-  echo "warning: $bench is older than sources in core/ or bench/; pass --rebuild to measure the current code" >&2
+elif [[ -n "$(find "$repo/core" "$repo/bench/deposition_bench.cpp" -newer "$bench" \
+                \( -name '*.cpp' -o -name '*.hpp' -o -name CMakeLists.txt \) -print -quit)" ]]; then
+  echo "warning: $bench is older than core/ or bench/deposition_bench.cpp; pass --rebuild to measure the current code" >&2
 fi
 revision=$(git -C "$repo" describe --always --dirty 2>/dev/null || echo unknown)
 
