@@ -4,8 +4,8 @@
 
 namespace demlink::core {
 
-void kick(ParticleArrays& p, const Vec3& gravity, double h, std::uint32_t threads) {
-  parallelChunks(p.size(), threads, [&](std::size_t begin, std::size_t end) {
+void kick(ParticleArrays& p, const Vec3& gravity, double h, ThreadPool* pool) {
+  parallelChunks(pool, p.size(), [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
       p.velocity[i] += (p.force[i] * p.inv_mass[i] + gravity) * h;
       p.angular_velocity[i] += p.torque[i] * (p.inv_inertia[i] * h);
@@ -13,14 +13,14 @@ void kick(ParticleArrays& p, const Vec3& gravity, double h, std::uint32_t thread
   });
 }
 
-void drift(ParticleArrays& p, double dt, std::uint32_t threads) {
-  parallelChunks(p.size(), threads, [&](std::size_t begin, std::size_t end) {
+void drift(ParticleArrays& p, double dt, ThreadPool* pool) {
+  parallelChunks(pool, p.size(), [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) p.position[i] += p.velocity[i] * dt;
   });
 }
 
-void kickAndDrift(ParticleArrays& p, const Vec3& gravity, double h, double dt, std::uint32_t threads) {
-  parallelChunks(p.size(), threads, [&](std::size_t begin, std::size_t end) {
+void kickAndDrift(ParticleArrays& p, const Vec3& gravity, double h, double dt, ThreadPool* pool) {
+  parallelChunks(pool, p.size(), [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
       p.velocity[i] += (p.force[i] * p.inv_mass[i] + gravity) * h;
       p.angular_velocity[i] += p.torque[i] * (p.inv_inertia[i] * h);
@@ -29,9 +29,9 @@ void kickAndDrift(ParticleArrays& p, const Vec3& gravity, double h, double dt, s
   });
 }
 
-void explicitEulerStep(ParticleArrays& p, const Vec3& gravity, double dt, std::uint32_t threads) {
-  drift(p, dt, threads);
-  kick(p, gravity, dt, threads);
+void explicitEulerStep(ParticleArrays& p, const Vec3& gravity, double dt, ThreadPool* pool) {
+  drift(p, dt, pool);
+  kick(p, gravity, dt, pool);
 }
 
 }  // namespace demlink::core

@@ -6,13 +6,14 @@
 
 namespace demlink::core {
 
-bool NeighbourList::needsRebuild(std::span<const Vec3> positions, std::uint32_t threads) const {
+bool NeighbourList::needsRebuild(std::span<const Vec3> positions, ThreadPool* pool) const {
   if (positions.size() != position_at_build_.size()) return true;
   const double limit2 = 0.25 * skin_ * skin_;
-  std::vector<char> moved(threads, 0);
-  parallelParts(threads, [&](std::uint32_t part) {
-    const std::size_t begin = positions.size() * part / threads;
-    const std::size_t end = positions.size() * (part + 1) / threads;
+  const std::uint32_t parts = pool != nullptr ? pool->size() : 1;
+  std::vector<char> moved(parts, 0);
+  parallelParts(pool, parts, [&](std::uint32_t part) {
+    const std::size_t begin = positions.size() * part / parts;
+    const std::size_t end = positions.size() * (part + 1) / parts;
     for (std::size_t i = begin; i < end; ++i) {
       if ((positions[i] - position_at_build_[i]).squaredNorm() > limit2) {
         moved[part] = 1;
@@ -64,6 +65,13 @@ void NeighbourList::build(const ParticleArrays& particles, std::span<const std::
     offsets_[i + 1] = static_cast<std::uint32_t>(partners_.size());
   }
   history_.assign(partners_.size(), Vec3::Zero());
+  reduced_.resize(partners_.size());
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::uint32_t k = offsets_[i]; k < offsets_[i + 1]; ++k) {
+      const std::uint32_t j = partners_[k];
+      reduced_[k] = {r[i] * r[j] / (r[i] + r[j]), 1.0 / (particles.inv_mass[i] + particles.inv_mass[j])};
+    }
+  }
 
   // Carry the history of pairs that were touching (non-zero spring) over.
   const std::size_t oldCount = oldOffsets.empty() ? 0 : oldOffsets.size() - 1;

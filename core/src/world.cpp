@@ -111,6 +111,7 @@ void World::initialize() {
     settings_.neighbour_skin = smallest > 0.0 ? 0.5 * smallest : 1.0e-3;
   }
   neighbours_ = NeighbourList(settings_.neighbour_skin);
+  if (settings_.threads > 1) pool_ = std::make_unique<ThreadPool>(settings_.threads);
 
   rolling_active_ = pair_table_.anyRollingFriction();
   const bool hertz = settings_.contact_model == ContactModel::HertzMindlin;
@@ -136,16 +137,16 @@ void World::step() {
   }
   if (settings_.bounds) removeOutsideBounds();
   if (settings_.integrator == IntegratorKind::VelocityVerlet) {
-    kickAndDrift(particles_, settings_.gravity, 0.5 * dt, dt, settings_.threads);
+    kickAndDrift(particles_, settings_.gravity, 0.5 * dt, dt, pool_.get());
   } else {
-    explicitEulerStep(particles_, settings_.gravity, dt, settings_.threads);
+    explicitEulerStep(particles_, settings_.gravity, dt, pool_.get());
   }
-  if (rebuild_pending_ || meshMovedFar || neighbours_.needsRebuild(particles_.position, settings_.threads)) {
+  if (rebuild_pending_ || meshMovedFar || neighbours_.needsRebuild(particles_.position, pool_.get())) {
     rebuildNeighbours();
   }
   (this->*compute_forces_)();
   if (settings_.integrator == IntegratorKind::VelocityVerlet) {
-    kick(particles_, settings_.gravity, 0.5 * dt, settings_.threads);
+    kick(particles_, settings_.gravity, 0.5 * dt, pool_.get());
   }
   ++step_count_;
 }
@@ -155,40 +156,41 @@ void World::computeForces() {
   const double dt = settings_.time_step;
   ParticleArrays& p = particles_;
   PairLoopPartition& parts = partition_;
-  // One region, three phases: clear, pair rows (part 0 into the arrays, other
-  // parts into their own buffers), then add the buffers in fixed part order.
-  parallelRegion(settings_.threads, [&](const ParallelRegion& region) {
-    const auto [begin, end] = region.share(p.size());
+  // Three passes: clear; pair rows (part 0 into the arrays, other parts into
+  // their own buffers); add the buffers in fixed part order.
+  ThreadPool* pool = pool_.get();
+  parallelChunks(pool, p.size(), [&](std::size_t begin, std::size_t end) {
     std::fill(p.force.begin() + static_cast<std::ptrdiff_t>(begin), p.force.begin() + static_cast<std::ptrdiff_t>(end),
               Vec3::Zero());
     std::fill(p.torque.begin() + static_cast<std::ptrdiff_t>(begin),
               p.torque.begin() + static_cast<std::ptrdiff_t>(end), Vec3::Zero());
-    region.barrier();
-    for (std::uint32_t part = region.thread(); part < parts.parts(); part += region.count()) {
-      const std::size_t rowBegin = parts.rowBegin(part);
-      const std::size_t rowEnd = parts.rowEnd(part);
-      if (part == 0) {
-        particleContactRows<Law, kRolling>(p, neighbours_, pair_table_, dt, rowBegin, rowEnd, p.force.data(),
-                                           p.torque.data(), 0);
-        continue;
-      }
-      std::vector<Vec3>& f = parts.force(part);
-      std::vector<Vec3>& t = parts.torque(part);
-      std::fill(f.begin(), f.end(), Vec3::Zero());
-      std::fill(t.begin(), t.end(), Vec3::Zero());
-      particleContactRows<Law, kRolling>(p, neighbours_, pair_table_, dt, rowBegin, rowEnd, f.data(), t.data(),
-                                         rowBegin);
-    }
-    if (parts.parts() == 1) return;
-    region.barrier();
-    for (std::uint32_t part = 1; part < parts.parts(); ++part) {
-      const std::size_t base = parts.rowBegin(part);
-      for (std::size_t k = std::max(begin, base); k < end; ++k) {
-        p.force[k] += parts.force(part)[k - base];
-        p.torque[k] += parts.torque(part)[k - base];
-      }
-    }
   });
+  parallelParts(pool, parts.parts(), [&](std::uint32_t part) {
+    const std::size_t rowBegin = parts.rowBegin(part);
+    const std::size_t rowEnd = parts.rowEnd(part);
+    if (part == 0) {
+      particleContactRows<Law, kRolling>(p, neighbours_, pair_table_, dt, rowBegin, rowEnd, p.force.data(),
+                                         p.torque.data(), 0);
+      return;
+    }
+    std::vector<Vec3>& f = parts.force(part);
+    std::vector<Vec3>& t = parts.torque(part);
+    std::fill(f.begin(), f.end(), Vec3::Zero());
+    std::fill(t.begin(), t.end(), Vec3::Zero());
+    particleContactRows<Law, kRolling>(p, neighbours_, pair_table_, dt, rowBegin, rowEnd, f.data(), t.data(),
+                                       rowBegin);
+  });
+  if (parts.parts() > 1) {
+    parallelChunks(pool, p.size(), [&](std::size_t begin, std::size_t end) {
+      for (std::uint32_t part = 1; part < parts.parts(); ++part) {
+        const std::size_t base = parts.rowBegin(part);
+        for (std::size_t k = std::max(begin, base); k < end; ++k) {
+          p.force[k] += parts.force(part)[k - base];
+          p.torque[k] += parts.torque(part)[k - base];
+        }
+      }
+    });
+  }
   for (PlaneWall& wall : planes_) {
     wall.force.setZero();
     wall.torque.setZero();

@@ -70,9 +70,18 @@ DEMLINK_FORCE_INLINE Vec3 contactForce(const ContactPairParams& p, const Vec3& n
   // restore its length (the contact frame has rotated, not the spring stretched).
   const double xiLength2 = xi.squaredNorm();
   if (xiLength2 > 0.0) {
-    xi -= xi.dot(n) * n;
-    const double projected2 = xi.squaredNorm();
-    if (projected2 > 0.0) xi *= std::sqrt(xiLength2 / projected2);
+    const double xn = xi.dot(n);
+    const double tilt = xn * xn;  // = a |xi|^2, a = sin^2 of the spring's tilt out of the plane
+    xi -= xn * n;
+    if (tilt <= 1e-6 * xiLength2) {
+      // Frames rotate little per step: 1/sqrt(1 - a) = 1 + a/2 + 3a^2/8 + O(a^3),
+      // exact to ~1e-18 here, without the square root and division.
+      const double a = tilt / xiLength2;
+      xi *= 1.0 + a * (0.5 + 0.375 * a);
+    } else {
+      const double projected2 = xiLength2 - tilt;
+      if (projected2 > 0.0) xi *= std::sqrt(xiLength2 / projected2);
+    }
   }
   xi += vt * dt;
 

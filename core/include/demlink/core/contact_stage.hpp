@@ -24,6 +24,7 @@ void particleContactRows(ParticleArrays& p, NeighbourList& list, const ContactPa
   const std::span<const std::uint32_t> offsets = list.offsets();
   const std::span<const std::uint32_t> partners = list.partners();
   const std::span<Vec3> history = list.history();
+  const std::span<const ReducedPair> reduced = list.reduced();
   for (std::size_t i = rowBegin; i < rowEnd; ++i) {
     const Vec3 xi = p.position[i];
     const double ri = p.radius[i];
@@ -47,8 +48,8 @@ void particleContactRows(ParticleArrays& p, NeighbourList& list, const ContactPa
       const double armJ = p.radius[j] - 0.5 * overlap;
       const Vec3 vRel =
           p.velocity[j] - p.velocity[i] - (armI * p.angular_velocity[i] + armJ * p.angular_velocity[j]).cross(normal);
-      const double rStar = ri * p.radius[j] / radiusSum;
-      const double mStar = 1.0 / (p.inv_mass[i] + p.inv_mass[j]);
+      const double rStar = reduced[k].radius;
+      const double mStar = reduced[k].mass;
       const ContactPairParams& params = table(p.material[i], p.material[j]);
       double normalForce = 0.0;
       const Vec3 f = contactForce<Law>(params, normal, overlap, vRel, rStar, mStar, dt, history[k], normalForce);

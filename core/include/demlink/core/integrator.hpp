@@ -6,17 +6,18 @@
 /// ParticleArrays::force holds contact forces only.
 #include "demlink/core/math_types.hpp"
 #include "demlink/core/particle_arrays.hpp"
+#include "demlink/core/thread_pool.hpp"
 
 namespace demlink::core {
 
 /// v += (F/m + g) h;  omega += (T/I) h.
-void kick(ParticleArrays& p, const Vec3& gravity, double h, std::uint32_t threads = 1);
+void kick(ParticleArrays& p, const Vec3& gravity, double h, ThreadPool* pool = nullptr);
 /// x += v dt.
-void drift(ParticleArrays& p, double dt, std::uint32_t threads = 1);
+void drift(ParticleArrays& p, double dt, ThreadPool* pool = nullptr);
 /// kick(h) then drift(dt) in one pass over the particles.
-void kickAndDrift(ParticleArrays& p, const Vec3& gravity, double h, double dt, std::uint32_t threads = 1);
+void kickAndDrift(ParticleArrays& p, const Vec3& gravity, double h, double dt, ThreadPool* pool = nullptr);
 /// Paper eqs. 14-17: positions advance with the OLD velocities, then velocities
 /// with the old accelerations.
-void explicitEulerStep(ParticleArrays& p, const Vec3& gravity, double dt, std::uint32_t threads = 1);
+void explicitEulerStep(ParticleArrays& p, const Vec3& gravity, double dt, ThreadPool* pool = nullptr);
 
 }  // namespace demlink::core

@@ -12,8 +12,17 @@
 #include "demlink/core/cell_grid.hpp"
 #include "demlink/core/math_types.hpp"
 #include "demlink/core/particle_arrays.hpp"
+#include "demlink/core/thread_pool.hpp"
 
 namespace demlink::core {
+
+/// Effective radius and mass of a listed pair, fixed for the pair's lifetime in
+/// the list (particle radii and masses do not change), so the force loop does not
+/// divide for them at every step.
+struct ReducedPair {
+  double radius;  ///< R* = r_i r_j / (r_i + r_j) [m]
+  double mass;    ///< m* = m_i m_j / (m_i + m_j) [kg]
+};
 
 class NeighbourList {
  public:
@@ -22,7 +31,7 @@ class NeighbourList {
   [[nodiscard]] double skin() const { return skin_; }
 
   /// True when the largest displacement since the last build exceeds skin/2.
-  [[nodiscard]] bool needsRebuild(std::span<const Vec3> positions, std::uint32_t threads = 1) const;
+  [[nodiscard]] bool needsRebuild(std::span<const Vec3> positions, ThreadPool* pool = nullptr) const;
 
   /// Rebuilds the list. newSlotOfOld maps every slot of the previous build to its
   /// current slot (kRemovedSlot if removed); empty means slots are unchanged.
@@ -30,6 +39,7 @@ class NeighbourList {
 
   [[nodiscard]] std::span<const std::uint32_t> offsets() const { return offsets_; }
   [[nodiscard]] std::span<const std::uint32_t> partners() const { return partners_; }
+  [[nodiscard]] std::span<const ReducedPair> reduced() const { return reduced_; }
   [[nodiscard]] std::span<Vec3> history() { return history_; }
   [[nodiscard]] std::span<const Vec3> history() const { return history_; }
   [[nodiscard]] std::size_t pairCount() const { return partners_.size(); }
@@ -43,6 +53,7 @@ class NeighbourList {
   std::vector<std::uint32_t> offsets_{0};
   std::vector<std::uint32_t> partners_;
   std::vector<Vec3> history_;
+  std::vector<ReducedPair> reduced_;
   std::vector<Vec3> position_at_build_;
 };
 

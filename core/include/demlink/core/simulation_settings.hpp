@@ -32,7 +32,7 @@ struct SimulationSettings {
   /// Accept a time step above the critical limit (a warning instead of an error).
   bool allow_unsafe_time_step = false;
   std::optional<DomainBounds> bounds;
-  /// Threads for the force, integration and neighbour stages (OpenMP). Results
+  /// Threads for the force, integration and skin-check loops (ThreadPool). Results
   /// are deterministic for a fixed thread count; 1 runs everything serially.
   std::uint32_t threads = 1;
   /// Re-sort particle slots by grid cell every this many neighbour builds (0: never).

@@ -9,6 +9,7 @@
 /// Only the stages the scene needs run: no planes, no plane pass; no rolling
 /// friction in any material pair, a force kernel compiled without it.
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -24,6 +25,7 @@
 #include "demlink/core/particle_arrays.hpp"
 #include "demlink/core/plane_wall.hpp"
 #include "demlink/core/simulation_settings.hpp"
+#include "demlink/core/thread_pool.hpp"
 
 namespace demlink::core {
 
@@ -95,6 +97,7 @@ class World {
   TimeStepReport time_step_report_;
   NeighbourList neighbours_;
   PairLoopPartition partition_;
+  std::unique_ptr<ThreadPool> pool_;  ///< null when running on one thread
   void (World::*compute_forces_)() = nullptr;
   bool rolling_active_ = false;
   bool initialized_ = false;
