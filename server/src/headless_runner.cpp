@@ -177,8 +177,9 @@ RunSummary runHeadless(TranslatedScene& scene) {
                "max z {:.5g} m, {} neighbour builds",
                last.particles, world.removedAtBounds().count, last.kinetic_energy, last.mean_z, last.max_z,
                last.neighbour_builds);
-  spdlog::info("output: {} frames in {} (particles.pvd, summary.csv{})", summary.frames,
-               summary.output_directory.string(), world.planes().empty() ? "" : ", planes.vtp");
+  spdlog::info("output: {} frames in {} (particles.pvd, summary.csv{}{})", summary.frames,
+               summary.output_directory.string(), world.planes().empty() ? "" : ", planes.vtp",
+               world.meshes().empty() ? "" : ", meshes.pvd");
   return summary;
 }
 
