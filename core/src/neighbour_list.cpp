@@ -24,7 +24,44 @@ bool NeighbourList::needsRebuild(std::span<const Vec3> positions, ThreadPool* po
   return std::find(moved.begin(), moved.end(), 1) != moved.end();
 }
 
-void NeighbourList::build(const ParticleArrays& particles, std::span<const std::uint32_t> newSlotOfOld) {
+namespace {
+
+/// Appends to `out` the partners j > i of rows [begin, end) and writes each
+/// row's partner count to counts[i].
+void findPartners(const CellGrid& grid, std::span<const Vec3> x, std::span<const double> r, double skin,
+                  std::size_t begin, std::size_t end, std::vector<std::uint32_t>& out,
+                  std::vector<std::uint32_t>& counts) {
+  const auto& dims = grid.dims();
+  for (std::size_t i = begin; i < end; ++i) {
+    const std::size_t rowStart = out.size();
+    const auto c = grid.cellCoords(x[i]);
+    for (std::int64_t dz = -1; dz <= 1; ++dz) {
+      const std::int64_t iz = c[2] + dz;
+      if (iz < 0 || iz >= dims[2]) continue;
+      for (std::int64_t dy = -1; dy <= 1; ++dy) {
+        const std::int64_t iy = c[1] + dy;
+        if (iy < 0 || iy >= dims[1]) continue;
+        for (std::int64_t dx = -1; dx <= 1; ++dx) {
+          const std::int64_t ix = c[0] + dx;
+          if (ix < 0 || ix >= dims[0]) continue;
+          for (const std::uint32_t j : grid.cell(grid.cellIndex(ix, iy, iz))) {
+            if (j <= i) continue;
+            const double cutoff = r[i] + r[j] + skin;
+            if ((x[j] - x[i]).squaredNorm() < cutoff * cutoff) out.push_back(j);
+          }
+        }
+      }
+    }
+    // Ascending partners: deterministic order independent of cell traversal.
+    std::sort(out.begin() + static_cast<std::ptrdiff_t>(rowStart), out.end());
+    counts[i] = static_cast<std::uint32_t>(out.size() - rowStart);
+  }
+}
+
+}  // namespace
+
+void NeighbourList::build(const ParticleArrays& particles, std::span<const std::uint32_t> newSlotOfOld,
+                          ThreadPool* pool) {
   const std::size_t n = particles.size();
   const std::span<const Vec3> x = particles.position;
   const std::span<const double> r = particles.radius;
@@ -38,63 +75,57 @@ void NeighbourList::build(const ParticleArrays& particles, std::span<const std::
   oldPartners.swap(partners_);
   oldHistory.swap(history_);
 
+  // Rows are independent: each part finds its rows' partners into its own
+  // buffer; the buffers are then laid end to end in part order.
+  const std::uint32_t parts = pool != nullptr ? pool->size() : 1;
+  std::vector<std::vector<std::uint32_t>> found(parts);
+  std::vector<std::uint32_t> counts(n);
+  parallelParts(pool, parts, [&](std::uint32_t part) {
+    found[part].reserve(oldPartners.size() / parts + 16);
+    findPartners(grid_, x, r, skin_, n * part / parts, n * (part + 1) / parts, found[part], counts);
+  });
   offsets_.assign(n + 1, 0);
-  partners_.reserve(oldPartners.size() + oldPartners.size() / 8 + 16);
-  const auto& dims = grid_.dims();
-  for (std::size_t i = 0; i < n; ++i) {
-    const auto c = grid_.cellCoords(x[i]);
-    for (std::int64_t dz = -1; dz <= 1; ++dz) {
-      const std::int64_t iz = c[2] + dz;
-      if (iz < 0 || iz >= dims[2]) continue;
-      for (std::int64_t dy = -1; dy <= 1; ++dy) {
-        const std::int64_t iy = c[1] + dy;
-        if (iy < 0 || iy >= dims[1]) continue;
-        for (std::int64_t dx = -1; dx <= 1; ++dx) {
-          const std::int64_t ix = c[0] + dx;
-          if (ix < 0 || ix >= dims[0]) continue;
-          for (const std::uint32_t j : grid_.cell(grid_.cellIndex(ix, iy, iz))) {
-            if (j <= i) continue;
-            const double cutoff = r[i] + r[j] + skin_;
-            if ((x[j] - x[i]).squaredNorm() < cutoff * cutoff) partners_.push_back(j);
-          }
+  for (std::size_t i = 0; i < n; ++i) offsets_[i + 1] = offsets_[i] + counts[i];
+  partners_.resize(offsets_[n]);
+  history_.assign(partners_.size(), Vec3::Zero());
+  reduced_.resize(partners_.size());
+  parallelParts(pool, parts, [&](std::uint32_t part) {
+    const std::size_t begin = n * part / parts;
+    const std::size_t end = n * (part + 1) / parts;
+    std::copy(found[part].begin(), found[part].end(), partners_.begin() + offsets_[begin]);
+    for (std::size_t i = begin; i < end; ++i) {
+      for (std::uint32_t k = offsets_[i]; k < offsets_[i + 1]; ++k) {
+        const std::uint32_t j = partners_[k];
+        reduced_[k] = {r[i] * r[j] / (r[i] + r[j]), 1.0 / (particles.inv_mass[i] + particles.inv_mass[j])};
+      }
+    }
+  });
+
+  // Carry the history of pairs that were touching (non-zero spring) over. Each
+  // new pair has at most one old pair, so parts write disjoint entries.
+  const std::size_t oldCount = oldOffsets.empty() ? 0 : oldOffsets.size() - 1;
+  parallelParts(pool, parts, [&](std::uint32_t part) {
+    for (std::size_t oi = oldCount * part / parts; oi < oldCount * (part + 1) / parts; ++oi) {
+      const std::uint32_t a0 = newSlotOfOld.empty() ? static_cast<std::uint32_t>(oi) : newSlotOfOld[oi];
+      if (a0 == kRemovedSlot) continue;
+      for (std::uint32_t k = oldOffsets[oi]; k < oldOffsets[oi + 1]; ++k) {
+        if (oldHistory[k].isZero(0.0)) continue;
+        const std::uint32_t b0 = newSlotOfOld.empty() ? oldPartners[k] : newSlotOfOld[oldPartners[k]];
+        if (b0 == kRemovedSlot) continue;
+        // Ownership may flip when slots are reordered; the spring of B relative
+        // to A then changes sign.
+        const bool flipped = b0 < a0;
+        const std::uint32_t a = flipped ? b0 : a0;
+        const std::uint32_t b = flipped ? a0 : b0;
+        const auto rowBegin = partners_.begin() + offsets_[a];
+        const auto rowEnd = partners_.begin() + offsets_[a + 1];
+        const auto it = std::lower_bound(rowBegin, rowEnd, b);
+        if (it != rowEnd && *it == b) {
+          history_[static_cast<std::size_t>(it - partners_.begin())] = flipped ? Vec3(-oldHistory[k]) : oldHistory[k];
         }
       }
     }
-    // Ascending partners: deterministic order independent of cell traversal.
-    std::sort(partners_.begin() + offsets_[i], partners_.end());
-    offsets_[i + 1] = static_cast<std::uint32_t>(partners_.size());
-  }
-  history_.assign(partners_.size(), Vec3::Zero());
-  reduced_.resize(partners_.size());
-  for (std::size_t i = 0; i < n; ++i) {
-    for (std::uint32_t k = offsets_[i]; k < offsets_[i + 1]; ++k) {
-      const std::uint32_t j = partners_[k];
-      reduced_[k] = {r[i] * r[j] / (r[i] + r[j]), 1.0 / (particles.inv_mass[i] + particles.inv_mass[j])};
-    }
-  }
-
-  // Carry the history of pairs that were touching (non-zero spring) over.
-  const std::size_t oldCount = oldOffsets.empty() ? 0 : oldOffsets.size() - 1;
-  for (std::size_t oi = 0; oi < oldCount; ++oi) {
-    const std::uint32_t a0 = newSlotOfOld.empty() ? static_cast<std::uint32_t>(oi) : newSlotOfOld[oi];
-    if (a0 == kRemovedSlot) continue;
-    for (std::uint32_t k = oldOffsets[oi]; k < oldOffsets[oi + 1]; ++k) {
-      if (oldHistory[k].isZero(0.0)) continue;
-      const std::uint32_t b0 = newSlotOfOld.empty() ? oldPartners[k] : newSlotOfOld[oldPartners[k]];
-      if (b0 == kRemovedSlot) continue;
-      // Ownership may flip when slots are reordered; the spring of B relative to A
-      // then changes sign.
-      const bool flipped = b0 < a0;
-      const std::uint32_t a = flipped ? b0 : a0;
-      const std::uint32_t b = flipped ? a0 : b0;
-      const auto rowBegin = partners_.begin() + offsets_[a];
-      const auto rowEnd = partners_.begin() + offsets_[a + 1];
-      const auto it = std::lower_bound(rowBegin, rowEnd, b);
-      if (it != rowEnd && *it == b) {
-        history_[static_cast<std::size_t>(it - partners_.begin())] = flipped ? Vec3(-oldHistory[k]) : oldHistory[k];
-      }
-    }
-  }
+  });
   position_at_build_.assign(x.begin(), x.end());
   ++builds_;
 }

@@ -243,7 +243,7 @@ void World::rebuildNeighbours() {
                                         neighbours_.skin());
     applySlotMapping(grid.sortedSlots());
   }
-  neighbours_.build(particles_, pending_new_slot_of_old_);
+  neighbours_.build(particles_, pending_new_slot_of_old_, pool_.get());
   partition_.plan(neighbours_.offsets(), settings_.threads);
   for (PlaneWall& wall : planes_) wall.buildNearList(particles_, neighbours_.skin(), pending_new_slot_of_old_);
   for (std::size_t m = 0; m < meshes_.size(); ++m) {

@@ -42,9 +42,10 @@ std::set<IdPair> checkedListContacts(const World& world) {
 }
 
 /// Random polydisperse spheres in a cube of side `box` with random velocities.
-World randomWorld(std::size_t n, double box, std::uint64_t seed) {
+World randomWorld(std::size_t n, double box, std::uint64_t seed, std::uint32_t threads = 1) {
   SimulationSettings s = test::fineSettings(2e-6, 3.0);
   s.sort_every_builds = 3;  // exercise reordering often
+  s.threads = threads;
   World world(s);
   world.addMaterial(test::testMaterial(0.5, 0.3));
   std::mt19937_64 rng(seed);
@@ -80,6 +81,11 @@ TEST(NeighbourList, SparseConfigurationMatchesBruteForce) {
 
 TEST(NeighbourList, DenseConfigurationMatchesBruteForce) {
   World world = randomWorld(400, 0.012, 2);  // heavily overlapping start
+  expectListMatchesBruteForce(world, 300);
+}
+
+TEST(NeighbourList, ThreadedBuildMatchesBruteForce) {
+  World world = randomWorld(400, 0.012, 3, 2);  // rows built by two threads
   expectListMatchesBruteForce(world, 300);
 }
 

@@ -35,7 +35,8 @@ class NeighbourList {
 
   /// Rebuilds the list. newSlotOfOld maps every slot of the previous build to its
   /// current slot (kRemovedSlot if removed); empty means slots are unchanged.
-  void build(const ParticleArrays& particles, std::span<const std::uint32_t> newSlotOfOld);
+  void build(const ParticleArrays& particles, std::span<const std::uint32_t> newSlotOfOld,
+             ThreadPool* pool = nullptr);
 
   [[nodiscard]] std::span<const std::uint32_t> offsets() const { return offsets_; }
   [[nodiscard]] std::span<const std::uint32_t> partners() const { return partners_; }
