@@ -2,13 +2,15 @@
 # Side-by-side deposition benchmark: DEMLink (demlink-bench-deposition) vs LIGGGHTS
 # on the peers' "deposition-N" scene (../shared/peers/deposition, see docs/benchmarks.md).
 #
-# Usage: bench/run_deposition_compare.sh N [steps] [--runs K] [--thermo T] [--np P] [--rebuild]
+# Usage: bench/run_deposition_compare.sh N [steps] [--runs K] [--thermo T] [--np P] [--threads T] [--rebuild]
 #   N          number of particles (gen_init.py N)
 #   steps      time steps (default 50000 = 0.5 s)
 #   --runs K   repeat each code K times (alternating) and report medians (default 1)
 #   --thermo T thermo interval in steps (default steps/10)
 #   --np P     P threads for DEMLink (--threads P) and P MPI ranks for LIGGGHTS
 #              (mpirun -np P, -var px P); default 1 (both serial)
+#   --threads T  DEMLink threads only (default: P), e.g. DEMLink on 2 threads
+#              against serial LIGGGHTS, the issue's speed target
 #   --rebuild  rebuild our release binary even if it exists
 # Environment:
 #   DEMLINK_PEERS      directory holding gen_init.py and in.liggghts
@@ -24,13 +26,14 @@ repo=$(cd "$script_dir/.." && pwd)
 
 usage() { sed -n '4,18p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2; exit 2; }
 
-n=""; steps=50000; runs=1; thermo=""; np=1; rebuild=0
+n=""; steps=50000; runs=1; thermo=""; np=1; ours_threads=""; rebuild=0
 positional=()
 while (($#)); do
   case "$1" in
     --runs) runs=${2:?--runs needs a value}; shift 2 ;;
     --thermo) thermo=${2:?--thermo needs a value}; shift 2 ;;
     --np) np=${2:?--np needs a value}; shift 2 ;;
+    --threads) ours_threads=${2:?--threads needs a value}; shift 2 ;;
     --rebuild) rebuild=1; shift ;;
     -h|--help) usage ;;
     -*) echo "unknown option $1" >&2; usage ;;
@@ -42,6 +45,8 @@ n=${positional[0]}
 ((${#positional[@]} == 2)) && steps=${positional[1]}
 [[ "$n" =~ ^[0-9]+$ && "$steps" =~ ^[0-9]+$ && "$runs" =~ ^[0-9]+$ && "$np" =~ ^[0-9]+$ ]] || usage
 ((runs >= 1 && np >= 1)) || usage
+ours_threads=${ours_threads:-$np}
+[[ "$ours_threads" =~ ^[0-9]+$ ]] && ((ours_threads >= 1)) || usage
 [[ -n "$thermo" ]] || thermo=$(( steps >= 10 ? steps / 10 : 1 ))
 
 peers=${DEMLINK_PEERS:-$repo/../shared/peers/deposition}
@@ -80,12 +85,12 @@ if [[ ! -f "init_$n.txt" || ! -f "init_$n.data" ]]; then
 fi
 
 prefix="${n}_${steps}_"
-((np > 1)) && prefix="${n}_${steps}_np${np}_"
+((np > 1 || ours_threads > 1)) && prefix="${n}_${steps}_np${np}_t${ours_threads}_"
 for ((k = 1; k <= runs; ++k)); do
   tag="$prefix$k"
-  echo "== run $k/$runs: DEMLink (N=$n, steps=$steps, threads=$np; load average $(cut -d" " -f1-3 /proc/loadavg))"
+  echo "== run $k/$runs: DEMLink (N=$n, steps=$steps, threads=$ours_threads; load average $(cut -d" " -f1-3 /proc/loadavg))"
   /usr/bin/time -v -o "ours_$tag.time" \
-    "$bench" "init_$n.txt" --steps "$steps" --thermo "$thermo" --threads "$np" > "ours_$tag.log" 2>&1 ||
+    "$bench" "init_$n.txt" --steps "$steps" --thermo "$thermo" --threads "$ours_threads" > "ours_$tag.log" 2>&1 ||
     { echo "DEMLink run failed, see $work/ours_$tag.log" >&2; tail -5 "ours_$tag.log" >&2; exit 1; }
   echo "== run $k/$runs: LIGGGHTS (N=$n, steps=$steps, ranks=$np; load average $(cut -d" " -f1-3 /proc/loadavg))"
   /usr/bin/time -v -o "liggghts_$tag.time" \
@@ -95,7 +100,7 @@ for ((k = 1; k <= runs; ++k)); do
     { echo "LIGGGHTS run failed, see $work/liggghts_$tag.log" >&2; tail -5 "liggghts_$tag.log" >&2; exit 1; }
 done
 
-python3 - "$n" "$steps" "$runs" "$revision" "$np" "$prefix" <<'PY'
+python3 - "$n" "$steps" "$runs" "$revision" "$np" "$prefix" "$ours_threads" <<'PY'
 import os, platform, re, statistics, sys, time
 
 n, steps, runs, revision, np_ = int(sys.argv[1]), int(sys.argv[2]), int(sys.argv[3]), sys.argv[4], int(sys.argv[5])
@@ -150,7 +155,8 @@ for code, parse in (("ours", ours), ("liggghts", liggghts)):
     med["cpus"] = [s["cpu"] for s in samples]
     rows[code] = med
 
-label = {"ours": "DEMLink" + (f" ({np_} threads)" if np_ > 1 else ""),
+ours_threads = int(sys.argv[7])
+label = {"ours": "DEMLink" + (f" ({ours_threads} threads)" if ours_threads > 1 else ""),
          "liggghts": "LIGGGHTS" + (f" ({np_} MPI ranks)" if np_ > 1 else "")}
 note = f" (median of {runs})" if runs > 1 else ""
 print(f"\ndeposition-{n}, {steps} steps{note}; rate = N*steps/loop time; elapsed, CPU = /usr/bin/time"
