@@ -59,12 +59,7 @@ double bounceEnergyError(IntegratorKind integrator, double dt) {
   s.allow_unsafe_time_step = true;
   World world(s);
   const auto mat = world.addMaterial(test::testMaterial(1.0));
-  world.addPlane({"floor", Vec3::Zero(), Vec3::UnitZ(), mat});
-  ParticleSpec p;
-  p.radius = 0.01;
-  p.position = Vec3(0.0, 0.0, 0.0101);
-  p.velocity = Vec3(0.0, 0.0, -1.0);
-  world.addParticle(p);
+  test::addFloorAndSphere(world, mat, 0.01, Vec3(0.0, 0.0, -1.0), 1e-4);
   world.initialize();
   const double e0 = world.kineticEnergy();
   test::stepUntil(world, [&] { return world.particles().position[0].z() > 0.0102; }, 10'000'000);

@@ -26,12 +26,7 @@ TEST(ObliqueImpact, GrossSlidingMatchesImpulseFormulas) {
   Material material = test::testMaterial(e, mu);
   material.youngs_modulus = 1e10;
   const auto mat = world.addMaterial(material);
-  world.addPlane({"floor", Vec3::Zero(), Vec3::UnitZ(), mat});
-  ParticleSpec s;
-  s.radius = kRadius;
-  s.position = Vec3(0.0, 0.0, kRadius + 1e-6);
-  s.velocity = Vec3(vt, 0.0, -vn);
-  world.addParticle(s);
+  test::addFloorAndSphere(world, mat, kRadius, Vec3(vt, 0.0, -vn), 1e-6);
   world.initialize();
   auto& p = world.particles();
   test::stepUntil(world, [&] { return p.position[0].z() > kRadius + 2e-6; }, 40'000'000);

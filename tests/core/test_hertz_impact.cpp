@@ -36,12 +36,7 @@ constexpr double kDt = 2.0e-7;  // ~600 steps per contact
 TEST(HertzImpact, SphereOnPlaneMatchesClosedForm) {
   World world(test::fineSettings(kDt, kSpeed));
   const auto mat = world.addMaterial(test::testMaterial(1.0));
-  world.addPlane({"floor", Vec3::Zero(), Vec3::UnitZ(), mat});
-  ParticleSpec s;
-  s.radius = kRadius;
-  s.position = Vec3(0.0, 0.0, kRadius + 1e-5);
-  s.velocity = Vec3(0.0, 0.0, -kSpeed);
-  world.addParticle(s);
+  test::addFloorAndSphere(world, mat, kRadius, Vec3(0.0, 0.0, -kSpeed), 1e-5);
   world.initialize();
 
   Measured m;

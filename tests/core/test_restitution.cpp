@@ -23,12 +23,7 @@ TEST_P(Restitution, SphereOnPlane) {
   const Case c = GetParam();
   World world(test::fineSettings(kDt, kSpeed, c.model));
   const auto mat = world.addMaterial(test::testMaterial(c.e));
-  world.addPlane({"floor", Vec3::Zero(), Vec3::UnitZ(), mat});
-  ParticleSpec s;
-  s.radius = kRadius;
-  s.position = Vec3(0.0, 0.0, kRadius + 1e-6);
-  s.velocity = Vec3(0.0, 0.0, -kSpeed);
-  world.addParticle(s);
+  test::addFloorAndSphere(world, mat, kRadius, Vec3(0.0, 0.0, -kSpeed), 1e-6);
   world.initialize();
   auto& p = world.particles();
   const auto steps = test::stepUntil(world, [&] { return p.position[0].z() > kRadius + 2e-6; }, 4'000'000);

@@ -49,6 +49,18 @@ inline std::uint64_t stepUntil(World& world, const std::function<bool()>& done, 
   return n;
 }
 
+/// A floor plane z = 0 of material `material` and one sphere of `radius` whose
+/// lowest point is `gap` above it, moving at `velocity`.
+inline void addFloorAndSphere(World& world, std::uint32_t material, double radius, const Vec3& velocity,
+                              double gap) {
+  world.addPlane({"floor", Vec3::Zero(), Vec3::UnitZ(), material});
+  ParticleSpec s;
+  s.radius = radius;
+  s.position = Vec3(0.0, 0.0, radius + gap);
+  s.velocity = velocity;
+  world.addParticle(s);
+}
+
 /// Two equal spheres on the x axis, `gap` apart, approaching head-on at relative
 /// speed `speed` (each moving at speed/2).
 inline void addHeadOnPair(World& world, double radius, double speed, double gap) {
