@@ -204,19 +204,25 @@ void World::computeForces() {
 
 void World::removeOutsideBounds() {
   const DomainBounds& b = *settings_.bounds;
-  std::vector<std::uint32_t> keep;
-  keep.reserve(particles_.size());
-  for (std::size_t i = 0; i < particles_.size(); ++i) {
+  auto inside = [&](std::size_t i) {
     const Vec3& x = particles_.position[i];
-    const bool inside = (x.array() >= b.lower.array()).all() && (x.array() <= b.upper.array()).all();
-    if (inside) {
+    return (x.array() >= b.lower.array()).all() && (x.array() <= b.upper.array()).all();
+  };
+  // Runs every step; removals are rare, so only scan until the first leaver.
+  std::size_t first = 0;
+  while (first < particles_.size() && inside(first)) ++first;
+  if (first == particles_.size()) return;
+  std::vector<std::uint32_t> keep(first);
+  std::iota(keep.begin(), keep.end(), 0u);
+  for (std::size_t i = first; i < particles_.size(); ++i) {
+    if (inside(i)) {
       keep.push_back(static_cast<std::uint32_t>(i));
     } else {
       ++removed_at_bounds_.count;
       removed_at_bounds_.mass += particles_.mass[i];
     }
   }
-  if (keep.size() != particles_.size()) applySlotMapping(keep);
+  applySlotMapping(keep);
 }
 
 void World::applySlotMapping(const std::vector<std::uint32_t>& oldSlotOfNew) {
