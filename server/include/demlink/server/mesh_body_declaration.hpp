@@ -1,7 +1,7 @@
 #pragma once
-/// A rigid STL body as declared in a scene, translated out of protobuf but not yet
-/// handed to the engine (the engine's mesh support is being added separately;
-/// the translator currently rejects scenes containing one). All vectors are in
+/// A rigid STL body as declared in a scene, translated out of protobuf and
+/// validated; the translator then loads the STL and hands a core::MeshBody at
+/// this pose and twist to the world. All vectors are in
 /// the world frame unless stated.
 #include <cstdint>
 #include <filesystem>

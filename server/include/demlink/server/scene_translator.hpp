@@ -28,8 +28,8 @@ struct TranslatedScene {
 };
 
 /// Validates and translates a scene. `sceneDirectory` anchors relative paths.
-/// Throws core::InputError naming the offending field. A scene declaring a
-/// mesh_body is refused for now ("mesh_body not yet supported by the engine").
+/// Throws core::InputError naming the offending field (for a mesh_body whose
+/// STL cannot be read: "<component>.mesh_body.stl_file").
 [[nodiscard]] TranslatedScene translateScene(const v1::Scene& scene, const std::filesystem::path& sceneDirectory);
 
 /// Translates one MeshBody declaration (material resolved to `materialIndex`).
