@@ -74,16 +74,27 @@ std::size_t World::addMesh(MeshBody mesh, const std::string& fieldPrefix) {
   return meshes_.size() - 1;
 }
 
+void World::declareFutureParticles(std::uint32_t material, double minRadius, const std::string& fieldPrefix) {
+  requirePositive(fieldPrefix + ".radius", minRadius);
+  if (material >= materials_.size()) {
+    throw InputError(fieldPrefix + ".material", std::to_string(material), "no such material");
+  }
+  future_particles_.emplace_back(material, minRadius);
+}
+
 void World::initialize() {
   if (materials_.empty()) throw InputError("materials", "[]", "a scene needs at least one material");
   std::vector<double> minRadius(materials_.size(), 0.0);
   double radiusSum = 0.0;
-  for (std::size_t i = 0; i < particles_.size(); ++i) {
-    double& r = minRadius[particles_.material[i]];
-    r = r > 0.0 ? std::min(r, particles_.radius[i]) : particles_.radius[i];
-    radiusSum += particles_.radius[i];
-  }
-  const double meanRadius = particles_.size() > 0 ? radiusSum / static_cast<double>(particles_.size()) : 0.0;
+  auto noteRadius = [&](std::uint32_t material, double radius) {
+    double& r = minRadius[material];
+    r = r > 0.0 ? std::min(r, radius) : radius;
+    radiusSum += radius;
+  };
+  for (std::size_t i = 0; i < particles_.size(); ++i) noteRadius(particles_.material[i], particles_.radius[i]);
+  for (const auto& [material, radius] : future_particles_) noteRadius(material, radius);
+  const std::size_t sizedCount = particles_.size() + future_particles_.size();
+  const double meanRadius = sizedCount > 0 ? radiusSum / static_cast<double>(sizedCount) : 0.0;
   if (settings_.contact_model == ContactModel::LinearSpringDashpot && meanRadius <= 0.0 &&
       settings_.linear_normal_stiffness <= 0.0) {
     throw InputError("simulation_box.linear_normal_stiffness", "0",
@@ -123,6 +134,7 @@ void World::initialize() {
                                       : &World::computeForces<LinearSpringDashpotLaw, false>;
   }
   initialized_ = true;
+  for (const auto& component : components_) component->initialize(*this);
   rebuildNeighbours();
   (this->*compute_forces_)();
 }
@@ -135,6 +147,7 @@ void World::step() {
     if (!mesh.linearVelocity().isZero(0.0) || !mesh.angularVelocity().isZero(0.0)) mesh.advance(dt);
     meshMovedFar = meshMovedFar || mesh.maxDisplacementSinceMark() > 0.5 * neighbours_.skin();
   }
+  runComponents(kStageInsertRemove);
   if (settings_.bounds) removeOutsideBounds();
   if (settings_.integrator == IntegratorKind::VelocityVerlet) {
     kickAndDrift(particles_, settings_.gravity, 0.5 * dt, dt, pool_.get());
@@ -149,6 +162,7 @@ void World::step() {
     kick(particles_, settings_.gravity, 0.5 * dt, pool_.get());
   }
   ++step_count_;
+  runComponents(kStageObserve);
 }
 
 template <class Law, bool kRolling>
@@ -204,25 +218,35 @@ void World::computeForces() {
 
 void World::removeOutsideBounds() {
   const DomainBounds& b = *settings_.bounds;
-  auto inside = [&](std::size_t i) {
-    const Vec3& x = particles_.position[i];
-    return (x.array() >= b.lower.array()).all() && (x.array() <= b.upper.array()).all();
-  };
-  // Runs every step; removals are rare, so only scan until the first leaver.
-  std::size_t first = 0;
-  while (first < particles_.size() && inside(first)) ++first;
-  if (first == particles_.size()) return;
-  std::vector<std::uint32_t> keep(first);
-  std::iota(keep.begin(), keep.end(), 0u);
-  for (std::size_t i = first; i < particles_.size(); ++i) {
-    if (inside(i)) {
-      keep.push_back(static_cast<std::uint32_t>(i));
-    } else {
-      ++removed_at_bounds_.count;
-      removed_at_bounds_.mass += particles_.mass[i];
+  removeParticlesIf(
+      [&](std::size_t i) {
+        const Vec3& x = particles_.position[i];
+        return !((x.array() >= b.lower.array()).all() && (x.array() <= b.upper.array()).all());
+      },
+      removed_at_bounds_);
+}
+
+WorldComponent& World::addComponent(std::unique_ptr<WorldComponent> component) {
+  if (!component) throw InputError("component", "null", "no component given");
+  for (const auto& existing : components_) {
+    if (existing->name() == component->name()) {
+      throw InputError(component->name() + ".name", component->name(), "component name already used");
     }
   }
-  applySlotMapping(keep);
+  WorldComponent& added = *component;
+  components_.push_back(std::move(component));
+  if (added.stages() & kStageInsertRemove) insert_remove_components_.push_back(&added);
+  if (added.stages() & kStageObserve) observe_components_.push_back(&added);
+  if (initialized_) added.initialize(*this);
+  return added;
+}
+
+void World::runComponents(std::uint32_t stage) {
+  if (stage == kStageInsertRemove) {
+    for (WorldComponent* component : insert_remove_components_) component->insertAndRemove(*this);
+  } else {
+    for (WorldComponent* component : observe_components_) component->observe(*this);
+  }
 }
 
 void World::applySlotMapping(const std::vector<std::uint32_t>& oldSlotOfNew) {
@@ -269,6 +293,7 @@ std::vector<std::string> World::activeStages() const {
   if (!planes_.empty()) stages.emplace_back("plane_contacts");
   if (!meshes_.empty()) stages.emplace_back("mesh_motion_and_contacts");
   if (rolling_active_) stages.emplace_back("rolling_resistance");
+  for (const auto& component : components_) stages.push_back(std::string(component->kind()) + ":" + component->name());
   return stages;
 }
 

@@ -1,11 +1,12 @@
 #pragma once
 /// The particle world and its step pipeline (see docs/architecture.md):
 ///   1. prescribed motion of meshes
-///   2. removal at the domain bounds
+///   2. insertion and removal: sources and sinks (components), domain bounds
 ///   3. first half kick + drift (Verlet) or the explicit Euler update
 ///   4. neighbour update (only when the skin is used up)
 ///   5. forces: particle-particle, particle-plane, particle-mesh
 ///   6. second half kick (Verlet)
+///   7. observers: sensors and trackers (components)
 /// Only the stages the scene needs run: no planes, no plane pass; no rolling
 /// friction in any material pair, a force kernel compiled without it.
 #include <cstdint>
@@ -26,10 +27,11 @@
 #include "demlink/core/plane_wall.hpp"
 #include "demlink/core/simulation_settings.hpp"
 #include "demlink/core/thread_pool.hpp"
+#include "demlink/core/world_component.hpp"
 
 namespace demlink::core {
 
-/// Particles removed because they left the domain bounds.
+/// Particles removed (at the domain bounds, by a sink).
 struct RemovalTally {
   std::uint64_t count = 0;
   double mass = 0.0;  ///< [kg]
@@ -50,6 +52,22 @@ class World {
   /// Adds a mesh body under prescribed motion (its material index must exist);
   /// returns its index. Set its pose and velocity through mesh(index).
   std::size_t addMesh(MeshBody mesh, const std::string& fieldPrefix = "mesh");
+
+  /// Declares that particles of `material` down to `minRadius` [m] will appear
+  /// after initialize() (inserted by a source): the critical time step, the
+  /// default skin and the linear law's matched stiffness take them into account.
+  void declareFutureParticles(std::uint32_t material, double minRadius, const std::string& fieldPrefix);
+
+  /// Adds a scene component (source, sink, sensor, tracker); the world owns it and
+  /// runs it in the stages it declares. Returns a reference that stays valid.
+  WorldComponent& addComponent(std::unique_ptr<WorldComponent> component);
+  [[nodiscard]] const std::vector<std::unique_ptr<WorldComponent>>& components() const { return components_; }
+
+  /// Removes every particle for which `remove(slot)` is true (evaluated once per
+  /// slot, in slot order, before anything moves) and adds them to `tally`.
+  /// Contact histories of the remaining particles are kept.
+  template <class RemovePredicate>
+  void removeParticlesIf(RemovePredicate remove, RemovalTally& tally);
 
   /// Mixes material pairs, checks the time step against the critical limit
   /// (throws InputError unless allow_unsafe_time_step), selects the force kernel
@@ -83,6 +101,7 @@ class World {
   template <class Law, bool kRolling>
   void computeForces();
   void removeOutsideBounds();
+  void runComponents(std::uint32_t stage);
   void applySlotMapping(const std::vector<std::uint32_t>& oldSlotOfNew);
   void rebuildNeighbours();
 
@@ -108,6 +127,32 @@ class World {
   std::uint64_t next_id_ = 1;
   std::uint64_t step_count_ = 0;
   RemovalTally removed_at_bounds_;
+  std::vector<std::unique_ptr<WorldComponent>> components_;
+  /// (material, smallest radius) of particles that sources will insert later.
+  std::vector<std::pair<std::uint32_t, double>> future_particles_;
+  std::vector<WorldComponent*> insert_remove_components_;
+  std::vector<WorldComponent*> observe_components_;
 };
+
+template <class RemovePredicate>
+void World::removeParticlesIf(RemovePredicate remove, RemovalTally& tally) {
+  // Removals are rare: scan until the first removed slot, build a mapping only then.
+  std::size_t first = 0;
+  while (first < particles_.size() && !remove(first)) ++first;
+  if (first == particles_.size()) return;
+  std::vector<std::uint32_t> keep(first);
+  for (std::uint32_t k = 0; k < first; ++k) keep[k] = k;
+  ++tally.count;
+  tally.mass += particles_.mass[first];
+  for (std::size_t i = first + 1; i < particles_.size(); ++i) {
+    if (remove(i)) {
+      ++tally.count;
+      tally.mass += particles_.mass[i];
+    } else {
+      keep.push_back(static_cast<std::uint32_t>(i));
+    }
+  }
+  applySlotMapping(keep);
+}
 
 }  // namespace demlink::core

@@ -1,0 +1,50 @@
+#pragma once
+/// A scene component that takes part in the step pipeline: particle sources and
+/// sinks (stage 2: insert/remove), region and flow sensors and trackers (stage 7:
+/// observe). The world runs a component only in the stages it declares, and a
+/// scene without components runs no component pass at all.
+///
+/// Why a virtual interface here but compile-time contact laws: components run
+/// once per step (a handful of virtual calls), contact laws once per contact.
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+namespace demlink::core {
+
+class World;
+
+/// Stages a component takes part in (bit set).
+enum ComponentStage : std::uint32_t {
+  kStageInsertRemove = 1u << 0,  ///< stage 2: after mesh motion, before the drift
+  kStageObserve = 1u << 1,       ///< stage 7: after the second half kick
+};
+
+class WorldComponent {
+ public:
+  explicit WorldComponent(std::string name) : name_(std::move(name)) {}
+  virtual ~WorldComponent() = default;
+  WorldComponent(const WorldComponent&) = delete;
+  WorldComponent& operator=(const WorldComponent&) = delete;
+
+  /// The scene name of this component (unique within a scene).
+  [[nodiscard]] const std::string& name() const { return name_; }
+  /// Kind for reports, e.g. "particle_source".
+  [[nodiscard]] virtual std::string_view kind() const = 0;
+  /// Bit set of ComponentStage values.
+  [[nodiscard]] virtual std::uint32_t stages() const = 0;
+
+  /// Called once by World::initialize(), after materials are mixed and before the
+  /// first force evaluation; throw InputError for a reference that does not
+  /// resolve (e.g. a mesh body index).
+  virtual void initialize(World& /*world*/) {}
+  /// Stage 2. `world.time()` is the time at the start of the step.
+  virtual void insertAndRemove(World& /*world*/) {}
+  /// Stage 7. `world.time()` is the time at the end of the step.
+  virtual void observe(const World& /*world*/) {}
+
+ private:
+  std::string name_;
+};
+
+}  // namespace demlink::core
