@@ -1,9 +1,11 @@
 #include "demlink/core/contact_pair_table.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <numbers>
 
+#include "demlink/core/input_error.hpp"
 #include "demlink/core/restitution_calibration.hpp"
 
 namespace demlink::core {
@@ -15,6 +17,12 @@ double effectiveYoungsModulus(const Material& a, const Material& b) {
 
 double effectiveShearModulus(const Material& a, const Material& b) {
   return 1.0 / ((2.0 - a.poisson_ratio) / a.shearModulus() + (2.0 - b.poisson_ratio) / b.shearModulus());
+}
+
+void PairOverride::validate(const std::string& fieldPrefix) const {
+  if (restitution) requireHalfOpenRange(fieldPrefix + ".restitution", *restitution, 0.0, 1.0);
+  if (sliding_friction) requireNonNegative(fieldPrefix + ".sliding_friction", *sliding_friction);
+  if (rolling_friction) requireNonNegative(fieldPrefix + ".rolling_friction", *rolling_friction);
 }
 
 namespace {
@@ -37,8 +45,14 @@ double matchedLinearStiffness(const Material& a, const Material& b, double eStar
 }  // namespace
 
 ContactPairTable::ContactPairTable(const std::vector<Material>& materials, ContactModel model,
-                                   const LinearStiffnessReference& linearReference)
+                                   const LinearStiffnessReference& linearReference,
+                                   const std::vector<PairOverrideEntry>& overrides)
     : count_(static_cast<std::uint32_t>(materials.size())), pairs_(materials.size() * materials.size()) {
+  // Overrides by unordered pair (lower index first); scenes have few, a map is plenty.
+  std::map<std::pair<std::uint32_t, std::uint32_t>, const PairOverride*> overrideOf;
+  for (const PairOverrideEntry& entry : overrides) {
+    overrideOf[std::minmax(entry.material_a, entry.material_b)] = &entry.values;
+  }
   const NormalLaw law = model == ContactModel::HertzMindlin ? NormalLaw::Hertz : NormalLaw::Linear;
   std::map<double, double> dampingOfRestitution;  // calibration is ~ms each; reuse across pairs
   for (std::uint32_t i = 0; i < count_; ++i) {
@@ -48,10 +62,16 @@ ContactPairTable::ContactPairTable(const std::vector<Material>& materials, Conta
       ContactPairParams p;
       p.effective_youngs = effectiveYoungsModulus(a, b);
       p.effective_shear = effectiveShearModulus(a, b);
-      // Different materials: arithmetic means (per-pair overrides come from the scene).
+      // Different materials: arithmetic means, unless the scene overrides the pair.
       p.restitution = 0.5 * (a.restitution + b.restitution);
       p.sliding_friction = 0.5 * (a.sliding_friction + b.sliding_friction);
       p.rolling_friction = 0.5 * (a.rolling_friction + b.rolling_friction);
+      if (const auto it = overrideOf.find({i, j}); it != overrideOf.end()) {
+        const PairOverride& o = *it->second;
+        p.restitution = o.restitution.value_or(p.restitution);
+        p.sliding_friction = o.sliding_friction.value_or(p.sliding_friction);
+        p.rolling_friction = o.rolling_friction.value_or(p.rolling_friction);
+      }
       auto [it, inserted] = dampingOfRestitution.try_emplace(p.restitution, 0.0);
       if (inserted) it->second = dampingForRestitution(law, p.restitution);
       const double c = it->second;

@@ -36,6 +36,24 @@ std::optional<std::uint32_t> World::findMaterial(const std::string& name) const 
   return std::nullopt;
 }
 
+void World::setPairOverride(std::uint32_t materialA, std::uint32_t materialB, const PairOverride& values,
+                            const std::string& fieldPrefix) {
+  if (initialized_) {
+    throw InputError(fieldPrefix, "(pair override)", "pair overrides must be set before initialize()");
+  }
+  for (const std::uint32_t m : {materialA, materialB}) {
+    if (m >= materials_.size()) throw InputError(fieldPrefix + ".material", std::to_string(m), "no such material");
+  }
+  values.validate(fieldPrefix);
+  for (const PairOverrideEntry& entry : pair_overrides_) {
+    if (std::minmax(entry.material_a, entry.material_b) == std::minmax(materialA, materialB)) {
+      throw InputError(fieldPrefix, materials_[materialA].name + " / " + materials_[materialB].name,
+                       "this material pair already has an override");
+    }
+  }
+  pair_overrides_.push_back({materialA, materialB, values});
+}
+
 std::uint64_t World::addParticle(const ParticleSpec& spec, const std::string& fieldPrefix) {
   requirePositive(fieldPrefix + ".radius", spec.radius);
   requireFiniteVector(fieldPrefix + ".position", spec.position);
@@ -101,7 +119,8 @@ void World::initialize() {
                      "the linear law needs a stiffness when the scene starts without particles");
   }
   pair_table_ = ContactPairTable(materials_, settings_.contact_model,
-                                 {meanRadius, settings_.max_impact_velocity, settings_.linear_normal_stiffness});
+                                 {meanRadius, settings_.max_impact_velocity, settings_.linear_normal_stiffness},
+                                 pair_overrides_);
   time_step_report_ = criticalTimeStep(materials_, pair_table_, settings_.contact_model, minRadius,
                                        settings_.max_impact_velocity);
   if (settings_.time_step > time_step_report_.limit && !settings_.allow_unsafe_time_step) {

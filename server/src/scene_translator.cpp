@@ -22,6 +22,7 @@
 #include "demlink/core/input_error.hpp"
 #include "demlink/server/particle_file_reader.hpp"
 #include "demlink/server/particle_lattice.hpp"
+#include "demlink/server/translate_materials.hpp"
 
 namespace demlink::server {
 namespace {
@@ -132,19 +133,6 @@ RunOptions toRunOptions(const v1::SimulationBox& box, const std::string& prefix)
   return run;
 }
 
-core::Material toMaterial(const v1::Material& declared, const std::string& componentName, const std::string& prefix) {
-  core::Material material;
-  material.name = declared.name().empty() ? componentName : declared.name();
-  if (declared.has_density()) material.density = declared.density();
-  if (declared.has_youngs_modulus()) material.youngs_modulus = declared.youngs_modulus();
-  if (declared.has_poisson_ratio()) material.poisson_ratio = declared.poisson_ratio();
-  if (declared.has_restitution()) material.restitution = declared.restitution();
-  if (declared.has_sliding_friction()) material.sliding_friction = declared.sliding_friction();
-  if (declared.has_rolling_friction()) material.rolling_friction = declared.rolling_friction();
-  material.validate(prefix);
-  return material;
-}
-
 /// Pass 2: registers every material; returns name -> world index.
 MaterialNames addMaterials(const v1::Scene& scene, core::World& world) {
   MaterialNames names;
@@ -153,7 +141,7 @@ MaterialNames addMaterials(const v1::Scene& scene, core::World& world) {
     const v1::ComponentDeclaration& component = scene.components(i);
     if (!component.has_material()) continue;
     const std::string prefix = componentPath(i) + ".material";
-    const core::Material material = toMaterial(component.material(), component.name(), prefix);
+    const core::Material material = translateMaterial(component.material(), component.name(), prefix);
     const auto [it, inserted] = declaredBy.emplace(material.name, i);
     if (!inserted) {
       throw InputError(prefix + ".name", quoted(material.name),
@@ -266,6 +254,7 @@ TranslatedScene translateScene(const v1::Scene& scene, const std::filesystem::pa
   TranslatedScene out{core::World(toSettings(box, boxPrefix)), toRunOptions(box, boxPrefix)};
 
   const MaterialNames materials = addMaterials(scene, out.world);
+  addMaterialPairs(scene, materials, out.world);
   for (int i = 0; i < scene.components_size(); ++i) {
     const v1::ComponentDeclaration& component = scene.components(i);
     const std::string path = componentPath(i);
@@ -290,6 +279,7 @@ TranslatedScene translateScene(const v1::Scene& scene, const std::filesystem::pa
       }
       case v1::ComponentDeclaration::kSimulationBox:
       case v1::ComponentDeclaration::kMaterial:
+      case v1::ComponentDeclaration::kMaterialPair:
       case v1::ComponentDeclaration::KIND_NOT_SET:
         break;
     }

@@ -62,15 +62,18 @@ inline void addFloorAndSphere(World& world, std::uint32_t material, double radiu
 }
 
 /// Two equal spheres on the x axis, `gap` apart, approaching head-on at relative
-/// speed `speed` (each moving at speed/2).
-inline void addHeadOnPair(World& world, double radius, double speed, double gap) {
+/// speed `speed` (each moving at speed/2), of materials `materialA` (at -x) and `materialB`.
+inline void addHeadOnPair(World& world, double radius, double speed, double gap, std::uint32_t materialA = 0,
+                          std::uint32_t materialB = 0) {
   ParticleSpec a;
   a.radius = radius;
+  a.material = materialA;
   a.position = Vec3(-radius - 0.5 * gap, 0.0, 0.0);
   a.velocity = Vec3(0.5 * speed, 0.0, 0.0);
   ParticleSpec b = a;
   b.position = -a.position;
   b.velocity = -a.velocity;
+  b.material = materialB;
   world.addParticle(a);
   world.addParticle(b);
 }

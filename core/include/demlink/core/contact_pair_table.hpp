@@ -2,6 +2,8 @@
 /// Mixes material properties into per-pair contact coefficients once, at set-up,
 /// so the force stage only indexes a table (no mixing per contact).
 #include <cstdint>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "demlink/core/contact_model.hpp"
@@ -18,11 +20,34 @@ struct LinearStiffnessReference {
   double normal_stiffness = 0.0;///< [N/m] if > 0, used as given for every pair
 };
 
+/// Contact coefficients of one material pair given explicitly (scene component
+/// material_pair) instead of the arithmetic mean of the two materials. Unset
+/// values keep the mean. The damping is calibrated for the overriding e.
+struct PairOverride {
+  std::optional<double> restitution;       ///< e [-], in (0, 1]
+  std::optional<double> sliding_friction;  ///< mu [-], >= 0
+  std::optional<double> rolling_friction;  ///< mu_r [-], >= 0
+
+  /// Throws InputError naming `fieldPrefix + ".<field>"` for the first invalid value.
+  void validate(const std::string& fieldPrefix) const;
+};
+
+/// An override for the unordered pair (material_a, material_b) (indices; equal
+/// indices override a like-material pair).
+struct PairOverrideEntry {
+  std::uint32_t material_a = 0;
+  std::uint32_t material_b = 0;
+  PairOverride values;
+};
+
 class ContactPairTable {
  public:
   ContactPairTable() = default;
+  /// `overrides` must name existing materials, each unordered pair at most once
+  /// (World::setPairOverride checks); all other pairs take the mean mix.
   ContactPairTable(const std::vector<Material>& materials, ContactModel model,
-                   const LinearStiffnessReference& linearReference);
+                   const LinearStiffnessReference& linearReference,
+                   const std::vector<PairOverrideEntry>& overrides = {});
 
   [[nodiscard]] const ContactPairParams& operator()(std::uint32_t a, std::uint32_t b) const {
     return pairs_[a * count_ + b];

@@ -44,6 +44,12 @@ class World {
   /// Adds a validated material; returns its index. Names must be unique.
   std::uint32_t addMaterial(const Material& material);
   [[nodiscard]] std::optional<std::uint32_t> findMaterial(const std::string& name) const;
+  /// Gives the pair (materialA, materialB) (indices, either order; equal indices:
+  /// a like-material pair) explicit contact coefficients instead of the mean mix.
+  /// Call before initialize(); each pair at most once. fieldPrefix names it in errors.
+  void setPairOverride(std::uint32_t materialA, std::uint32_t materialB, const PairOverride& values,
+                       const std::string& fieldPrefix = "pair_override");
+  [[nodiscard]] const std::vector<PairOverrideEntry>& pairOverrides() const { return pair_overrides_; }
   /// Adds a validated sphere; returns its stable id. fieldPrefix names it in errors.
   std::uint64_t addParticle(const ParticleSpec& spec, const std::string& fieldPrefix = "particle");
   /// Adds a validated plane (normal is normalised); returns its index.
@@ -113,6 +119,7 @@ class World {
   std::vector<MeshNearList> mesh_near_;
   std::vector<MeshContactPoint> mesh_contacts_scratch_;
   ContactPairTable pair_table_;
+  std::vector<PairOverrideEntry> pair_overrides_;
   TimeStepReport time_step_report_;
   NeighbourList neighbours_;
   PairLoopPartition partition_;
