@@ -17,6 +17,7 @@
 #include <limits>
 
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/sampled_component.hpp"
 #include "demlink/server/frame_series.hpp"
 
 namespace demlink::server {
@@ -145,6 +146,9 @@ RunSummary runHeadless(TranslatedScene& scene) {
       run.vtk_interval > 0.0 ? stepsFor(run.vtk_interval, dt, box + ".output.vtk_interval") : endStep;
   FrameSeries output(run.output_directory, box + ".output.directory");
   logCompileReport(world, endStep, frameEvery, output.directory().string());
+  for (const std::filesystem::path& csv : core::writeSamplesToCsv(world, output.directory())) {
+    spdlog::info("sensor output: {}", csv.string());
+  }
 
   const Clock::time_point start = Clock::now();
   output.writePlanes(world);

@@ -5,7 +5,8 @@
 ///   1. structure: every component has a unique non-empty name and a kind, and
 ///      there is exactly one simulation_box (its settings build the World);
 ///   2. materials, in declaration order (indices follow it);
-///   3. planes, particle sets and meshes, in declaration order.
+///   3. planes, particle sets and meshes, in declaration order;
+///   4. sinks, sensors and trackers (translate_sensors), which refer to meshes by name.
 /// Every field is checked here or by the core validators with a field path
 /// "components[i].<kind>.<field>", so a user can find it in the scene file.
 #include "demlink/server/scene_translator.hpp"
@@ -23,6 +24,7 @@
 #include "demlink/server/particle_file_reader.hpp"
 #include "demlink/server/particle_lattice.hpp"
 #include "demlink/server/translate_materials.hpp"
+#include "demlink/server/translate_sensors.hpp"
 
 namespace demlink::server {
 namespace {
@@ -277,6 +279,10 @@ TranslatedScene translateScene(const v1::Scene& scene, const std::filesystem::pa
         addMeshBody(declaration, prefix, out.world);
         break;
       }
+      case v1::ComponentDeclaration::kParticleSink:
+      case v1::ComponentDeclaration::kRegionSensor:
+      case v1::ComponentDeclaration::kFlowSensor:
+      case v1::ComponentDeclaration::kTracker:  // after all mesh bodies: addSensorComponents
       case v1::ComponentDeclaration::kSimulationBox:
       case v1::ComponentDeclaration::kMaterial:
       case v1::ComponentDeclaration::kMaterialPair:
@@ -284,6 +290,7 @@ TranslatedScene translateScene(const v1::Scene& scene, const std::filesystem::pa
         break;
     }
   }
+  addSensorComponents(scene, out.world);
   return out;
 }
 
