@@ -17,6 +17,7 @@
 #include <limits>
 
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/particle_source.hpp"
 #include "demlink/core/sampled_component.hpp"
 #include "demlink/server/frame_series.hpp"
 
@@ -181,6 +182,15 @@ RunSummary runHeadless(TranslatedScene& scene) {
                "max z {:.5g} m, {} neighbour builds",
                last.particles, world.removedAtBounds().count, last.kinetic_energy, last.mean_z, last.max_z,
                last.neighbour_builds);
+  for (const auto& component : world.components()) {
+    if (const auto* source = dynamic_cast<const core::ParticleSource*>(component.get())) {
+      if (source->report().shortfall_count > 0) {
+        spdlog::warn("{}", source->summaryLine());
+      } else {
+        spdlog::info("{}", source->summaryLine());
+      }
+    }
+  }
   spdlog::info("output: {} frames in {} (particles.pvd, summary.csv{}{})", summary.frames,
                summary.output_directory.string(), world.planes().empty() ? "" : ", planes.vtp",
                world.meshes().empty() ? "" : ", meshes.pvd");

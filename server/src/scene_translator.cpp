@@ -25,6 +25,7 @@
 #include "demlink/server/particle_lattice.hpp"
 #include "demlink/server/translate_materials.hpp"
 #include "demlink/server/translate_sensors.hpp"
+#include "demlink/server/translate_sources.hpp"
 
 namespace demlink::server {
 namespace {
@@ -72,7 +73,7 @@ int checkStructure(const v1::Scene& scene) {
     if (component.kind_case() == v1::ComponentDeclaration::KIND_NOT_SET) {
       throw InputError(path, quoted(component.name()),
                        "declares no kind (one of simulation_box, material, plane, mesh_body, particle_lattice, "
-                       "particle_file)");
+                       "particle_file, single_particle, particle_source, pit_generator)");
     }
     if (component.has_simulation_box()) boxes.push_back(i);
   }
@@ -277,6 +278,27 @@ TranslatedScene translateScene(const v1::Scene& scene, const std::filesystem::pa
         const MeshBodyDeclaration declaration =
             translateMeshBody(mesh, component.name(), material, sceneDirectory, prefix);
         addMeshBody(declaration, prefix, out.world);
+        break;
+      }
+      case v1::ComponentDeclaration::kSingleParticle: {
+        const std::string prefix = path + ".single_particle";
+        const std::uint32_t material =
+            resolveMaterial(materials, component.single_particle().material(), prefix + ".material");
+        addSingleParticle(component.single_particle(), material, prefix, out.world);
+        break;
+      }
+      case v1::ComponentDeclaration::kParticleSource: {
+        const std::string prefix = path + ".particle_source";
+        const std::uint32_t material =
+            resolveMaterial(materials, component.particle_source().material(), prefix + ".material");
+        addParticleSource(component.particle_source(), component.name(), material, prefix, out.world);
+        break;
+      }
+      case v1::ComponentDeclaration::kPitGenerator: {
+        const std::string prefix = path + ".pit_generator";
+        const std::uint32_t material =
+            resolveMaterial(materials, component.pit_generator().material(), prefix + ".material");
+        addPitGenerator(component.pit_generator(), component.name(), material, prefix, out.world);
         break;
       }
       case v1::ComponentDeclaration::kParticleSink:
