@@ -389,6 +389,10 @@ void World::restoreCheckpoint(std::string_view bytes, const std::string& source)
     clock.fail(std::to_string(pending.size()), "pending slot map does not match the " + std::to_string(rows) +
                                                    " rows of the neighbour list");
   }
+  if (pending.empty() && rows > n) {
+    nbrl.fail(std::to_string(rows), "neighbour list has more rows than the " + std::to_string(n) +
+                                        " particles and no slot map");
+  }
   if (!rebuildPending && (rows != n || !pending.empty())) {
     nbrl.fail(std::to_string(rows), "neighbour list rows differ from the " + std::to_string(n) + " particles");
   }

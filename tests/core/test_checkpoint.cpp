@@ -117,20 +117,20 @@ TEST(Checkpoint, ContinuedRunIsBitIdenticalToUninterrupted) {
     SceneVariant v;
     v.threads = threads;
     const auto a = buildScene(v);
-    for (int n = 0; n < 700; ++n) a->step();
+    for (int n = 0; n < 450; ++n) a->step();
     // The checkpoint must carry live contact state, or this test proves little.
     ASSERT_TRUE(anyNonZero(a->neighbourList().history())) << "no particle contact histories yet";
     ASSERT_TRUE(anyNonZero(a->planes()[4].near_history)) << "no floor contact histories yet";
     ASSERT_GT(a->removedAtBounds().count, 0u);
     ASSERT_GT(a->neighbourList().buildCount(), 3u) << "slots were never re-sorted";
     const std::string file = save(*a);
-    for (int n = 0; n < 500; ++n) a->step();
+    for (int n = 0; n < 150; ++n) a->step();
 
     const auto b = buildScene(v);
     b->restoreCheckpoint(std::string_view(file), "a.bin");
-    EXPECT_EQ(b->stepCount(), 700u);
+    EXPECT_EQ(b->stepCount(), 450u);
     EXPECT_TRUE(save(*b) == file) << "restoring and saving again reproduces the file";
-    for (int n = 0; n < 500; ++n) b->step();
+    for (int n = 0; n < 150; ++n) b->step();
     SCOPED_TRACE(std::to_string(threads) + " threads");
     expectBitIdentical(*a, *b);
   }
@@ -138,7 +138,7 @@ TEST(Checkpoint, ContinuedRunIsBitIdenticalToUninterrupted) {
 
 TEST(Checkpoint, MeshNearListHistoriesSurviveTheRoundTrip) {
   const auto a = buildScene();
-  for (int n = 0; n < 700; ++n) a->step();
+  for (int n = 0; n < 450; ++n) a->step();
   const std::string file = save(*a);
   const auto b = buildScene();
   b->restoreCheckpoint(std::string_view(file), "a.bin");
