@@ -31,31 +31,11 @@ void ParticleArrays::append(const ParticleSpec& spec, double density, std::uint6
 }
 
 void ParticleArrays::permute(std::span<const std::uint32_t> oldSlotOfNew) {
-  permuteColumn(position, oldSlotOfNew);
-  permuteColumn(velocity, oldSlotOfNew);
-  permuteColumn(angular_velocity, oldSlotOfNew);
-  permuteColumn(force, oldSlotOfNew);
-  permuteColumn(torque, oldSlotOfNew);
-  permuteColumn(radius, oldSlotOfNew);
-  permuteColumn(mass, oldSlotOfNew);
-  permuteColumn(inv_mass, oldSlotOfNew);
-  permuteColumn(inv_inertia, oldSlotOfNew);
-  permuteColumn(material, oldSlotOfNew);
-  permuteColumn(id, oldSlotOfNew);
+  forEachColumn([&](const char* /*name*/, auto& column) { permuteColumn(column, oldSlotOfNew); });
 }
 
 void ParticleArrays::reserve(std::size_t n) {
-  position.reserve(n);
-  velocity.reserve(n);
-  angular_velocity.reserve(n);
-  force.reserve(n);
-  torque.reserve(n);
-  radius.reserve(n);
-  mass.reserve(n);
-  inv_mass.reserve(n);
-  inv_inertia.reserve(n);
-  material.reserve(n);
-  id.reserve(n);
+  forEachColumn([&](const char* /*name*/, auto& column) { column.reserve(n); });
 }
 
 }  // namespace demlink::core

@@ -1,6 +1,6 @@
 /// demlink-run: headless mode from the command line.
 ///
-///   demlink-run <scene.json> [--output DIR] [--end-time T] [--quiet]
+///   demlink-run <scene.json> [--output DIR] [--end-time T] [--restore FILE] [--quiet]
 ///
 /// Exit codes: 0 success; 2 bad input (scene, files, command line), printed as
 /// "error: <field> = <value>: <reason>"; 1 any other failure (e.g. a disk full).
@@ -27,15 +27,17 @@ namespace {
 using demlink::core::InputError;
 
 constexpr const char* kUsage =
-    "usage: demlink-run <scene.json> [--output DIR] [--end-time T] [--quiet]\n"
+    "usage: demlink-run <scene.json> [--output DIR] [--end-time T] [--restore FILE] [--quiet]\n"
     "  --output DIR    output directory (default: the scene's output.directory, else out/<scene name>)\n"
     "  --end-time T    simulated end time [s], overrides simulation_box.end_time\n"
+    "  --restore FILE  continue from a checkpoint written by a run of the same scene\n"
     "  --quiet         only warnings and errors\n";
 
 struct CommandLine {
   std::string scene;
   std::optional<std::string> output;
   std::optional<double> end_time;  ///< [s]
+  std::optional<std::string> restore;
   bool quiet = false;
   bool help = false;
 };
@@ -69,6 +71,9 @@ CommandLine parseCommandLine(int argc, char** argv) {
       if (line.output->empty()) throw InputError("--output", "\"\"", "must not be empty");
     } else if (arg == "--end-time" || arg.starts_with("--end-time=")) {
       line.end_time = parseEndTime(valueOf("--end-time"));
+    } else if (arg == "--restore" || arg.starts_with("--restore=")) {
+      line.restore = std::string(valueOf("--restore"));
+      if (line.restore->empty()) throw InputError("--restore", "\"\"", "must not be empty");
     } else if (arg.starts_with("-") && arg.size() > 1) {
       throw InputError("command line", std::string(arg), "unknown option\n" + std::string(kUsage));
     } else if (line.scene.empty()) {
@@ -105,6 +110,8 @@ int run(int argc, char** argv) {
   } else if (translated.run.output_directory.empty()) {
     translated.run.output_directory = (std::filesystem::path("out") / scenePath.stem()).string();
   }
+  translated.run.scene_file = line.scene;
+  if (line.restore) translated.run.restore_file = *line.restore;
   spdlog::info("scene {}", line.scene);
   demlink::server::runHeadless(translated);
   return 0;

@@ -16,10 +16,13 @@
 #include <cmath>
 #include <limits>
 
+#include "demlink/core/checkpoint.hpp"
 #include "demlink/core/input_error.hpp"
 #include "demlink/core/particle_source.hpp"
 #include "demlink/core/sampled_component.hpp"
 #include "demlink/server/frame_series.hpp"
+#include "demlink/server/particle_csv.hpp"
+#include "demlink/server/run_log.hpp"
 
 namespace demlink::server {
 namespace {
@@ -100,7 +103,8 @@ void logCompileReport(const core::World& world, std::uint64_t endStep, std::uint
 /// Prints a progress line every `interval` wall seconds.
 class ProgressMeter {
  public:
-  ProgressMeter(double interval, std::uint64_t endStep) : interval_(interval), end_step_(endStep) {}
+  ProgressMeter(double interval, std::uint64_t endStep, std::uint64_t firstStep)
+      : interval_(interval), end_step_(endStep), last_step_(firstStep) {}
 
   void update(const core::World& world) {
     const Clock::time_point now = Clock::now();
@@ -124,7 +128,7 @@ class ProgressMeter {
   double interval_;
   std::uint64_t end_step_;
   Clock::time_point last_time_ = Clock::now();
-  std::uint64_t last_step_ = 0;
+  std::uint64_t last_step_;
 };
 
 }  // namespace
@@ -140,32 +144,83 @@ RunSummary runHeadless(TranslatedScene& scene) {
     throw core::InputError(box + ".output.directory", "\"\"", "no output directory given");
   }
 
+  const Clock::time_point initStart = Clock::now();
   initializeWorld(world, box);
+  if (!run.restore_file.empty()) {
+    core::restoreCheckpointFile(world, run.restore_file);
+    spdlog::info("restored {} at t = {:.6g} s ({} particles)", run.restore_file, world.time(),
+                 world.particles().size());
+  }
+  RunTiming timing;
+  timing.initialise_seconds = secondsSince(initStart);
   const double dt = world.settings().time_step;
   const std::uint64_t endStep = stepsFor(run.end_time, dt, box + ".end_time");
+  if (world.stepCount() >= endStep) {
+    throw core::InputError(box + ".end_time", core::formatValue(run.end_time),
+                           "the restored checkpoint is already at t = " + core::formatValue(world.time()) +
+                               " s; nothing left to run");
+  }
   const std::uint64_t frameEvery =
       run.vtk_interval > 0.0 ? stepsFor(run.vtk_interval, dt, box + ".output.vtk_interval") : endStep;
+  const std::uint64_t checkpointEvery =
+      run.checkpoint_interval > 0.0 ? stepsFor(run.checkpoint_interval, dt, box + ".output.checkpoint_interval") : 0;
   FrameSeries output(run.output_directory, box + ".output.directory");
   logCompileReport(world, endStep, frameEvery, output.directory().string());
   for (const std::filesystem::path& csv : core::writeSamplesToCsv(world, output.directory())) {
     spdlog::info("sensor output: {}", csv.string());
   }
+  RunLog runLog(output.directory() / "run_log.csv");
+  runLog.writeConfiguration(world, run, endStep);
 
   const Clock::time_point start = Clock::now();
-  output.writePlanes(world);
-  output.writeFrame(world, 0.0);
-  ProgressMeter progress(run.progress_interval, endStep);
-  std::uint64_t particleSteps = 0;
-  while (world.stepCount() < endStep) {
-    world.step();
-    particleSteps += world.particles().size();
-    const std::uint64_t step = world.stepCount();
-    if (step % frameEvery == 0 || step == endStep) output.writeFrame(world, secondsSince(start));
-    progress.update(world);
+  const std::uint64_t firstStep = world.stepCount();
+  const std::uint64_t firstBuild = world.neighbourList().buildCount();
+  auto timed = [&](auto&& write) {
+    const Clock::time_point begin = Clock::now();
+    write();
+    timing.output_seconds += secondsSince(begin);
+  };
+  try {
+    timed([&] {
+      output.writePlanes(world);
+      output.writeFrame(world, 0.0);
+    });
+    ProgressMeter progress(run.progress_interval, endStep, firstStep);
+    while (world.stepCount() < endStep) {
+      world.step();
+      timing.particle_steps += world.particles().size();
+      const std::uint64_t step = world.stepCount();
+      if (step % frameEvery == 0 || step == endStep) timed([&] { output.writeFrame(world, secondsSince(start)); });
+      if (checkpointEvery > 0 && step % checkpointEvery == 0) {
+        timed([&] {
+          core::writeCheckpointFile(world,
+                                    output.directory() / fmt::format("checkpoint_{:06}.bin", step / checkpointEvery));
+        });
+        ++timing.checkpoints;
+      }
+      progress.update(world);
+    }
+    timed([&] {
+      if (run.final_checkpoint) {
+        core::writeCheckpointFile(world, output.directory() / "checkpoint_final.bin");
+        ++timing.checkpoints;
+      }
+      if (run.final_particles_csv) writeParticleCsv(world, output.directory() / "particles_final.csv");
+    });
+  } catch (const std::exception& error) {
+    runLog.add("timing", "status", std::string("aborted: ") + error.what());
+    throw;
   }
+  timing.total_seconds = secondsSince(start);
+  timing.steps = world.stepCount() - firstStep;
+  timing.neighbour_builds = world.neighbourList().buildCount() - firstBuild;
+  timing.frames = output.frameCount();
+  runLog.writeTiming(world, timing);
+  const std::uint64_t particleSteps = timing.particle_steps;
 
   RunSummary summary;
-  summary.steps = endStep;
+  summary.steps = timing.steps;
+  summary.checkpoints = timing.checkpoints;
   summary.frames = output.frameCount();
   summary.final_particles = world.particles().size();
   summary.final_time = world.time();

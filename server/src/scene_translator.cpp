@@ -26,6 +26,7 @@
 #include "demlink/server/translate_materials.hpp"
 #include "demlink/server/translate_sensors.hpp"
 #include "demlink/server/translate_sources.hpp"
+#include "demlink/server/translate_state.hpp"
 
 namespace demlink::server {
 namespace {
@@ -73,7 +74,8 @@ int checkStructure(const v1::Scene& scene) {
     if (component.kind_case() == v1::ComponentDeclaration::KIND_NOT_SET) {
       throw InputError(path, quoted(component.name()),
                        "declares no kind (one of simulation_box, material, plane, mesh_body, particle_lattice, "
-                       "particle_file, single_particle, particle_source, pit_generator)");
+                       "particle_file, particle_system, single_particle, particle_source, pit_generator, "
+                       "particle_sink, region_sensor, flow_sensor, tracker, material_pair)");
     }
     if (component.has_simulation_box()) boxes.push_back(i);
   }
@@ -133,6 +135,10 @@ RunOptions toRunOptions(const v1::SimulationBox& box, const std::string& prefix)
   core::requireNonNegative(prefix + ".output.vtk_interval", run.vtk_interval);
   if (box.output().has_progress_interval_s()) run.progress_interval = box.output().progress_interval_s();
   core::requirePositive(prefix + ".output.progress_interval_s", run.progress_interval);
+  run.checkpoint_interval = box.output().checkpoint_interval();
+  core::requireNonNegative(prefix + ".output.checkpoint_interval", run.checkpoint_interval);
+  if (box.output().has_final_checkpoint()) run.final_checkpoint = box.output().final_checkpoint();
+  if (box.output().has_final_particles_csv()) run.final_particles_csv = box.output().final_particles_csv();
   return run;
 }
 
@@ -270,6 +276,9 @@ TranslatedScene translateScene(const v1::Scene& scene, const std::filesystem::pa
         break;
       case v1::ComponentDeclaration::kParticleFile:
         addParticleFile(component.particle_file(), materials, sceneDirectory, path + ".particle_file", out.world);
+        break;
+      case v1::ComponentDeclaration::kParticleSystem:
+        addParticleSystem(component.particle_system(), sceneDirectory, path + ".particle_system", out.world);
         break;
       case v1::ComponentDeclaration::kMeshBody: {
         const std::string prefix = path + ".mesh_body";

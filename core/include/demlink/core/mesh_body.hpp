@@ -113,6 +113,7 @@ class MeshBody {
   [[nodiscard]] const std::vector<std::string>& loadWarnings() const { return loadWarnings_; }
 
  private:
+  friend class World;  // checkpoint.cpp saves and restores the private state
   std::string name_;
   std::vector<Vec3> localVertices_;
   std::vector<std::array<std::uint32_t, 3>> triangles_;

@@ -48,6 +48,7 @@ class NeighbourList {
   [[nodiscard]] const CellGrid& grid() const { return grid_; }
 
  private:
+  friend class World;  // checkpoint.cpp saves and restores the private state
   double skin_;
   std::uint64_t builds_ = 0;
   CellGrid grid_;

@@ -49,6 +49,35 @@ struct ParticleArrays {
   void permute(std::span<const std::uint32_t> oldSlotOfNew);
 
   void reserve(std::size_t n);
+
+  /// Calls visit(name, column) for every column, in a fixed order. permute(),
+  /// reserve() and the checkpoint go through it, so a column added here is
+  /// reordered, reserved and saved without further edits (append() still lists
+  /// the columns one by one).
+  template <class Visitor>
+  void forEachColumn(Visitor&& visit) {
+    visitColumns(*this, visit);
+  }
+  template <class Visitor>
+  void forEachColumn(Visitor&& visit) const {
+    visitColumns(*this, visit);
+  }
+
+ private:
+  template <class Self, class Visitor>
+  static void visitColumns(Self& self, Visitor& visit) {
+    visit("position", self.position);
+    visit("velocity", self.velocity);
+    visit("angular_velocity", self.angular_velocity);
+    visit("force", self.force);
+    visit("torque", self.torque);
+    visit("radius", self.radius);
+    visit("mass", self.mass);
+    visit("inv_mass", self.inv_mass);
+    visit("inv_inertia", self.inv_inertia);
+    visit("material", self.material);
+    visit("id", self.id);
+  }
 };
 
 }  // namespace demlink::core

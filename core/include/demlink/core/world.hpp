@@ -10,9 +10,11 @@
 /// Only the stages the scene needs run: no planes, no plane pass; no rolling
 /// friction in any material pair, a force kernel compiled without it.
 #include <cstdint>
+#include <iosfwd>
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "demlink/core/contact_pair_table.hpp"
@@ -81,6 +83,19 @@ class World {
   void initialize();
   /// Advances one time step.
   void step();
+
+  /// Writes everything the next step depends on (settings, materials, particle
+  /// columns, neighbour and near lists with histories, planes, meshes, counters,
+  /// component states) to `out` (format: checkpoint.hpp, docs/state.md). Defined
+  /// in checkpoint.cpp. Throws std::runtime_error if `out` fails.
+  void saveCheckpoint(std::ostream& out) const;
+  /// Restores a checkpoint written by a world built from the same scene (same
+  /// settings, materials, planes, meshes and components), initialising this
+  /// world first if needed. Throws InputError naming `source` and the section
+  /// for a bad file or a scene mismatch; the world's own state is only replaced
+  /// once the whole file has been read and checked.
+  void restoreCheckpoint(std::istream& in, const std::string& source = "checkpoint");
+  void restoreCheckpoint(std::string_view bytes, const std::string& source);
 
   [[nodiscard]] const SimulationSettings& settings() const { return settings_; }
   [[nodiscard]] std::uint64_t stepCount() const { return step_count_; }

@@ -13,6 +13,8 @@
 namespace demlink::core {
 
 class World;
+class StateWriter;
+class StateReader;
 
 /// Stages a component takes part in (bit set).
 enum ComponentStage : std::uint32_t {
@@ -42,6 +44,14 @@ class WorldComponent {
   virtual void insertAndRemove(World& /*world*/) {}
   /// Stage 7. `world.time()` is the time at the end of the step.
   virtual void observe(const World& /*world*/) {}
+
+  /// Writes whatever the component's future behaviour depends on (random
+  /// generator state, accumulated counts, next insertion time) into a
+  /// checkpoint. Default: no state.
+  virtual void saveState(StateWriter& /*out*/) const {}
+  /// Reads back what saveState wrote, into a component built from the same
+  /// scene; throw InputError via in.fail() for inconsistent data. Default: no state.
+  virtual void loadState(StateReader& /*in*/) {}
 
  private:
   std::string name_;

@@ -11,6 +11,11 @@
 ///   particles_000000.vtp ...   one PolyData file per frame
 ///   planes.vtp                 the plane walls as quads (only if the scene has planes)
 ///   summary.csv                one row per frame: time, particles, kinetic energy, ...
+///   run_log.csv                configuration (at start) and timing (at the end) (run_log.hpp)
+///   checkpoint_NNNNNN.bin      every output.checkpoint_interval; checkpoint_final.bin at the end
+///   particles_final.csv        the final particles (particle_csv.hpp), loadable by a ParticleSystem
+/// With run.restore_file set, the world continues from that checkpoint (same scene)
+/// and the run goes on to end_time.
 #include <cstdint>
 #include <filesystem>
 
@@ -22,6 +27,7 @@ namespace demlink::server {
 struct RunSummary {
   std::uint64_t steps = 0;               ///< time steps taken [-]
   std::size_t frames = 0;                ///< frames written (= rows of summary.csv) [-]
+  std::size_t checkpoints = 0;           ///< checkpoint files written [-]
   std::size_t final_particles = 0;       ///< [-]
   double final_time = 0.0;               ///< [s]
   double final_kinetic_energy = 0.0;     ///< [J]

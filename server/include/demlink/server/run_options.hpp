@@ -11,6 +11,14 @@ struct RunOptions {
   std::string output_directory;    ///< where frames and summary.csv go; empty: the caller's default
   double vtk_interval = 0.0;       ///< simulated time between frames [s]; 0: first and last frame only
   double progress_interval = 2.0;  ///< wall-clock time between progress lines [s]
+  double checkpoint_interval = 0.0;  ///< simulated time between checkpoint files [s]; 0: none
+  bool final_checkpoint = true;      ///< write checkpoint_final.bin at the end
+  bool final_particles_csv = true;   ///< write particles_final.csv at the end
+  /// Checkpoint to continue from (demlink-run --restore), written by a run of the
+  /// same scene; empty: start from the scene's initial state.
+  std::string restore_file;
+  /// The scene file, for the run log; empty if the scene did not come from a file.
+  std::string scene_file;
   /// Scene path of the SimulationBox (e.g. "components[0].simulation_box"), so
   /// errors found at run time name the field in the scene.
   std::string field_prefix = "simulation_box";
