@@ -22,6 +22,8 @@
 #include "demlink/core/input_error.hpp"
 #include "demlink/server/particle_file_reader.hpp"
 #include "demlink/server/particle_lattice.hpp"
+#include "demlink/server/translate_facets.hpp"
+#include "demlink/server/translate_room.hpp"
 
 namespace demlink::server {
 namespace {
@@ -69,7 +71,7 @@ int checkStructure(const v1::Scene& scene) {
     if (component.kind_case() == v1::ComponentDeclaration::KIND_NOT_SET) {
       throw InputError(path, quoted(component.name()),
                        "declares no kind (one of simulation_box, material, plane, mesh_body, particle_lattice, "
-                       "particle_file)");
+                       "particle_file, facet_body)");
     }
     if (component.has_simulation_box()) boxes.push_back(i);
   }
@@ -115,6 +117,7 @@ core::SimulationSettings toSettings(const v1::SimulationBox& box, const std::str
     if (!bounds.has_upper()) throw InputError(prefix + ".bounds.upper", "(missing)", "required when bounds is given");
     settings.bounds = core::DomainBounds{toVec3(bounds.lower()), toVec3(bounds.upper())};
   }
+  translateRoom(box, prefix, settings);
   settings.validate(prefix);
   return settings;
 }
@@ -286,6 +289,15 @@ TranslatedScene translateScene(const v1::Scene& scene, const std::filesystem::pa
         const MeshBodyDeclaration declaration =
             translateMeshBody(mesh, component.name(), material, sceneDirectory, prefix);
         addMeshBody(declaration, prefix, out.world);
+        break;
+      }
+      case v1::ComponentDeclaration::kFacetBody: {
+        const std::string prefix = path + ".facet_body";
+        const auto resolve = [&](const std::string& name, const std::string& field) {
+          return resolveMaterial(materials, name, field);
+        };
+        out.world.addMesh(translateFacetBody(component.facet_body(), component.name(), resolve, sceneDirectory, prefix),
+                          prefix);
         break;
       }
       case v1::ComponentDeclaration::kSimulationBox:
