@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/integrator.hpp"
 #include "demlink/core/parallel.hpp"
 
 namespace demlink::core {
@@ -64,6 +65,9 @@ inline void kickOne(ParticleArrays& p, std::size_t i, const FrameKickTerms& t, d
   p.angular_velocity[i] = t.spin.apply(p.angular_velocity[i] + c * halfH) + c * halfH;
 }
 
+/// A room that only translates: its fictitious force is a uniform shift of gravity.
+bool translatesOnly(const FrameMotion& f) { return f.angular_velocity.isZero(0.0) && f.angular_acceleration.isZero(0.0); }
+
 }  // namespace
 
 bool FrameMotion::isInertial() const {
@@ -81,6 +85,7 @@ void FrameMotion::validate(const std::string& fieldPrefix) const {
 }
 
 void frameKick(ParticleArrays& p, const Vec3& gravity, const FrameMotion& frame, double h, ThreadPool* pool) {
+  if (translatesOnly(frame)) return kick(p, gravity - frame.linear_acceleration, h, pool);
   const FrameKickTerms terms(gravity, frame, h);
   const double halfH = 0.5 * h;
   parallelChunks(pool, p.size(), [&](std::size_t begin, std::size_t end) {
@@ -90,6 +95,7 @@ void frameKick(ParticleArrays& p, const Vec3& gravity, const FrameMotion& frame,
 
 void frameKickAndDrift(ParticleArrays& p, const Vec3& gravity, const FrameMotion& frame, double h, double dt,
                        ThreadPool* pool) {
+  if (translatesOnly(frame)) return kickAndDrift(p, gravity - frame.linear_acceleration, h, dt, pool);
   const FrameKickTerms terms(gravity, frame, h);
   const double halfH = 0.5 * h;
   parallelChunks(pool, p.size(), [&](std::size_t begin, std::size_t end) {
@@ -102,6 +108,7 @@ void frameKickAndDrift(ParticleArrays& p, const Vec3& gravity, const FrameMotion
 
 void frameExplicitEulerStep(ParticleArrays& p, const Vec3& gravity, const FrameMotion& frame, double dt,
                             ThreadPool* pool) {
+  if (translatesOnly(frame)) return explicitEulerStep(p, gravity - frame.linear_acceleration, dt, pool);
   // First order by design: the same explicit update as explicitEulerStep, with the
   // fictitious accelerations evaluated at the old state.
   const FrameKickTerms terms(gravity, frame, dt);

@@ -186,6 +186,8 @@ void World::step() {
   } else {
     explicitEulerStep(particles_, settings_.gravity, dt, pool_.get());
   }
+  // A constant angular acceleration turns the room ever faster: Omega(t_n+1) for the second half kick.
+  if (frame_moving_) settings_.frame.angular_velocity += settings_.frame.angular_acceleration * dt;
   if (rebuild_pending_ || meshMovedFar || neighbours_.needsRebuild(particles_.position, pool_.get())) {
     rebuildNeighbours();
   }

@@ -25,6 +25,8 @@
 ///
 /// Cost: the world calls these routines only when the frame is not inertial; an
 /// inertial room runs the plain integrator (one branch per step, outside the loop).
+/// A room that only translates (Omega = alpha = 0) is exactly a gravity shift: the
+/// routines then run the plain kick with g - a_f (bit-identical, no extra work).
 #include <string>
 
 #include "demlink/core/math_types.hpp"
@@ -34,8 +36,10 @@
 namespace demlink::core {
 
 /// Motion of the room relative to an inertial frame, expressed in room coordinates.
-/// Values are held constant over a time step; World::setFrameMotion changes them
-/// between steps (e.g. once per co-simulation interval).
+/// linear_acceleration and angular_acceleration are constant until changed by
+/// World::setFrameMotion (e.g. once per co-simulation interval); angular_velocity
+/// is the value when set and the world advances it by angular_acceleration * dt
+/// every step (exact for a constant alpha; each half kick uses the Omega of its time).
 struct FrameMotion {
   Vec3 linear_acceleration = Vec3::Zero();   ///< acceleration of `origin` [m/s^2]
   Vec3 angular_velocity = Vec3::Zero();      ///< Omega [rad/s]
