@@ -177,6 +177,10 @@ RunSummary runHeadless(TranslatedScene& scene) {
                "max z {:.5g} m, {} neighbour builds",
                last.particles, world.removedAtBounds().count, last.kinetic_energy, last.mean_z, last.max_z,
                last.neighbour_builds);
+  if (const auto bounds = world.currentBounds(); bounds && bounds->growing) {
+    spdlog::info("bounds (growing): lower ({}, {}, {}) m, upper ({}, {}, {}) m", bounds->lower.x(), bounds->lower.y(),
+                 bounds->lower.z(), bounds->upper.x(), bounds->upper.y(), bounds->upper.z());
+  }
   spdlog::info("output: {} frames in {} (particles.pvd, summary.csv{}{})", summary.frames,
                summary.output_directory.string(), world.planes().empty() ? "" : ", planes.vtp",
                world.meshes().empty() ? "" : ", meshes.pvd");
