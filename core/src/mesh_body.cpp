@@ -182,6 +182,16 @@ void MeshBody::clearWrench() {
   torque_.setZero();
 }
 
+void MeshBody::setCollisionWindow(double from, double until) {
+  if (std::isnan(from)) throw InputError("active_from", formatValue(from), "must be a number");
+  if (std::isnan(until)) throw InputError("active_until", formatValue(until), "must be a number");
+  if (until < from) {
+    throw InputError("active_until", formatValue(until), "must not be earlier than active_from = " + formatValue(from));
+  }
+  collideFrom_ = from;
+  collideUntil_ = until;
+}
+
 void MeshBody::markNeighbourBuild() {
   markPosition_ = position_;
   markOrientation_ = orientation_;

@@ -29,7 +29,25 @@ void SimulationSettings::validate(const std::string& fieldPrefix) const {
                              formatValue(bounds->lower[k]));
       }
     }
+    if (bounds->growing) {
+      requireFiniteVector(fieldPrefix + ".bounds.limit_lower", bounds->limit_lower);
+      requireFiniteVector(fieldPrefix + ".bounds.limit_upper", bounds->limit_upper);
+      for (int k = 0; k < 3; ++k) {
+        const std::string kText = std::to_string(k);
+        if (bounds->limit_lower[k] > bounds->lower[k]) {
+          throw InputError(fieldPrefix + ".bounds.limit_lower[" + kText + "]", formatValue(bounds->limit_lower[k]),
+                           "the limit box must contain the initial box (bounds.lower[" + kText + "] = " +
+                               formatValue(bounds->lower[k]) + ")");
+        }
+        if (bounds->limit_upper[k] < bounds->upper[k]) {
+          throw InputError(fieldPrefix + ".bounds.limit_upper[" + kText + "]", formatValue(bounds->limit_upper[k]),
+                           "the limit box must contain the initial box (bounds.upper[" + kText + "] = " +
+                               formatValue(bounds->upper[k]) + ")");
+        }
+      }
+    }
   }
+  frame.validate(fieldPrefix + ".frame");
 }
 
 }  // namespace demlink::core

@@ -6,6 +6,7 @@
 #include "demlink/core/contact_stage.hpp"
 #include "demlink/core/input_error.hpp"
 #include "demlink/core/integrator.hpp"
+#include "demlink/core/moving_frame.hpp"
 #include "demlink/core/parallel.hpp"
 
 namespace demlink::core {
@@ -19,6 +20,24 @@ void requireFiniteVector(const std::string& field, const Vec3& v) {
 
 World::World(SimulationSettings settings) : settings_(std::move(settings)) {
   settings_.validate("simulation_box");
+  if (settings_.bounds) current_bounds_ = *settings_.bounds;
+  frame_moving_ = !settings_.frame.isInertial();
+}
+
+void World::setFrameMotion(const FrameMotion& motion) {
+  motion.validate("frame");
+  settings_.frame = motion;
+  frame_moving_ = !motion.isInertial();
+}
+
+void World::setGravity(const Vec3& gravity) {
+  requireFiniteVector("gravity", gravity);
+  settings_.gravity = gravity;
+}
+
+std::optional<DomainBounds> World::currentBounds() const {
+  if (!settings_.bounds) return std::nullopt;
+  return current_bounds_;
 }
 
 std::uint32_t World::addMaterial(const Material& material) {
@@ -88,6 +107,7 @@ std::size_t World::addMesh(MeshBody mesh, const std::string& fieldPrefix) {
   }
   meshes_.push_back(std::move(mesh));
   mesh_near_.emplace_back();
+  mesh_colliding_.push_back(0);
   rebuild_pending_ = true;
   return meshes_.size() - 1;
 }
@@ -154,6 +174,7 @@ void World::initialize() {
   }
   initialized_ = true;
   for (const auto& component : components_) component->initialize(*this);
+  updateMeshCollision(time());
   rebuildNeighbours();
   (this->*compute_forces_)();
 }
@@ -162,23 +183,40 @@ void World::step() {
   if (!initialized_) initialize();
   const double dt = settings_.time_step;
   bool meshMovedFar = false;
-  for (MeshBody& mesh : meshes_) {
+  // Forces of this step are evaluated at the end of the step.
+  if (updateMeshCollision(static_cast<double>(step_count_ + 1) * dt)) rebuild_pending_ = true;
+  for (std::size_t m = 0; m < meshes_.size(); ++m) {
+    MeshBody& mesh = meshes_[m];
     if (!mesh.linearVelocity().isZero(0.0) || !mesh.angularVelocity().isZero(0.0)) mesh.advance(dt);
-    meshMovedFar = meshMovedFar || mesh.maxDisplacementSinceMark() > 0.5 * neighbours_.skin();
+    const bool farEnough = mesh.maxDisplacementSinceMark() > 0.5 * neighbours_.skin();
+    meshMovedFar = meshMovedFar || (mesh_colliding_[m] != 0 && farEnough);
   }
   runComponents(kStageInsertRemove);
   if (settings_.bounds) removeOutsideBounds();
-  if (settings_.integrator == IntegratorKind::VelocityVerlet) {
+  const bool verlet = settings_.integrator == IntegratorKind::VelocityVerlet;
+  if (frame_moving_) {
+    if (verlet) {
+      frameKickAndDrift(particles_, settings_.gravity, settings_.frame, 0.5 * dt, dt, pool_.get());
+    } else {
+      frameExplicitEulerStep(particles_, settings_.gravity, settings_.frame, dt, pool_.get());
+    }
+  } else if (verlet) {
     kickAndDrift(particles_, settings_.gravity, 0.5 * dt, dt, pool_.get());
   } else {
     explicitEulerStep(particles_, settings_.gravity, dt, pool_.get());
   }
+  // A constant angular acceleration turns the room ever faster: Omega(t_n+1) for the second half kick.
+  if (frame_moving_) settings_.frame.angular_velocity += settings_.frame.angular_acceleration * dt;
   if (rebuild_pending_ || meshMovedFar || neighbours_.needsRebuild(particles_.position, pool_.get())) {
     rebuildNeighbours();
   }
   (this->*compute_forces_)();
-  if (settings_.integrator == IntegratorKind::VelocityVerlet) {
-    kick(particles_, settings_.gravity, 0.5 * dt, pool_.get());
+  if (verlet) {
+    if (frame_moving_) {
+      frameKick(particles_, settings_.gravity, settings_.frame, 0.5 * dt, pool_.get());
+    } else {
+      kick(particles_, settings_.gravity, 0.5 * dt, pool_.get());
+    }
   }
   ++step_count_;
   runComponents(kStageObserve);
@@ -231,18 +269,49 @@ void World::computeForces() {
   }
   for (std::size_t m = 0; m < meshes_.size(); ++m) {
     meshes_[m].clearWrench();
+    if (mesh_colliding_[m] == 0) continue;
     meshContactForces<Law, kRolling>(p, meshes_[m], mesh_near_[m], pair_table_, dt, mesh_contacts_scratch_);
   }
 }
 
 void World::removeOutsideBounds() {
   const DomainBounds& b = *settings_.bounds;
+  if (b.growing) {
+    // One pass: remove beyond the limit, and grow the box around the spheres kept.
+    Vec3 lower = current_bounds_.lower;
+    Vec3 upper = current_bounds_.upper;
+    removeParticlesIf(
+        [&](std::size_t i) {
+          const Vec3& x = particles_.position[i];
+          if (!((x.array() >= b.limit_lower.array()).all() && (x.array() <= b.limit_upper.array()).all())) {
+            return true;
+          }
+          const double r = particles_.radius[i];
+          lower = lower.cwiseMin(x - Vec3::Constant(r));
+          upper = upper.cwiseMax(x + Vec3::Constant(r));
+          return false;
+        },
+        removed_at_bounds_);
+    current_bounds_.lower = lower.cwiseMax(b.limit_lower);
+    current_bounds_.upper = upper.cwiseMin(b.limit_upper);
+    return;
+  }
   removeParticlesIf(
       [&](std::size_t i) {
         const Vec3& x = particles_.position[i];
         return !((x.array() >= b.lower.array()).all() && (x.array() <= b.upper.array()).all());
       },
       removed_at_bounds_);
+}
+
+bool World::updateMeshCollision(double time) {
+  bool changed = false;
+  for (std::size_t m = 0; m < meshes_.size(); ++m) {
+    const char colliding = meshes_[m].collidesAt(time) ? 1 : 0;
+    changed = changed || colliding != mesh_colliding_[m];
+    mesh_colliding_[m] = colliding;
+  }
+  return changed;
 }
 
 WorldComponent& World::addComponent(std::unique_ptr<WorldComponent> component) {
@@ -296,7 +365,11 @@ void World::rebuildNeighbours() {
   partition_.plan(neighbours_.offsets(), settings_.threads);
   for (PlaneWall& wall : planes_) wall.buildNearList(particles_, neighbours_.skin(), pending_new_slot_of_old_);
   for (std::size_t m = 0; m < meshes_.size(); ++m) {
-    mesh_near_[m].build(particles_, meshes_[m], neighbours_.grid(), neighbours_.skin(), pending_new_slot_of_old_);
+    if (mesh_colliding_[m] != 0) {
+      mesh_near_[m].build(particles_, meshes_[m], neighbours_.grid(), neighbours_.skin(), pending_new_slot_of_old_);
+    } else {
+      mesh_near_[m] = MeshNearList{};  // not in contact: no candidates, springs released
+    }
     meshes_[m].markNeighbourBuild();
   }
   pending_new_slot_of_old_.clear();
@@ -305,12 +378,15 @@ void World::rebuildNeighbours() {
 
 std::vector<std::string> World::activeStages() const {
   std::vector<std::string> stages;
-  if (settings_.bounds) stages.emplace_back("bounds_removal");
+  if (settings_.bounds) stages.emplace_back(settings_.bounds->growing ? "growing_bounds" : "bounds_removal");
+  if (frame_moving_) stages.emplace_back("moving_frame");
   stages.emplace_back(std::string(toString(settings_.integrator)));
   stages.emplace_back("neighbour_list");
   stages.emplace_back(std::string("particle_contacts:") + std::string(toString(settings_.contact_model)));
   if (!planes_.empty()) stages.emplace_back("plane_contacts");
   if (!meshes_.empty()) stages.emplace_back("mesh_motion_and_contacts");
+  const auto regions = std::count_if(meshes_.begin(), meshes_.end(), [](const MeshBody& m) { return !m.everCollides(); });
+  if (regions > 0) stages.emplace_back("non_colliding_meshes:" + std::to_string(regions));
   if (rolling_active_) stages.emplace_back("rolling_resistance");
   for (const auto& component : components_) stages.push_back(std::string(component->kind()) + ":" + component->name());
   return stages;

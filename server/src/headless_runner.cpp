@@ -246,6 +246,10 @@ RunSummary runHeadless(TranslatedScene& scene) {
       }
     }
   }
+  if (const auto bounds = world.currentBounds(); bounds && bounds->growing) {
+    spdlog::info("bounds (growing): lower ({}, {}, {}) m, upper ({}, {}, {}) m", bounds->lower.x(), bounds->lower.y(),
+                 bounds->lower.z(), bounds->upper.x(), bounds->upper.y(), bounds->upper.z());
+  }
   spdlog::info("output: {} frames in {} (particles.pvd, summary.csv{}{})", summary.frames,
                summary.output_directory.string(), world.planes().empty() ? "" : ", planes.vtp",
                world.meshes().empty() ? "" : ", meshes.pvd");

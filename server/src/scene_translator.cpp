@@ -27,6 +27,8 @@
 #include "demlink/server/translate_sensors.hpp"
 #include "demlink/server/translate_sources.hpp"
 #include "demlink/server/translate_state.hpp"
+#include "demlink/server/translate_facets.hpp"
+#include "demlink/server/translate_room.hpp"
 
 namespace demlink::server {
 namespace {
@@ -75,7 +77,7 @@ int checkStructure(const v1::Scene& scene) {
       throw InputError(path, quoted(component.name()),
                        "declares no kind (one of simulation_box, material, plane, mesh_body, particle_lattice, "
                        "particle_file, particle_system, single_particle, particle_source, pit_generator, "
-                       "particle_sink, region_sensor, flow_sensor, tracker, material_pair)");
+                       "particle_sink, region_sensor, flow_sensor, tracker, facet_body, material_pair)");
     }
     if (component.has_simulation_box()) boxes.push_back(i);
   }
@@ -121,6 +123,7 @@ core::SimulationSettings toSettings(const v1::SimulationBox& box, const std::str
     if (!bounds.has_upper()) throw InputError(prefix + ".bounds.upper", "(missing)", "required when bounds is given");
     settings.bounds = core::DomainBounds{toVec3(bounds.lower()), toVec3(bounds.upper())};
   }
+  translateRoom(box, prefix, settings);
   settings.validate(prefix);
   return settings;
 }
@@ -287,6 +290,15 @@ TranslatedScene translateScene(const v1::Scene& scene, const std::filesystem::pa
         const MeshBodyDeclaration declaration =
             translateMeshBody(mesh, component.name(), material, sceneDirectory, prefix);
         addMeshBody(declaration, prefix, out.world);
+        break;
+      }
+      case v1::ComponentDeclaration::kFacetBody: {
+        const std::string prefix = path + ".facet_body";
+        const auto resolve = [&](const std::string& name, const std::string& field) {
+          return resolveMaterial(materials, name, field);
+        };
+        out.world.addMesh(translateFacetBody(component.facet_body(), component.name(), resolve, sceneDirectory, prefix),
+                          prefix);
         break;
       }
       case v1::ComponentDeclaration::kSingleParticle: {

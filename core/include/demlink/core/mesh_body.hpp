@@ -19,6 +19,7 @@
 /// since a rotation by theta moves a point at distance r from the axis point by 2 r sin(theta/2).
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -84,6 +85,17 @@ class MeshBody {
   /// Resets the accumulated force and torque to zero.
   void clearWrench();
 
+  /// Collision window [s]: the body takes part in contacts at force evaluations at
+  /// times t with from <= t < until; otherwise it is only a region in space (its
+  /// pose still moves) and costs nothing in the contact stage. Default: always.
+  /// from == until: never (a non-colliding body). Throws InputError ("active_from"
+  /// / "active_until") for NaN or until < from.
+  void setCollisionWindow(double from, double until);
+  [[nodiscard]] bool collidesAt(double time) const { return time >= collideFrom_ && time < collideUntil_; }
+  [[nodiscard]] bool everCollides() const { return collideFrom_ < collideUntil_; }
+  [[nodiscard]] double collideFrom() const { return collideFrom_; }
+  [[nodiscard]] double collideUntil() const { return collideUntil_; }
+
   /// Remembers the current pose as the reference for maxDisplacementSinceMark().
   void markNeighbourBuild();
   /// Upper bound on the displacement of any vertex since the last markNeighbourBuild()
@@ -130,6 +142,8 @@ class MeshBody {
   Vec3 markPosition_ = Vec3::Zero();
   Quat markOrientation_ = Quat::Identity();
   double boundingRadius_ = 0.0;
+  double collideFrom_ = -std::numeric_limits<double>::infinity();  ///< [s]
+  double collideUntil_ = std::numeric_limits<double>::infinity();  ///< [s]
   std::uint32_t materialIndex_ = 0;
 };
 

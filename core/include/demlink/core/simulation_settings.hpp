@@ -7,13 +7,20 @@
 
 #include "demlink/core/contact_model.hpp"
 #include "demlink/core/math_types.hpp"
+#include "demlink/core/moving_frame.hpp"
 
 namespace demlink::core {
 
 /// Axis-aligned box outside which particles are removed (and counted).
+/// Fixed: [lower, upper] is the box. Growing: [lower, upper] is the initial box; it
+/// expands to contain every particle's sphere, but never beyond [limit_lower,
+/// limit_upper], and particles whose centre leaves the limit box are removed.
 struct DomainBounds {
   Vec3 lower = Vec3::Zero();  ///< [m]
   Vec3 upper = Vec3::Zero();  ///< [m]
+  bool growing = false;
+  Vec3 limit_lower = Vec3::Zero();  ///< growing only [m]
+  Vec3 limit_upper = Vec3::Zero();  ///< growing only [m]
 };
 
 struct SimulationSettings {
@@ -32,6 +39,9 @@ struct SimulationSettings {
   /// Accept a time step above the critical limit (a warning instead of an error).
   bool allow_unsafe_time_step = false;
   std::optional<DomainBounds> bounds;
+  /// Motion of the room (constant unless changed through World::setFrameMotion);
+  /// default inertial. Planes and meshes are at rest in the room unless moved.
+  FrameMotion frame;
   /// Threads for the force, integration and skin-check loops (ThreadPool). Results
   /// are deterministic for a fixed thread count; 1 runs everything serially.
   std::uint32_t threads = 1;

@@ -61,6 +61,16 @@ class World {
   /// returns its index. Set its pose and velocity through mesh(index).
   std::size_t addMesh(MeshBody mesh, const std::string& fieldPrefix = "mesh");
 
+  /// Changes the motion of the room from the next step on (validated; names
+  /// "frame.<field>"). An inertial motion returns the step to the plain integrator.
+  void setFrameMotion(const FrameMotion& motion);
+  [[nodiscard]] const FrameMotion& frameMotion() const { return settings_.frame; }
+  /// Changes gravity [m/s^2] (room coordinates) from the next step on.
+  void setGravity(const Vec3& gravity);
+  /// The domain bounds now (growing bounds: the current box, as of the last
+  /// bounds pass at the start of a step); nullopt without bounds.
+  [[nodiscard]] std::optional<DomainBounds> currentBounds() const;
+
   /// Declares that particles of `material` down to `minRadius` [m] will appear
   /// after initialize() (inserted by a source): the critical time step, the
   /// default skin and the linear law's matched stiffness take them into account.
@@ -122,6 +132,8 @@ class World {
   template <class Law, bool kRolling>
   void computeForces();
   void removeOutsideBounds();
+  /// Updates mesh_colliding_ for a force evaluation at `time` [s]; true if any changed.
+  bool updateMeshCollision(double time);
   void runComponents(std::uint32_t stage);
   void applySlotMapping(const std::vector<std::uint32_t>& oldSlotOfNew);
   void rebuildNeighbours();
@@ -132,6 +144,8 @@ class World {
   std::vector<PlaneWall> planes_;
   std::vector<MeshBody> meshes_;
   std::vector<MeshNearList> mesh_near_;
+  /// Per mesh: collides at the current force evaluation (see MeshBody collision window).
+  std::vector<char> mesh_colliding_;
   std::vector<MeshContactPoint> mesh_contacts_scratch_;
   ContactPairTable pair_table_;
   std::vector<PairOverrideEntry> pair_overrides_;
@@ -149,6 +163,8 @@ class World {
   std::uint64_t next_id_ = 1;
   std::uint64_t step_count_ = 0;
   RemovalTally removed_at_bounds_;
+  DomainBounds current_bounds_;  ///< meaningful when settings_.bounds is set
+  bool frame_moving_ = false;   ///< settings_.frame is not inertial
   std::vector<std::unique_ptr<WorldComponent>> components_;
   /// (material, smallest radius) of particles that sources will insert later.
   std::vector<std::pair<std::uint32_t, double>> future_particles_;

@@ -1,0 +1,17 @@
+#pragma once
+/// Translation of the simulation room's settings in a SimulationBox: the bounds
+/// mode (fixed or growing up to a limit box) and the room's frame motion
+/// (acceleration, rotation). See docs/room_and_facets.md.
+#include <string>
+
+#include "demlink/core/simulation_settings.hpp"
+#include "demlink/v1/scene.pb.h"
+
+namespace demlink::server {
+
+/// Sets settings.bounds (mode and limit box; lower/upper are already set by the
+/// caller) and settings.frame from `box`. Throws core::InputError naming
+/// `prefix + ".bounds.<field>"` or `prefix + ".frame.<field>"`.
+void translateRoom(const v1::SimulationBox& box, const std::string& prefix, core::SimulationSettings& settings);
+
+}  // namespace demlink::server
