@@ -28,6 +28,7 @@ void ParticleArrays::append(const ParticleSpec& spec, double density, std::uint6
   inv_inertia.push_back(1.0 / (0.4 * m * spec.radius * spec.radius));
   material.push_back(spec.material);
   id.push_back(stableId);
+  clump_id.push_back(0);
 }
 
 void ParticleArrays::permute(std::span<const std::uint32_t> oldSlotOfNew) {
@@ -42,6 +43,7 @@ void ParticleArrays::permute(std::span<const std::uint32_t> oldSlotOfNew) {
   permuteColumn(inv_inertia, oldSlotOfNew);
   permuteColumn(material, oldSlotOfNew);
   permuteColumn(id, oldSlotOfNew);
+  permuteColumn(clump_id, oldSlotOfNew);
 }
 
 void ParticleArrays::reserve(std::size_t n) {
@@ -56,6 +58,7 @@ void ParticleArrays::reserve(std::size_t n) {
   inv_inertia.reserve(n);
   material.reserve(n);
   id.reserve(n);
+  clump_id.reserve(n);
 }
 
 }  // namespace demlink::core

@@ -22,6 +22,7 @@
 #include "demlink/core/input_error.hpp"
 #include "demlink/server/particle_file_reader.hpp"
 #include "demlink/server/particle_lattice.hpp"
+#include "demlink/server/translate_clumps.hpp"
 
 namespace demlink::server {
 namespace {
@@ -179,6 +180,10 @@ void addLattice(const v1::ParticleLattice& lattice, const MaterialNames& materia
                 core::World& world) {
   LatticeSpec spec;
   spec.material = resolveMaterial(materials, lattice.material(), prefix + ".material");
+  if (!lattice.clump_template().empty()) {
+    addClumpLattice(lattice, spec.material, prefix, world);
+    return;
+  }
   spec.radius = lattice.radius();
   if (lattice.has_radius_max()) spec.radius_max = lattice.radius_max();
   spec.origin = toVec3(lattice.origin());
@@ -266,6 +271,7 @@ TranslatedScene translateScene(const v1::Scene& scene, const std::filesystem::pa
   TranslatedScene out{core::World(toSettings(box, boxPrefix)), toRunOptions(box, boxPrefix)};
 
   const MaterialNames materials = addMaterials(scene, out.world);
+  addClumpTemplates(scene, out.world);
   for (int i = 0; i < scene.components_size(); ++i) {
     const v1::ComponentDeclaration& component = scene.components(i);
     const std::string path = componentPath(i);
@@ -290,6 +296,7 @@ TranslatedScene translateScene(const v1::Scene& scene, const std::filesystem::pa
       }
       case v1::ComponentDeclaration::kSimulationBox:
       case v1::ComponentDeclaration::kMaterial:
+      case v1::ComponentDeclaration::kClumpTemplate:
       case v1::ComponentDeclaration::KIND_NOT_SET:
         break;
     }
