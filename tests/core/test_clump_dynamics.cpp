@@ -80,7 +80,7 @@ TEST(ClumpDynamics, TorqueFreeTumblingConservesMomentumAndEnergy) {
     worstEnergy = std::max(worstEnergy, std::abs(world.kineticEnergy() - e0) / e0);
   }
   EXPECT_LT((worldMomentum() - l0).norm(), 1e-10 * l0.norm());
-  EXPECT_LT(worstEnergy, 1e-6);
+  EXPECT_LT(worstEnergy, 1e-9);  // measured 2.4e-13 (RK4 error, |w| dt = 1.8e-3)
   // The body-frame angular velocity follows Euler's equations (independent RK4, 10x finer).
   const Vec3 wBody = body.orientation.conjugate() * body.angularVelocity();
   const Vec3 reference = eulerEquations(moments, w0Body, kSteps * settings.time_step, 10 * kSteps);

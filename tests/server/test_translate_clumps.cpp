@@ -4,11 +4,14 @@
 #include <gtest/gtest.h>
 
 #include <set>
+#include <sstream>
 
 #include "demlink/core/input_error.hpp"
 #include "demlink/core/random.hpp"
+#include "demlink/core/vtk_writer.hpp"
 #include "demlink/server/scene_loader.hpp"
 #include "demlink/server/scene_translator.hpp"
+#include "test_support.hpp"
 
 namespace demlink::server {
 namespace {
@@ -66,6 +69,27 @@ TEST(TranslateClumps, LatticePlacesSeededClumpsAtItsPoints) {
   EXPECT_EQ(t.world.clumps()[0].orientation.coeffs(), same.world.clumps()[0].orientation.coeffs());
   EXPECT_GT((t.world.clumps()[0].orientation.coeffs() - other.world.clumps()[0].orientation.coeffs()).norm(), 1e-3);
   EXPECT_GT((t.world.clumps()[0].orientation.coeffs() - t.world.clumps()[1].orientation.coeffs()).norm(), 1e-3);
+}
+
+TEST(TranslateClumps, VtkClumpIdColumnNamesEachMembersClump) {
+  TranslatedScene t = translateScene(sceneOf({kBox, kGlass, kPair, lattice("")}), {});
+  core::ParticleSpec free;
+  free.radius = 0.001;
+  free.position = core::Vec3(0.0, 0.0, 0.05);
+  t.world.addParticle(free);
+  const test::ScratchDir dir;
+  const std::filesystem::path file = dir.path() / "p.vtp";
+  core::writeParticlesVtp(file.string(), t.world.particles(), core::VtkEncoding::Ascii);
+  const std::string xml = test::readText(file);
+  const std::size_t start = xml.find('>', xml.find("Name=\"clump_id\"")) + 1;
+  std::istringstream values(xml.substr(start, xml.find("</DataArray>", start) - start));
+  std::vector<std::uint64_t> ids;
+  for (std::uint64_t id = 0; values >> id;) ids.push_back(id);
+  ASSERT_EQ(ids.size(), t.world.particles().size());
+  for (const core::ClumpBody& body : t.world.clumps()) {
+    for (const std::uint32_t slot : body.member_slots) EXPECT_EQ(ids[slot], body.id);
+  }
+  EXPECT_EQ(ids.back(), 0u) << "a free sphere has clump_id 0";
 }
 
 TEST(TranslateClumps, ExampleSceneHasClumps) {
