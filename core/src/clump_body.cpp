@@ -38,8 +38,11 @@ void kickClump(ClumpBody& body, const Vec3& gravity, double h) {
 void driftClump(ClumpBody& body, double dt) {
   body.position += body.velocity * dt;
   const double angle = body.angularVelocity().norm() * dt;
-  if (!(angle > 0.0)) return;
-  const int substeps = std::max(1, static_cast<int>(std::ceil(angle / kMaxSubstepAngle)));
+  if (angle == 0.0) return;
+  // Bounded so that a blown-up state (huge or non-finite w) cannot stall the step.
+  const int substeps = angle < kMaxSubsteps * kMaxSubstepAngle
+                           ? std::max(1, static_cast<int>(std::ceil(angle / kMaxSubstepAngle)))
+                           : kMaxSubsteps;
   const double h = dt / substeps;
   Eigen::Vector4d q = body.orientation.coeffs();
   for (int s = 0; s < substeps; ++s) {

@@ -24,6 +24,8 @@ namespace demlink::core {
 
 /// Largest rotation angle of one RK4 substep of the orientation drift [rad].
 inline constexpr double kMaxSubstepAngle = 0.05;
+/// Most RK4 substeps of one drift (reached only at |w| dt > 50 rad: a blown-up state).
+inline constexpr int kMaxSubsteps = 1000;
 
 /// Everything needed to create one clump (World::addClump).
 struct ClumpSpec {
