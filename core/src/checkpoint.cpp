@@ -321,6 +321,35 @@ void World::saveCheckpoint(std::ostream& out) const {
   }
   w.endSection(s);
 
+  s = w.beginSection("ROOM");
+  w.write(current_bounds_.lower);
+  w.write(current_bounds_.upper);
+  w.write(settings_.frame.linear_acceleration);
+  w.write(settings_.frame.angular_velocity);  // advanced by alpha dt every step
+  w.write(settings_.frame.angular_acceleration);
+  w.write(settings_.frame.origin);
+  w.writeVector(mesh_colliding_);
+  w.endSection(s);
+
+  s = w.beginSection("CLMP");
+  w.write<std::uint64_t>(clump_templates_.size());
+  w.write(next_clump_id_);
+  w.write<std::uint64_t>(clumps_.size());
+  for (const ClumpBody& body : clumps_) {
+    w.write(body.id);
+    w.write(body.template_index);
+    w.write(body.mass);
+    w.write(body.inertia);
+    w.write(body.position);
+    w.write(body.velocity);
+    w.write(body.orientation);
+    w.write(body.angular_momentum);
+    w.write(body.force);
+    w.write(body.torque);
+    w.writeVector(body.member_slots);
+  }
+  w.endSection(s);
+
   s = w.beginSection("COMP");
   w.write<std::uint64_t>(components_.size());
   for (const auto& component : components_) {
@@ -456,6 +485,50 @@ void World::restoreCheckpoint(std::string_view bytes, const std::string& source)
   }
   meshSection.requireEnd();
 
+  StateReader room = file.section("ROOM", "room");
+  DomainBounds bounds;
+  bounds.lower = room.read<Vec3>();
+  bounds.upper = room.read<Vec3>();
+  FrameMotion frame;
+  frame.linear_acceleration = room.read<Vec3>();
+  frame.angular_velocity = room.read<Vec3>();
+  frame.angular_acceleration = room.read<Vec3>();
+  frame.origin = room.read<Vec3>();
+  std::vector<char> colliding = room.readVector<char>();
+  room.requireEnd();
+  requireEqual(room, "colliding-flag count", static_cast<std::uint64_t>(colliding.size()),
+               static_cast<std::uint64_t>(mesh_colliding_.size()));
+
+  StateReader clmp = file.section("CLMP", "clumps");
+  requireEqual(clmp, "clump template count", clmp.read<std::uint64_t>(),
+               static_cast<std::uint64_t>(clump_templates_.size()));
+  const auto nextClumpId = clmp.read<std::uint64_t>();
+  const auto clumpCount = clmp.read<std::uint64_t>();
+  // Each body needs well over 64 bytes: a corrupt count cannot allocate much.
+  if (clumpCount > clmp.remaining() / 64) clmp.fail(std::to_string(clumpCount), "clump count exceeds the section");
+  std::vector<ClumpBody> clumps(clumpCount);
+  for (ClumpBody& body : clumps) {
+    body.id = clmp.read<std::uint64_t>();
+    body.template_index = clmp.read<std::uint32_t>();
+    body.mass = clmp.read<double>();
+    body.inertia = clmp.read<Vec3>();
+    body.position = clmp.read<Vec3>();
+    body.velocity = clmp.read<Vec3>();
+    body.orientation = clmp.read<Quat>();
+    body.angular_momentum = clmp.read<Vec3>();
+    body.force = clmp.read<Vec3>();
+    body.torque = clmp.read<Vec3>();
+    body.member_slots = clmp.readVector<std::uint32_t>();
+    if (body.template_index >= clump_templates_.size()) {
+      clmp.fail(std::to_string(body.template_index), "clump template index out of range");
+    }
+    requireEqual(clmp, "member count of clump " + std::to_string(body.id),
+                 static_cast<std::uint64_t>(body.member_slots.size()),
+                 static_cast<std::uint64_t>(clump_templates_[body.template_index].spheres().size()));
+    requireIndices(clmp, body.member_slots, n, "clump member slot");
+  }
+  clmp.requireEnd();
+
   StateReader comp = file.section("COMP", "components");
   const auto componentCount = comp.read<std::uint64_t>();
   requireEqual(comp, "component count " + std::to_string(componentCount), componentCount,
@@ -491,6 +564,12 @@ void World::restoreCheckpoint(std::string_view bytes, const std::string& source)
     mesh.updateWorldGeometry();
     mesh_near_[m] = state.near;
   }
+  current_bounds_ = bounds;
+  settings_.frame = frame;
+  frame_moving_ = !frame.isInertial();
+  mesh_colliding_ = std::move(colliding);
+  clumps_ = std::move(clumps);
+  next_clump_id_ = nextClumpId;
   step_count_ = stepCount;
   next_id_ = nextId;
   removed_at_bounds_ = removed;

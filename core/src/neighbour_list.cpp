@@ -27,10 +27,11 @@ bool NeighbourList::needsRebuild(std::span<const Vec3> positions, ThreadPool* po
 namespace {
 
 /// Appends to `out` the partners j > i of rows [begin, end) and writes each
-/// row's partner count to counts[i].
-void findPartners(const CellGrid& grid, std::span<const Vec3> x, std::span<const double> r, double skin,
-                  std::size_t begin, std::size_t end, std::vector<std::uint32_t>& out,
-                  std::vector<std::uint32_t>& counts) {
+/// row's partner count to counts[i]. kClumps: skip partners of the same clump.
+template <bool kClumps>
+void findPartners(const CellGrid& grid, std::span<const Vec3> x, std::span<const double> r,
+                  std::span<const std::uint64_t> clump, double skin, std::size_t begin, std::size_t end,
+                  std::vector<std::uint32_t>& out, std::vector<std::uint32_t>& counts) {
   const auto& dims = grid.dims();
   for (std::size_t i = begin; i < end; ++i) {
     const std::size_t rowStart = out.size();
@@ -46,6 +47,9 @@ void findPartners(const CellGrid& grid, std::span<const Vec3> x, std::span<const
           if (ix < 0 || ix >= dims[0]) continue;
           for (const std::uint32_t j : grid.cell(grid.cellIndex(ix, iy, iz))) {
             if (j <= i) continue;
+            if constexpr (kClumps) {
+              if (clump[i] != 0 && clump[i] == clump[j]) continue;
+            }
             const double cutoff = r[i] + r[j] + skin;
             if ((x[j] - x[i]).squaredNorm() < cutoff * cutoff) out.push_back(j);
           }
@@ -61,7 +65,7 @@ void findPartners(const CellGrid& grid, std::span<const Vec3> x, std::span<const
 }  // namespace
 
 void NeighbourList::build(const ParticleArrays& particles, std::span<const std::uint32_t> newSlotOfOld,
-                          ThreadPool* pool) {
+                          ThreadPool* pool, bool excludeSameClump) {
   const std::size_t n = particles.size();
   const std::span<const Vec3> x = particles.position;
   const std::span<const double> r = particles.radius;
@@ -82,7 +86,13 @@ void NeighbourList::build(const ParticleArrays& particles, std::span<const std::
   std::vector<std::uint32_t> counts(n);
   parallelParts(pool, parts, [&](std::uint32_t part) {
     found[part].reserve(oldPartners.size() / parts + 16);
-    findPartners(grid_, x, r, skin_, n * part / parts, n * (part + 1) / parts, found[part], counts);
+    const std::size_t begin = n * part / parts;
+    const std::size_t end = n * (part + 1) / parts;
+    if (excludeSameClump) {
+      findPartners<true>(grid_, x, r, particles.clump_id, skin_, begin, end, found[part], counts);
+    } else {
+      findPartners<false>(grid_, x, r, particles.clump_id, skin_, begin, end, found[part], counts);
+    }
   });
   offsets_.assign(n + 1, 0);
   for (std::size_t i = 0; i < n; ++i) offsets_[i + 1] = offsets_[i] + counts[i];

@@ -28,6 +28,7 @@ void ParticleArrays::append(const ParticleSpec& spec, double density, std::uint6
   inv_inertia.push_back(1.0 / (0.4 * m * spec.radius * spec.radius));
   material.push_back(spec.material);
   id.push_back(stableId);
+  clump_id.push_back(0);
 }
 
 void ParticleArrays::permute(std::span<const std::uint32_t> oldSlotOfNew) {

@@ -186,6 +186,7 @@ void writeParticlesVtp(const std::string& path, const ParticleArrays& particles,
   piece.point_data.push_back(vectorColumn("angular_velocity", particles.angular_velocity));
   piece.point_data.push_back(vectorColumn("force", particles.force));
   piece.point_data.push_back(scalarColumn<std::uint32_t>("material", particles.material));
+  piece.point_data.push_back(scalarColumn<std::uint64_t>("clump_id", particles.clump_id));
   piece.cell_section = "Verts";
   piece.cell_count = n;
   std::vector<std::int64_t> connectivity(n);

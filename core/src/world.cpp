@@ -26,8 +26,18 @@ World::World(SimulationSettings settings) : settings_(std::move(settings)) {
 
 void World::setFrameMotion(const FrameMotion& motion) {
   motion.validate("frame");
+  requireNoClumpsInRotatingRoom(motion, "frame");
   settings_.frame = motion;
   frame_moving_ = !motion.isInertial();
+}
+
+void World::requireNoClumpsInRotatingRoom(const FrameMotion& motion, const std::string& fieldPrefix) const {
+  if (clump_templates_.empty()) return;
+  if (!motion.angular_velocity.isZero(0.0) || !motion.angular_acceleration.isZero(0.0)) {
+    throw InputError(fieldPrefix + ".angular_velocity", "non-zero",
+                     "clumps in a rotating room are not supported yet (their rigid-body kick has no fictitious "
+                     "torques); use spheres, or a room that only translates");
+  }
 }
 
 void World::setGravity(const Vec3& gravity) {
@@ -101,6 +111,67 @@ std::size_t World::addPlane(PlaneSpec plane, const std::string& fieldPrefix) {
   return planes_.size() - 1;
 }
 
+std::uint32_t World::addClumpTemplate(ClumpTemplate shape, const std::string& fieldPrefix) {
+  if (findClumpTemplate(shape.name())) {
+    throw InputError(fieldPrefix + ".name", shape.name(), "clump template name already used");
+  }
+  clump_templates_.push_back(std::move(shape));
+  return static_cast<std::uint32_t>(clump_templates_.size() - 1);
+}
+
+std::optional<std::uint32_t> World::findClumpTemplate(const std::string& name) const {
+  for (std::size_t k = 0; k < clump_templates_.size(); ++k) {
+    if (clump_templates_[k].name() == name) return static_cast<std::uint32_t>(k);
+  }
+  return std::nullopt;
+}
+
+std::uint64_t World::addClump(const ClumpSpec& spec, const std::string& fieldPrefix) {
+  if (spec.template_index >= clump_templates_.size()) {
+    throw InputError(fieldPrefix + ".clump_template", std::to_string(spec.template_index), "no such clump template");
+  }
+  if (spec.material >= materials_.size()) {
+    throw InputError(fieldPrefix + ".material", std::to_string(spec.material), "no such material");
+  }
+  requireFiniteVector(fieldPrefix + ".position", spec.position);
+  requireFiniteVector(fieldPrefix + ".velocity", spec.velocity);
+  requireFiniteVector(fieldPrefix + ".angular_velocity", spec.angular_velocity);
+  for (int k = 0; k < 4; ++k) requireFinite(fieldPrefix + ".orientation", spec.orientation.coeffs()[k]);
+  if (!(spec.orientation.norm() > 0.0)) {
+    throw InputError(fieldPrefix + ".orientation", "(0, 0, 0, 0)", "must be a non-zero quaternion");
+  }
+  const ClumpTemplate& shape = clump_templates_[spec.template_index];
+  const double density = materials_[spec.material].density;  // [kg/m^3]
+  ClumpBody body;
+  body.id = next_clump_id_++;
+  body.template_index = spec.template_index;
+  body.mass = density * shape.volume();
+  body.inertia = density * shape.principalMomentsPerDensity();
+  body.position = spec.position;
+  body.velocity = spec.velocity;
+  body.orientation = (spec.orientation.normalized() * shape.principalRotation()).normalized();
+  const Mat3 rotation = body.orientation.toRotationMatrix();
+  body.angular_momentum = rotation * body.inertia.asDiagonal() * rotation.transpose() * spec.angular_velocity;
+  const std::size_t members = shape.bodySpheres().size();
+  const double share = body.mass / static_cast<double>(members);
+  for (const ClumpSphere& sphere : shape.bodySpheres()) {
+    ParticleSpec member;
+    member.radius = sphere.radius;
+    member.material = spec.material;
+    particles_.append(member, density, next_id_++);
+    const std::size_t slot = particles_.size() - 1;
+    particles_.clump_id[slot] = body.id;
+    particles_.mass[slot] = share;
+    particles_.inv_mass[slot] = 1.0 / body.mass;
+    particles_.inv_inertia[slot] = 1.0 / body.inertia.minCoeff();
+    body.member_slots.push_back(static_cast<std::uint32_t>(slot));
+  }
+  placeClumpMembers(body, shape, particles_, true);
+  clumps_.push_back(std::move(body));
+  rebuild_pending_ = true;
+  return clumps_.back().id;
+}
+
 std::size_t World::addMesh(MeshBody mesh, const std::string& fieldPrefix) {
   if (mesh.materialIndex() >= materials_.size()) {
     throw InputError(fieldPrefix + ".material", std::to_string(mesh.materialIndex()), "no such material");
@@ -172,11 +243,13 @@ void World::initialize() {
     compute_forces_ = rolling_active_ ? &World::computeForces<LinearSpringDashpotLaw, true>
                                       : &World::computeForces<LinearSpringDashpotLaw, false>;
   }
+  requireNoClumpsInRotatingRoom(settings_.frame, "simulation_box.frame");
   initialized_ = true;
   for (const auto& component : components_) component->initialize(*this);
   updateMeshCollision(time());
   rebuildNeighbours();
   (this->*compute_forces_)();
+  gatherClumpForces();
 }
 
 void World::step() {
@@ -207,16 +280,20 @@ void World::step() {
   }
   // A constant angular acceleration turns the room ever faster: Omega(t_n+1) for the second half kick.
   if (frame_moving_) settings_.frame.angular_velocity += settings_.frame.angular_acceleration * dt;
+  // Clump members were moved as spheres above; the bodies overwrite them.
+  if (!clumps_.empty()) integrateClumps(verlet ? 0.5 * dt : dt, dt, !verlet);
   if (rebuild_pending_ || meshMovedFar || neighbours_.needsRebuild(particles_.position, pool_.get())) {
     rebuildNeighbours();
   }
   (this->*compute_forces_)();
+  gatherClumpForces();
   if (verlet) {
     if (frame_moving_) {
       frameKick(particles_, settings_.gravity, settings_.frame, 0.5 * dt, pool_.get());
     } else {
       kick(particles_, settings_.gravity, 0.5 * dt, pool_.get());
     }
+    if (!clumps_.empty()) integrateClumps(0.5 * dt, 0.0, false);
   }
   ++step_count_;
   runComponents(kStageObserve);
@@ -272,6 +349,44 @@ void World::computeForces() {
     if (mesh_colliding_[m] == 0) continue;
     meshContactForces<Law, kRolling>(p, meshes_[m], mesh_near_[m], pair_table_, dt, mesh_contacts_scratch_);
   }
+}
+
+void World::integrateClumps(double kickStep, double driftStep, bool driftFirst) {
+  for (ClumpBody& body : clumps_) {
+    if (driftFirst) driftClump(body, driftStep);
+    // A room that only translates is a gravity shift (rotating rooms are refused with clumps).
+    kickClump(body, settings_.gravity - settings_.frame.linear_acceleration, kickStep);
+    if (!driftFirst && driftStep > 0.0) driftClump(body, driftStep);
+    placeClumpMembers(body, clump_templates_[body.template_index], particles_, driftStep > 0.0);
+  }
+}
+
+void World::gatherClumpForces() {
+  for (ClumpBody& body : clumps_) core::gatherClumpForces(body, particles_);
+}
+
+void World::removeFlaggedWithClumps(RemovalTally& tally) {
+  std::vector<char>& flags = removal_flags_;
+  for (const ClumpBody& body : clumps_) {
+    const bool any = std::any_of(body.member_slots.begin(), body.member_slots.end(),
+                                 [&](std::uint32_t slot) { return flags[slot] != 0; });
+    if (!any) continue;
+    for (const std::uint32_t slot : body.member_slots) flags[slot] = 1;
+    ++tally.count;
+    tally.mass += body.mass;
+  }
+  std::erase_if(clumps_, [&](const ClumpBody& body) { return flags[body.member_slots.front()] != 0; });
+  std::vector<std::uint32_t> keep;
+  keep.reserve(particles_.size());
+  for (std::size_t i = 0; i < particles_.size(); ++i) {
+    if (flags[i] == 0) {
+      keep.push_back(static_cast<std::uint32_t>(i));
+    } else if (particles_.clump_id[i] == 0) {
+      ++tally.count;
+      tally.mass += particles_.mass[i];
+    }
+  }
+  applySlotMapping(keep);
 }
 
 void World::removeOutsideBounds() {
@@ -342,6 +457,9 @@ void World::applySlotMapping(const std::vector<std::uint32_t>& oldSlotOfNew) {
   particles_.permute(oldSlotOfNew);
   std::vector<std::uint32_t> newOfCurrent(before, kRemovedSlot);
   for (std::size_t k = 0; k < oldSlotOfNew.size(); ++k) newOfCurrent[oldSlotOfNew[k]] = static_cast<std::uint32_t>(k);
+  for (ClumpBody& body : clumps_) {
+    for (std::uint32_t& slot : body.member_slots) slot = newOfCurrent[slot];
+  }
   if (pending_new_slot_of_old_.empty()) {
     pending_new_slot_of_old_ = std::move(newOfCurrent);
   } else {
@@ -361,7 +479,7 @@ void World::rebuildNeighbours() {
                                         neighbours_.skin());
     applySlotMapping(grid.sortedSlots());
   }
-  neighbours_.build(particles_, pending_new_slot_of_old_, pool_.get());
+  neighbours_.build(particles_, pending_new_slot_of_old_, pool_.get(), !clumps_.empty());
   partition_.plan(neighbours_.offsets(), settings_.threads);
   for (PlaneWall& wall : planes_) wall.buildNearList(particles_, neighbours_.skin(), pending_new_slot_of_old_);
   for (std::size_t m = 0; m < meshes_.size(); ++m) {
@@ -388,13 +506,16 @@ std::vector<std::string> World::activeStages() const {
   const auto regions = std::count_if(meshes_.begin(), meshes_.end(), [](const MeshBody& m) { return !m.everCollides(); });
   if (regions > 0) stages.emplace_back("non_colliding_meshes:" + std::to_string(regions));
   if (rolling_active_) stages.emplace_back("rolling_resistance");
+  if (!clump_templates_.empty()) stages.emplace_back("clump_rigid_bodies");
   for (const auto& component : components_) stages.push_back(std::string(component->kind()) + ":" + component->name());
   return stages;
 }
 
 double World::kineticEnergy() const {
   double energy = 0.0;
+  for (const ClumpBody& body : clumps_) energy += body.kineticEnergy();
   for (std::size_t i = 0; i < particles_.size(); ++i) {
+    if (particles_.clump_id[i] != 0) continue;  // counted with its body
     energy += 0.5 * particles_.mass[i] * particles_.velocity[i].squaredNorm() +
               0.5 / particles_.inv_inertia[i] * particles_.angular_velocity[i].squaredNorm();
   }
@@ -402,7 +523,13 @@ double World::kineticEnergy() const {
 }
 
 double World::totalMass() const {
-  return std::accumulate(particles_.mass.begin(), particles_.mass.end(), 0.0);
+  if (clumps_.empty()) return std::accumulate(particles_.mass.begin(), particles_.mass.end(), 0.0);
+  double mass = 0.0;
+  for (const ClumpBody& body : clumps_) mass += body.mass;
+  for (std::size_t i = 0; i < particles_.size(); ++i) {
+    if (particles_.clump_id[i] == 0) mass += particles_.mass[i];
+  }
+  return mass;
 }
 
 }  // namespace demlink::core

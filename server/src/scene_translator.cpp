@@ -29,6 +29,7 @@
 #include "demlink/server/translate_state.hpp"
 #include "demlink/server/translate_facets.hpp"
 #include "demlink/server/translate_room.hpp"
+#include "demlink/server/translate_clumps.hpp"
 
 namespace demlink::server {
 namespace {
@@ -77,7 +78,7 @@ int checkStructure(const v1::Scene& scene) {
       throw InputError(path, quoted(component.name()),
                        "declares no kind (one of simulation_box, material, plane, mesh_body, particle_lattice, "
                        "particle_file, particle_system, single_particle, particle_source, pit_generator, "
-                       "particle_sink, region_sensor, flow_sensor, tracker, facet_body, material_pair)");
+                       "particle_sink, region_sensor, flow_sensor, tracker, clump_template, facet_body, material_pair)");
     }
     if (component.has_simulation_box()) boxes.push_back(i);
   }
@@ -179,6 +180,10 @@ void addLattice(const v1::ParticleLattice& lattice, const MaterialNames& materia
                 core::World& world) {
   LatticeSpec spec;
   spec.material = resolveMaterial(materials, lattice.material(), prefix + ".material");
+  if (!lattice.clump_template().empty()) {
+    addClumpLattice(lattice, spec.material, prefix, world);
+    return;
+  }
   spec.radius = lattice.radius();
   if (lattice.has_radius_max()) spec.radius_max = lattice.radius_max();
   spec.origin = toVec3(lattice.origin());
@@ -267,6 +272,7 @@ TranslatedScene translateScene(const v1::Scene& scene, const std::filesystem::pa
 
   const MaterialNames materials = addMaterials(scene, out.world);
   addMaterialPairs(scene, materials, out.world);
+  addClumpTemplates(scene, out.world);
   for (int i = 0; i < scene.components_size(); ++i) {
     const v1::ComponentDeclaration& component = scene.components(i);
     const std::string path = componentPath(i);
@@ -329,6 +335,7 @@ TranslatedScene translateScene(const v1::Scene& scene, const std::filesystem::pa
       case v1::ComponentDeclaration::kSimulationBox:
       case v1::ComponentDeclaration::kMaterial:
       case v1::ComponentDeclaration::kMaterialPair:
+      case v1::ComponentDeclaration::kClumpTemplate:
       case v1::ComponentDeclaration::KIND_NOT_SET:
         break;
     }

@@ -26,7 +26,7 @@ core::World smallWorld() {
 }
 
 const std::vector<std::string> kParticleArrays = {"position", "id", "radius", "velocity", "angular_velocity",
-                                                  "force", "material", "connectivity", "offsets"};
+                                                  "force", "material", "clump_id", "connectivity", "offsets"};
 
 /// The attribute `name` of the <DataArray Name="array"> element.
 std::string arrayAttribute(const std::string& xml, const std::string& array, const std::string& name) {

@@ -83,7 +83,8 @@ DEMLINK_FORCE_INLINE Vec3 particleWallContact(ParticleArrays& p, std::size_t slo
   const double arm = p.radius[slot] - overlap;
   const Vec3 vRel = p.velocity[slot] - arm * p.angular_velocity[slot].cross(normal) - wallVelocity;
   const double rStar = p.radius[slot];
-  const double mStar = p.mass[slot];
+  // The body's mass: for a clump member inv_mass is 1 / clump mass (mass is its share).
+  const double mStar = 1.0 / p.inv_mass[slot];
   double normalForce = 0.0;
   const Vec3 f = contactForce<Law>(params, normal, overlap, vRel, rStar, mStar, dt, history, normalForce);
   p.force[slot] += f;

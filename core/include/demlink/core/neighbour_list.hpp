@@ -35,8 +35,10 @@ class NeighbourList {
 
   /// Rebuilds the list. newSlotOfOld maps every slot of the previous build to its
   /// current slot (kRemovedSlot if removed); empty means slots are unchanged.
+  /// excludeSameClump: leave out pairs of spheres of the same clump (equal
+  /// non-zero clump_id); false compiles the search without the test.
   void build(const ParticleArrays& particles, std::span<const std::uint32_t> newSlotOfOld,
-             ThreadPool* pool = nullptr);
+             ThreadPool* pool = nullptr, bool excludeSameClump = false);
 
   [[nodiscard]] std::span<const std::uint32_t> offsets() const { return offsets_; }
   [[nodiscard]] std::span<const std::uint32_t> partners() const { return partners_; }

@@ -38,6 +38,12 @@ struct ParticleArrays {
   std::vector<double> inv_inertia;     ///< 1 / (2/5 m R^2) [1/(kg m^2)]
   std::vector<std::uint32_t> material;
   std::vector<std::uint64_t> id;       ///< stable, never reused
+  /// Id of the clump this sphere belongs to (ClumpBody::id), 0 for a free sphere.
+  /// A clump member's mass is its share of the clump mass (clump mass / member
+  /// count, so sums over slots give the right total), while inv_mass is 1 / clump
+  /// mass (contacts see the body's mass) and inv_inertia 1 / the body's smallest
+  /// principal moment (docs/clumps.md).
+  std::vector<std::uint64_t> clump_id;
 
   [[nodiscard]] std::size_t size() const { return position.size(); }
 
@@ -77,6 +83,7 @@ struct ParticleArrays {
     visit("inv_inertia", self.inv_inertia);
     visit("material", self.material);
     visit("id", self.id);
+    visit("clump_id", self.clump_id);
   }
 };
 

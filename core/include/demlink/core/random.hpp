@@ -21,6 +21,9 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <numbers>
+
+#include "demlink/core/math_types.hpp"
 
 namespace demlink::core {
 
@@ -119,5 +122,16 @@ class Random {
   double spare_ = 0.0;
   bool has_spare_ = false;
 };
+
+/// A uniformly distributed rotation (Shoemake's subgroup algorithm). Uses std::sin
+/// and std::cos, so the last bit may differ between C libraries.
+inline Quat uniformRotation(Random& rng) {
+  const double u1 = rng.uniform();
+  const double a = 2.0 * std::numbers::pi * rng.uniform();
+  const double b = 2.0 * std::numbers::pi * rng.uniform();
+  const double s1 = std::sqrt(1.0 - u1);
+  const double s2 = std::sqrt(u1);
+  return Quat(s2 * std::cos(b), s1 * std::sin(a), s1 * std::cos(a), s2 * std::sin(b));
+}
 
 }  // namespace demlink::core

@@ -36,7 +36,8 @@ struct PvdEntry {
 /// Writes the particles as PolyData: points at the centres [m], one vertex cell
 /// each, and point data "id" (UInt64), "radius" [m], "velocity" [m/s],
 /// "angular_velocity" [rad/s], "force" [N] (contact force, gravity excluded) and
-/// "material" (UInt32 index). Throws std::runtime_error if the file cannot be written.
+/// "material" (UInt32 index), and "clump_id" (UInt64: the id of the clump a sphere
+/// belongs to, 0 for a free sphere). Throws std::runtime_error if the file cannot be written.
 void writeParticlesVtp(const std::string& path, const ParticleArrays& particles,
                        VtkEncoding encoding = VtkEncoding::AppendedRaw);
 

@@ -17,6 +17,8 @@
 #include <string_view>
 #include <vector>
 
+#include "demlink/core/clump_body.hpp"
+#include "demlink/core/clump_template.hpp"
 #include "demlink/core/contact_pair_table.hpp"
 #include "demlink/core/critical_time_step.hpp"
 #include "demlink/core/material.hpp"
@@ -33,7 +35,8 @@
 
 namespace demlink::core {
 
-/// Particles removed (at the domain bounds, by a sink).
+/// Particles removed (at the domain bounds, by a sink). A clump counts once, with
+/// its whole mass.
 struct RemovalTally {
   std::uint64_t count = 0;
   double mass = 0.0;  ///< [kg]
@@ -56,6 +59,21 @@ class World {
   std::uint64_t addParticle(const ParticleSpec& spec, const std::string& fieldPrefix = "particle");
   /// Adds a validated plane (normal is normalised); returns its index.
   std::size_t addPlane(PlaneSpec plane, const std::string& fieldPrefix = "plane");
+
+  /// Registers a clump template (its name must be unique); returns its index for
+  /// addClump. Templates are shared by all clumps made from them.
+  std::uint32_t addClumpTemplate(ClumpTemplate shape, const std::string& fieldPrefix = "clump_template");
+  /// Adds a rigid clump: one sphere per template member, placed at
+  /// spec.position + R(spec.orientation) (offset - template COM), all of
+  /// spec.material, moving with the body. Returns the clump id (>= 1; members
+  /// carry it in ParticleArrays::clump_id). Works before and after initialize();
+  /// a source that adds clumps later must declareFutureParticles(material,
+  /// template.minRadius(), ...) before initialize(). See docs/clumps.md.
+  std::uint64_t addClump(const ClumpSpec& spec, const std::string& fieldPrefix = "clump");
+  [[nodiscard]] const std::vector<ClumpTemplate>& clumpTemplates() const { return clump_templates_; }
+  [[nodiscard]] std::optional<std::uint32_t> findClumpTemplate(const std::string& name) const;
+  /// Live clumps (order changes when clumps are removed).
+  [[nodiscard]] const std::vector<ClumpBody>& clumps() const { return clumps_; }
 
   /// Adds a mesh body under prescribed motion (its material index must exist);
   /// returns its index. Set its pose and velocity through mesh(index).
@@ -83,7 +101,8 @@ class World {
 
   /// Removes every particle for which `remove(slot)` is true (evaluated once per
   /// slot, in slot order, before anything moves) and adds them to `tally`.
-  /// Contact histories of the remaining particles are kept.
+  /// Contact histories of the remaining particles are kept. A clump never goes
+  /// in part: when any member is flagged, the whole clump is removed.
   template <class RemovePredicate>
   void removeParticlesIf(RemovePredicate remove, RemovalTally& tally);
 
@@ -135,8 +154,12 @@ class World {
   /// Updates mesh_colliding_ for a force evaluation at `time` [s]; true if any changed.
   bool updateMeshCollision(double time);
   void runComponents(std::uint32_t stage);
+  void requireNoClumpsInRotatingRoom(const FrameMotion& motion, const std::string& fieldPrefix) const;
   void applySlotMapping(const std::vector<std::uint32_t>& oldSlotOfNew);
   void rebuildNeighbours();
+  void removeFlaggedWithClumps(RemovalTally& tally);
+  void integrateClumps(double kickStep, double driftStep, bool driftFirst);
+  void gatherClumpForces();
 
   SimulationSettings settings_;
   std::vector<Material> materials_;
@@ -170,10 +193,26 @@ class World {
   std::vector<std::pair<std::uint32_t, double>> future_particles_;
   std::vector<WorldComponent*> insert_remove_components_;
   std::vector<WorldComponent*> observe_components_;
+  std::vector<ClumpTemplate> clump_templates_;
+  std::vector<ClumpBody> clumps_;
+  std::uint64_t next_clump_id_ = 1;
+  std::vector<char> removal_flags_;  ///< scratch of removeParticlesIf when clumps exist
 };
 
 template <class RemovePredicate>
 void World::removeParticlesIf(RemovePredicate remove, RemovalTally& tally) {
+  if (!clumps_.empty()) {
+    removal_flags_.assign(particles_.size(), 0);
+    bool any = false;
+    for (std::size_t i = 0; i < particles_.size(); ++i) {
+      if (remove(i)) {
+        removal_flags_[i] = 1;
+        any = true;
+      }
+    }
+    if (any) removeFlaggedWithClumps(tally);
+    return;
+  }
   // Removals are rare: scan until the first removed slot, build a mapping only then.
   std::size_t first = 0;
   while (first < particles_.size() && !remove(first)) ++first;
