@@ -27,7 +27,7 @@ class World;
 
 inline constexpr char kCheckpointMagic[9] = "DEMLCKPT";
 /// Bumped whenever a section changes; a file of another version is refused.
-inline constexpr std::uint32_t kCheckpointVersion = 1;
+inline constexpr std::uint32_t kCheckpointVersion = 2;
 inline constexpr std::uint32_t kCheckpointByteOrderMark = 0x01020304u;
 
 /// Writes world.saveCheckpoint to `path` (via a temporary file renamed into place,
