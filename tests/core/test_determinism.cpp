@@ -90,11 +90,11 @@ std::uint64_t columnsHash(const ParticleArrays& p) {
 }
 
 TEST(Determinism, SeededSourceWithSinkAndSensorsIsBitIdentical) {
-  // Insertion, sink and bounds removals (slot compaction) and sensors, 2 threads.
+  // Insertion, sink and bounds removals (slot compaction) and sensors.
   std::vector<std::uint64_t> hashes;
   std::vector<std::uint64_t> crossings;
   for (int run = 0; run < 2; ++run) {
-    test::ComponentScene scene = test::buildComponentScene(7, 2);
+    test::ComponentScene scene = test::buildComponentScene(7);
     for (int n = 0; n < 1500; ++n) scene.world->step();
     ASSERT_GT(scene.source->report().inserted_count, 100u);
     ASSERT_GT(scene.sink->total().count, 0u);
@@ -104,7 +104,7 @@ TEST(Determinism, SeededSourceWithSinkAndSensorsIsBitIdentical) {
   EXPECT_EQ(hashes[0], hashes[1]);
   EXPECT_EQ(crossings[0], crossings[1]);
   // Another seed gives another state: the hash depends on the source's draws.
-  test::ComponentScene other = test::buildComponentScene(8, 2);
+  test::ComponentScene other = test::buildComponentScene(8);
   for (int n = 0; n < 1500; ++n) other.world->step();
   EXPECT_NE(columnsHash(other.world->particles()), hashes[0]);
 }
