@@ -546,6 +546,27 @@ void World::restoreCheckpoint(std::string_view bytes, const std::string& source)
   (void)file.section("END ", "end");
   file.requireEnd();
 
+  // Components check their own data while loading it; if one refuses, every
+  // component gets its previous state back, so a failed restore changes nothing.
+  std::vector<std::string> previousStates;
+  for (const auto& component : components_) {
+    StateWriter backup;
+    component->saveState(backup);
+    previousStates.push_back(backup.bytes());
+  }
+  try {
+    for (std::size_t k = 0; k < components_.size(); ++k) {
+      components_[k]->loadState(componentData[k]);
+      componentData[k].requireEnd();
+    }
+  } catch (...) {
+    for (std::size_t k = 0; k < components_.size(); ++k) {
+      StateReader backup(previousStates[k], source, "components." + components_[k]->name());
+      components_[k]->loadState(backup);
+    }
+    throw;
+  }
+
   // Everything read and checked: replace the state.
   particles_ = std::move(particles);
   neighbours_ = std::move(neighbours);
@@ -576,10 +597,6 @@ void World::restoreCheckpoint(std::string_view bytes, const std::string& source)
   rebuild_pending_ = rebuildPending;
   pending_new_slot_of_old_ = std::move(pending);
   partition_.plan(neighbours_.offsets(), settings_.threads);
-  for (std::size_t k = 0; k < components_.size(); ++k) {
-    components_[k]->loadState(componentData[k]);
-    componentData[k].requireEnd();
-  }
 }
 
 std::string readCheckpointBytes(const std::filesystem::path& path) {

@@ -8,7 +8,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
+#include <vector>
 
+#include "demlink/core/component_state.hpp"
+#include "demlink/core/state_stream.hpp"
 #include "demlink/core/world.hpp"
 
 namespace demlink::core {
@@ -88,6 +92,70 @@ void FlowSensor::countCrossing(const Vec3& before, const Vec3& after, double mas
       tally->negative_mass += mass;
     }
   }
+}
+
+namespace {
+
+void writeFlowTally(StateWriter& out, const FlowTally& tally) {
+  out.write(tally.positive_count);
+  out.write(tally.negative_count);
+  out.write(tally.positive_mass);
+  out.write(tally.negative_mass);
+}
+
+FlowTally readFlowTally(StateReader& in, const std::string& what) {
+  FlowTally tally;
+  tally.positive_count = in.read<std::uint64_t>();
+  tally.negative_count = in.read<std::uint64_t>();
+  tally.positive_mass = readNonNegative(in, what + " positive mass");
+  tally.negative_mass = readNonNegative(in, what + " negative mass");
+  return tally;
+}
+
+}  // namespace
+
+void FlowSensor::saveState(StateWriter& out) const {
+  SampledComponent::saveState(out);
+  const std::size_t section = out.beginSection("FLOW");
+  out.write(band_);
+  writeFlowTally(out, total_);
+  writeFlowTally(out, since_sample_);
+  writeFlowTally(out, last_interval_);
+  std::vector<std::pair<std::uint64_t, Vec3>> remembered(previous_.begin(), previous_.end());
+  std::sort(remembered.begin(), remembered.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  out.write<std::uint64_t>(remembered.size());
+  for (const auto& [id, local] : remembered) {
+    out.write(id);
+    out.write(local);
+  }
+  out.endSection(section);
+}
+
+void FlowSensor::loadState(StateReader& in) {
+  SampledComponent::loadState(in);
+  StateReader s = componentSection(in, "FLOW", "crossings");
+  const double band = readNonNegative(s, "band half-width");
+  const FlowTally total = readFlowTally(s, "total");
+  const FlowTally since = readFlowTally(s, "since the last sample");
+  const FlowTally last = readFlowTally(s, "last interval");
+  const auto count = s.read<std::uint64_t>();
+  s.requireAvailable(count, sizeof(std::uint64_t) + StateCodec<Vec3>::kBytes, "remembered particle count");
+  std::unordered_map<std::uint64_t, Vec3> previous;
+  previous.reserve(static_cast<std::size_t>(count));
+  std::uint64_t lastId = 0;
+  for (std::uint64_t k = 0; k < count; ++k) {
+    const auto id = s.read<std::uint64_t>();
+    if (k > 0 && id <= lastId) s.fail(std::to_string(id), "remembered particle ids not strictly increasing");
+    lastId = id;
+    previous.emplace(id, readFiniteVector(s, "remembered position of particle " + std::to_string(id)));
+  }
+  s.requireEnd();
+  band_ = band;
+  total_ = total;
+  since_sample_ = since;
+  last_interval_ = last;
+  previous_ = std::move(previous);
+  current_.clear();
 }
 
 std::vector<std::string> FlowSensor::columns() const {

@@ -5,6 +5,8 @@
 /// prescribed motion (stage 1), i.e. it leads the particles by one step.
 #include "demlink/core/particle_sink.hpp"
 
+#include "demlink/core/component_state.hpp"
+
 namespace demlink::core {
 
 ParticleSink::ParticleSink(std::string name, VolumeShape shape, RegionPlacement placement, SampleSchedule schedule,
@@ -38,6 +40,30 @@ void ParticleSink::observe(const World& world) {
   since_sample_ = {};
   publish({world.time(), static_cast<double>(last_interval_.count), last_interval_.mass,
            static_cast<double>(total_.count), total_.mass});
+}
+
+void ParticleSink::saveState(StateWriter& out) const {
+  SampledComponent::saveState(out);
+  const std::size_t section = out.beginSection("SINK");
+  writeRemovalTally(out, total_);
+  writeRemovalTally(out, since_sample_);
+  writeRemovalTally(out, last_interval_);
+  out.endSection(section);
+}
+
+void ParticleSink::loadState(StateReader& in) {
+  SampledComponent::loadState(in);
+  StateReader s = componentSection(in, "SINK", "tallies");
+  const RemovalTally total = readRemovalTally(s, "removed total");
+  const RemovalTally since = readRemovalTally(s, "removed since the last sample");
+  const RemovalTally last = readRemovalTally(s, "removed in the last interval");
+  s.requireEnd();
+  if (since.count > total.count || last.count > total.count) {
+    s.fail(std::to_string(total.count), "removed total is smaller than an interval's count");
+  }
+  total_ = total;
+  since_sample_ = since;
+  last_interval_ = last;
 }
 
 std::vector<std::string> ParticleSink::columns() const {

@@ -17,7 +17,9 @@
 #include <numbers>
 #include <unordered_map>
 
+#include "demlink/core/component_state.hpp"
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/state_stream.hpp"
 #include "demlink/core/triangle_geometry.hpp"
 #include "demlink/core/world.hpp"
 
@@ -322,6 +324,54 @@ void ParticleSource::noteShortfall(const Drawn& shape, double time) {
                  name(), time, report_.shortfall_count, report_.shortfall_mass, spec_.max_attempts);
     shortfall_logged_ = report_.shortfall_count;
   }
+}
+
+void ParticleSource::saveState(StateWriter& out) const {
+  const std::size_t section = out.beginSection("SRCE");
+  writeRandomState(out, rng_);
+  out.write(static_cast<std::uint8_t>(next_.has_value()));
+  out.write(next_ ? next_->radius : 0.0);
+  out.write(next_ ? next_->mass : 0.0);
+  out.write(consumed_mass_);
+  out.write(report_.inserted_count);
+  out.write(report_.inserted_mass);
+  out.write(report_.shortfall_count);
+  out.write(report_.shortfall_mass);
+  out.write(report_.requested_count);
+  out.write(report_.requested_mass);
+  out.write(shortfall_logged_);
+  out.endSection(section);
+}
+
+void ParticleSource::loadState(StateReader& in) {
+  StateReader s = componentSection(in, "SRCE", "source");
+  const RandomState rng = readRandomState(s);
+  const bool hasNext = readFlag(s, "pending particle flag");
+  Drawn next;
+  next.radius = readNonNegative(s, "pending particle radius");
+  next.mass = readNonNegative(s, "pending particle mass");
+  if (hasNext && !(next.radius > 0.0 && next.mass > 0.0)) {
+    s.fail(formatValue(next.radius), "pending particle radius and mass must be > 0");
+  }
+  const double consumed = readNonNegative(s, "consumed mass");
+  SourceReport report;
+  report.inserted_count = s.read<std::uint64_t>();
+  report.inserted_mass = readNonNegative(s, "inserted mass");
+  report.shortfall_count = s.read<std::uint64_t>();
+  report.shortfall_mass = readNonNegative(s, "shortfall mass");
+  report.requested_count = readNonNegative(s, "requested count");
+  report.requested_mass = readNonNegative(s, "requested mass");
+  const auto logged = s.read<std::uint64_t>();
+  s.requireEnd();
+  if (report.inserted_count > std::numeric_limits<std::uint64_t>::max() - report.shortfall_count) {
+    s.fail(std::to_string(report.inserted_count), "inserted and shortfall counts overflow");
+  }
+  rng_.setState(rng);
+  next_.reset();
+  if (hasNext) next_ = next;
+  consumed_mass_ = consumed;
+  report_ = report;
+  shortfall_logged_ = logged;
 }
 
 std::string ParticleSource::summaryLine() const {

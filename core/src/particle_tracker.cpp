@@ -7,7 +7,9 @@
 
 #include <limits>
 
+#include "demlink/core/component_state.hpp"
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/state_stream.hpp"
 #include "demlink/core/world.hpp"
 
 namespace demlink::core {
@@ -117,6 +119,71 @@ void ParticleTracker::sample(const World& world) {
     appendVector(row, m.torque);
   }
   publish(std::move(row));
+}
+
+void ParticleTracker::saveState(StateWriter& out) const {
+  SampledComponent::saveState(out);
+  const std::size_t section = out.beginSection("TRAK");
+  out.write<std::uint64_t>(particles_.size());
+  for (const TrackedParticle& t : particles_) {
+    out.write(t.id);
+    out.write(static_cast<std::int32_t>(t.status));
+    out.write(t.position);
+    out.write(t.velocity);
+    out.write(t.angular_velocity);
+    out.write(t.force);
+  }
+  out.write<std::uint64_t>(meshes_.size());
+  for (const TrackedMesh& m : meshes_) {
+    out.write<std::uint64_t>(m.index);
+    out.write(m.position);
+    out.write(m.orientation);
+    out.write(m.linear_velocity);
+    out.write(m.angular_velocity);
+    out.write(m.force);
+    out.write(m.torque);
+  }
+  out.endSection(section);
+}
+
+void ParticleTracker::loadState(StateReader& in) {
+  SampledComponent::loadState(in);
+  StateReader s = componentSection(in, "TRAK", "tracked");
+  const auto particleCount = s.read<std::uint64_t>();
+  if (particleCount != particles_.size()) {
+    s.fail(std::to_string(particleCount), "tracked particle count differs from the scene's " +
+                                              std::to_string(particles_.size()));
+  }
+  std::vector<TrackedParticle> particles = particles_;
+  for (TrackedParticle& t : particles) {
+    const auto id = s.read<std::uint64_t>();
+    if (id != t.id) s.fail(std::to_string(id), "tracked particle id differs from the scene's " + std::to_string(t.id));
+    const auto status = s.read<std::int32_t>();
+    if (status < -1 || status > 1) s.fail(std::to_string(status), "tracked particle status must be -1, 0 or 1");
+    t.status = static_cast<TrackedParticle::Status>(status);
+    t.position = s.read<Vec3>();
+    t.velocity = s.read<Vec3>();
+    t.angular_velocity = s.read<Vec3>();
+    t.force = s.read<Vec3>();
+  }
+  const auto meshCount = s.read<std::uint64_t>();
+  if (meshCount != meshes_.size()) {
+    s.fail(std::to_string(meshCount), "tracked mesh count differs from the scene's " + std::to_string(meshes_.size()));
+  }
+  std::vector<TrackedMesh> meshes = meshes_;
+  for (TrackedMesh& m : meshes) {
+    const auto index = s.read<std::uint64_t>();
+    if (index != m.index) s.fail(std::to_string(index), "tracked mesh index differs from the scene's");
+    m.position = s.read<Vec3>();
+    m.orientation = s.read<Quat>();
+    m.linear_velocity = s.read<Vec3>();
+    m.angular_velocity = s.read<Vec3>();
+    m.force = s.read<Vec3>();
+    m.torque = s.read<Vec3>();
+  }
+  s.requireEnd();
+  particles_ = std::move(particles);
+  meshes_ = std::move(meshes);
 }
 
 std::vector<std::string> ParticleTracker::columns() const {

@@ -7,6 +7,8 @@
 
 #include <limits>
 
+#include "demlink/core/component_state.hpp"
+#include "demlink/core/state_stream.hpp"
 #include "demlink/core/world.hpp"
 
 namespace demlink::core {
@@ -57,6 +59,31 @@ void RegionSensor::sample(const World& world) {
   const RegionReading& r = latest_;
   publish({r.time, static_cast<double>(r.count), r.mass, r.mean_velocity.x(), r.mean_velocity.y(),
            r.mean_velocity.z(), r.centre_of_mass.x(), r.centre_of_mass.y(), r.centre_of_mass.z()});
+}
+
+void RegionSensor::saveState(StateWriter& out) const {
+  SampledComponent::saveState(out);
+  const std::size_t section = out.beginSection("REGN");
+  out.write(latest_.time);
+  out.write(latest_.count);
+  out.write(latest_.mass);
+  out.write(latest_.mean_velocity);
+  out.write(latest_.centre_of_mass);
+  out.endSection(section);
+}
+
+void RegionSensor::loadState(StateReader& in) {
+  SampledComponent::loadState(in);
+  StateReader s = componentSection(in, "REGN", "latest");
+  RegionReading r;
+  r.time = readFinite(s, "time of the latest reading");
+  r.count = s.read<std::uint64_t>();
+  r.mass = readNonNegative(s, "mass of the latest reading");
+  // NaN is the documented value of an empty region's mean velocity and centre of mass.
+  r.mean_velocity = s.read<Vec3>();
+  r.centre_of_mass = s.read<Vec3>();
+  s.requireEnd();
+  latest_ = r;
 }
 
 std::vector<std::string> RegionSensor::columns() const {

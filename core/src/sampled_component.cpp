@@ -8,6 +8,7 @@
 #include <cmath>
 #include <set>
 
+#include "demlink/core/component_state.hpp"
 #include "demlink/core/input_error.hpp"
 #include "demlink/core/world.hpp"
 
@@ -43,6 +44,34 @@ void SampledComponent::publish(std::vector<double> row) {
   latest_ = std::move(row);
   ++samples_;
   if (csv_) csv_->writeRow(latest_);
+}
+
+void SampledComponent::saveState(StateWriter& out) const {
+  const std::size_t section = out.beginSection("SMPL");
+  out.write(every_);
+  out.write(samples_);
+  out.writeVector(latest_);
+  out.endSection(section);
+}
+
+void SampledComponent::loadState(StateReader& in) {
+  StateReader s = componentSection(in, "SMPL", "schedule");
+  const auto every = s.read<std::uint64_t>();
+  if (every != every_) {
+    s.fail(std::to_string(every), "sample period in steps differs from the scene's " + std::to_string(every_) +
+                                      " (restore into a world built from the same scene)");
+  }
+  const auto samples = s.read<std::uint64_t>();
+  std::vector<double> latest = s.readVector<double>();
+  s.requireEnd();
+  const std::size_t width = columns().size();
+  if (latest.size() != width) {
+    s.fail(std::to_string(latest.size()), "latest sample has the wrong number of values (expected " +
+                                              std::to_string(width) + ")");
+  }
+  if (samples == 0) s.fail("0", "sample count must be >= 1 (the initial sample)");
+  samples_ = samples;
+  latest_ = std::move(latest);
 }
 
 void SampledComponent::writeCsvTo(const std::filesystem::path& path) {

@@ -58,6 +58,11 @@ class FlowSensor final : public SampledComponent {
   /// time_s, then for the interval and the total: positive, negative and net count, and
   /// positive, negative and net mass [kg].
   [[nodiscard]] std::vector<std::string> columns() const override;
+  /// Schedule, then a "FLOW" section: band width, the three tallies and the remembered
+  /// (id, local position) pairs in increasing id order (so the bytes do not depend on
+  /// the hash map's iteration order).
+  void saveState(StateWriter& out) const override;
+  void loadState(StateReader& in) override;
 
   /// Everything counted since the start.
   [[nodiscard]] const FlowTally& total() const { return total_; }

@@ -27,6 +27,9 @@ class ParticleSink final : public SampledComponent {
   void observe(const World& world) override;
   /// time_s, removed_interval, removed_mass_interval_kg, removed_total, removed_mass_total_kg
   [[nodiscard]] std::vector<std::string> columns() const override;
+  /// Schedule, then a "SINK" section: total, since-last-sample and last-interval tallies.
+  void saveState(StateWriter& out) const override;
+  void loadState(StateReader& in) override;
 
   /// Everything removed since the start [count, kg].
   [[nodiscard]] const RemovalTally& total() const { return total_; }

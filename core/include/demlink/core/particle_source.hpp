@@ -102,6 +102,10 @@ class ParticleSource final : public WorldComponent {
   [[nodiscard]] std::uint32_t stages() const override { return kStageInsertRemove; }
   void initialize(World& world) override;
   void insertAndRemove(World& world) override;
+  /// A "SRCE" section: generator state, the drawn particle waiting for its mass (kg/s),
+  /// the consumed mass, the report and the shortfall log mark.
+  void saveState(StateWriter& out) const override;
+  void loadState(StateReader& in) override;
 
   [[nodiscard]] const SourceReport& report() const { return report_; }
   [[nodiscard]] const ParticleSourceSpec& spec() const { return spec_; }

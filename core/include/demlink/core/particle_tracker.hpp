@@ -55,6 +55,11 @@ class ParticleTracker final : public SampledComponent {
   /// <name>_{x,y,z}_m, _{qw,qx,qy,qz}, _{vx,vy,vz}_m_s, _{wx,wy,wz}_rad_s, _{fx,fy,fz}_N,
   /// _{tx,ty,tz}_N_m.
   [[nodiscard]] std::vector<std::string> columns() const override;
+  /// Schedule, then a "TRAK" section: per tracked particle its id (checked against the
+  /// scene's), status (which decides "removed" against "not yet present") and values;
+  /// per tracked mesh its index and values.
+  void saveState(StateWriter& out) const override;
+  void loadState(StateReader& in) override;
 
   /// The last sample, in the order the ids / indices were given.
   [[nodiscard]] const std::vector<TrackedParticle>& particles() const { return particles_; }

@@ -50,6 +50,13 @@ namespace demlink::core {
   return e * kLn2Hi + (atanhTimes2 + e * kLn2Lo);
 }
 
+/// Everything a Random's future output depends on, for checkpoints.
+struct RandomState {
+  std::uint64_t words[4] = {};  ///< xoshiro256** state; never all zero
+  double spare = 0.0;           ///< second normal variate of the last pair
+  bool has_spare = false;
+};
+
 /// xoshiro256** with splitmix64 seeding. Copyable: a copy continues the same stream.
 class Random {
  public:
@@ -108,6 +115,22 @@ class Random {
 
   /// Normal variate with the given mean and standard deviation.
   double normal(double mean, double stddev) { return mean + stddev * normal(); }
+
+  /// The full generator state (a generator set to it continues the same stream).
+  [[nodiscard]] RandomState state() const {
+    RandomState s;
+    for (int k = 0; k < 4; ++k) s.words[k] = state_[k];
+    s.spare = spare_;
+    s.has_spare = has_spare_;
+    return s;
+  }
+  /// Restores a state from state(). An all-zero word set is not a xoshiro state
+  /// (the generator would output zeros forever); the caller must reject it.
+  void setState(const RandomState& s) {
+    for (int k = 0; k < 4; ++k) state_[k] = s.words[k];
+    spare_ = s.spare;
+    has_spare_ = s.has_spare;
+  }
 
  private:
   static std::uint64_t splitMix64(std::uint64_t& x) {

@@ -36,6 +36,9 @@ class RegionSensor final : public SampledComponent {
   void observe(const World& world) override;
   /// time_s, count, mass_kg, mean_vx_m_s, mean_vy_m_s, mean_vz_m_s, com_x_m, com_y_m, com_z_m
   [[nodiscard]] std::vector<std::string> columns() const override;
+  /// Schedule, then a "REGN" section with the latest reading.
+  void saveState(StateWriter& out) const override;
+  void loadState(StateReader& in) override;
 
   /// Measures the world's current state (does not record a sample).
   [[nodiscard]] RegionReading measure(const World& world) const;

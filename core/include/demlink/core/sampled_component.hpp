@@ -50,6 +50,12 @@ class SampledComponent : public WorldComponent {
   /// Scene path of the component's declaration, for error messages.
   [[nodiscard]] const std::string& fieldPrefix() const { return field_prefix_; }
 
+  /// Checkpoint state of the schedule: a "SMPL" section with the sample period (checked
+  /// against the scene's on load), the sample count and the latest row (whose length
+  /// must match columns()). Subclasses call these first, then add their own section.
+  void saveState(StateWriter& out) const override;
+  void loadState(StateReader& in) override;
+
  protected:
   /// Converts the schedule to steps with the world's time step. Throws InputError naming
   /// fieldPrefix + ".sample_interval" when the interval is shorter than half a step.
