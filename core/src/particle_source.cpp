@@ -99,7 +99,7 @@ Vec3 SourceRegion::samplePoint(Random& rng, double r) const {
 
 // ---------------------------------------------------------------- spec
 
-void ParticleSourceSpec::validate(const std::string& prefix) const {
+void ParticleSourceSpec::validate(const std::string& prefix, double clumpBoundingRadius) const {
   if (rate_particles_per_s.has_value() == rate_kg_per_s.has_value()) {
     throw InputError(prefix + ".rate_particles_per_s",
                      rate_particles_per_s ? "both rates given" : "neither rate given",
@@ -113,11 +113,11 @@ void ParticleSourceSpec::validate(const std::string& prefix) const {
                      "must be later than start_time = " + formatValue(start_time));
   }
   if (shape == SourceShape::ClumpTemplate) {
-    throw InputError(prefix + ".clump_template", std::to_string(clump_template),
-                     "clump templates are not supported by particle_source yet (spheres only)");
+    region.validate(prefix, clumpBoundingRadius);
+  } else {
+    sizes.validate(prefix + ".sizes");
+    region.validate(prefix, sizes.maxRadius());
   }
-  sizes.validate(prefix + ".sizes");
-  region.validate(prefix, sizes.maxRadius());
   requireFiniteVector(prefix + ".velocity", velocity);
   requireFiniteVector(prefix + ".angular_velocity", angular_velocity);
   if (max_attempts == 0) throw InputError(prefix + ".max_attempts", "0", "must be >= 1");
@@ -222,7 +222,19 @@ void ParticleSource::initialize(World& world) {
     throw InputError(field_prefix_ + ".material", std::to_string(spec_.material), "no such material");
   }
   density_ = world.materials()[spec_.material].density;
-  mean_mass_ = spec_.sizes.meanMass(density_);
+  if (spec_.shape == SourceShape::ClumpTemplate) {
+    if (spec_.clump_template >= world.clumpTemplates().size()) {
+      throw InputError(field_prefix_ + ".clump_template", std::to_string(spec_.clump_template),
+                       "no such clump template");
+    }
+    const ClumpTemplate& shape = world.clumpTemplates()[spec_.clump_template];
+    clump_radius_ = shape.boundingRadius();
+    clump_mass_ = density_ * shape.volume();  // exactly as World::addClump computes it
+    spec_.validate(field_prefix_, clump_radius_);
+    mean_mass_ = clump_mass_;
+  } else {
+    mean_mass_ = spec_.sizes.meanMass(density_);
+  }
   if (!spec_.attached_mesh.empty()) {
     for (std::size_t m = 0; m < world.meshes().size(); ++m) {
       if (world.meshes()[m].name() == spec_.attached_mesh) mesh_index_ = m;
@@ -240,6 +252,7 @@ std::pair<Vec3, Quat> ParticleSource::regionPose(const World& world) const {
 }
 
 ParticleSource::Drawn ParticleSource::draw() {
+  if (spec_.shape == SourceShape::ClumpTemplate) return {clump_radius_, clump_mass_};
   const double r = spec_.sizes.sample(rng_);
   return {r, sphereMass(r, density_)};
 }
@@ -253,7 +266,7 @@ void ParticleSource::insertAndRemove(World& world) {
     if (!placement) {
       const auto [position, orientation] = regionPose(world);
       placement.emplace(world, position + orientation * spec_.region.centre, spec_.region.boundingRadius(),
-                        spec_.sizes.maxRadius());
+                        maxNewRadius());
     }
     if (!place(world, *placement, shape)) noteShortfall(shape, world.time());
   };
@@ -306,13 +319,23 @@ void ParticleSource::insertSphere(World& world, const Vec3& position, const Vec3
   report_.inserted_mass += world.particles().mass.back();
 }
 
-void ParticleSource::insertClump(World& /*world*/, const Vec3& /*position*/, const Vec3& /*velocity*/) {
-  // Seam for clump templates: draw an orientation here and call
-  // world.addClump(spec_.clump_template, spec_.material, position, orientation, velocity,
-  // spec_.angular_velocity), then add the clump's mass to report_. validate() refuses
-  // SourceShape::ClumpTemplate until then.
-  throw InputError(field_prefix_ + ".clump_template", std::to_string(spec_.clump_template),
-                   "clump insertion is not implemented");
+double ParticleSource::maxNewRadius() const {
+  return spec_.shape == SourceShape::ClumpTemplate ? clump_radius_ : spec_.sizes.maxRadius();
+}
+
+void ParticleSource::insertClump(World& world, const Vec3& position, const Vec3& velocity) {
+  // The orientation is drawn after the place is found: the bounding sphere does not
+  // depend on it, and a rotation composed with a uniform one is uniform.
+  ClumpSpec clump;
+  clump.template_index = spec_.clump_template;
+  clump.material = spec_.material;
+  clump.position = position;
+  clump.orientation = uniformRotation(rng_);
+  clump.velocity = velocity;
+  clump.angular_velocity = spec_.angular_velocity;
+  world.addClump(clump, field_prefix_);
+  ++report_.inserted_count;
+  report_.inserted_mass += world.clumps().back().mass;
 }
 
 void ParticleSource::noteShortfall(const Drawn& shape, double time) {
@@ -375,17 +398,30 @@ void ParticleSource::loadState(StateReader& in) {
 }
 
 std::string ParticleSource::summaryLine() const {
-  return fmt::format("particle_source {}: inserted {} particles, {:.6g} kg; requested {:.6g} particles, {:.6g} kg; "
-                     "shortfall {} particles, {:.6g} kg",
-                     name(), report_.inserted_count, report_.inserted_mass, report_.requested_count,
-                     report_.requested_mass, report_.shortfall_count, report_.shortfall_mass);
+  const char* unit = spec_.shape == SourceShape::ClumpTemplate ? "clumps" : "particles";
+  return fmt::format("particle_source {}: inserted {} {}, {:.6g} kg; requested {:.6g} {}, {:.6g} kg; "
+                     "shortfall {} {}, {:.6g} kg",
+                     name(), report_.inserted_count, unit, report_.inserted_mass, report_.requested_count,
+                     unit, report_.requested_mass, report_.shortfall_count, unit, report_.shortfall_mass);
 }
 
 ParticleSource& addParticleSource(World& world, const std::string& name, ParticleSourceSpec spec,
                                   const std::string& fieldPrefix) {
   auto source = std::make_unique<ParticleSource>(name, std::move(spec), fieldPrefix);
   const ParticleSourceSpec& validated = source->spec();
-  world.declareFutureParticles(validated.material, validated.sizes.minRadius(), fieldPrefix);
+  double minRadius = 0.0;  // [m]
+  if (validated.shape == SourceShape::ClumpTemplate) {
+    if (validated.clump_template >= world.clumpTemplates().size()) {
+      throw InputError(fieldPrefix + ".clump_template", std::to_string(validated.clump_template),
+                       "no such clump template (register it with World::addClumpTemplate first)");
+    }
+    const ClumpTemplate& shape = world.clumpTemplates()[validated.clump_template];
+    validated.validate(fieldPrefix, shape.boundingRadius());
+    minRadius = shape.minRadius();
+  } else {
+    minRadius = validated.sizes.minRadius();
+  }
+  world.declareFutureParticles(validated.material, minRadius, fieldPrefix);
   return static_cast<ParticleSource&>(world.addComponent(std::move(source)));
 }
 

@@ -3,6 +3,8 @@
 /// checked by the core validators with the schema path as prefix.
 #include "demlink/server/translate_sources.hpp"
 
+#include <optional>
+
 #include "demlink/core/input_error.hpp"
 #include "demlink/core/particle_source.hpp"
 
@@ -74,6 +76,24 @@ core::SourceRegion translateDisc(const v1::SourceDisc& disc, const std::string& 
   return region;
 }
 
+/// The template index named by `name` (field prefix + ".clump_template"), listing the
+/// declared templates when the name is unknown.
+std::uint32_t resolveClumpTemplate(const std::string& name, const std::string& prefix, const core::World& world) {
+  const std::optional<std::uint32_t> index = world.findClumpTemplate(name);
+  if (index) return *index;
+  std::string declared;
+  for (const core::ClumpTemplate& shape : world.clumpTemplates()) declared += (declared.empty() ? "" : ", ") + shape.name();
+  throw InputError(prefix + ".clump_template", "\"" + name + "\"",
+                   "unknown clump template (declared: " + (declared.empty() ? "none" : declared) + ")");
+}
+
+/// Clump template given: sizes must be omitted (the template sets the size).
+void requireNoSizesWithClump(bool hasSizes, const std::string& prefix) {
+  if (hasSizes) {
+    throw InputError(prefix + ".sizes", "(given)", "must be omitted when clump_template is set (the template sets the size)");
+  }
+}
+
 }  // namespace
 
 core::SizeDistribution translateSizes(const v1::SizeDistribution& sizes, const std::string& prefix) {
@@ -131,8 +151,14 @@ void addSingleParticle(const v1::SingleParticle& particle, std::uint32_t materia
 void addParticleSource(const v1::ParticleSource& source, const std::string& name, std::uint32_t material,
                        const std::string& prefix, core::World& world) {
   core::ParticleSourceSpec spec;
-  if (!source.has_sizes()) throw InputError(prefix + ".sizes", "(missing)", "a particle source needs sizes");
-  spec.sizes = translateSizes(source.sizes(), prefix + ".sizes");
+  if (!source.clump_template().empty()) {
+    spec.shape = core::SourceShape::ClumpTemplate;
+    spec.clump_template = resolveClumpTemplate(source.clump_template(), prefix, world);
+    requireNoSizesWithClump(source.has_sizes(), prefix);
+  } else {
+    if (!source.has_sizes()) throw InputError(prefix + ".sizes", "(missing)", "a particle source needs sizes (or a clump_template)");
+    spec.sizes = translateSizes(source.sizes(), prefix + ".sizes");
+  }
   switch (source.region_case()) {
     case v1::ParticleSource::kBox: spec.region = translateBox(source.box(), prefix + ".box"); break;
     case v1::ParticleSource::kDisc: spec.region = translateDisc(source.disc(), prefix + ".disc"); break;
@@ -175,8 +201,13 @@ core::PitReport addPitGenerator(const v1::PitGenerator& pit, const std::string& 
     spec.lower = centre - 0.5 * size;
     spec.upper = centre + 0.5 * size;
   }
-  if (!pit.has_sizes()) throw InputError(prefix + ".sizes", "(missing)", "a pit generator needs sizes");
-  spec.sizes = translateSizes(pit.sizes(), prefix + ".sizes");
+  if (!pit.clump_template().empty()) {
+    spec.clump_template = resolveClumpTemplate(pit.clump_template(), prefix, world);
+    requireNoSizesWithClump(pit.has_sizes(), prefix);
+  } else {
+    if (!pit.has_sizes()) throw InputError(prefix + ".sizes", "(missing)", "a pit generator needs sizes (or a clump_template)");
+    spec.sizes = translateSizes(pit.sizes(), prefix + ".sizes");
+  }
   spec.target_height = pit.target_height();
   spec.material = material;
   spec.seed = pit.seed();

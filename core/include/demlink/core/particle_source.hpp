@@ -15,8 +15,11 @@
 ///   - No silent under-delivery: a particle that finds no free place within
 ///     max_attempts draws is counted as shortfall (count and mass), warned about
 ///     (first time, then each time the shortfall doubles) and reported.
-///   - Clumps later: what is inserted is a SourceShape; only spheres are implemented,
-///     and insertClump() is the single place to call World::addClump once it exists.
+///   - Clumps: with SourceShape::ClumpTemplate each insertion is one rigid clump
+///     (World::addClump) with a seeded uniform random orientation; placement tests
+///     the template's bounding sphere about its COM, so a clump never overlaps
+///     anything whatever its orientation; rates and the report count clumps and
+///     clump masses.
 /// The source runs in stage 2 (after mesh motion), so an attached region follows the
 /// mesh's pose of the current step.
 #include <cstdint>
@@ -56,8 +59,8 @@ struct SourceRegion {
   [[nodiscard]] Vec3 samplePoint(Random& rng, double r) const;
 };
 
-/// What a source inserts. Only spheres are implemented; the clump path is the seam
-/// for World::addClump (template index, bounding radius from the template).
+/// What a source inserts: spheres drawn from `sizes`, or clumps of one template
+/// (`sizes` is then unused).
 enum class SourceShape : std::uint8_t { Sphere, ClumpTemplate };
 
 struct ParticleSourceSpec {
@@ -71,19 +74,22 @@ struct ParticleSourceSpec {
   double start_time = 0.0;                               ///< [s], >= 0
   double stop_time = std::numeric_limits<double>::infinity();  ///< [s], > start_time
   std::uint32_t material = 0;
-  SizeDistribution sizes;
+  SizeDistribution sizes;  ///< Sphere only
   Vec3 velocity = Vec3::Zero();          ///< initial velocity, world frame [m/s]
   Vec3 angular_velocity = Vec3::Zero();  ///< initial angular velocity, world frame [rad/s]
   std::uint64_t seed = 0;
   std::uint32_t max_attempts = 50;  ///< placement draws per particle, >= 1
   SourceShape shape = SourceShape::Sphere;
-  std::uint32_t clump_template = 0;  ///< ClumpTemplate only (not implemented yet)
+  std::uint32_t clump_template = 0;  ///< ClumpTemplate only: index from World::addClumpTemplate
 
   /// Throws InputError naming `fieldPrefix + ".<field>"` (material count checked by addParticleSource).
-  void validate(const std::string& fieldPrefix) const;
+  /// For clumps the region is checked against `clumpBoundingRadius` [m] (the
+  /// template's, known once the world is at hand; 0 skips the fit check).
+  void validate(const std::string& fieldPrefix, double clumpBoundingRadius = 0.0) const;
 };
 
 /// Cumulative bookkeeping of a source.
+/// For a clump source, counts are clumps and masses clump masses.
 struct SourceReport {
   std::uint64_t inserted_count = 0;
   double inserted_mass = 0.0;      ///< [kg]
@@ -122,10 +128,11 @@ class ParticleSource final : public WorldComponent {
   class Placement;
 
   Drawn draw();
+  /// Largest radius a new shape occupies (sphere radius or clump bounding radius) [m].
+  [[nodiscard]] double maxNewRadius() const;
   bool place(World& world, Placement& placement, const Drawn& shape);
   void insertSphere(World& world, const Vec3& position, const Vec3& velocity, double radius);
-  /// Hook for clump templates: calls World::addClump once it exists. Not reachable
-  /// today (validate() rejects SourceShape::ClumpTemplate).
+  /// Adds one clump of the template, COM at `position`, random orientation.
   void insertClump(World& world, const Vec3& position, const Vec3& velocity);
   void noteShortfall(const Drawn& shape, double time);
 
@@ -134,6 +141,8 @@ class ParticleSource final : public WorldComponent {
   Random rng_;
   double density_ = 0.0;    ///< [kg/m^3]
   double mean_mass_ = 0.0;  ///< [kg]
+  double clump_radius_ = 0.0;  ///< clumps: template bounding radius about the COM [m]
+  double clump_mass_ = 0.0;    ///< clumps: mass of one clump [kg]
   std::optional<std::size_t> mesh_index_;
   std::optional<Drawn> next_;  ///< kg/s only: drawn, waiting for the requested mass to cover it
   double consumed_mass_ = 0.0;  ///< kg/s only: drawn mass inserted or counted as shortfall [kg]
@@ -141,8 +150,9 @@ class ParticleSource final : public WorldComponent {
   std::uint64_t shortfall_logged_ = 0;
 };
 
-/// Validates `spec`, declares its smallest radius as a future particle size (the time
-/// step check then covers inserted particles) and adds the source to the world.
+/// Validates `spec`, declares its smallest radius (a clump's smallest member radius) as
+/// a future particle size (the time step check then covers inserted particles) and
+/// adds the source to the world. Clump templates must be registered before.
 /// Call before World::initialize(). Throws InputError naming fieldPrefix + ".<field>".
 ParticleSource& addParticleSource(World& world, const std::string& name, ParticleSourceSpec spec,
                                   const std::string& fieldPrefix);
