@@ -13,6 +13,7 @@
 #include "demlink/core/checkpoint.hpp"
 #include "demlink/core/input_error.hpp"
 #include "demlink/core/state_stream.hpp"
+#include "checkpoint_test_support.hpp"
 #include "test_scenes.hpp"
 
 namespace demlink::core {
@@ -69,28 +70,13 @@ std::unique_ptr<World> buildScene(const SceneVariant& v = {}) {
 
 const StepCounter& counter(const World& world) { return static_cast<const StepCounter&>(*world.components()[0]); }
 
-std::string save(const World& world) {
-  std::ostringstream out;
-  world.saveCheckpoint(out);
-  return out.str();
-}
+using test::bitEqual;
 
-template <class T>
-bool bitEqual(const std::vector<T>& a, const std::vector<T>& b) {
-  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
-}
+std::string save(const World& world) { return test::saveToBytes(world); }
 
 void expectBitIdentical(const World& a, const World& b) {
   EXPECT_EQ(a.stepCount(), b.stepCount());
-  std::vector<std::string> differing;
-  const ParticleArrays& pb = b.particles();
-  a.particles().forEachColumn([&](const char* name, const auto& column) {
-    pb.forEachColumn([&](const char* otherName, const auto& other) {
-      if constexpr (std::is_same_v<decltype(column), decltype(other)>) {
-        if (std::strcmp(name, otherName) == 0 && !bitEqual(column, other)) differing.emplace_back(name);
-      }
-    });
-  });
+  const std::vector<std::string> differing = test::differingColumns(a, b);
   EXPECT_TRUE(differing.empty()) << "first differing column: " << (differing.empty() ? "" : differing.front());
   EXPECT_TRUE(std::ranges::equal(a.neighbourList().partners(), b.neighbourList().partners()));
   EXPECT_EQ(std::memcmp(a.neighbourList().history().data(), b.neighbourList().history().data(),

@@ -13,6 +13,7 @@
 
 #include <gtest/gtest.h>
 
+#include "checkpoint_test_support.hpp"
 #include "component_scene.hpp"
 #include "demlink/core/input_error.hpp"
 
@@ -22,30 +23,10 @@ namespace {
 constexpr int kBefore = 1200;  // steps before the checkpoint (a multiple of every sample period)
 constexpr int kAfter = 800;    // steps after it
 
-std::string save(const World& world) {
-  std::ostringstream out;
-  world.saveCheckpoint(out);
-  return out.str();
-}
+using test::bitEqual;
+using test::differingColumns;
 
-template <class T>
-bool bitEqual(const std::vector<T>& a, const std::vector<T>& b) {
-  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
-}
-
-/// Names of the particle columns that differ in any bit.
-std::vector<std::string> differingColumns(const World& a, const World& b) {
-  std::vector<std::string> differing;
-  const ParticleArrays& pb = b.particles();
-  a.particles().forEachColumn([&](const char* name, const auto& column) {
-    pb.forEachColumn([&](const char* otherName, const auto& other) {
-      if constexpr (std::is_same_v<decltype(column), decltype(other)>) {
-        if (std::strcmp(name, otherName) == 0 && !bitEqual(column, other)) differing.emplace_back(name);
-      }
-    });
-  });
-  return differing;
-}
+std::string save(const World& world) { return test::saveToBytes(world); }
 
 void expectSameReadings(const test::ComponentScene& a, const test::ComponentScene& b) {
   const SourceReport& ra = a.source->report();

@@ -10,33 +10,19 @@
 
 #include "demlink/core/input_error.hpp"
 #include "demlink/core/world.hpp"
+#include "checkpoint_test_support.hpp"
 #include "test_scenes.hpp"
 
 namespace demlink::core {
 namespace {
 
-std::string save(const World& world) {
-  std::ostringstream out;
-  world.saveCheckpoint(out);
-  return out.str();
-}
+std::string save(const World& world) { return test::saveToBytes(world); }
 
-/// Names of the particle columns that differ bitwise between a and b.
+/// The differing column names joined, "" when all are bit-identical.
 std::string differingColumns(const World& a, const World& b) {
-  std::string differing;
-  const ParticleArrays& pb = b.particles();
-  a.particles().forEachColumn([&](const char* name, const auto& column) {
-    pb.forEachColumn([&](const char* otherName, const auto& other) {
-      if constexpr (std::is_same_v<decltype(column), decltype(other)>) {
-        if (std::strcmp(name, otherName) != 0) return;
-        const bool same = column.size() == other.size() &&
-                          (column.empty() ||
-                           std::memcmp(column.data(), other.data(), column.size() * sizeof(column[0])) == 0);
-        if (!same) differing += std::string(differing.empty() ? "" : ", ") + name;
-      }
-    });
-  });
-  return differing;
+  std::string joined;
+  for (const std::string& name : test::differingColumns(a, b)) joined += (joined.empty() ? "" : ", ") + name;
+  return joined;
 }
 
 /// Tumbling three-sphere clumps dropped onto a floor.
