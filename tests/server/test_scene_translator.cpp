@@ -11,6 +11,7 @@
 #include "demlink/server/scene_loader.hpp"
 #include "demlink/server/scene_translator.hpp"
 #include "test_support.hpp"
+#include "scene_test_support.hpp"
 
 namespace demlink::server {
 namespace {
@@ -18,11 +19,7 @@ namespace {
 constexpr const char* kBox = R"({"name": "box", "simulation_box": {"end_time": 0.1}})";
 constexpr const char* kGlass = R"({"name": "glass", "material": {}})";
 
-v1::Scene sceneOf(const std::vector<std::string>& components) {
-  std::string json = "{\"components\": [";
-  for (std::size_t k = 0; k < components.size(); ++k) json += (k > 0 ? ", " : "") + components[k];
-  return parseSceneJson(json + "]}", "test");
-}
+using test::sceneOf;
 
 /// Translates and returns the InputError (fails the test if none is thrown).
 core::InputError translationError(const v1::Scene& scene, const std::filesystem::path& dir = {}) {

@@ -17,6 +17,7 @@
 #include "demlink/server/scene_loader.hpp"
 #include "demlink/server/scene_translator.hpp"
 #include "test_support.hpp"
+#include "scene_test_support.hpp"
 
 namespace demlink::server {
 namespace {
@@ -28,11 +29,7 @@ constexpr const char* kGlass = R"({"name": "glass", "material": {"youngs_modulus
 constexpr const char* kSteel = R"({"name": "steel", "material": {"density": 7800, "youngs_modulus": 2e7}})";
 constexpr const char* kFloor = R"({"name": "floor", "plane": {"normal": {"z": 1}, "material": "glass"}})";
 
-v1::Scene sceneOf(const std::vector<std::string>& components) {
-  std::string json = "{\"components\": [";
-  for (std::size_t k = 0; k < components.size(); ++k) json += (k > 0 ? ", " : "") + components[k];
-  return parseSceneJson(json + "]}", "test");
-}
+using test::sceneOf;
 
 std::string systemFrom(const std::string& key, const std::filesystem::path& file) {
   return R"({"name": "bed", "particle_system": {")" + key + R"(": ")" + file.string() + R"("}})";

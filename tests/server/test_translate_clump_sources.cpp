@@ -10,6 +10,7 @@
 #include "demlink/core/particle_source.hpp"
 #include "demlink/server/scene_loader.hpp"
 #include "demlink/server/scene_translator.hpp"
+#include "scene_test_support.hpp"
 
 namespace demlink::server {
 namespace {
@@ -19,11 +20,7 @@ constexpr const char* kGlass = R"({"name": "glass", "material": {}})";
 constexpr const char* kPair = R"({"name": "pair", "clump_template": {"spheres": [
     {"offset": {"x": -0.001}, "radius": 0.001}, {"offset": {"x": 0.001}, "radius": 0.001}]}})";
 
-v1::Scene sceneOf(const std::vector<std::string>& components) {
-  std::string json = "{\"components\": [";
-  for (std::size_t k = 0; k < components.size(); ++k) json += (k > 0 ? ", " : "") + components[k];
-  return parseSceneJson(json + "]}", "test");
-}
+using test::sceneOf;
 
 std::string source(const std::string& body) {
   return R"({"name": "src", "particle_source": {"material": "glass",
@@ -37,15 +34,7 @@ std::string pit(const std::string& body) {
          body + "}}";
 }
 
-std::string errorField(const v1::Scene& scene) {
-  try {
-    TranslatedScene t = translateScene(scene, {});
-    t.world.initialize();
-  } catch (const core::InputError& error) {
-    return error.field();
-  }
-  return "(accepted)";
-}
+std::string errorField(const v1::Scene& scene) { return test::errorFieldAfterInitialize(scene); }
 
 TEST(TranslateClumpSources, SourceInsertsClumpsOfTheNamedTemplate) {
   TranslatedScene t = translateScene(sceneOf({kBox, kGlass, kPair, source(R"(, "clump_template": "pair")")}), {});

@@ -12,6 +12,7 @@
 #include "demlink/server/scene_loader.hpp"
 #include "demlink/server/scene_translator.hpp"
 #include "test_support.hpp"
+#include "scene_test_support.hpp"
 
 namespace demlink::server {
 namespace {
@@ -21,11 +22,7 @@ constexpr const char* kGlass = R"({"name": "glass", "material": {}})";
 constexpr const char* kPair = R"({"name": "pair", "clump_template": {"spheres": [
     {"offset": {"x": -0.001}, "radius": 0.001}, {"offset": {"x": 0.001}, "radius": 0.001}]}})";
 
-v1::Scene sceneOf(const std::vector<std::string>& components) {
-  std::string json = "{\"components\": [";
-  for (std::size_t k = 0; k < components.size(); ++k) json += (k > 0 ? ", " : "") + components[k];
-  return parseSceneJson(json + "]}", "test");
-}
+using test::sceneOf;
 
 std::string lattice(const std::string& extra) {
   return R"({"name": "grains", "particle_lattice": {"material": "glass", "clump_template": "pair",

@@ -8,17 +8,14 @@
 #include "demlink/core/material_database.hpp"
 #include "demlink/server/scene_loader.hpp"
 #include "demlink/server/scene_translator.hpp"
+#include "scene_test_support.hpp"
 
 namespace demlink::server {
 namespace {
 
 constexpr const char* kBox = R"({"name": "box", "simulation_box": {"end_time": 0.1}})";
 
-v1::Scene sceneOf(const std::vector<std::string>& components) {
-  std::string json = "{\"components\": [";
-  for (std::size_t k = 0; k < components.size(); ++k) json += (k > 0 ? ", " : "") + components[k];
-  return parseSceneJson(json + "]}", "test");
-}
+using test::sceneOf;
 
 core::InputError translationError(const v1::Scene& scene) {
   try {

@@ -12,6 +12,7 @@
 #include "demlink/server/scene_loader.hpp"
 #include "demlink/server/scene_translator.hpp"
 #include "test_support.hpp"
+#include "scene_test_support.hpp"
 
 namespace demlink::server {
 namespace {
@@ -26,11 +27,7 @@ constexpr const char* kLattice = R"({"name": "grains", "particle_lattice": {"mat
 constexpr const char* kPaddle = R"({"name": "paddle", "mesh_body": {"stl_file": "meshes/paddle.stl",
     "material": "glass", "position": {"x": 1}}})";
 
-v1::Scene sceneOf(const std::vector<std::string>& components) {
-  std::string json = "{\"components\": [";
-  for (std::size_t k = 0; k < components.size(); ++k) json += (k > 0 ? ", " : "") + components[k];
-  return parseSceneJson(json + "]}", "test");
-}
+using test::sceneOf;
 
 /// The error of translating (and initialising) the scene base + `extra`.
 core::InputError errorOf(const std::string& extra) {

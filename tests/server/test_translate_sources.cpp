@@ -6,6 +6,7 @@
 #include "demlink/core/particle_source.hpp"
 #include "demlink/server/scene_loader.hpp"
 #include "demlink/server/scene_translator.hpp"
+#include "scene_test_support.hpp"
 
 namespace demlink::server {
 namespace {
@@ -13,11 +14,7 @@ namespace {
 constexpr const char* kBox = R"({"name": "box", "simulation_box": {"end_time": 0.1}})";
 constexpr const char* kGlass = R"({"name": "glass", "material": {}})";
 
-v1::Scene sceneOf(const std::vector<std::string>& components) {
-  std::string json = "{\"components\": [";
-  for (std::size_t k = 0; k < components.size(); ++k) json += (k > 0 ? ", " : "") + components[k];
-  return parseSceneJson(json + "]}", "test");
-}
+using test::sceneOf;
 
 /// A particle_source declaration with `body` spliced into its fields.
 std::string source(const std::string& body) {
@@ -29,16 +26,7 @@ constexpr const char* kGood =
        "box": {"lower": {"x": -0.1, "y": -0.1, "z": 0.5}, "upper": {"x": 0.1, "y": 0.1, "z": 0.7}},
        "rate_particles_per_s": 1000)";
 
-/// The field named by the InputError that translating (and initialising) throws.
-std::string errorField(const v1::Scene& scene) {
-  try {
-    TranslatedScene t = translateScene(scene, {});
-    t.world.initialize();
-  } catch (const core::InputError& error) {
-    return error.field();
-  }
-  return "(accepted)";
-}
+std::string errorField(const v1::Scene& scene) { return test::errorFieldAfterInitialize(scene); }
 
 TEST(TranslateSources, SingleParticleUsesHalfTheDiameter) {
   const TranslatedScene t = translateScene(
