@@ -336,6 +336,9 @@ TranslatedScene translateScene(const v1::Scene& scene, const std::filesystem::pa
       case v1::ComponentDeclaration::kMaterial:
       case v1::ComponentDeclaration::kMaterialPair:
       case v1::ComponentDeclaration::kClumpTemplate:
+      // TODO(issue 4, cosim helper): rigid_body becomes a mesh; particle_view is server-side only.
+      case v1::ComponentDeclaration::kRigidBody:
+      case v1::ComponentDeclaration::kParticleView:
       case v1::ComponentDeclaration::KIND_NOT_SET:
         break;
     }

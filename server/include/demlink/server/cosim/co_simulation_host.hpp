@@ -1,0 +1,80 @@
+#pragma once
+/// The co-simulation, independent of the transport (DESIGN.md, "Co-simulation protocol").
+///
+/// The network layer (server/src/net) decodes frames into ClientMessages, checks Hello
+/// (protocol version, access token) and hands everything else here; what comes back is the
+/// list of messages to send. Being transport-free, the whole protocol (compiler, scheduler,
+/// motion coupling, outputs, faults) is testable in-process, and a recorded session can be
+/// replayed without a network (recorder).
+///
+/// One simulation at a time. It collects declarations (the scene file's plus the clients'),
+/// compiles when the SimulationBox's expected set is complete or after the quiet period,
+/// answers every connection with Compiled, then runs the sample grid: at each step where
+/// components are due it waits for exactly those, advances the world to the next due step
+/// and answers each component whose interval ended there. It ends when every connection
+/// said Bye, the end step is reached, a fault happens, or shutdown(); then outputs are
+/// flushed and the host is ready for the next simulation (new connections).
+#include <chrono>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "demlink/v1/protocol.pb.h"
+#include "demlink/v1/scene.pb.h"
+
+namespace demlink::server {
+
+using ConnectionId = std::uint64_t;
+using SteadyClock = std::chrono::steady_clock;
+
+/// One message for the transport to send.
+struct Outgoing {
+  ConnectionId to = 0;
+  v1::ServerMessage message;
+  bool close_after = false;  ///< close the connection once this message is sent
+};
+
+struct CoSimulationOptions {
+  v1::Scene base_scene;                         ///< components from a scene file (may be empty)
+  std::filesystem::path scene_directory = ".";  ///< anchors relative paths (scene file, stl_file)
+  std::filesystem::path output_root = "out/cosim";  ///< simulation N writes into output_root/sim_NNN
+  double quiet_period_s = 2.0;     ///< compile this long after the last Declare when nothing is expected
+  double client_timeout_s = 30.0;  ///< a due component's package may take this long [s]
+  std::filesystem::path record_file;  ///< non-empty: append every received message (docs/protocol.md)
+  std::string server_name = "demlink-server";
+};
+
+class CoSimulationHost {
+ public:
+  explicit CoSimulationHost(CoSimulationOptions options);
+  ~CoSimulationHost();
+  CoSimulationHost(const CoSimulationHost&) = delete;
+  CoSimulationHost& operator=(const CoSimulationHost&) = delete;
+
+  /// A connection passed Hello (version and token already checked): Welcome, or an
+  /// Error when it cannot join (e.g. a simulation is already running).
+  std::vector<Outgoing> connected(ConnectionId id, const v1::Hello& hello, SteadyClock::time_point now);
+  /// Declare, DataPackage or Bye from a welcomed connection (a second Hello is OUT_OF_ORDER).
+  std::vector<Outgoing> received(ConnectionId from, const v1::ClientMessage& message, SteadyClock::time_point now);
+  /// The connection is gone (EOF, reset, bad frame): ends its simulation if it took part.
+  std::vector<Outgoing> disconnected(ConnectionId id, const std::string& why, SteadyClock::time_point now);
+  /// Timers: quiet period over -> compile; a due client silent past the timeout -> TIMEOUT.
+  std::vector<Outgoing> poll(SteadyClock::time_point now);
+  /// When poll() next has something to do; nullopt: nothing scheduled.
+  [[nodiscard]] std::optional<SteadyClock::time_point> nextDeadline() const;
+  /// SIGINT/SIGTERM: flush outputs, write a checkpoint, tell every client (SERVER_SHUTDOWN).
+  std::vector<Outgoing> shutdown(const std::string& reason, SteadyClock::time_point now);
+  /// A simulation has been compiled and not yet ended.
+  [[nodiscard]] bool simulationRunning() const;
+  /// Simulations ended so far [-].
+  [[nodiscard]] std::uint64_t simulationsFinished() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace demlink::server
