@@ -30,6 +30,7 @@
 #include "demlink/server/translate_facets.hpp"
 #include "demlink/server/translate_room.hpp"
 #include "demlink/server/translate_clumps.hpp"
+#include "demlink/server/translate_rigid_body.hpp"
 
 namespace demlink::server {
 namespace {
@@ -78,7 +79,8 @@ int checkStructure(const v1::Scene& scene) {
       throw InputError(path, quoted(component.name()),
                        "declares no kind (one of simulation_box, material, plane, mesh_body, particle_lattice, "
                        "particle_file, particle_system, single_particle, particle_source, pit_generator, "
-                       "particle_sink, region_sensor, flow_sensor, tracker, clump_template, facet_body, material_pair)");
+                       "particle_sink, region_sensor, flow_sensor, tracker, clump_template, facet_body, material_pair, "
+                       "rigid_body, particle_view)");
     }
     if (component.has_simulation_box()) boxes.push_back(i);
   }
@@ -129,11 +131,15 @@ core::SimulationSettings toSettings(const v1::SimulationBox& box, const std::str
   return settings;
 }
 
-RunOptions toRunOptions(const v1::SimulationBox& box, const std::string& prefix) {
+RunOptions toRunOptions(const v1::SimulationBox& box, const std::string& prefix, SceneUse use) {
   RunOptions run;
   run.field_prefix = prefix;
   run.end_time = box.end_time();
-  core::requirePositive(prefix + ".end_time", run.end_time);
+  if (use == SceneUse::CoSimulation) {
+    core::requireNonNegative(prefix + ".end_time", run.end_time);
+  } else {
+    core::requirePositive(prefix + ".end_time", run.end_time);
+  }
   run.output_directory = box.output().directory();
   run.vtk_interval = box.output().vtk_interval();
   core::requireNonNegative(prefix + ".output.vtk_interval", run.vtk_interval);
@@ -264,11 +270,11 @@ void addMeshBody(const MeshBodyDeclaration& declaration, const std::string& pref
 
 }  // namespace
 
-TranslatedScene translateScene(const v1::Scene& scene, const std::filesystem::path& sceneDirectory) {
+TranslatedScene translateScene(const v1::Scene& scene, const std::filesystem::path& sceneDirectory, SceneUse use) {
   const int boxIndex = checkStructure(scene);
   const std::string boxPrefix = componentPath(boxIndex) + ".simulation_box";
   const v1::SimulationBox& box = scene.components(boxIndex).simulation_box();
-  TranslatedScene out{core::World(toSettings(box, boxPrefix)), toRunOptions(box, boxPrefix)};
+  TranslatedScene out{core::World(toSettings(box, boxPrefix)), toRunOptions(box, boxPrefix, use)};
 
   const MaterialNames materials = addMaterials(scene, out.world);
   addMaterialPairs(scene, materials, out.world);
@@ -307,6 +313,15 @@ TranslatedScene translateScene(const v1::Scene& scene, const std::filesystem::pa
                           prefix);
         break;
       }
+      case v1::ComponentDeclaration::kRigidBody: {
+        const std::string prefix = path + ".rigid_body";
+        const auto resolve = [&](const std::string& name, const std::string& field) {
+          return resolveMaterial(materials, name, field);
+        };
+        out.world.addMesh(translateRigidBody(component.rigid_body(), component.name(), resolve, sceneDirectory, prefix),
+                          prefix);
+        break;
+      }
       case v1::ComponentDeclaration::kSingleParticle: {
         const std::string prefix = path + ".single_particle";
         const std::uint32_t material =
@@ -336,9 +351,7 @@ TranslatedScene translateScene(const v1::Scene& scene, const std::filesystem::pa
       case v1::ComponentDeclaration::kMaterial:
       case v1::ComponentDeclaration::kMaterialPair:
       case v1::ComponentDeclaration::kClumpTemplate:
-      // TODO(issue 4, cosim helper): rigid_body becomes a mesh; particle_view is server-side only.
-      case v1::ComponentDeclaration::kRigidBody:
-      case v1::ComponentDeclaration::kParticleView:
+      case v1::ComponentDeclaration::kParticleView:  // served by the co-simulation host, no engine object
       case v1::ComponentDeclaration::KIND_NOT_SET:
         break;
     }

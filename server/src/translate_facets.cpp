@@ -50,8 +50,10 @@ Role toRole(const v1::FacetBody& facet, const std::string& prefix) {
   }
 }
 
+}  // namespace
+
 /// The box's mesh relative to its centre; the top face (+z, box frame) left out if open.
-core::TriangleMesh boxMesh(const v1::FacetBox& box, const std::string& prefix) {
+core::TriangleMesh facetBoxMesh(const v1::FacetBox& box, const std::string& prefix) {
   if (!box.has_size()) throw InputError(prefix + ".size", "(missing)", "a box needs its edge lengths");
   const Vec3 size = toVec3(box.size());
   for (int k = 0; k < 3; ++k) core::requirePositive(prefix + ".size[" + std::to_string(k) + "]", size[k]);
@@ -63,8 +65,6 @@ core::TriangleMesh boxMesh(const v1::FacetBox& box, const std::string& prefix) {
   }
   return mesh;
 }
-
-}  // namespace
 
 core::TriangleMesh mergeTriangleList(const v1::FacetTriangles& list, const std::string& fieldPrefix) {
   const std::string prefix = fieldPrefix + ".triangles";
@@ -151,7 +151,7 @@ core::MeshBody translateFacetBody(const v1::FacetBody& facet, const std::string&
           }
         }
         const v1::FacetBox& box = facet.box();
-        core::TriangleMesh mesh = boxMesh(box, prefix + ".box");
+        core::TriangleMesh mesh = facetBoxMesh(box, prefix + ".box");
         const Vec3 centre = toVec3(box.centre());
         requireFiniteVector(prefix + ".box.centre", centre);
         const core::Quat orientation =

@@ -27,10 +27,15 @@ struct TranslatedScene {
   RunOptions run;
 };
 
+/// What the scene is translated for. A co-simulation may run without an end time
+/// (end_time 0: until every client said Bye); a headless run needs one.
+enum class SceneUse { Headless, CoSimulation };
+
 /// Validates and translates a scene. `sceneDirectory` anchors relative paths.
 /// Throws core::InputError naming the offending field (for a mesh_body whose
 /// STL cannot be read: "<component>.mesh_body.stl_file").
-[[nodiscard]] TranslatedScene translateScene(const v1::Scene& scene, const std::filesystem::path& sceneDirectory);
+[[nodiscard]] TranslatedScene translateScene(const v1::Scene& scene, const std::filesystem::path& sceneDirectory,
+                                             SceneUse use = SceneUse::Headless);
 
 /// Translates one MeshBody declaration (material resolved to `materialIndex`).
 /// Throws core::InputError naming `fieldPrefix + ".<field>"` for an empty

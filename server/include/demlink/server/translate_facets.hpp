@@ -25,6 +25,11 @@ using MaterialResolver = std::function<std::uint32_t(const std::string& name, co
                                                 const std::filesystem::path& sceneDirectory,
                                                 const std::string& fieldPrefix);
 
+/// The closed (or open-top) box of a FacetBox in its own frame: vertices relative to the
+/// box centre, axis-aligned (the caller applies box.centre and box.orientation). Throws
+/// core::InputError naming `fieldPrefix + ".size"` / `".size[k]"`.
+[[nodiscard]] core::TriangleMesh facetBoxMesh(const v1::FacetBox& box, const std::string& fieldPrefix);
+
 /// Vertices and index triples of a triangle list with exactly coinciding corners
 /// merged (order of first use, as the STL reader does). Throws core::InputError
 /// naming `fieldPrefix + ".triangles[k]"` for a non-finite corner or a degenerate

@@ -25,6 +25,10 @@
 #include "demlink/v1/protocol.pb.h"
 #include "demlink/v1/scene.pb.h"
 
+namespace demlink::core {
+class World;
+}
+
 namespace demlink::server {
 
 using ConnectionId = std::uint64_t;
@@ -67,6 +71,19 @@ class CoSimulationHost {
   [[nodiscard]] std::optional<SteadyClock::time_point> nextDeadline() const;
   /// SIGINT/SIGTERM: flush outputs, write a checkpoint, tell every client (SERVER_SHUTDOWN).
   std::vector<Outgoing> shutdown(const std::string& reason, SteadyClock::time_point now);
+  /// Compiles the pending declarations now, as poll() does when the quiet period is over
+  /// (the session replay calls it at a recorded COMPILE_NOW marker). Nothing if none pending.
+  std::vector<Outgoing> compileNow(SteadyClock::time_point now);
+  /// Every component due now whose package is missing times out, as poll() does after the
+  /// client timeout (the session replay calls it at a recorded TIMEOUT marker).
+  std::vector<Outgoing> expireWaitNow(SteadyClock::time_point now);
+  /// The output directory of the running (or, after it ended, the last) simulation; empty
+  /// before the first compile.
+  [[nodiscard]] std::filesystem::path lastOutputDirectory() const;
+  /// The running simulation's world, for tests and in-process drivers; null when none runs.
+  [[nodiscard]] const core::World* world() const;
+  /// The running simulation (components, couplings, scheduler); null when none runs.
+  [[nodiscard]] const class CosimSimulation* simulation() const;
   /// A simulation has been compiled and not yet ended.
   [[nodiscard]] bool simulationRunning() const;
   /// Simulations ended so far [-].

@@ -1,0 +1,100 @@
+#pragma once
+/// The co-simulation compiler (docs/cosim.md, "Compiler"): collects the declarations of a
+/// simulation (the scene file's and the clients', each tagged with its owner), decides when
+/// the set is complete, and turns it into one engine world plus the exchange plan.
+///
+/// Why it reuses translateScene: a co-simulation is a scene whose components partly come
+/// over the network. Building one v1::Scene and translating it keeps one compiler and one
+/// set of validation rules for headless and coupled runs; this class adds only what is
+/// specific to coupling (owners, communication intervals, ids, compile triggers) and
+/// renames the translator's "components[i]" paths to component names, which is what a
+/// client knows.
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "demlink/core/coupled_motion.hpp"
+#include "demlink/core/world_component.hpp"
+#include "demlink/server/cosim/co_simulation_host.hpp"
+#include "demlink/server/scene_translator.hpp"
+#include "demlink/v1/protocol.pb.h"
+
+namespace demlink::server {
+
+/// A v1::Error with the given fields.
+[[nodiscard]] v1::Error makeError(v1::Error::Code code, const std::string& message, const std::string& component = {},
+                                  const std::string& field = {}, bool fatal = false);
+
+/// A refused compile: the Error every connection receives.
+struct CompileFailure : std::runtime_error {
+  explicit CompileFailure(v1::Error e) : std::runtime_error(e.message()), error(std::move(e)) {}
+  v1::Error error;
+};
+
+/// One declared component.
+struct DeclaredComponent {
+  v1::ComponentDeclaration declaration;
+  std::optional<ConnectionId> owner;  ///< nullopt: from the scene file
+};
+
+/// One component of a compiled simulation and its engine handles.
+struct CosimComponent {
+  std::string name;
+  std::string kind;  ///< the ComponentDeclaration field name, e.g. "rigid_body"
+  v1::ComponentDeclaration::KindCase kind_case = v1::ComponentDeclaration::KIND_NOT_SET;
+  std::uint32_t id = 0;              ///< [-], >= 1
+  std::uint64_t interval_steps = 0;  ///< [-]; 0: not exchanged
+  std::optional<ConnectionId> owner;
+  std::optional<std::size_t> mesh;            ///< rigid_body: index into World::meshes()
+  core::MotionMode motion = core::MotionMode::Predicted;  ///< rigid_body
+  core::WorldComponent* engine = nullptr;     ///< source, sink, region and flow sensor
+  std::uint32_t view_max_count = 10000;       ///< particle_view [-]
+};
+
+/// What compile() builds.
+struct CompiledSimulation {
+  std::unique_ptr<TranslatedScene> scene;  ///< world initialised (time step checked)
+  std::vector<CosimComponent> components;  ///< scene-file components first, then clients' in order
+  std::string box_name;
+  double time_step = 0.0;       ///< [s]
+  std::uint64_t end_step = 0;   ///< [-]; 0: until every client said Bye
+  double client_timeout_s = 0;  ///< SimulationBox.coupling.client_timeout [s]; 0: the server's default
+  v1::CompileReport report;
+};
+
+class CosimCompiler {
+ public:
+  explicit CosimCompiler(v1::Scene baseScene);
+
+  /// Stores a client's declaration, or returns the Error refusing it (UNKNOWN_COMPONENT_KIND,
+  /// DUPLICATE_NAME, INVALID_DECLARATION for a second simulation_box); nothing is stored then.
+  std::optional<v1::Error> declare(ConnectionId owner, const v1::ComponentDeclaration& declaration);
+  /// Forgets every declaration of `owner` (it left before the compile).
+  void withdraw(ConnectionId owner);
+  /// Back to the scene file's declarations only.
+  void reset();
+
+  /// The SimulationBox names its expected set (count or names) and it is complete.
+  [[nodiscard]] bool expectedSetComplete() const;
+  /// Neither expected_count nor expected_names is given (or there is no SimulationBox yet):
+  /// the compile waits for the quiet period.
+  [[nodiscard]] bool usesQuietPeriod() const;
+  [[nodiscard]] const std::vector<DeclaredComponent>& declarations() const { return declared_; }
+  /// Declarations that came from clients [-].
+  [[nodiscard]] std::size_t remoteCount() const;
+
+  /// Compiles the declared set. Throws CompileFailure with Error{INVALID_DECLARATION, fatal}
+  /// naming the component and the field ("<name>.<kind>.<field>").
+  [[nodiscard]] CompiledSimulation compile(const std::filesystem::path& sceneDirectory) const;
+
+ private:
+  [[nodiscard]] const v1::SimulationBox* box() const;
+
+  std::size_t base_count_ = 0;
+  std::vector<DeclaredComponent> declared_;
+};
+
+}  // namespace demlink::server

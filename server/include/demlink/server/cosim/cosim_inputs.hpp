@@ -1,0 +1,28 @@
+#pragma once
+/// Checking and converting the inputs of a client's DataPackage (docs/cosim.md, "Faults").
+///
+/// Why every floating-point field is scanned by reflection: a NaN or infinity anywhere in
+/// an input would poison the world silently (a mesh at NaN, gravity NaN), so the check must
+/// not depend on someone remembering each field. The error names the field path, e.g.
+/// "rigid_body_input.position.x", and the value.
+#include <optional>
+
+#include "demlink/core/coupled_motion.hpp"
+#include "demlink/core/moving_frame.hpp"
+#include "demlink/server/cosim/cosim_compiler.hpp"
+#include "demlink/v1/protocol.pb.h"
+
+namespace demlink::server {
+
+/// The input of `package` for `component`: present when the kind needs it (rigid_body),
+/// absent or of the component's own kind otherwise, finite everywhere, a unit quaternion
+/// (within 1e-6), a valid frame. Returns Error{INVALID_INPUT, fatal} naming the field.
+[[nodiscard]] std::optional<v1::Error> checkInput(const CosimComponent& component, const v1::DataPackage& package);
+
+/// Pose and twist of a checked RigidBodyInput (quaternion normalised; omitted velocities zero).
+[[nodiscard]] core::RigidPose poseOf(const v1::RigidBodyInput& input);
+[[nodiscard]] core::RigidTwist twistOf(const v1::RigidBodyInput& input);
+/// The room motion of a checked SimulationBox.Frame.
+[[nodiscard]] core::FrameMotion frameOf(const v1::SimulationBox::Frame& frame);
+
+}  // namespace demlink::server

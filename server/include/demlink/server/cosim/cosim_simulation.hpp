@@ -1,0 +1,89 @@
+#pragma once
+/// One running co-simulation: the compiled world, its sample grid, the motion couplings of
+/// the rigid bodies, the outputs and the output directory (docs/cosim.md).
+///
+/// Why separate from the host: the host deals with connections, states and faults; this
+/// class only knows components and steps, so the equivalence test and the replay can see
+/// exactly what the world did. Output files are those of a headless run (FrameSeries,
+/// RunLog, sensor CSVs, checkpoints, particles_final.csv) plus compile_report.txt.
+#include <chrono>
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "demlink/core/coupled_motion.hpp"
+#include "demlink/server/cosim/cosim_compiler.hpp"
+#include "demlink/server/cosim/cosim_outputs.hpp"
+#include "demlink/server/cosim/exchange_scheduler.hpp"
+#include "demlink/server/frame_series.hpp"
+#include "demlink/server/run_log.hpp"
+
+namespace demlink::server {
+
+class CosimSimulation {
+ public:
+  /// Creates the output directory and its files, writes the first frame. Throws
+  /// core::InputError / std::runtime_error if the directory cannot be written.
+  CosimSimulation(CompiledSimulation compiled, const std::filesystem::path& outputDirectory);
+  ~CosimSimulation();
+  CosimSimulation(const CosimSimulation&) = delete;
+  CosimSimulation& operator=(const CosimSimulation&) = delete;
+
+  [[nodiscard]] const CompiledSimulation& compiled() const { return compiled_; }
+  [[nodiscard]] const std::vector<CosimComponent>& components() const { return compiled_.components; }
+  [[nodiscard]] core::World& world() { return compiled_.scene->world; }
+  [[nodiscard]] const ExchangeScheduler& scheduler() const { return scheduler_; }
+  [[nodiscard]] const std::filesystem::path& outputDirectory() const { return directory_; }
+  /// The rigid body's coupling, or null for another component index.
+  [[nodiscard]] const core::CoupledMotion* coupling(std::size_t index) const;
+
+  /// Outputs at step 0 of every exchanged component of `owner`.
+  [[nodiscard]] std::vector<v1::DataPackage> initialOutputs(ConnectionId owner);
+
+  /// Checks a package from `from` (component owned by it, due at the current step, valid
+  /// input) and stores its input. Returns the fatal Error otherwise (UNKNOWN_COMPONENT,
+  /// OUT_OF_ORDER, INVALID_INPUT).
+  std::optional<v1::Error> accept(ConnectionId from, const v1::DataPackage& package);
+  /// The components of `owner` take no further part; its rigid bodies stop where they are.
+  void retire(ConnectionId owner);
+
+  /// What advance() did.
+  struct Advance {
+    std::vector<std::pair<ConnectionId, v1::DataPackage>> answers;  ///< to each owner
+    bool stepped = false;      ///< the world moved
+    bool end_reached = false;  ///< the end step is reached
+  };
+  /// Once every due component has reported: applies the inputs, advances the world to the
+  /// next stop and builds the answers of the components whose interval ends there. Does
+  /// not step when nothing is exchanged any more and there is no end step.
+  Advance advance();
+
+  /// Final frame, checkpoint_final.bin, particles_final.csv and the run log's timing;
+  /// only the first call writes. Throws std::runtime_error if output cannot be written.
+  void finish(const std::string& reason);
+
+ private:
+  void stepWorld();
+
+  CompiledSimulation compiled_;
+  std::filesystem::path directory_;
+  ExchangeScheduler scheduler_;
+  CosimOutputs outputs_;
+  std::map<std::size_t, core::CoupledMotion> couplings_;
+  std::map<std::size_t, v1::DataPackage> inputs_;  ///< stored inputs of the current step
+  std::unique_ptr<FrameSeries> frames_;
+  std::unique_ptr<RunLog> run_log_;
+  RunTiming timing_;
+  std::uint64_t frame_every_ = 0;       ///< [steps]; 0: first and last frame only
+  std::uint64_t checkpoint_every_ = 0;  ///< [steps]; 0: none
+  std::uint64_t last_frame_step_ = 0;
+  std::chrono::steady_clock::time_point start_;
+  bool finished_ = false;
+};
+
+}  // namespace demlink::server

@@ -1,0 +1,315 @@
+/// Declaration collection and compilation (contract in cosim_compiler.hpp).
+///
+/// Order of the compile: find the SimulationBox; give sensors and sinks declared by a
+/// client without a sample interval their communication interval (the translator needs
+/// one); translate; check every communication interval against the time step (a whole
+/// number of steps, rounded with a warning or refused in strict mode); initialise the
+/// world, which checks the time step against the critical limit; resolve each component's
+/// engine object; write the report. Every engine error comes back as InputError with a
+/// "components[i]..." path and is renamed to "<name>...".
+#include "demlink/server/cosim/cosim_compiler.hpp"
+
+#include <spdlog/fmt/fmt.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "demlink/core/input_error.hpp"
+#include "demlink/server/translate_rigid_body.hpp"
+
+namespace demlink::server {
+namespace {
+
+using Kind = v1::ComponentDeclaration;
+
+std::string kindName(Kind::KindCase kind) {
+  const google::protobuf::FieldDescriptor* field =
+      v1::ComponentDeclaration::descriptor()->FindFieldByNumber(static_cast<int>(kind));
+  return field != nullptr ? std::string(field->name()) : "(none)";
+}
+
+bool exchangeable(Kind::KindCase kind) {
+  switch (kind) {
+    case Kind::kSimulationBox:
+    case Kind::kRigidBody:
+    case Kind::kParticleSource:
+    case Kind::kParticleSink:
+    case Kind::kRegionSensor:
+    case Kind::kFlowSensor:
+    case Kind::kParticleView: return true;
+    default: return false;
+  }
+}
+
+/// Replaces a leading "components[i]" by the i-th component's name; returns the index.
+std::pair<std::string, int> renameField(const std::string& field, const std::vector<DeclaredComponent>& all) {
+  static const std::string kPrefix = "components[";
+  if (field.rfind(kPrefix, 0) != 0) return {field, -1};
+  const std::size_t close = field.find(']');
+  if (close == std::string::npos) return {field, -1};
+  int index = -1;
+  try {
+    index = std::stoi(field.substr(kPrefix.size(), close - kPrefix.size()));
+  } catch (const std::exception&) {
+    return {field, -1};
+  }
+  if (index < 0 || static_cast<std::size_t>(index) >= all.size()) return {field, -1};
+  return {all[static_cast<std::size_t>(index)].declaration.name() + field.substr(close + 1), index};
+}
+
+/// The engine's InputError as a fatal INVALID_DECLARATION naming the component by name.
+CompileFailure failureOf(const core::InputError& error, const std::vector<DeclaredComponent>& all,
+                         const std::string& fallbackComponent = {}) {
+  const auto [field, index] = renameField(error.field(), all);
+  const std::string what = error.what();
+  const std::size_t head = error.field().size() + 3 + error.value().size() + 2;
+  const std::string reason = what.size() > head ? what.substr(head) : what;
+  const std::string component =
+      index >= 0 ? all[static_cast<std::size_t>(index)].declaration.name() : fallbackComponent;
+  return CompileFailure(makeError(v1::Error::INVALID_DECLARATION, field + " = " + error.value() + ": " + reason,
+                                  component, field, true));
+}
+
+CompileFailure failure(const std::string& component, const std::string& field, const std::string& value,
+                       const std::string& reason) {
+  return CompileFailure(
+      makeError(v1::Error::INVALID_DECLARATION, field + " = " + value + ": " + reason, component, field, true));
+}
+
+/// A sensor or sink from a client without its own sample schedule samples at its
+/// communication interval.
+template <class Sampled>
+void defaultSampleInterval(Sampled& sampled, double communicationInterval) {
+  if (sampled.sample_interval() == 0.0 && sampled.sample_every_steps() == 0 && communicationInterval > 0.0) {
+    sampled.set_sample_interval(communicationInterval);
+  }
+}
+
+std::string reportText(const CompiledSimulation& out, const core::World& world) {
+  const core::TimeStepReport& limit = world.timeStepReport();
+  std::string text = fmt::format("compiled co-simulation: {} components, {} particles, {} meshes\n",
+                                 out.components.size(), world.particles().size(), world.meshes().size());
+  std::string stages;
+  for (const std::string& stage : world.activeStages()) stages += (stages.empty() ? "" : ", ") + stage;
+  text += "active stages: " + stages + "\n";
+  text += fmt::format("time step: {:.6g} s = {:.1f} % of the critical {:.6g} s (limited by {})\n", out.time_step,
+                      100.0 * out.time_step / limit.limit, limit.limit, limit.limited_by);
+  text += out.end_step > 0 ? fmt::format("end step: {} (t = {:.6g} s)\n", out.end_step,
+                                         static_cast<double>(out.end_step) * out.time_step)
+                           : std::string("end step: none (until every client said Bye)\n");
+  for (const CosimComponent& c : out.components) {
+    text += fmt::format("  [{}] {} ({}){}: {}\n", c.id, c.name, c.kind, c.owner ? " remote" : "",
+                        c.interval_steps > 0 ? fmt::format("every {} steps ({:.6g} s)", c.interval_steps,
+                                                           static_cast<double>(c.interval_steps) * out.time_step)
+                                             : std::string("not exchanged"));
+  }
+  for (const std::string& warning : out.report.warnings()) text += "warning: " + warning + "\n";
+  return text;
+}
+
+}  // namespace
+
+v1::Error makeError(v1::Error::Code code, const std::string& message, const std::string& component,
+                    const std::string& field, bool fatal) {
+  v1::Error error;
+  error.set_code(code);
+  error.set_message(message);
+  error.set_component(component);
+  error.set_field(field);
+  error.set_fatal(fatal);
+  return error;
+}
+
+CosimCompiler::CosimCompiler(v1::Scene baseScene) {
+  for (const v1::ComponentDeclaration& d : baseScene.components()) declared_.push_back({d, std::nullopt});
+  base_count_ = declared_.size();
+}
+
+void CosimCompiler::reset() { declared_.resize(base_count_); }
+
+void CosimCompiler::withdraw(ConnectionId owner) {
+  std::erase_if(declared_, [&](const DeclaredComponent& d) { return d.owner == owner; });
+}
+
+std::size_t CosimCompiler::remoteCount() const { return declared_.size() - base_count_; }
+
+const v1::SimulationBox* CosimCompiler::box() const {
+  for (const DeclaredComponent& d : declared_) {
+    if (d.declaration.has_simulation_box()) return &d.declaration.simulation_box();
+  }
+  return nullptr;
+}
+
+std::optional<v1::Error> CosimCompiler::declare(ConnectionId owner, const v1::ComponentDeclaration& declaration) {
+  const std::string& name = declaration.name();
+  if (declaration.kind_case() == Kind::KIND_NOT_SET) {
+    return makeError(v1::Error::UNKNOWN_COMPONENT_KIND,
+                     "component \"" + name + "\" declares no kind this server knows (one of simulation_box, "
+                     "material, plane, rigid_body, particle_source, particle_sink, region_sensor, flow_sensor, "
+                     "particle_view, ...)",
+                     name, "component.kind");
+  }
+  if (name.empty()) {
+    return makeError(v1::Error::DUPLICATE_NAME, "every component needs a non-empty name (a " +
+                                                    kindName(declaration.kind_case()) + " has none)",
+                     name, "component.name");
+  }
+  for (const DeclaredComponent& d : declared_) {
+    if (d.declaration.name() == name) {
+      return makeError(v1::Error::DUPLICATE_NAME,
+                       "component name \"" + name + "\" is already declared (" +
+                           (d.owner ? "by a client" : std::string("by the scene file")) + ")",
+                       name, "component.name");
+    }
+  }
+  if (declaration.has_simulation_box() && box() != nullptr) {
+    return makeError(v1::Error::INVALID_DECLARATION,
+                     "a second simulation_box (\"" + name + "\"): a simulation has exactly one", name,
+                     "component.simulation_box");
+  }
+  declared_.push_back({declaration, owner});
+  return std::nullopt;
+}
+
+bool CosimCompiler::usesQuietPeriod() const {
+  const v1::SimulationBox* b = box();
+  return b == nullptr || (b->coupling().expected_count() == 0 && b->coupling().expected_names().empty());
+}
+
+bool CosimCompiler::expectedSetComplete() const {
+  const v1::SimulationBox* b = box();
+  if (b == nullptr || usesQuietPeriod()) return false;
+  if (b->coupling().expected_count() > 0 && declared_.size() >= b->coupling().expected_count()) return true;
+  if (b->coupling().expected_names().empty()) return false;
+  return std::all_of(b->coupling().expected_names().begin(), b->coupling().expected_names().end(),
+                     [&](const std::string& name) {
+                       return std::any_of(declared_.begin(), declared_.end(), [&](const DeclaredComponent& d) {
+                         return d.declaration.name() == name;
+                       });
+                     });
+}
+
+CompiledSimulation CosimCompiler::compile(const std::filesystem::path& sceneDirectory) const {
+  const v1::SimulationBox* simulationBox = box();
+  if (simulationBox == nullptr) {
+    throw failure("", "simulation_box", "(none)",
+                  "no simulation_box declared (the scene file or a client must declare exactly one)");
+  }
+  v1::Scene scene;
+  for (const DeclaredComponent& d : declared_) {
+    v1::ComponentDeclaration& c = *scene.add_components();
+    c = d.declaration;
+    if (!d.owner) continue;
+    const double interval = c.communication_interval();
+    if (c.has_particle_sink()) defaultSampleInterval(*c.mutable_particle_sink(), interval);
+    if (c.has_region_sensor()) defaultSampleInterval(*c.mutable_region_sensor(), interval);
+    if (c.has_flow_sensor()) defaultSampleInterval(*c.mutable_flow_sensor(), interval);
+  }
+
+  CompiledSimulation out;
+  try {
+    out.scene = std::make_unique<TranslatedScene>(translateScene(scene, sceneDirectory, SceneUse::CoSimulation));
+  } catch (const core::InputError& error) {
+    throw failureOf(error, declared_);
+  }
+  core::World& world = out.scene->world;
+  out.time_step = world.settings().time_step;
+  const double dt = out.time_step;
+  const v1::SimulationBox::Coupling& coupling = simulationBox->coupling();
+  out.client_timeout_s = coupling.client_timeout();
+
+  for (std::size_t i = 0; i < declared_.size(); ++i) {
+    const DeclaredComponent& d = declared_[i];
+    if (d.declaration.has_simulation_box()) out.box_name = d.declaration.name();
+    CosimComponent c;
+    c.name = d.declaration.name();
+    c.kind_case = d.declaration.kind_case();
+    c.kind = kindName(c.kind_case);
+    c.id = static_cast<std::uint32_t>(i + 1);
+    c.owner = d.owner;
+    const std::string field = c.name + ".communication_interval";
+    const double interval = d.declaration.communication_interval();
+    if (!std::isfinite(interval) || interval < 0.0) {
+      throw failure(c.name, field, core::formatValue(interval), "must be finite and >= 0 [s]");
+    }
+    if (c.kind_case == Kind::kRigidBody) {
+      c.motion = rigidBodyMotion(d.declaration.rigid_body(), c.name + ".rigid_body");
+      for (std::size_t m = 0; m < world.meshes().size(); ++m) {
+        if (world.meshes()[m].name() == c.name) c.mesh = m;
+      }
+      if (d.owner && interval == 0.0) {
+        throw failure(c.name, field, "0", "a rigid_body declared by a client needs a communication interval > 0");
+      }
+    }
+    if (c.kind_case == Kind::kParticleView && d.declaration.particle_view().max_count() > 0) {
+      c.view_max_count = d.declaration.particle_view().max_count();
+    }
+    for (const auto& component : world.components()) {
+      if (component->name() == c.name) c.engine = component.get();
+    }
+    if (interval > 0.0) {
+      if (!d.owner) {
+        out.report.add_warnings(c.name + ".communication_interval: a scene-file component is not exchanged");
+      } else if (!exchangeable(c.kind_case)) {
+        throw failure(c.name, field, core::formatValue(interval),
+                      "a " + c.kind + " has no inputs or outputs to exchange; use 0");
+      } else {
+        const double exact = interval / dt;
+        const auto steps = static_cast<std::uint64_t>(std::llround(std::min(exact, 1.0e15)));
+        if (steps == 0) {
+          throw failure(c.name, field, core::formatValue(interval),
+                        "shorter than half a time step (" + core::formatValue(dt) + " s)");
+        }
+        if (std::abs(static_cast<double>(steps) * dt - interval) > 1.0e-6 * dt) {
+          if (coupling.strict_intervals()) {
+            throw failure(c.name, field, core::formatValue(interval),
+                          "not a whole multiple of the time step " + core::formatValue(dt) +
+                              " s (strict_intervals); nearest: " + std::to_string(steps) + " steps = " +
+                              core::formatValue(static_cast<double>(steps) * dt) + " s");
+          }
+          out.report.add_warnings(fmt::format("{} = {} s is not a multiple of the time step {} s; rounded to {} "
+                                              "steps = {} s",
+                                              field, core::formatValue(interval), core::formatValue(dt), steps,
+                                              core::formatValue(static_cast<double>(steps) * dt)));
+        }
+        c.interval_steps = steps;
+      }
+    }
+    out.components.push_back(std::move(c));
+  }
+
+  try {
+    world.initialize();
+  } catch (const core::InputError& error) {
+    // The engine names the box's settings "simulation_box.<field>".
+    const std::string engineBox = "simulation_box";
+    if (error.field().rfind(engineBox, 0) == 0) {
+      const std::string what = error.what();
+      const std::string reason = what.substr(error.field().size() + 3 + error.value().size() + 2);
+      const std::string field = out.box_name + ".simulation_box" + error.field().substr(engineBox.size());
+      throw failure(out.box_name, field, error.value(), reason);
+    }
+    throw failureOf(error, declared_, out.box_name);
+  }
+
+  const double endTime = out.scene->run.end_time;
+  if (endTime > 0.0) {
+    out.end_step = static_cast<std::uint64_t>(std::llround(std::min(endTime / dt, 1.0e15)));
+    if (out.end_step == 0) {
+      throw failure(out.box_name, out.box_name + ".simulation_box.end_time", core::formatValue(endTime),
+                    "shorter than half a time step; use 0 to run until every client said Bye");
+    }
+  }
+  for (const std::string& stage : world.activeStages()) out.report.add_active_stages(stage);
+  out.report.set_time_step(dt);
+  out.report.set_critical_time_step(world.timeStepReport().limit);
+  out.report.set_particle_count(world.particles().size());
+  for (const core::MeshBody& mesh : world.meshes()) {
+    for (const std::string& warning : mesh.loadWarnings()) out.report.add_warnings(mesh.name() + ": " + warning);
+  }
+  out.report.set_text(reportText(out, world));
+  return out;
+}
+
+}  // namespace demlink::server

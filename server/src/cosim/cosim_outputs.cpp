@@ -1,0 +1,146 @@
+/// Output packages per component kind (contract in cosim_outputs.hpp).
+///
+/// Definitions: SimulationBox: time, particle count, total mass, kinetic energy
+/// (translational + rotational) and step rate = world steps / wall seconds spent stepping
+/// since the previous answer. ParticleSource: inserted during the interval and in total,
+/// shortfall in total (report()). ParticleSink: removed during the interval and in total.
+/// RegionSensor: measure() of the world now. FlowSensor: crossings during the interval and
+/// in total. ParticleView: every stride-th particle by slot, stride = ceil(N / max_count).
+/// RigidBody: the interval's wrench and the server's pose.
+#include "demlink/server/cosim/cosim_outputs.hpp"
+
+#include <algorithm>
+
+#include "demlink/core/particle_sink.hpp"
+#include "demlink/core/particle_source.hpp"
+#include "demlink/core/region_sensor.hpp"
+
+namespace demlink::server {
+namespace {
+
+void setVector(v1::Vector3& out, const core::Vec3& v) {
+  out.set_x(v.x());
+  out.set_y(v.y());
+  out.set_z(v.z());
+}
+
+void setCount(v1::CountAndMass& out, std::uint64_t count, double mass) {
+  out.set_count(count);
+  out.set_mass(mass);
+}
+
+}  // namespace
+
+CosimOutputs::CosimOutputs(std::size_t componentCount) : memory_(componentCount) {}
+
+void CosimOutputs::addStepping(std::uint64_t steps, double wallSeconds) {
+  for (Memory& m : memory_) {
+    m.steps += steps;
+    m.wall += wallSeconds;
+  }
+}
+
+v1::DataPackage CosimOutputs::outputOf(std::size_t index, const CosimComponent& component, const core::World& world,
+                                       const core::IntervalWrench& wrench) {
+  Memory& memory = memory_.at(index);
+  v1::DataPackage out;
+  out.set_component_id(component.id);
+  out.set_step(world.stepCount());
+  switch (component.kind_case) {
+    case v1::ComponentDeclaration::kSimulationBox: {
+      v1::SimulationBoxOutput& box = *out.mutable_simulation_box();
+      box.set_time(world.time());
+      box.set_particle_count(world.particles().size());
+      box.set_total_mass(world.totalMass());
+      box.set_kinetic_energy(world.kineticEnergy());
+      box.set_step_rate(memory.wall > 0.0 ? static_cast<double>(memory.steps) / memory.wall : 0.0);
+      memory.steps = 0;
+      memory.wall = 0.0;
+      break;
+    }
+    case v1::ComponentDeclaration::kRigidBody: {
+      v1::RigidBodyOutput& body = *out.mutable_rigid_body();
+      setVector(*body.mutable_mean_force(), wrench.mean_force);
+      setVector(*body.mutable_mean_torque(), wrench.mean_torque);
+      setVector(*body.mutable_force(), wrench.force);
+      setVector(*body.mutable_torque(), wrench.torque);
+      if (component.mesh) {
+        const core::MeshBody& mesh = world.meshes()[*component.mesh];
+        setVector(*body.mutable_position(), mesh.position());
+        v1::Quaternion& q = *body.mutable_orientation();
+        q.set_w(mesh.orientation().w());
+        q.set_x(mesh.orientation().x());
+        q.set_y(mesh.orientation().y());
+        q.set_z(mesh.orientation().z());
+      }
+      break;
+    }
+    case v1::ComponentDeclaration::kParticleSource: {
+      const auto* source = dynamic_cast<const core::ParticleSource*>(component.engine);
+      if (source == nullptr) break;
+      const core::SourceReport& report = source->report();
+      v1::SourceSinkOutput& o = *out.mutable_particle_source();
+      setCount(*o.mutable_interval(), report.inserted_count - memory.count, report.inserted_mass - memory.mass);
+      setCount(*o.mutable_total(), report.inserted_count, report.inserted_mass);
+      setCount(*o.mutable_shortfall_total(), report.shortfall_count, report.shortfall_mass);
+      memory.count = report.inserted_count;
+      memory.mass = report.inserted_mass;
+      break;
+    }
+    case v1::ComponentDeclaration::kParticleSink: {
+      const auto* sink = dynamic_cast<const core::ParticleSink*>(component.engine);
+      if (sink == nullptr) break;
+      const core::RemovalTally& total = sink->total();
+      v1::SourceSinkOutput& o = *out.mutable_particle_sink();
+      setCount(*o.mutable_interval(), total.count - memory.count, total.mass - memory.mass);
+      setCount(*o.mutable_total(), total.count, total.mass);
+      memory.count = total.count;
+      memory.mass = total.mass;
+      break;
+    }
+    case v1::ComponentDeclaration::kRegionSensor: {
+      const auto* sensor = dynamic_cast<const core::RegionSensor*>(component.engine);
+      if (sensor == nullptr) break;
+      const core::RegionReading reading = sensor->measure(world);
+      v1::RegionSensorOutput& o = *out.mutable_region_sensor();
+      o.set_count(reading.count);
+      o.set_mass(reading.mass);
+      setVector(*o.mutable_centre_of_mass(), reading.centre_of_mass);
+      setVector(*o.mutable_mean_velocity(), reading.mean_velocity);
+      break;
+    }
+    case v1::ComponentDeclaration::kFlowSensor: {
+      const auto* sensor = dynamic_cast<const core::FlowSensor*>(component.engine);
+      if (sensor == nullptr) break;
+      const core::FlowTally& total = sensor->total();
+      v1::FlowSensorOutput& o = *out.mutable_flow_sensor();
+      setCount(*o.mutable_positive_interval(), total.positive_count - memory.flow.positive_count,
+               total.positive_mass - memory.flow.positive_mass);
+      setCount(*o.mutable_negative_interval(), total.negative_count - memory.flow.negative_count,
+               total.negative_mass - memory.flow.negative_mass);
+      setCount(*o.mutable_positive_total(), total.positive_count, total.positive_mass);
+      setCount(*o.mutable_negative_total(), total.negative_count, total.negative_mass);
+      memory.flow = total;
+      break;
+    }
+    case v1::ComponentDeclaration::kParticleView: {
+      const core::ParticleArrays& p = world.particles();
+      const std::size_t n = p.size();
+      const std::size_t maxCount = std::max<std::size_t>(1, component.view_max_count);
+      const std::size_t stride = std::max<std::size_t>(1, (n + maxCount - 1) / maxCount);
+      v1::ParticleViewOutput& o = *out.mutable_particle_view();
+      o.set_total_count(n);
+      o.set_stride(static_cast<std::uint32_t>(stride));
+      for (std::size_t i = 0; i < n; i += stride) {
+        for (int k = 0; k < 3; ++k) o.add_positions(static_cast<float>(p.position[i][k]));
+        o.add_radii(static_cast<float>(p.radius[i]));
+        o.add_ids(p.id[i]);
+      }
+      break;
+    }
+    default: break;
+  }
+  return out;
+}
+
+}  // namespace demlink::server

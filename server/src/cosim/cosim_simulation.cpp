@@ -1,0 +1,207 @@
+/// One running co-simulation (contract in cosim_simulation.hpp).
+///
+/// The step loop is the headless runner's (frames every vtk_interval, checkpoints every
+/// checkpoint_interval, both converted to whole steps) with two additions: after every
+/// world step each rigid body's coupling adds the step's wrench to its impulses, and at a
+/// stop the couplings whose interval ends there snap their mesh onto the target before
+/// the outputs are read.
+#include "demlink/server/cosim/cosim_simulation.hpp"
+
+#include <spdlog/fmt/fmt.h>
+#include <spdlog/spdlog.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "demlink/core/checkpoint.hpp"
+#include "demlink/core/sampled_component.hpp"
+#include "demlink/server/cosim/cosim_inputs.hpp"
+#include "demlink/server/particle_csv.hpp"
+
+namespace demlink::server {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+std::uint64_t stepsOf(double seconds, double dt) {
+  if (!(seconds > 0.0)) return 0;
+  return std::max<std::uint64_t>(1, static_cast<std::uint64_t>(std::llround(std::min(seconds / dt, 1.0e15))));
+}
+
+}  // namespace
+
+CosimSimulation::CosimSimulation(CompiledSimulation compiled, const std::filesystem::path& outputDirectory)
+    : compiled_(std::move(compiled)), directory_(outputDirectory), outputs_(compiled_.components.size()) {
+  core::World& w = world();
+  for (std::size_t i = 0; i < compiled_.components.size(); ++i) {
+    const CosimComponent& c = compiled_.components[i];
+    if (c.interval_steps > 0) scheduler_.add(i, c.interval_steps);
+    if (c.kind_case == v1::ComponentDeclaration::kRigidBody && c.mesh && c.interval_steps > 0) {
+      couplings_.emplace(i, core::CoupledMotion(*c.mesh, c.motion));
+    }
+  }
+  const RunOptions& run = compiled_.scene->run;
+  frame_every_ = stepsOf(run.vtk_interval, compiled_.time_step);
+  checkpoint_every_ = stepsOf(run.checkpoint_interval, compiled_.time_step);
+  frames_ = std::make_unique<FrameSeries>(directory_, compiled_.box_name + ".simulation_box.output.directory");
+  {
+    std::ofstream report(directory_ / "compile_report.txt");
+    report << compiled_.report.text();
+  }
+  RunOptions logged = run;
+  logged.output_directory = directory_.string();
+  run_log_ = std::make_unique<RunLog>(directory_ / "run_log.csv");
+  run_log_->writeConfiguration(w, logged, compiled_.end_step);
+  core::writeSamplesToCsv(w, directory_);
+  start_ = Clock::now();
+  frames_->writePlanes(w);
+  frames_->writeFrame(w, 0.0);
+}
+
+CosimSimulation::~CosimSimulation() = default;
+
+const core::CoupledMotion* CosimSimulation::coupling(std::size_t index) const {
+  const auto it = couplings_.find(index);
+  return it == couplings_.end() ? nullptr : &it->second;
+}
+
+std::vector<v1::DataPackage> CosimSimulation::initialOutputs(ConnectionId owner) {
+  std::vector<v1::DataPackage> out;
+  for (std::size_t i = 0; i < compiled_.components.size(); ++i) {
+    const CosimComponent& c = compiled_.components[i];
+    if (c.owner != owner || c.interval_steps == 0) continue;
+    core::IntervalWrench wrench;
+    if (c.mesh) {
+      wrench.force = world().meshes()[*c.mesh].force();
+      wrench.torque = world().meshes()[*c.mesh].torque();
+    }
+    out.push_back(outputs_.outputOf(i, c, world(), wrench));
+  }
+  return out;
+}
+
+std::optional<v1::Error> CosimSimulation::accept(ConnectionId from, const v1::DataPackage& package) {
+  const std::uint32_t id = package.component_id();
+  if (id == 0 || id > compiled_.components.size()) {
+    return makeError(v1::Error::UNKNOWN_COMPONENT,
+                     "no component with id " + std::to_string(id) + " (ids 1.." +
+                         std::to_string(compiled_.components.size()) + ")",
+                     "", "data.component_id", true);
+  }
+  const std::size_t index = id - 1;
+  const CosimComponent& c = compiled_.components[index];
+  if (c.owner != from) {
+    return makeError(v1::Error::UNKNOWN_COMPONENT,
+                     "component " + std::to_string(id) + " (\"" + c.name + "\") is not declared by this connection",
+                     c.name, "data.component_id", true);
+  }
+  const std::optional<std::uint64_t> expected = scheduler_.expectedStep(index);
+  if (!expected) {
+    return makeError(v1::Error::UNKNOWN_COMPONENT,
+                     "component \"" + c.name + "\" is not exchanged (communication_interval 0, or its client said Bye)",
+                     c.name, "data.component_id", true);
+  }
+  const std::uint64_t now = scheduler_.currentStep();
+  if (package.step() != *expected || *expected != now) {
+    std::string why = "expected step " + std::to_string(*expected) + ", received step " + std::to_string(package.step());
+    if (package.step() == *expected) {
+      why = "step " + std::to_string(package.step()) + " is not due yet (the world is at step " + std::to_string(now) +
+            "; wait for the answer to the previous package)";
+    }
+    return makeError(v1::Error::OUT_OF_ORDER, "component \"" + c.name + "\": " + why, c.name, "data.step", true);
+  }
+  if (auto bad = checkInput(c, package)) return bad;
+  if (scheduler_.offer(index, package.step()) != ExchangeScheduler::Offer::Accepted) {
+    return makeError(v1::Error::OUT_OF_ORDER, "component \"" + c.name + "\": package not accepted", c.name,
+                     "data.step", true);
+  }
+  inputs_[index] = package;
+  return std::nullopt;
+}
+
+void CosimSimulation::retire(ConnectionId owner) {
+  for (std::size_t i = 0; i < compiled_.components.size(); ++i) {
+    if (compiled_.components[i].owner != owner) continue;
+    scheduler_.retire(i);
+    inputs_.erase(i);
+    if (auto it = couplings_.find(i); it != couplings_.end()) it->second.hold(world());
+  }
+}
+
+void CosimSimulation::stepWorld() {
+  core::World& w = world();
+  w.step();
+  timing_.particle_steps += w.particles().size();
+  for (auto& [index, coupling] : couplings_) coupling.afterStep(w);
+  const std::uint64_t step = w.stepCount();
+  if (frame_every_ > 0 && step % frame_every_ == 0) {
+    frames_->writeFrame(w, secondsSince(start_));
+    last_frame_step_ = step;
+  }
+  if (checkpoint_every_ > 0 && step % checkpoint_every_ == 0) {
+    core::writeCheckpointFile(w, directory_ / fmt::format("checkpoint_{:06}.bin", step / checkpoint_every_));
+    ++timing_.checkpoints;
+  }
+}
+
+CosimSimulation::Advance CosimSimulation::advance() {
+  core::World& w = world();
+  Advance out;
+  for (const auto& [index, package] : inputs_) {
+    const CosimComponent& c = compiled_.components[index];
+    if (package.has_rigid_body_input()) {
+      couplings_.at(index).beginInterval(w, poseOf(package.rigid_body_input()), twistOf(package.rigid_body_input()),
+                                         c.interval_steps);
+    } else if (package.has_simulation_box_input()) {
+      const v1::SimulationBoxInput& input = package.simulation_box_input();
+      if (input.has_gravity()) {
+        w.setGravity({input.gravity().x(), input.gravity().y(), input.gravity().z()});
+      }
+      if (input.has_frame()) w.setFrameMotion(frameOf(input.frame()));
+    }
+  }
+  inputs_.clear();
+  const std::optional<std::uint64_t> stop = scheduler_.nextStop(compiled_.end_step);
+  if (!stop) return out;
+  const Clock::time_point begin = Clock::now();
+  const std::uint64_t first = w.stepCount();
+  while (w.stepCount() < *stop) stepWorld();
+  outputs_.addStepping(w.stepCount() - first, secondsSince(begin));
+  out.stepped = true;
+  for (const std::size_t index : scheduler_.advanceTo(*stop)) {
+    const CosimComponent& c = compiled_.components[index];
+    core::IntervalWrench wrench;
+    if (auto it = couplings_.find(index); it != couplings_.end()) wrench = it->second.endInterval(w);
+    out.answers.emplace_back(*c.owner, outputs_.outputOf(index, c, w, wrench));
+  }
+  out.end_reached = compiled_.end_step > 0 && *stop >= compiled_.end_step;
+  return out;
+}
+
+void CosimSimulation::finish(const std::string& reason) {
+  if (finished_) return;
+  finished_ = true;
+  core::World& w = world();
+  const RunOptions& run = compiled_.scene->run;
+  try {
+    if (last_frame_step_ != w.stepCount()) frames_->writeFrame(w, secondsSince(start_));
+    if (run.final_checkpoint) {
+      core::writeCheckpointFile(w, directory_ / "checkpoint_final.bin");
+      ++timing_.checkpoints;
+    }
+    if (run.final_particles_csv) writeParticleCsv(w, directory_ / "particles_final.csv");
+  } catch (const std::exception& error) {
+    run_log_->add("timing", "status", std::string("output failed: ") + error.what());
+    throw;
+  }
+  timing_.total_seconds = secondsSince(start_);
+  timing_.steps = w.stepCount();
+  timing_.neighbour_builds = w.neighbourList().buildCount();
+  timing_.frames = frames_->frameCount();
+  run_log_->add("timing", "finish_reason", reason);
+  run_log_->writeTiming(w, timing_);
+}
+
+}  // namespace demlink::server

@@ -1,0 +1,80 @@
+/// Session replay (contract in session_replay.hpp).
+#include "demlink/server/cosim/session_replay.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "demlink/v1/recording.pb.h"
+#include "demlink/wire/frame_codec.hpp"
+
+namespace demlink::server {
+
+ReplayResult replaySession(const std::filesystem::path& file, CoSimulationOptions options) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw std::runtime_error("cannot read the session record " + file.string());
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  wire::FrameDecoder decoder(std::numeric_limits<std::size_t>::max() / 2);
+  decoder.feed(bytes.str());
+
+  options.record_file.clear();
+  std::unique_ptr<CoSimulationHost> host;
+  ReplayResult result;
+  const SteadyClock::time_point origin{};
+  std::uint64_t index = 0;
+  const auto collect = [&](const std::vector<Outgoing>& messages) {
+    for (const Outgoing& m : messages) {
+      if (m.message.has_finished()) {
+        result.finished.push_back(m.message.finished());
+        if (!m.message.finished().output_directory().empty()) {
+          result.output_directory = m.message.finished().output_directory();
+        }
+      }
+      if (m.message.has_error()) result.errors.push_back(m.message.error());
+    }
+  };
+  while (std::optional<std::string> payload = decoder.next()) {
+    v1::SessionEvent event;
+    if (!wire::parsePayload(*payload, event)) {
+      throw std::runtime_error(file.string() + ": event " + std::to_string(index) + " is not a SessionEvent");
+    }
+    const auto now = origin + std::chrono::duration_cast<SteadyClock::duration>(
+                                  std::chrono::duration<double>(event.elapsed_s()));
+    if (index == 0) {
+      if (event.kind() != v1::SessionEvent::HEADER) {
+        throw std::runtime_error(file.string() + ": the first event is not a HEADER");
+      }
+      options.base_scene = event.base_scene();
+      options.scene_directory = event.scene_directory();
+      host = std::make_unique<CoSimulationHost>(options);
+      ++index;
+      continue;
+    }
+    switch (event.kind()) {
+      case v1::SessionEvent::CONNECTED: collect(host->connected(event.connection(), event.message().hello(), now)); break;
+      case v1::SessionEvent::RECEIVED: collect(host->received(event.connection(), event.message(), now)); break;
+      case v1::SessionEvent::DISCONNECTED: collect(host->disconnected(event.connection(), event.text(), now)); break;
+      case v1::SessionEvent::COMPILE_NOW: collect(host->compileNow(now)); break;
+      case v1::SessionEvent::TIMEOUT: collect(host->expireWaitNow(now)); break;
+      case v1::SessionEvent::SHUTDOWN: collect(host->shutdown(event.text(), now)); break;
+      default:
+        throw std::runtime_error(file.string() + ": event " + std::to_string(index) + " has unknown kind " +
+                                 std::to_string(static_cast<int>(event.kind())));
+    }
+    ++index;
+    ++result.events;
+  }
+  if (decoder.error() != wire::FrameError::None || decoder.pendingBytes() > 0) {
+    throw std::runtime_error(file.string() + ": bad or truncated frame after event " + std::to_string(index) +
+                             (decoder.errorMessage().empty() ? "" : ": " + decoder.errorMessage()));
+  }
+  if (!host) throw std::runtime_error(file.string() + ": empty session record");
+  result.simulations = host->simulationsFinished();
+  spdlog::info("replayed {} events of {}: {} simulations", result.events, file.string(), result.simulations);
+  return result;
+}
+
+}  // namespace demlink::server
