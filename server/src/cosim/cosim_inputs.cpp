@@ -107,7 +107,9 @@ std::optional<v1::Error> checkInput(const CosimComponent& component, const v1::D
 
 core::RigidPose poseOf(const v1::RigidBodyInput& input) {
   const v1::Quaternion& q = input.orientation();
-  return {toVec3(input.position()), core::Quat(q.w(), q.x(), q.y(), q.z()).normalized()};
+  // Not normalised here: core::targetPose normalises once, so a client and an in-process
+  // driver that pass the same quaternion get bit-identical motion.
+  return {toVec3(input.position()), core::Quat(q.w(), q.x(), q.y(), q.z())};
 }
 
 core::RigidTwist twistOf(const v1::RigidBodyInput& input) {

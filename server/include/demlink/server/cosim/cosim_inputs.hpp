@@ -19,7 +19,8 @@ namespace demlink::server {
 /// (within 1e-6), a valid frame. Returns Error{INVALID_INPUT, fatal} naming the field.
 [[nodiscard]] std::optional<v1::Error> checkInput(const CosimComponent& component, const v1::DataPackage& package);
 
-/// Pose and twist of a checked RigidBodyInput (quaternion normalised; omitted velocities zero).
+/// Pose and twist of a checked RigidBodyInput (omitted velocities zero; the quaternion as
+/// sent, core::targetPose normalises it).
 [[nodiscard]] core::RigidPose poseOf(const v1::RigidBodyInput& input);
 [[nodiscard]] core::RigidTwist twistOf(const v1::RigidBodyInput& input);
 /// The room motion of a checked SimulationBox.Frame.
