@@ -6,7 +6,8 @@ only the classes protoc generates from proto/demlink/v1/*.proto (Debian's protoc
 python3-protobuf) plus the rules written in docs/protocol.md, and its own ten-line varint
 code for the frame length (the protobuf "delimited" convention).
 
-Usage (the generated package `demlink.v1` must be importable, e.g. PYTHONPATH=<build>/python):
+Usage (the generated package `demlink.v1` must be importable, e.g.
+PYTHONPATH=<build>/client/python/generated, which the target demlink_python_proto fills):
 
     with Client("127.0.0.1", port) as c:
         c.hello("my-model")
