@@ -117,13 +117,15 @@ int dl_send_package(dl_client* client, const dl_package* package) {
   return guarded(client, [&](Client& c) -> int {
     const Package* p = asPackage(package);
     if (p == nullptr) throw ArgumentError("invalid package handle");
-    Session& session = sessionOf(c);
-    if (!p->strings.empty()) {  // a declaration
+    if (!p->strings.empty()) {  // a declaration; its layout is checked before the state
+      std::unique_ptr<Component> component = componentFromPackage(*p);
+      Session& session = sessionOf(c);
       if (session.isCompiled()) throw StateError("cannot declare: the simulation is already compiled");
-      session.adopt(componentFromPackage(*p));
+      session.adopt(std::move(component));
       session.declare();
       return DL_OK;
     }
+    Session& session = sessionOf(c);
     if (p->ints.empty()) throw ArgumentError("input package: ints[0] = component handle is required");
     if (p->ints[0] < 0 || p->ints[0] > INT32_MAX) throw ArgumentError("input package: bad component handle");
     Component& component = componentOf(c, static_cast<int>(p->ints[0]));
