@@ -1,0 +1,63 @@
+#pragma once
+/// Components that insert or remove particles: ParticleSource (steady stream into a box
+/// or disc), ParticleSink (removes what enters a volume), PitGenerator (a settled bed at
+/// step 0). Sources and sinks report counts and masses per interval and in total.
+#include <cstdint>
+#include <string>
+
+#include "demlink/client/component.hpp"
+
+namespace demlink::client {
+
+class ParticleSource : public Component {
+ public:
+  explicit ParticleSource(std::string name);
+  ParticleSource& setMaterial(const std::string& material);
+  ParticleSource& setRadius(double metres);                    ///< one radius [m]
+  ParticleSource& setRadiusRange(double rMin, double rMax);    ///< uniform in [rMin, rMax] [m]
+  ParticleSource& setBox(const Vec3& centre, const Vec3& halfExtents, const Quat& orientation = {});  ///< [m]
+  ParticleSource& setDisc(const Vec3& centre, const Vec3& normal, double radius, double thickness = 0.0);  ///< [m]
+  ParticleSource& setRateParticles(double perSecond);          ///< [1/s]
+  ParticleSource& setRateMass(double kgPerSecond);             ///< [kg/s]
+  ParticleSource& setStartTime(double seconds);                ///< [s]
+  ParticleSource& setStopTime(double seconds);                 ///< [s]
+  ParticleSource& setVelocity(const Vec3& velocity);           ///< initial velocity [m/s]
+  ParticleSource& setSeed(std::uint64_t seed);
+  ParticleSource& attachTo(const std::string& meshComponent);  ///< region in that body's frame
+  [[nodiscard]] v1::ParticleSource& message() { return *declaration().mutable_particle_source(); }
+
+  [[nodiscard]] CountAndMass insertedInterval() const;  ///< during the latest interval
+  [[nodiscard]] CountAndMass insertedTotal() const;     ///< since step 0
+  [[nodiscard]] CountAndMass shortfallTotal() const;    ///< requested but not placed, since step 0
+};
+
+class ParticleSink : public Component {
+ public:
+  explicit ParticleSink(std::string name);
+  ParticleSink& setBox(const Vec3& centre, const Vec3& size, const Quat& orientation = {});  ///< [m]
+  ParticleSink& setSphere(const Vec3& centre, double radius);  ///< [m]
+  ParticleSink& attachTo(const std::string& meshComponent);
+  /// Report interval of the server's CSV [s]; unset: the communication interval.
+  ParticleSink& setSampleInterval(double seconds);
+  [[nodiscard]] v1::ParticleSink& message() { return *declaration().mutable_particle_sink(); }
+
+  [[nodiscard]] CountAndMass removedInterval() const;
+  [[nodiscard]] CountAndMass removedTotal() const;
+
+ protected:
+  void prepareDeclaration() override;
+};
+
+class PitGenerator : public Component {
+ public:
+  explicit PitGenerator(std::string name);
+  PitGenerator& setMaterial(const std::string& material);
+  PitGenerator& setRadius(double metres);                  ///< [m]
+  PitGenerator& setRadiusRange(double rMin, double rMax);  ///< [m]
+  PitGenerator& setBox(const Vec3& lower, const Vec3& upper);  ///< [m]
+  PitGenerator& setTargetHeight(double metres);            ///< bed surface above the floor [m]
+  PitGenerator& setSeed(std::uint64_t seed);
+  [[nodiscard]] v1::PitGenerator& message() { return *declaration().mutable_pit_generator(); }
+};
+
+}  // namespace demlink::client

@@ -1,0 +1,68 @@
+#pragma once
+/// Measuring components: RegionSensor (count, mass, centre of mass, mean velocity inside
+/// a box or sphere), FlowSensor (crossings of a rectangle or disc per direction) and
+/// ParticleView (decimated positions for a 3D view, the coupling paper's DEMPoints).
+///
+/// Why sensors fill their sample interval: the schema requires one for the server's CSV
+/// reports, and a coupled client almost always wants those at its communication interval;
+/// an explicit setSampleInterval() wins.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "demlink/client/component.hpp"
+
+namespace demlink::client {
+
+class RegionSensor : public Component {
+ public:
+  explicit RegionSensor(std::string name);
+  RegionSensor& setBox(const Vec3& centre, const Vec3& size, const Quat& orientation = {});  ///< [m]
+  RegionSensor& setSphere(const Vec3& centre, double radius);  ///< [m]
+  /// Follow a rigid/mesh body; centre and orientation are then in its frame.
+  RegionSensor& attachTo(const std::string& bodyComponent);
+  RegionSensor& setSampleInterval(double seconds);  ///< [s]
+  [[nodiscard]] v1::RegionSensor& message() { return *declaration().mutable_region_sensor(); }
+
+  [[nodiscard]] std::uint64_t count() const;   ///< particles inside [-]
+  [[nodiscard]] double mass() const;           ///< [kg]
+  [[nodiscard]] Vec3 centreOfMass() const;     ///< [m]; NaN when empty
+  [[nodiscard]] Vec3 meanVelocity() const;     ///< mass-weighted [m/s]; NaN when empty
+
+ protected:
+  void prepareDeclaration() override;
+};
+
+class FlowSensor : public Component {
+ public:
+  explicit FlowSensor(std::string name);
+  /// Rectangle length x width [m] with positive flow along `normal`.
+  FlowSensor& setRectangle(const Vec3& centre, const Vec3& normal, double length, double width,
+                           const Vec3& lengthAxis = {});
+  FlowSensor& setDisc(const Vec3& centre, const Vec3& normal, double radius);  ///< [m]
+  FlowSensor& attachTo(const std::string& bodyComponent);
+  FlowSensor& setSampleInterval(double seconds);  ///< [s]
+  [[nodiscard]] v1::FlowSensor& message() { return *declaration().mutable_flow_sensor(); }
+
+  [[nodiscard]] CountAndMass positiveInterval() const;  ///< along the normal, latest interval
+  [[nodiscard]] CountAndMass negativeInterval() const;
+  [[nodiscard]] CountAndMass positiveTotal() const;     ///< since step 0
+  [[nodiscard]] CountAndMass negativeTotal() const;
+
+ protected:
+  void prepareDeclaration() override;
+};
+
+class ParticleView : public Component {
+ public:
+  explicit ParticleView(std::string name);
+  ParticleView& setMaxCount(std::uint32_t count);  ///< particles per package [-]; 0: 10000
+  [[nodiscard]] v1::ParticleView& message() { return *declaration().mutable_particle_view(); }
+
+  [[nodiscard]] std::uint64_t totalCount() const;  ///< particles in the world [-]
+  [[nodiscard]] std::uint32_t stride() const;      ///< every stride-th particle is listed [-]
+  [[nodiscard]] std::vector<Vec3> positions() const;  ///< [m]
+  [[nodiscard]] const v1::ParticleViewOutput& view() const { return outputs().particle_view(); }
+};
+
+}  // namespace demlink::client

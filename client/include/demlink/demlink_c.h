@@ -1,0 +1,249 @@
+/* DEMLink C ABI: the co-simulation client for Modelica-style tools (docs/c_abi.md).
+ *
+ * Why a C ABI: Modelica external functions, Fortran, Python ctypes and most simulation
+ * tools can call plain C; none can catch C++ exceptions. Every function here catches
+ * everything, returns a status code (dl_status) and keeps the message of the last failure
+ * per client (dl_last_error). It is a thin layer over the C++ library demlink::client;
+ * there is no second protocol implementation.
+ *
+ * Why handles are void: Modelica passes ExternalObjects as void*. Some tools emit their own
+ * prototype of each external function; a distinct struct type here would then conflict.
+ * The library checks a tag in every handle and answers DL_ERR_ARGUMENT for a package
+ * passed as a client and vice versa.
+ *
+ * Two styles, not to be mixed on one client:
+ *  1. Generic packages, as in the coupling paper: dl_set_data(pkg, ints, reals, strings),
+ *     dl_send_package, dl_recv_package, dl_get_ints/reals/strings. The meaning of each
+ *     array per component kind is listed below ("Generic layout").
+ *  2. Typed helpers per kind: dl_declare_<kind>(...) and dl_<kind>_exchange / _read(...).
+ *
+ * Components are addressed by a client-local handle: 0 for the first component declared
+ * on this client, 1 for the second, ... (not the server's id).
+ *
+ * Blocking and the exchange order. The server advances the world once EVERY component due
+ * at a step (of every connection) has sent its package, and answers each component at the
+ * END of its interval. A Modelica model with one client per component runs all of them in
+ * one thread, one after the other. So the typed exchange calls RECEIVE FIRST, THEN SEND:
+ * a call at sample k returns the outputs of the interval that ended at sample k (at the
+ * first call: the initial outputs of Compiled) and then sends the inputs for sample k.
+ * The receive needs only packages sent at sample k-1, which every component sent during
+ * the previous sample event, so no call waits for a component that has not run yet.
+ * (Send-then-receive in one call would deadlock with two clients in one thread.)
+ * For the same reason the initial algorithm only connects and declares: waiting for
+ * Compiled there would block before the other components have declared. The first
+ * exchange waits for Compiled (or call dl_wait_compiled explicitly).
+ *
+ * Generic layout ("[i]" = index; NaN in an optional real = "not given" / default):
+ *
+ *  Declare package (a package WITH strings is a declaration):
+ *   strings[0] = kind, strings[1] = name; reals[0] = communication interval [s] (0: never
+ *   exchanged). Per kind:
+ *   simulation_box : reals[1] time step [s] (NaN: default), [2] end time [s],
+ *                    [3..5] gravity [m/s^2], [6..8] bounds lower, [9..11] bounds upper [m]
+ *                    (bounds only when nReals >= 12); ints[0] expected component count;
+ *                    strings[2..] expected component names.
+ *   material       : strings[2] database name ("" none); reals[1] density [kg/m^3],
+ *                    [2] Young's modulus [Pa], [3] Poisson ratio, [4] restitution,
+ *                    [5] sliding friction, [6] rolling friction (each NaN/omitted: default).
+ *   plane          : strings[2] material; reals[1..3] point [m], [4..6] normal.
+ *   single_particle: strings[2] material; reals[1..3] position [m], [4..6] velocity [m/s],
+ *                    [7] diameter [m].
+ *   particle_system: strings[2] CSV file path on the server; ints[0] = 1: strings[2] is a
+ *                    checkpoint file instead.
+ *   particle_source: strings[2] material, strings[3] attached mesh ("" none);
+ *                    reals[1..3] box centre [m], [4..6] half extents [m], [7] r_min,
+ *                    [8] r_max [m], [9] rate [1/s] (NaN: not given), [10] rate [kg/s]
+ *                    (NaN: not given), [11..13] velocity [m/s], [14] start time [s],
+ *                    [15] stop time [s] (NaN: never); ints[0] seed.
+ *   particle_sink,
+ *   region_sensor  : ints[0] shape: 0 box, 1 sphere; box: reals[1..3] centre, [4..6] size [m],
+ *                    [7..10] orientation w x y z (optional); sphere: reals[1..3] centre,
+ *                    [4] radius [m]; strings[2] attached body ("" none).
+ *   flow_sensor    : ints[0] shape: 0 rectangle, 1 disc; reals[1..3] centre, [4..6] normal;
+ *                    rectangle: [7] length, [8] width [m], [9..11] length axis (optional);
+ *                    disc: [7] radius [m]; strings[2] attached body ("" none).
+ *   pit_generator  : strings[2] material; reals[1..3] lower, [4..6] upper corner [m],
+ *                    [7] r_min, [8] r_max, [9] target height [m]; ints[0] seed.
+ *   rigid_body     : strings[2] material, strings[3] geometry text; ints[0] geometry:
+ *                    0 STL file on the server (strings[3] = path), 1 box (reals[11..13]
+ *                    size [m]), 2 STL file on the client (strings[3] = path; its bytes are
+ *                    sent); ints[1] motion: 0/1 PREDICTED, 2 LAGGED; reals[1..3] reference
+ *                    point [m], [4..6] initial position [m], [7..10] initial orientation
+ *                    w x y z.
+ *   particle_view  : ints[0] max particles per package (0: 10000).
+ *
+ *  Input package (a package WITHOUT strings): ints[0] = component handle; the step is the
+ *  component's next due step (kept by the library). Per kind:
+ *   rigid_body     : reals = x y z qw qx qy qz vx vy vz wx wy wz (13) [m, -, m/s, rad/s].
+ *   simulation_box : reals[0..2] new gravity [m/s^2] (omitted or NaN: unchanged);
+ *                    reals[3..14] room frame: linear acceleration, angular velocity,
+ *                    angular acceleration, origin (when nReals >= 15).
+ *   others         : no reals (the empty package says "go on").
+ *
+ *  Output package (dl_recv_package, dl_get_outputs): strings[0] = kind, strings[1] = name;
+ *  ints[0] = component handle, ints[1] = step the interval ended at; then per kind:
+ *   simulation_box : ints[2] particle count; reals = time [s], total mass [kg],
+ *                    kinetic energy [J], step rate [1/s].
+ *   rigid_body     : reals = mean force(3) [N], mean torque(3) [N m], force(3), torque(3)
+ *                    at the interval's end, position(3) [m], orientation w x y z (4) (19).
+ *   particle_source,
+ *   particle_sink  : ints[2..4] = count during the interval, since step 0, shortfall since
+ *                    step 0 (sources only); reals = the corresponding masses [kg].
+ *   region_sensor  : ints[2] count; reals = mass [kg], centre of mass(3) [m],
+ *                    mean velocity(3) [m/s] (NaN when empty).
+ *   flow_sensor    : ints[2..5] crossings: positive interval, negative interval, positive
+ *                    total, negative total; reals = the corresponding masses [kg].
+ *   particle_view  : ints[2] particles in the world, ints[3] stride, ints[4..] ids;
+ *                    reals = positions x y z per particle [m], then radii [m].
+ *   (others are never exchanged)
+ */
+#ifndef DEMLINK_DEMLINK_C_H
+#define DEMLINK_DEMLINK_C_H
+
+#if defined(DEMLINK_C_BUILDING)
+#define DL_API __attribute__((visibility("default")))
+#else
+#define DL_API
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef void dl_client;  /* one connection and its components */
+typedef void dl_package; /* a generic send/receive buffer: ints, reals, strings */
+
+/* Status codes returned by every int function. */
+enum dl_status {
+  DL_OK = 0,
+  DL_ERR_CONNECT = 1,  /* cannot connect, connection lost, or bad bytes from the server */
+  DL_ERR_TIMEOUT = 2,  /* no answer within the timeout (the connection is then closed) */
+  DL_ERR_SERVER = 3,   /* the server sent Error: see dl_last_server_error_code/_field */
+  DL_ERR_ARGUMENT = 4, /* null or wrong handle, bad layout, unknown kind, bad index */
+  DL_ERR_STATE = 5,    /* not allowed now (e.g. declare after compile, exchange before connect) */
+  DL_ERR_FINISHED = 6, /* the simulation has ended: dl_finished_reason */
+  DL_ERR_CAPACITY = 7, /* an output array is too small (the prefix that fits is copied) */
+  DL_ERR_INTERNAL = 8  /* a bug or out of memory; dl_last_error says what */
+};
+
+/* --- Client and connection -------------------------------------------------------- */
+DL_API dl_client* dl_client_create(void); /* NULL only when out of memory */
+DL_API void dl_client_destroy(dl_client* client); /* closes the connection; NULL is ignored */
+/* Bound of every blocking call [s]; default 30. */
+DL_API int dl_set_timeout(dl_client* client, double seconds);
+/* Connects, Hello -> Welcome. token may be NULL or "" (no token). */
+DL_API int dl_connect_to_host(dl_client* client, const char* host, int port, const char* client_name,
+                              const char* token);
+/* Message of the last failure on this client ("" when none); valid until the next call. */
+DL_API const char* dl_last_error(const dl_client* client);
+/* demlink.v1.Error.Code of the last DL_ERR_SERVER (0 when none), its field and component. */
+DL_API int dl_last_server_error_code(const dl_client* client);
+DL_API const char* dl_last_server_error_field(const dl_client* client);
+DL_API const char* dl_last_server_error_component(const dl_client* client);
+
+/* --- Generic packages ---------------------------------------------------------------- */
+DL_API dl_package* dl_package_create(void);
+DL_API void dl_package_destroy(dl_package* package);
+/* Replaces the package's content (copies). Arrays may be NULL when their count is 0. */
+DL_API int dl_set_data(dl_package* package, const long long* ints, int nInts, const double* reals, int nReals,
+                       const char* const* strings, int nStrings);
+/* Copy-out: *count = the package's size; copies min(size, capacity) values. out == NULL
+ * (capacity 0) only asks the size. DL_ERR_CAPACITY when out is too small. Strings are
+ * pointers into the package, valid until it is next changed. */
+DL_API int dl_get_ints(const dl_package* package, long long* out, int capacity, int* count);
+DL_API int dl_get_reals(const dl_package* package, double* out, int capacity, int* count);
+DL_API int dl_get_strings(const dl_package* package, const char** out, int capacity, int* count);
+/* Declare package: declares a component (before compile). Input package: sends the
+ * component's inputs for its due step (its previous answer must have been received). */
+DL_API int dl_send_package(dl_client* client, const dl_package* package);
+/* The next answer of any component of this client, in the output layout (waits for
+ * Compiled first if needed). DL_ERR_STATE when no package is in flight. */
+DL_API int dl_recv_package(dl_client* client, dl_package* package);
+/* The latest outputs of a component (after compile: the initial outputs) without waiting. */
+DL_API int dl_get_outputs(dl_client* client, int component, dl_package* package);
+
+/* --- Session --------------------------------------------------------------------------- */
+DL_API int dl_wait_compiled(dl_client* client); /* no-op once compiled */
+DL_API int dl_time_step(dl_client* client, double* seconds);
+DL_API int dl_component_interval_steps(dl_client* client, int component, long long* steps);
+/* The compile report as printed by the server ("" before compile). */
+DL_API const char* dl_compile_report(const dl_client* client);
+/* Sends Bye and returns without waiting (Modelica terminal(): other clients in the same
+ * thread still have to say Bye). No-op when the simulation already finished. */
+DL_API int dl_finish(dl_client* client, const char* reason);
+/* Blocks until Finished (after dl_finish, or when the server ends the simulation). */
+DL_API int dl_wait_finished(dl_client* client);
+DL_API const char* dl_finished_reason(const dl_client* client); /* "" until finished */
+
+/* --- Typed declarations (send Declare at once; *component receives the handle) ------------
+ * interval: communication interval [s], 0: never exchanged. NaN or a negative value in an
+ * optional physical argument means "not given" (the server's default). Vectors are
+ * x y z; poses are x y z qw qx qy qz. Pointers to optional vectors may be NULL. */
+DL_API int dl_declare_simulation_box(dl_client* client, const char* name, double interval, double timeStep,
+                                     double endTime, const double gravity[3], const double boundsLower[3],
+                                     const double boundsUpper[3], int expectedCount, int* component);
+DL_API int dl_declare_material(dl_client* client, const char* name, const char* databaseName, double density,
+                               double youngsModulus, double poissonRatio, double restitution,
+                               double slidingFriction, double rollingFriction, int* component);
+DL_API int dl_declare_plane(dl_client* client, const char* name, const double point[3], const double normal[3],
+                            const char* material, int* component);
+DL_API int dl_declare_single_particle(dl_client* client, const char* name, const char* material,
+                                      const double position[3], const double velocity[3], double diameter,
+                                      int* component);
+/* motion: 0 or 1 PREDICTED, 2 LAGGED. stlFile is a path on the SERVER. */
+DL_API int dl_declare_rigid_body_stl(dl_client* client, const char* name, double interval, const char* stlFile,
+                                     const char* material, const double referencePoint[3], const double pose[7],
+                                     int motion, int* component);
+DL_API int dl_declare_rigid_body_box(dl_client* client, const char* name, double interval, const double size[3],
+                                     const char* material, const double pose[7], int motion, int* component);
+DL_API int dl_declare_region_sensor_box(dl_client* client, const char* name, double interval,
+                                        const double centre[3], const double size[3], const char* attachedTo,
+                                        int* component);
+DL_API int dl_declare_region_sensor_sphere(dl_client* client, const char* name, double interval,
+                                           const double centre[3], double radius, const char* attachedTo,
+                                           int* component);
+DL_API int dl_declare_flow_sensor_disc(dl_client* client, const char* name, double interval,
+                                       const double centre[3], const double normal[3], double radius,
+                                       const char* attachedTo, int* component);
+/* ratePerSecond / rateKgPerSecond: give exactly one (the other negative). */
+DL_API int dl_declare_particle_source_box(dl_client* client, const char* name, double interval,
+                                          const char* material, const double centre[3],
+                                          const double halfExtents[3], double rMin, double rMax,
+                                          double ratePerSecond, double rateKgPerSecond, const double velocity[3],
+                                          int seed, int* component);
+DL_API int dl_declare_particle_sink_box(dl_client* client, const char* name, double interval,
+                                        const double centre[3], const double size[3], int* component);
+DL_API int dl_declare_pit_generator(dl_client* client, const char* name, const char* material,
+                                    const double lower[3], const double upper[3], double rMin, double rMax,
+                                    double targetHeight, int seed, int* component);
+DL_API int dl_declare_particle_view(dl_client* client, const char* name, double interval, int maxCount,
+                                    int* component);
+
+/* --- Typed exchange (receive the interval that ended, then send; see the top) -------------
+ * Counts are saturated at INT_MAX. Each returns DL_ERR_FINISHED once the simulation ended. */
+/* gravity may be NULL (unchanged); out = time [s], total mass [kg], kinetic energy [J],
+ * step rate [1/s]. */
+DL_API int dl_simulation_box_exchange(dl_client* client, int component, const double gravity[3], double out[4],
+                                      int* particleCount);
+/* pose = x y z qw qx qy qz, twist = vx vy vz wx wy wz; wrenchOut = mean force(3),
+ * mean torque(3), force(3), torque(3) at the interval's end [N, N m]. */
+DL_API int dl_rigid_body_exchange(dl_client* client, int component, const double pose[7], const double twist[6],
+                                  double wrenchOut[12]);
+/* out = mass [kg], centre of mass(3) [m], mean velocity(3) [m/s]. */
+DL_API int dl_region_sensor_read(dl_client* client, int component, int* count, double out[7]);
+/* positive interval, negative interval, positive total, negative total. */
+DL_API int dl_flow_sensor_read(dl_client* client, int component, int counts[4], double masses[4]);
+/* interval, total, shortfall total. */
+DL_API int dl_particle_source_read(dl_client* client, int component, int counts[3], double masses[3]);
+/* interval, total. */
+DL_API int dl_particle_sink_read(dl_client* client, int component, int counts[2], double masses[2]);
+/* positions: 3 * capacity reals, radii: capacity reals; *count = particles listed (at most
+ * capacity are copied). */
+DL_API int dl_particle_view_read(dl_client* client, int component, int capacity, double* positions,
+                                 double* radii, int* count);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* DEMLINK_DEMLINK_C_H */

@@ -1,0 +1,4 @@
+within DEMLink;
+package Basics "Simulation-wide settings"
+  extends Modelica.Icons.Package;
+end Basics;

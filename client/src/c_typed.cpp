@@ -1,0 +1,362 @@
+/// Typed helpers of the C ABI: one declare call per kind and one exchange/read call per
+/// exchanged kind, with scalars and fixed-size arrays a Modelica external function can
+/// pass directly. The exchange calls receive the interval that ended, then send the next
+/// package (why: demlink_c.h, "Blocking and the exchange order").
+#include <climits>
+#include <cmath>
+
+#include "c_internal.hpp"
+
+namespace demlink::client::c_abi {
+namespace {
+
+Vec3 vec(const double* a, const char* what) {
+  if (a == nullptr) throw ArgumentError(std::string(what) + " is NULL");
+  return {a[0], a[1], a[2]};
+}
+
+std::string str(const char* s) { return s != nullptr ? std::string(s) : std::string(); }
+
+/// NaN or negative: "not given" (the server's default).
+bool given(double value) { return !std::isnan(value) && value >= 0.0; }
+
+int clampCount(std::uint64_t count) { return static_cast<int>(std::min<std::uint64_t>(count, INT_MAX)); }
+
+int declareComponent(Client& c, std::unique_ptr<Component> component, double interval, int* handle) {
+  if (handle == nullptr) throw ArgumentError("component (the handle output) is NULL");
+  Session& session = sessionOf(c);
+  if (session.isCompiled()) throw StateError("cannot declare: the simulation is already compiled");
+  if (!std::isfinite(interval) || interval < 0.0) {
+    throw ArgumentError("communication interval must be >= 0 s, got " + std::to_string(interval));
+  }
+  component->setCommunicationInterval(interval);
+  session.adopt(std::move(component));
+  session.declare();
+  *handle = static_cast<int>(session.size() - 1);
+  return DL_OK;
+}
+
+template <class T>
+T& typed(Client& c, int component, const char* kind) {
+  auto* t = dynamic_cast<T*>(&componentOf(c, component));
+  if (t == nullptr) {
+    throw ArgumentError("component " + std::to_string(component) + " is a " + componentOf(c, component).kind() +
+                        ", not a " + kind);
+  }
+  return *t;
+}
+
+/// Receive the answer in flight (if any), read outputs, set inputs, send the next package.
+template <class Read, class Write>
+int exchangeStep(Client& c, Component& component, Read&& readOutputs, Write&& setInputs) {
+  Session& session = sessionOf(c);
+  session.waitCompiled();
+  if (!component.exchanged()) {
+    throw StateError("component '" + component.name() + "' is not exchanged (communication interval 0)");
+  }
+  const auto finished = [&] {
+    return fail(c, DL_ERR_FINISHED, "the simulation has finished: " + session.finishedInfo().reason());
+  };
+  if (session.finished()) return finished();
+  if (component.awaitingAnswer() && !session.receive(component)) return finished();
+  readOutputs();
+  setInputs();
+  // After the last step nothing is due; the server then ends the simulation.
+  if (session.endStep() == 0 || component.nextSendStep() < session.endStep()) session.send(component);
+  return DL_OK;
+}
+
+void copyCounts(const v1::CountAndMass* const* values, int n, int* counts, double* masses) {
+  if (counts == nullptr || masses == nullptr) throw ArgumentError("counts or masses is NULL");
+  for (int i = 0; i < n; ++i) {
+    counts[i] = clampCount(values[i]->count());
+    masses[i] = values[i]->mass();
+  }
+}
+
+}  // namespace
+}  // namespace demlink::client::c_abi
+
+using namespace demlink::client;
+using namespace demlink::client::c_abi;
+
+extern "C" {
+
+int dl_declare_simulation_box(dl_client* client, const char* name, double interval, double timeStep, double endTime,
+                              const double gravity[3], const double boundsLower[3], const double boundsUpper[3],
+                              int expectedCount, int* component) {
+  return guarded(client, [&](Client& c) -> int {
+    auto box = std::make_unique<SimulationBox>(name != nullptr && name[0] != '\0' ? name : "simulation_box");
+    if (given(timeStep)) box->setTimeStep(timeStep);
+    box->setEndTime(endTime);
+    if (gravity != nullptr) box->setInitialGravity(vec(gravity, "gravity"));
+    if ((boundsLower == nullptr) != (boundsUpper == nullptr)) {
+      throw ArgumentError("boundsLower and boundsUpper must both be given or both be NULL");
+    }
+    if (boundsLower != nullptr) box->setBounds(vec(boundsLower, "boundsLower"), vec(boundsUpper, "boundsUpper"));
+    if (expectedCount > 0) box->setExpectedCount(static_cast<std::uint32_t>(expectedCount));
+    return declareComponent(c, std::move(box), interval, component);
+  });
+}
+
+int dl_declare_material(dl_client* client, const char* name, const char* databaseName, double density,
+                        double youngsModulus, double poissonRatio, double restitution, double slidingFriction,
+                        double rollingFriction, int* component) {
+  return guarded(client, [&](Client& c) -> int {
+    auto m = std::make_unique<Material>(str(name));
+    if (!str(databaseName).empty()) m->setDatabaseName(databaseName);
+    if (given(density)) m->setDensity(density);
+    if (given(youngsModulus)) m->setYoungsModulus(youngsModulus);
+    if (given(poissonRatio)) m->setPoissonRatio(poissonRatio);
+    if (given(restitution)) m->setRestitution(restitution);
+    if (given(slidingFriction)) m->setSlidingFriction(slidingFriction);
+    if (given(rollingFriction)) m->setRollingFriction(rollingFriction);
+    return declareComponent(c, std::move(m), 0.0, component);
+  });
+}
+
+int dl_declare_plane(dl_client* client, const char* name, const double point[3], const double normal[3],
+                     const char* material, int* component) {
+  return guarded(client, [&](Client& c) -> int {
+    auto p = std::make_unique<Plane>(str(name));
+    p->setPoint(vec(point, "point")).setNormal(vec(normal, "normal")).setMaterial(str(material));
+    return declareComponent(c, std::move(p), 0.0, component);
+  });
+}
+
+int dl_declare_single_particle(dl_client* client, const char* name, const char* material, const double position[3],
+                               const double velocity[3], double diameter, int* component) {
+  return guarded(client, [&](Client& c) -> int {
+    auto p = std::make_unique<SingleParticle>(str(name));
+    p->setMaterial(str(material)).setPosition(vec(position, "position")).setDiameter(diameter);
+    if (velocity != nullptr) p->setVelocity(vec(velocity, "velocity"));
+    return declareComponent(c, std::move(p), 0.0, component);
+  });
+}
+
+int dl_declare_rigid_body_stl(dl_client* client, const char* name, double interval, const char* stlFile,
+                              const char* material, const double referencePoint[3], const double pose[7], int motion,
+                              int* component) {
+  return guarded(client, [&](Client& c) -> int {
+    if (motion < 0 || motion > 2) throw ArgumentError("motion must be 0, 1 (PREDICTED) or 2 (LAGGED)");
+    auto b = std::make_unique<RigidBody>(str(name));
+    b->setStlFile(str(stlFile)).setMaterial(str(material)).setMotion(static_cast<demlink::v1::RigidBody::Motion>(motion));
+    if (referencePoint != nullptr) b->setReferencePoint(vec(referencePoint, "referencePoint"));
+    if (pose != nullptr) b->setInitialPose(vec(pose, "pose"), {pose[3], pose[4], pose[5], pose[6]});
+    return declareComponent(c, std::move(b), interval, component);
+  });
+}
+
+int dl_declare_rigid_body_box(dl_client* client, const char* name, double interval, const double size[3],
+                              const char* material, const double pose[7], int motion, int* component) {
+  return guarded(client, [&](Client& c) -> int {
+    if (motion < 0 || motion > 2) throw ArgumentError("motion must be 0, 1 (PREDICTED) or 2 (LAGGED)");
+    auto b = std::make_unique<RigidBody>(str(name));
+    b->setBox(vec(size, "size")).setMaterial(str(material)).setMotion(static_cast<demlink::v1::RigidBody::Motion>(motion));
+    if (pose != nullptr) b->setInitialPose(vec(pose, "pose"), {pose[3], pose[4], pose[5], pose[6]});
+    return declareComponent(c, std::move(b), interval, component);
+  });
+}
+
+int dl_declare_region_sensor_box(dl_client* client, const char* name, double interval, const double centre[3],
+                                 const double size[3], const char* attachedTo, int* component) {
+  return guarded(client, [&](Client& c) -> int {
+    auto s = std::make_unique<RegionSensor>(str(name));
+    s->setBox(vec(centre, "centre"), vec(size, "size"));
+    if (!str(attachedTo).empty()) s->attachTo(attachedTo);
+    return declareComponent(c, std::move(s), interval, component);
+  });
+}
+
+int dl_declare_region_sensor_sphere(dl_client* client, const char* name, double interval, const double centre[3],
+                                    double radius, const char* attachedTo, int* component) {
+  return guarded(client, [&](Client& c) -> int {
+    auto s = std::make_unique<RegionSensor>(str(name));
+    s->setSphere(vec(centre, "centre"), radius);
+    if (!str(attachedTo).empty()) s->attachTo(attachedTo);
+    return declareComponent(c, std::move(s), interval, component);
+  });
+}
+
+int dl_declare_flow_sensor_disc(dl_client* client, const char* name, double interval, const double centre[3],
+                                const double normal[3], double radius, const char* attachedTo, int* component) {
+  return guarded(client, [&](Client& c) -> int {
+    auto s = std::make_unique<FlowSensor>(str(name));
+    s->setDisc(vec(centre, "centre"), vec(normal, "normal"), radius);
+    if (!str(attachedTo).empty()) s->attachTo(attachedTo);
+    return declareComponent(c, std::move(s), interval, component);
+  });
+}
+
+int dl_declare_particle_source_box(dl_client* client, const char* name, double interval, const char* material,
+                                   const double centre[3], const double halfExtents[3], double rMin, double rMax,
+                                   double ratePerSecond, double rateKgPerSecond, const double velocity[3], int seed,
+                                   int* component) {
+  return guarded(client, [&](Client& c) -> int {
+    auto s = std::make_unique<ParticleSource>(str(name));
+    s->setMaterial(str(material)).setBox(vec(centre, "centre"), vec(halfExtents, "halfExtents"));
+    s->setRadiusRange(rMin, rMax).setSeed(static_cast<std::uint64_t>(std::max(seed, 0)));
+    if (given(ratePerSecond)) s->setRateParticles(ratePerSecond);
+    if (given(rateKgPerSecond)) s->setRateMass(rateKgPerSecond);
+    if (velocity != nullptr) s->setVelocity(vec(velocity, "velocity"));
+    return declareComponent(c, std::move(s), interval, component);
+  });
+}
+
+int dl_declare_particle_sink_box(dl_client* client, const char* name, double interval, const double centre[3],
+                                 const double size[3], int* component) {
+  return guarded(client, [&](Client& c) -> int {
+    auto s = std::make_unique<ParticleSink>(str(name));
+    s->setBox(vec(centre, "centre"), vec(size, "size"));
+    return declareComponent(c, std::move(s), interval, component);
+  });
+}
+
+int dl_declare_pit_generator(dl_client* client, const char* name, const char* material, const double lower[3],
+                             const double upper[3], double rMin, double rMax, double targetHeight, int seed,
+                             int* component) {
+  return guarded(client, [&](Client& c) -> int {
+    auto p = std::make_unique<PitGenerator>(str(name));
+    p->setMaterial(str(material)).setBox(vec(lower, "lower"), vec(upper, "upper")).setRadiusRange(rMin, rMax);
+    p->setTargetHeight(targetHeight).setSeed(static_cast<std::uint64_t>(std::max(seed, 0)));
+    return declareComponent(c, std::move(p), 0.0, component);
+  });
+}
+
+int dl_declare_particle_view(dl_client* client, const char* name, double interval, int maxCount, int* component) {
+  return guarded(client, [&](Client& c) -> int {
+    auto v = std::make_unique<ParticleView>(str(name));
+    v->setMaxCount(static_cast<std::uint32_t>(std::max(maxCount, 0)));
+    return declareComponent(c, std::move(v), interval, component);
+  });
+}
+
+int dl_simulation_box_exchange(dl_client* client, int component, const double gravity[3], double out[4],
+                               int* particleCount) {
+  return guarded(client, [&](Client& c) -> int {
+    if (out == nullptr || particleCount == nullptr) throw ArgumentError("out or particleCount is NULL");
+    auto& box = typed<SimulationBox>(c, component, "simulation_box");
+    return exchangeStep(
+        c, box,
+        [&] {
+          out[0] = box.time();
+          out[1] = box.totalMass();
+          out[2] = box.kineticEnergy();
+          out[3] = box.stepRate();
+          *particleCount = clampCount(box.particleCount());
+        },
+        [&] {
+          if (gravity != nullptr) box.setGravity(vec(gravity, "gravity"));
+        });
+  });
+}
+
+int dl_rigid_body_exchange(dl_client* client, int component, const double pose[7], const double twist[6],
+                           double wrenchOut[12]) {
+  return guarded(client, [&](Client& c) -> int {
+    if (pose == nullptr || twist == nullptr || wrenchOut == nullptr) throw ArgumentError("pose, twist or wrenchOut is NULL");
+    auto& body = typed<RigidBody>(c, component, "rigid_body");
+    return exchangeStep(
+        c, body,
+        [&] {
+          const Vec3 parts[4] = {body.meanForce(), body.meanTorque(), body.force(), body.torque()};
+          for (int i = 0; i < 4; ++i) {
+            wrenchOut[3 * i] = parts[i].x;
+            wrenchOut[3 * i + 1] = parts[i].y;
+            wrenchOut[3 * i + 2] = parts[i].z;
+          }
+        },
+        [&] {
+          body.setPose({pose[0], pose[1], pose[2]}, {pose[3], pose[4], pose[5], pose[6]});
+          body.setVelocity({twist[0], twist[1], twist[2]}, {twist[3], twist[4], twist[5]});
+        });
+  });
+}
+
+int dl_region_sensor_read(dl_client* client, int component, int* count, double out[7]) {
+  return guarded(client, [&](Client& c) -> int {
+    if (count == nullptr || out == nullptr) throw ArgumentError("count or out is NULL");
+    auto& sensor = typed<RegionSensor>(c, component, "region_sensor");
+    return exchangeStep(
+        c, sensor,
+        [&] {
+          *count = clampCount(sensor.count());
+          const Vec3 com = sensor.centreOfMass();
+          const Vec3 v = sensor.meanVelocity();
+          const double values[7] = {sensor.mass(), com.x, com.y, com.z, v.x, v.y, v.z};
+          std::copy(values, values + 7, out);
+        },
+        [] {});
+  });
+}
+
+int dl_flow_sensor_read(dl_client* client, int component, int counts[4], double masses[4]) {
+  return guarded(client, [&](Client& c) -> int {
+    auto& sensor = typed<FlowSensor>(c, component, "flow_sensor");
+    return exchangeStep(
+        c, sensor,
+        [&] {
+          const auto& o = sensor.outputs().flow_sensor();
+          const demlink::v1::CountAndMass* values[4] = {&o.positive_interval(), &o.negative_interval(), &o.positive_total(),
+                                               &o.negative_total()};
+          copyCounts(values, 4, counts, masses);
+        },
+        [] {});
+  });
+}
+
+int dl_particle_source_read(dl_client* client, int component, int counts[3], double masses[3]) {
+  return guarded(client, [&](Client& c) -> int {
+    auto& source = typed<ParticleSource>(c, component, "particle_source");
+    return exchangeStep(
+        c, source,
+        [&] {
+          const auto& o = source.outputs().particle_source();
+          const demlink::v1::CountAndMass* values[3] = {&o.interval(), &o.total(), &o.shortfall_total()};
+          copyCounts(values, 3, counts, masses);
+        },
+        [] {});
+  });
+}
+
+int dl_particle_sink_read(dl_client* client, int component, int counts[2], double masses[2]) {
+  return guarded(client, [&](Client& c) -> int {
+    auto& sink = typed<ParticleSink>(c, component, "particle_sink");
+    return exchangeStep(
+        c, sink,
+        [&] {
+          const auto& o = sink.outputs().particle_sink();
+          const demlink::v1::CountAndMass* values[2] = {&o.interval(), &o.total()};
+          copyCounts(values, 2, counts, masses);
+        },
+        [] {});
+  });
+}
+
+int dl_particle_view_read(dl_client* client, int component, int capacity, double* positions, double* radii,
+                          int* count) {
+  return guarded(client, [&](Client& c) -> int {
+    if (capacity < 0 || count == nullptr || (capacity > 0 && (positions == nullptr || radii == nullptr))) {
+      throw ArgumentError("particle view: bad capacity or NULL output arrays");
+    }
+    auto& view = typed<ParticleView>(c, component, "particle_view");
+    return exchangeStep(
+        c, view,
+        [&] {
+          const auto& o = view.view();
+          const int listed = o.radii_size();
+          *count = listed;
+          const int n = std::min(listed, capacity);
+          for (int i = 0; i < n; ++i) {
+            for (int k = 0; k < 3; ++k) {
+              const int j = 3 * i + k;
+              positions[j] = j < o.positions_size() ? static_cast<double>(o.positions(j)) : 0.0;
+            }
+            radii[i] = o.radii(i);
+          }
+        },
+        [] {});
+  });
+}
+
+}  // extern "C"

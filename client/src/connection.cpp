@@ -1,0 +1,178 @@
+/// Blocking Connection over standalone Asio with a bound on every call: each operation
+/// is started asynchronously and io_context::run_for() waits at most the remaining time;
+/// an operation still pending then is cancelled by closing the socket (the only portable
+/// way to abort a pending read), so the connection is unusable after a timeout.
+#include "demlink/client/connection.hpp"
+
+#include <array>
+#include <string_view>
+
+#include <asio.hpp>
+
+#include "demlink/wire/frame_codec.hpp"
+
+namespace demlink::client {
+
+ServerError::ServerError(const v1::Error& error)
+    : std::runtime_error("server error " + v1::Error::Code_Name(error.code()) + ": " + error.message() +
+                         (error.component().empty() ? "" : " (component '" + error.component() + "')") +
+                         (error.field().empty() ? "" : " (field " + error.field() + ")")),
+      code_(error.code()),
+      message_(error.message()),
+      component_(error.component()),
+      field_(error.field()),
+      fatal_(error.fatal()) {}
+
+v1::Vector3 toProto(const Vec3& v) {
+  v1::Vector3 out;
+  out.set_x(v.x);
+  out.set_y(v.y);
+  out.set_z(v.z);
+  return out;
+}
+
+v1::Quaternion toProto(const Quat& q) {
+  v1::Quaternion out;
+  out.set_w(q.w);
+  out.set_x(q.x);
+  out.set_y(q.y);
+  out.set_z(q.z);
+  return out;
+}
+
+Vec3 fromProto(const v1::Vector3& v) { return {v.x(), v.y(), v.z()}; }
+
+Quat fromProto(const v1::Quaternion& q, bool present) {
+  if (!present) return {};
+  return {q.w(), q.x(), q.y(), q.z()};
+}
+
+struct Connection::Impl {
+  asio::io_context io;
+  asio::ip::tcp::socket socket{io};
+  wire::FrameDecoder decoder;
+  std::array<char, 64 * 1024> buffer{};
+  bool open = false;
+
+  explicit Impl(std::size_t maxFrame) : decoder(maxFrame) {}
+
+  /// Runs the pending operation for at most `timeout`; on expiry closes the socket, lets
+  /// the cancelled handler run, and throws.
+  void runFor(std::chrono::steady_clock::duration timeout, const char* what) {
+    io.restart();
+    io.run_for(timeout);
+    if (!io.stopped()) {
+      closeSocket();
+      io.restart();
+      io.run();
+      throw TimeoutError(std::string("no ") + what + " within the timeout");
+    }
+  }
+
+  void closeSocket() {
+    std::error_code ignored;
+    socket.shutdown(asio::ip::tcp::socket::shutdown_both, ignored);
+    socket.close(ignored);
+    open = false;
+  }
+};
+
+Connection::Connection() = default;
+Connection::~Connection() { close(); }
+
+const v1::Welcome& Connection::connect(const std::string& host, std::uint16_t port, const ConnectOptions& options) {
+  if (impl_ && impl_->open) throw StateError("Connection::connect: already connected");
+  options_ = options;
+  impl_ = std::make_unique<Impl>(options.max_frame_bytes);
+
+  asio::ip::tcp::resolver resolver(impl_->io);
+  std::error_code ec;
+  const auto endpoints = resolver.resolve(host, std::to_string(port), ec);
+  if (ec) throw ConnectionError("cannot resolve host '" + host + "': " + ec.message());
+
+  std::error_code connectError = asio::error::would_block;
+  asio::async_connect(impl_->socket, endpoints,
+                      [&](const std::error_code& e, const asio::ip::tcp::endpoint&) { connectError = e; });
+  impl_->runFor(options_.timeout, "connection");
+  if (connectError) {
+    impl_->closeSocket();
+    throw ConnectionError("cannot connect to " + host + ":" + std::to_string(port) + ": " + connectError.message());
+  }
+  impl_->open = true;
+  // Small packages every interval: Nagle's algorithm would delay each by up to 40 ms.
+  impl_->socket.set_option(asio::ip::tcp::no_delay(true), ec);
+
+  v1::ClientMessage hello;
+  hello.mutable_hello()->set_protocol_version(v1::PROTOCOL_VERSION_CURRENT);
+  hello.mutable_hello()->set_client_name(options_.client_name);
+  hello.mutable_hello()->set_access_token(options_.access_token);
+  send(hello);
+  v1::ServerMessage answer = receive();
+  if (!answer.has_welcome()) {
+    close();
+    throw ConnectionError("expected Welcome after Hello, got message case " +
+                          std::to_string(static_cast<int>(answer.message_case())));
+  }
+  welcome_ = answer.welcome();
+  return welcome_;
+}
+
+void Connection::send(const v1::ClientMessage& message) {
+  if (!isOpen()) throw ConnectionError("send on a closed connection");
+  const std::string frame = wire::encodeFrame(message);
+  std::error_code writeError = asio::error::would_block;
+  asio::async_write(impl_->socket, asio::buffer(frame),
+                    [&](const std::error_code& e, std::size_t) { writeError = e; });
+  impl_->runFor(options_.timeout, "send completion");
+  if (writeError) {
+    impl_->closeSocket();
+    throw ConnectionError("send failed: " + writeError.message());
+  }
+}
+
+v1::ServerMessage Connection::receive() {
+  if (!impl_) throw ConnectionError("receive on a connection that was never opened");
+  const auto deadline = std::chrono::steady_clock::now() + options_.timeout;
+  for (;;) {
+    // A frame may already be buffered (several messages can arrive in one read).
+    if (std::optional<std::string> payload = impl_->decoder.next()) {
+      v1::ServerMessage message;
+      if (!wire::parsePayload(*payload, message)) {
+        impl_->closeSocket();
+        throw ConnectionError("the server sent a frame that is not a ServerMessage");
+      }
+      if (message.has_error()) {
+        if (message.error().fatal()) impl_->closeSocket();
+        throw ServerError(message.error());
+      }
+      return message;
+    }
+    if (impl_->decoder.error() != wire::FrameError::None) {
+      impl_->closeSocket();
+      throw ConnectionError("bad frame from the server: " + impl_->decoder.errorMessage());
+    }
+    if (!impl_->open) throw ConnectionError("receive on a closed connection");
+    std::error_code readError = asio::error::would_block;
+    std::size_t received = 0;
+    impl_->socket.async_read_some(asio::buffer(impl_->buffer), [&](const std::error_code& e, std::size_t n) {
+      readError = e;
+      received = n;
+    });
+    impl_->runFor(std::max(deadline - std::chrono::steady_clock::now(), std::chrono::steady_clock::duration::zero()),
+                  "message from the server");
+    if (readError) {
+      impl_->closeSocket();
+      if (readError == asio::error::eof) throw ConnectionError("the server closed the connection");
+      throw ConnectionError("receive failed: " + readError.message());
+    }
+    impl_->decoder.feed(std::string_view(impl_->buffer.data(), received));
+  }
+}
+
+void Connection::close() {
+  if (impl_) impl_->closeSocket();
+}
+
+bool Connection::isOpen() const { return impl_ && impl_->open; }
+
+}  // namespace demlink::client

@@ -1,0 +1,144 @@
+/// Typed setters and getters of sources, sinks and pit generators (see the header).
+#include "demlink/client/particle_components.hpp"
+
+#include <utility>
+
+namespace demlink::client {
+namespace {
+
+CountAndMass fromProto(const v1::CountAndMass& value) { return {value.count(), value.mass()}; }
+
+void setBoxVolume(v1::Volume& volume, const Vec3& centre, const Vec3& size, const Quat& orientation) {
+  auto* box = volume.mutable_box();
+  *box->mutable_centre() = toProto(centre);
+  *box->mutable_size() = toProto(size);
+  *box->mutable_orientation() = toProto(orientation);
+}
+
+}  // namespace
+
+ParticleSource::ParticleSource(std::string name) : Component(std::move(name)) {
+  declaration().mutable_particle_source();
+}
+ParticleSource& ParticleSource::setMaterial(const std::string& material) {
+  message().set_material(material);
+  return *this;
+}
+ParticleSource& ParticleSource::setRadius(double metres) {
+  message().mutable_sizes()->set_radius(metres);
+  return *this;
+}
+ParticleSource& ParticleSource::setRadiusRange(double rMin, double rMax) {
+  auto* range = message().mutable_sizes()->mutable_uniform();
+  range->set_r_min(rMin);
+  range->set_r_max(rMax);
+  return *this;
+}
+ParticleSource& ParticleSource::setBox(const Vec3& centre, const Vec3& halfExtents, const Quat& orientation) {
+  auto* box = message().mutable_box();
+  *box->mutable_centre() = toProto(centre);
+  *box->mutable_half_extents() = toProto(halfExtents);
+  *box->mutable_orientation() = toProto(orientation);
+  return *this;
+}
+ParticleSource& ParticleSource::setDisc(const Vec3& centre, const Vec3& normal, double radius, double thickness) {
+  auto* disc = message().mutable_disc();
+  *disc->mutable_centre() = toProto(centre);
+  *disc->mutable_normal() = toProto(normal);
+  disc->set_radius(radius);
+  disc->set_thickness(thickness);
+  return *this;
+}
+ParticleSource& ParticleSource::setRateParticles(double perSecond) {
+  message().clear_rate_kg_per_s();
+  message().set_rate_particles_per_s(perSecond);
+  return *this;
+}
+ParticleSource& ParticleSource::setRateMass(double kgPerSecond) {
+  message().clear_rate_particles_per_s();
+  message().set_rate_kg_per_s(kgPerSecond);
+  return *this;
+}
+ParticleSource& ParticleSource::setStartTime(double seconds) {
+  message().set_start_time(seconds);
+  return *this;
+}
+ParticleSource& ParticleSource::setStopTime(double seconds) {
+  message().set_stop_time(seconds);
+  return *this;
+}
+ParticleSource& ParticleSource::setVelocity(const Vec3& velocity) {
+  *message().mutable_velocity() = toProto(velocity);
+  return *this;
+}
+ParticleSource& ParticleSource::setSeed(std::uint64_t seed) {
+  message().set_seed(seed);
+  return *this;
+}
+ParticleSource& ParticleSource::attachTo(const std::string& meshComponent) {
+  message().set_attached_mesh(meshComponent);
+  return *this;
+}
+CountAndMass ParticleSource::insertedInterval() const { return fromProto(outputs().particle_source().interval()); }
+CountAndMass ParticleSource::insertedTotal() const { return fromProto(outputs().particle_source().total()); }
+CountAndMass ParticleSource::shortfallTotal() const {
+  return fromProto(outputs().particle_source().shortfall_total());
+}
+
+ParticleSink::ParticleSink(std::string name) : Component(std::move(name)) { declaration().mutable_particle_sink(); }
+ParticleSink& ParticleSink::setBox(const Vec3& centre, const Vec3& size, const Quat& orientation) {
+  setBoxVolume(*message().mutable_region(), centre, size, orientation);
+  return *this;
+}
+ParticleSink& ParticleSink::setSphere(const Vec3& centre, double radius) {
+  auto* sphere = message().mutable_region()->mutable_sphere();
+  *sphere->mutable_centre() = toProto(centre);
+  sphere->set_radius(radius);
+  return *this;
+}
+ParticleSink& ParticleSink::attachTo(const std::string& meshComponent) {
+  message().mutable_region()->set_attached_to(meshComponent);
+  return *this;
+}
+ParticleSink& ParticleSink::setSampleInterval(double seconds) {
+  message().set_sample_interval(seconds);
+  return *this;
+}
+void ParticleSink::prepareDeclaration() {
+  if (message().sample_interval() == 0.0 && message().sample_every_steps() == 0) {
+    message().set_sample_interval(communicationInterval());
+  }
+}
+CountAndMass ParticleSink::removedInterval() const { return fromProto(outputs().particle_sink().interval()); }
+CountAndMass ParticleSink::removedTotal() const { return fromProto(outputs().particle_sink().total()); }
+
+PitGenerator::PitGenerator(std::string name) : Component(std::move(name)) { declaration().mutable_pit_generator(); }
+PitGenerator& PitGenerator::setMaterial(const std::string& material) {
+  message().set_material(material);
+  return *this;
+}
+PitGenerator& PitGenerator::setRadius(double metres) {
+  message().mutable_sizes()->set_radius(metres);
+  return *this;
+}
+PitGenerator& PitGenerator::setRadiusRange(double rMin, double rMax) {
+  auto* range = message().mutable_sizes()->mutable_uniform();
+  range->set_r_min(rMin);
+  range->set_r_max(rMax);
+  return *this;
+}
+PitGenerator& PitGenerator::setBox(const Vec3& lower, const Vec3& upper) {
+  *message().mutable_lower() = toProto(lower);
+  *message().mutable_upper() = toProto(upper);
+  return *this;
+}
+PitGenerator& PitGenerator::setTargetHeight(double metres) {
+  message().set_target_height(metres);
+  return *this;
+}
+PitGenerator& PitGenerator::setSeed(std::uint64_t seed) {
+  message().set_seed(seed);
+  return *this;
+}
+
+}  // namespace demlink::client

@@ -1,0 +1,250 @@
+/// The C ABI against the scripted fake server: the generic package layout both ways, the
+/// typed helpers' receive-then-send order, status codes and messages, and the Modelica
+/// call sequence program.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "demlink/demlink_c.h"
+#include "fake_server_process.hpp"
+
+namespace {
+
+using demlink::testing::FakeServerProcess;
+using demlink::testing::readLines;
+
+constexpr int kInvalidDeclaration = 8;  // demlink.v1.Error.INVALID_DECLARATION
+
+std::string logFile(const char* name) { return ::testing::TempDir() + "demlink_c_abi_" + name + ".log"; }
+
+bool contains(const std::vector<std::string>& lines, const std::string& prefix, const std::string& text) {
+  for (const auto& l : lines) {
+    if (l.rfind(prefix, 0) == 0 && l.find(text) != std::string::npos) return true;
+  }
+  return false;
+}
+
+struct ClientGuard {
+  dl_client* client = dl_client_create();
+  ~ClientGuard() { dl_client_destroy(client); }
+};
+struct PackageGuard {
+  dl_package* package = dl_package_create();
+  ~PackageGuard() { dl_package_destroy(package); }
+};
+
+std::vector<long long> ints(dl_package* p) {
+  int n = 0;
+  EXPECT_EQ(dl_get_ints(p, nullptr, 0, &n), DL_OK);
+  std::vector<long long> out(static_cast<std::size_t>(n));
+  EXPECT_EQ(dl_get_ints(p, out.data(), n, &n), DL_OK);
+  return out;
+}
+std::vector<double> reals(dl_package* p) {
+  int n = 0;
+  EXPECT_EQ(dl_get_reals(p, nullptr, 0, &n), DL_OK);
+  std::vector<double> out(static_cast<std::size_t>(n));
+  EXPECT_EQ(dl_get_reals(p, out.data(), n, &n), DL_OK);
+  return out;
+}
+std::vector<std::string> strings(dl_package* p) {
+  int n = 0;
+  EXPECT_EQ(dl_get_strings(p, nullptr, 0, &n), DL_OK);
+  std::vector<const char*> raw(static_cast<std::size_t>(n));
+  EXPECT_EQ(dl_get_strings(p, raw.data(), n, &n), DL_OK);
+  return {raw.begin(), raw.end()};
+}
+
+// Declare a rigid body and a region sensor with generic packages, send inputs, receive
+// outputs: every documented index must land in the right protobuf field and back.
+TEST(ClientCAbi, GenericPackagesFollowTheDocumentedLayout) {
+  const std::string log = logFile("generic");
+  FakeServerProcess server(1, 2, log);
+  ASSERT_NE(server.port(), 0);
+
+  ClientGuard c;
+  PackageGuard pkg;
+  ASSERT_EQ(dl_connect_to_host(c.client, "127.0.0.1", server.port(), "generic", nullptr), DL_OK) << dl_last_error(c.client);
+
+  const char* bodyStrings[] = {"rigid_body", "bucket", "steel", ""};
+  const long long bodyInts[] = {1, 2};  // box geometry, LAGGED
+  const double bodyReals[] = {0.002, 0.1, 0.2, 0.3, 1.0, 2.0, 3.0, 1.0, 0.0, 0.0, 0.0, 0.8, 0.6, 0.4};
+  ASSERT_EQ(dl_set_data(pkg.package, bodyInts, 2, bodyReals, 14, bodyStrings, 4), DL_OK);
+  ASSERT_EQ(dl_send_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
+
+  const char* sensorStrings[] = {"region_sensor", "fill", "bucket"};
+  const long long sensorInts[] = {1};  // sphere
+  const double sensorReals[] = {0.001, 0.0, 0.0, 0.25, 0.4};
+  ASSERT_EQ(dl_set_data(pkg.package, sensorInts, 1, sensorReals, 5, sensorStrings, 3), DL_OK);
+  ASSERT_EQ(dl_send_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
+
+  // Initial outputs without waiting, once compiled.
+  ASSERT_EQ(dl_wait_compiled(c.client), DL_OK) << dl_last_error(c.client);
+  long long steps = 0;
+  ASSERT_EQ(dl_component_interval_steps(c.client, 0, &steps), DL_OK);
+  EXPECT_EQ(steps, 2);
+  ASSERT_EQ(dl_get_outputs(c.client, 1, pkg.package), DL_OK);
+  EXPECT_EQ(strings(pkg.package), (std::vector<std::string>{"region_sensor", "fill"}));
+  EXPECT_EQ(ints(pkg.package), (std::vector<long long>{1, 0, 2}));  // handle, step 0, count = 0*10 + id 2
+
+  // Inputs at step 0: the body's 13 reals, the sensor's empty package.
+  const long long bodyHandle[] = {0};
+  const double input[] = {0.5, -0.5, 2.0, 0.0, 1.0, 0.0, 0.0, 0.1, 0.2, 0.3, 0.0, 0.0, 1.5};
+  ASSERT_EQ(dl_set_data(pkg.package, bodyHandle, 1, input, 13, nullptr, 0), DL_OK);
+  ASSERT_EQ(dl_send_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
+  const long long sensorHandle[] = {1};
+  ASSERT_EQ(dl_set_data(pkg.package, sensorHandle, 1, nullptr, 0, nullptr, 0), DL_OK);
+  ASSERT_EQ(dl_send_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
+
+  // The sensor (1 step) answers first, at step 1; the body at step 2 needs the sensor's
+  // step-1 package, so the generic caller sends it before receiving again.
+  ASSERT_EQ(dl_recv_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
+  EXPECT_EQ(strings(pkg.package), (std::vector<std::string>{"region_sensor", "fill"}));
+  EXPECT_EQ(ints(pkg.package), (std::vector<long long>{1, 1, 12}));
+  EXPECT_EQ(reals(pkg.package), (std::vector<double>{0.25, 1.0, 0.0, 1.0, 0.0, -1.0, 0.0}));
+  ASSERT_EQ(dl_set_data(pkg.package, sensorHandle, 1, nullptr, 0, nullptr, 0), DL_OK);
+  ASSERT_EQ(dl_send_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
+
+  ASSERT_EQ(dl_recv_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
+  EXPECT_EQ(strings(pkg.package), (std::vector<std::string>{"rigid_body", "bucket"}));
+  EXPECT_EQ(ints(pkg.package), (std::vector<long long>{0, 2}));
+  const std::vector<double> expected{2.0, 1.0, 2.0,  3.0, 4.0, 5.0,   6.0, 7.0, 8.0, 9.0,
+                                     10.0, 2.5, 0.5, -0.5, 2.0, 0.0, 1.0, 0.0, 0.0};
+  EXPECT_EQ(reals(pkg.package), expected);
+
+  // A too small output array: the prefix is copied and the status says so.
+  double two[2] = {0.0, 0.0};
+  int count = 0;
+  EXPECT_EQ(dl_get_reals(pkg.package, two, 2, &count), DL_ERR_CAPACITY);
+  EXPECT_EQ(count, 19);
+  EXPECT_EQ(two[1], 1.0);
+
+  EXPECT_EQ(dl_finish(c.client, "done"), DL_OK);
+  EXPECT_EQ(dl_wait_finished(c.client), DL_OK) << dl_last_error(c.client);
+  EXPECT_STREQ(dl_finished_reason(c.client), "client said Bye");
+  ASSERT_EQ(server.wait(), 0);
+
+  // What the server received, field by field (protobuf's text form of each declaration).
+  const auto lines = readLines(log);
+  EXPECT_TRUE(contains(lines, "DECL bucket", "communication_interval: 0.002"));
+  EXPECT_TRUE(contains(lines, "DECL bucket", "material: \"steel\""));
+  EXPECT_TRUE(contains(lines, "DECL bucket", "motion: LAGGED"));
+  EXPECT_TRUE(contains(lines, "DECL bucket", "reference_point { x: 0.1 y: 0.2 z: 0.3 }"));
+  EXPECT_TRUE(contains(lines, "DECL bucket", "position { x: 1 y: 2 z: 3 }"));
+  EXPECT_TRUE(contains(lines, "DECL bucket", "box { size { x: 0.8 y: 0.6 z: 0.4 } }"));
+  EXPECT_TRUE(contains(lines, "DECL fill", "sphere { centre { z: 0.25 } radius: 0.4 }"));
+  EXPECT_TRUE(contains(lines, "DECL fill", "attached_to: \"bucket\""));
+  EXPECT_TRUE(contains(lines, "DECL fill", "sample_interval: 0.001"));  // filled from the interval
+  EXPECT_TRUE(contains(lines, "0:bucket", ""));
+}
+
+// Typed helpers: each exchange returns the interval that just ended (initial outputs at
+// the first call) and then sends; two components with intervals 1 and 2 steps.
+TEST(ClientCAbi, TypedHelpersReceiveThenSend) {
+  const std::string logPath = logFile("typed");
+  FakeServerProcess server(1, 2, logPath);
+  ASSERT_NE(server.port(), 0);
+
+  ClientGuard c;
+  ASSERT_EQ(dl_connect_to_host(c.client, "127.0.0.1", server.port(), "typed", ""), DL_OK) << dl_last_error(c.client);
+  int body = -1;
+  int sensor = -1;
+  const double size[3] = {1.0, 1.0, 1.0};
+  const double pose[7] = {0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 0.0};
+  ASSERT_EQ(dl_declare_rigid_body_box(c.client, "body", 0.001, size, "steel", pose, 0, &body), DL_OK);
+  const double centre[3] = {0.0, 0.0, 0.0};
+  ASSERT_EQ(dl_declare_region_sensor_box(c.client, "sensor", 0.002, centre, size, "body", &sensor), DL_OK);
+  EXPECT_EQ(body, 0);
+  EXPECT_EQ(sensor, 1);
+
+  for (int k = 0; k < 6; ++k) {
+    double p[7] = {0.1 * k, 0.0, 1.0, 1.0, 0.0, 0.0, 0.0};
+    const double twist[6] = {0.1, 0.0, 0.0, 0.0, 0.0, 0.0};
+    double wrench[12] = {};
+    ASSERT_EQ(dl_rigid_body_exchange(c.client, body, p, twist, wrench), DL_OK) << dl_last_error(c.client);
+    EXPECT_EQ(wrench[0], static_cast<double>(k));  // mean force x encodes the step
+    EXPECT_EQ(wrench[11], k + 0.5);
+    if (k % 2 == 0) {
+      int count = -1;
+      double out[7];
+      ASSERT_EQ(dl_region_sensor_read(c.client, sensor, &count, out), DL_OK) << dl_last_error(c.client);
+      EXPECT_EQ(count, k * 10 + 2);
+      EXPECT_EQ(out[0], 0.25 * k);
+    }
+  }
+  EXPECT_EQ(dl_finish(c.client, nullptr), DL_OK);
+  ASSERT_EQ(server.wait(), 0);
+  std::vector<std::string> log;
+  for (const auto& line : readLines(logPath)) {
+    if (line.rfind("DECL", 0) != 0) log.push_back(line);
+  }
+  const std::vector<std::string> expectedLog{"0:body", "0:sensor", "1:body", "2:body", "2:sensor", "3:body",
+                                             "4:body", "4:sensor", "5:body"};
+  EXPECT_EQ(log, expectedLog);
+}
+
+TEST(ClientCAbi, StatusCodesAndMessages) {
+  // Refused connection.
+  // A port nobody listens on: a finished fake server's.
+  std::uint16_t port = 0;
+  {
+    FakeServerProcess closed(1, 1, logFile("closed"));
+    port = closed.port();
+    (void)closed.wait(std::chrono::milliseconds(0));  // killed: the port is free again
+  }
+  ClientGuard refused;
+  EXPECT_EQ(dl_connect_to_host(refused.client, "127.0.0.1", port, "x", nullptr), DL_ERR_CONNECT);
+  EXPECT_NE(std::string(dl_last_error(refused.client)).find("cannot connect"), std::string::npos);
+  // Calls in the wrong state or with wrong handles.
+  int handle = -1;
+  EXPECT_EQ(dl_declare_particle_view(refused.client, "v", 0.001, 10, &handle), DL_ERR_STATE);
+  EXPECT_NE(std::string(dl_last_error(refused.client)).find("not connected"), std::string::npos);
+  PackageGuard pkg;
+  EXPECT_EQ(dl_send_package(pkg.package, pkg.package), DL_ERR_ARGUMENT);  // a package is no client
+  EXPECT_EQ(dl_send_package(refused.client, nullptr), DL_ERR_ARGUMENT);
+  EXPECT_EQ(dl_set_data(refused.client, nullptr, 0, nullptr, 0, nullptr, 0), DL_ERR_ARGUMENT);
+  EXPECT_EQ(dl_connect_to_host(refused.client, "127.0.0.1", 70000, "x", nullptr), DL_ERR_ARGUMENT);
+  EXPECT_STREQ(dl_last_error(nullptr), "invalid client handle");
+
+  // The server's Error: code, field and message reach the caller.
+  FakeServerProcess server(1, 1, logFile("errors"));
+  ClientGuard c;
+  ASSERT_EQ(dl_set_timeout(c.client, 3.0), DL_OK);
+  ASSERT_EQ(dl_connect_to_host(c.client, "127.0.0.1", server.port(), "errors", ""), DL_OK);
+  int box = -1;
+  ASSERT_EQ(dl_declare_simulation_box(c.client, "box", 0.0, 1e-3, 0.0, nullptr, nullptr, nullptr, 1, &box), DL_OK);
+  EXPECT_EQ(dl_wait_compiled(c.client), DL_ERR_SERVER);
+  EXPECT_EQ(dl_last_server_error_code(c.client), kInvalidDeclaration);
+  EXPECT_STREQ(dl_last_server_error_field(c.client), "simulation_box.end_time");
+  EXPECT_STREQ(dl_last_server_error_component(c.client), "box");
+  EXPECT_NE(std::string(dl_last_error(c.client)).find("end_time must be > 0"), std::string::npos);
+  EXPECT_EQ(server.wait(), 0);
+
+  // An unknown kind in a generic declaration names the kinds that exist (the layout is
+  // checked before anything is sent, so no server is needed).
+  const char* bad[] = {"tracker", "t"};
+  ASSERT_EQ(dl_set_data(pkg.package, nullptr, 0, nullptr, 0, bad, 2), DL_OK);
+  EXPECT_EQ(dl_send_package(refused.client, pkg.package), DL_ERR_ARGUMENT);
+  EXPECT_NE(std::string(dl_last_error(refused.client)).find("'tracker' has no generic layout"), std::string::npos);
+}
+
+// The C program that makes the Modelica package's calls, against the fake scheduler with
+// one connection per component.
+TEST(ClientCAbi, ModelicaSequenceProgramRunsAgainstTheFakeServer) {
+  const std::string logPath = logFile("modelica");
+  FakeServerProcess server(5, 5, logPath);
+  ASSERT_NE(server.port(), 0);
+  const std::string command = std::string("timeout 20 ") + DEMLINK_MODELICA_SEQUENCE_EXE + " 127.0.0.1 " +
+                              std::to_string(server.port()) + " 12 fake";
+  EXPECT_EQ(std::system(command.c_str()), 0) << command;
+  ASSERT_EQ(server.wait(), 0);
+  std::size_t packages = 0;
+  for (const auto& line : readLines(logPath)) packages += line.rfind("DECL", 0) == 0 ? 0U : 1U;
+  // 12 samples of box, bucket and feeder (interval 2 steps) and 6 of the sensor (4 steps).
+  EXPECT_EQ(packages, 12U * 3U + 6U);
+}
+
+}  // namespace
