@@ -181,7 +181,14 @@ int run(int argc, char** argv) {
 
   if (line.replay) {
 #if DEMLINK_HAVE_REPLAY
-    static_cast<void>(demlink::server::replaySession(*line.replay, options));
+    const demlink::server::ReplayResult result = demlink::server::replaySession(*line.replay, options);
+    // Errors are part of the recorded session (the live run saw them too), not a replay failure.
+    for (const demlink::v1::Error& error : result.errors) {
+      spdlog::warn("replayed error {}: {}", demlink::v1::Error::Code_Name(error.code()), error.message());
+    }
+    std::printf("replayed %llu events, %llu simulation(s); last output in %s\n",
+                static_cast<unsigned long long>(result.events), static_cast<unsigned long long>(result.simulations),
+                result.output_directory.string().c_str());
     return 0;
 #else
     throw InputError("--replay", *line.replay, "session replay is not part of this build");
