@@ -21,7 +21,8 @@ if (($# > 0)); then
 else
   targets=(fuzz_frame_decoder)
   # Only once the CoSimulationHost implementation is part of the tree (tests/fuzz/CMakeLists.txt).
-  if cmake --build "$build" --target help | grep -q '^fuzz_cosim_host:'; then targets+=(fuzz_cosim_host); fi
+  known=$(cmake --build "$build" --target help)  # not piped into grep -q: SIGPIPE + pipefail
+  if [[ "$known" == *$'\n'fuzz_cosim_host:* ]]; then targets+=(fuzz_cosim_host); fi
 fi
 cmake --build "$build" -j2 --target "${targets[@]}"
 

@@ -99,6 +99,7 @@ char selector(int action, int slot) { return static_cast<char>(action * 3 + slot
 
 extern "C" int LLVMFuzzerInitialize(int* /*argc*/, char*** /*argv*/) {
   using namespace demlink;
+  fuzz::silenceProtobufLog();
   const v1::Scene scene = server::parseSceneJson(fuzz::kSeedSceneJson, "seed scene");
   std::string declareAll;  // Hello and the four declarations on slot 0 (compiles on count)
   declareAll += selector(0, 0) + wire::encodeFrame(fuzz::helloMessage("seed"));

@@ -34,6 +34,7 @@ void roundTrip(const demlink::v1::ClientMessage& message) {
 
 extern "C" int LLVMFuzzerInitialize(int* /*argc*/, char*** /*argv*/) {
   using namespace demlink;
+  fuzz::silenceProtobufLog();
   std::string frames;
   wire::appendFrame(fuzz::helloMessage("seed"), frames);
   wire::appendFrame(fuzz::dataMessage(2, 40), frames);

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include <google/protobuf/stubs/logging.h>
+
 #include "demlink/v1/protocol.pb.h"
 #include "demlink/wire/frame_codec.hpp"
 
@@ -44,6 +46,10 @@ inline v1::ClientMessage byeMessage() {
   message.mutable_bye()->set_reason("seed");
   return message;
 }
+
+/// Protobuf logs every string field with invalid UTF-8 it refuses to parse; for a fuzzer that
+/// is most inputs, and the log would drown libFuzzer's own output.
+inline void silenceProtobufLog() { google::protobuf::SetLogHandler(nullptr); }
 
 /// Writes each seed as DIR/seed_NNN and exits, when DEMLINK_FUZZ_WRITE_SEEDS is set.
 inline void writeSeedsIfAsked(const std::vector<std::string>& seeds) {
