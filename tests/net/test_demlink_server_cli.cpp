@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "demlink/server/scene_loader.hpp"
 #include "test_client.hpp"
 
 namespace demlink::server::test {
@@ -61,54 +62,139 @@ TEST(DemlinkServerCli, HelpExitsZero) {
   EXPECT_NE(result.output.find("--max-frame-bytes"), std::string::npos) << result.output;
 }
 
-/// Starts the server on an ephemeral port, reads the port from its first line, sends SIGINT.
-TEST(DemlinkServerCli, ListensOnAnEphemeralPortAndExitsZeroOnSigint) {
-  int fds[2];
-  ASSERT_EQ(pipe(fds), 0);
-  const std::string output = ::testing::TempDir() + "demlink_server_cli_out";
-  const pid_t child = fork();
-  ASSERT_NE(child, -1);
-  if (child == 0) {
-    dup2(fds[1], STDOUT_FILENO);
-    close(fds[0]);
+/// demlink-server as a child process on an ephemeral port; the port is read from its first
+/// line with a bounded wait, so a server that never starts fails the test.
+class ServerProcess {
+ public:
+  explicit ServerProcess(const std::vector<std::string>& arguments) {
+    int fds[2];
+    if (pipe(fds) != 0) return;
+    std::vector<std::string> line = {DEMLINK_SERVER_EXE, "--port", "0"};
+    line.insert(line.end(), arguments.begin(), arguments.end());
+    std::vector<char*> argv;
+    for (std::string& argument : line) argv.push_back(argument.data());
+    argv.push_back(nullptr);
+    pid_ = fork();
+    if (pid_ == 0) {
+      dup2(fds[1], STDOUT_FILENO);
+      close(fds[0]);
+      close(fds[1]);
+      execv(DEMLINK_SERVER_EXE, argv.data());
+      _exit(127);
+    }
     close(fds[1]);
-    execl(DEMLINK_SERVER_EXE, DEMLINK_SERVER_EXE, "--port", "0", "--output", output.c_str(),
-          static_cast<char*>(nullptr));
-    _exit(127);
+    out_ = fds[0];
+    const TestClock::time_point deadline = TestClock::now() + kTimeout;
+    while (first_line_.find('\n') == std::string::npos && TestClock::now() < deadline) {
+      fd_set readable;
+      FD_ZERO(&readable);
+      FD_SET(out_, &readable);
+      timeval wait{0, 100000};
+      if (select(out_ + 1, &readable, nullptr, nullptr, &wait) <= 0) continue;
+      char byte = 0;
+      if (read(out_, &byte, 1) != 1) break;
+      first_line_.push_back(byte);
+    }
+    const std::string prefix = "demlink-server listening on 127.0.0.1:";
+    if (first_line_.starts_with(prefix)) port_ = static_cast<std::uint16_t>(std::atoi(first_line_.c_str() + prefix.size()));
   }
-  close(fds[1]);
-  // The first line, read with a bounded wait so a server that never starts fails the test.
-  std::string firstLine;
-  const TestClock::time_point deadline = TestClock::now() + kTimeout;
-  while (firstLine.find('\n') == std::string::npos && TestClock::now() < deadline) {
-    fd_set readable;
-    FD_ZERO(&readable);
-    FD_SET(fds[0], &readable);
-    timeval wait{0, 100000};
-    if (select(fds[0] + 1, &readable, nullptr, nullptr, &wait) <= 0) continue;
-    char byte = 0;
-    if (read(fds[0], &byte, 1) != 1) break;
-    firstLine.push_back(byte);
+  ~ServerProcess() {
+    if (pid_ > 0 && exit_status_ < 0) {
+      kill(pid_, SIGKILL);
+      waitpid(pid_, nullptr, 0);
+    }
+    if (out_ >= 0) close(out_);
   }
-  const std::string prefix = "demlink-server listening on 127.0.0.1:";
-  const bool started = firstLine.starts_with(prefix);
-  EXPECT_TRUE(started) << firstLine;
-  if (started) {
-    const int port = std::atoi(firstLine.c_str() + prefix.size());
-    EXPECT_GT(port, 0);
-    TestClient client(static_cast<std::uint16_t>(port));
-    EXPECT_TRUE(client.hello().has_value()) << "the server answers Hello";
+  ServerProcess(const ServerProcess&) = delete;
+  ServerProcess& operator=(const ServerProcess&) = delete;
+
+  /// 0 if the first line did not announce a port.
+  [[nodiscard]] std::uint16_t port() const { return port_; }
+  [[nodiscard]] const std::string& firstLine() const { return first_line_; }
+  void signal(int number) const { kill(pid_, number); }
+  /// The exit code, or -1 if the process did not exit within the timeout (it is killed).
+  int waitForExit() {
+    int status = 0;
+    for (int k = 0; k < 300; ++k) {
+      if (waitpid(pid_, &status, WNOHANG) == pid_) {
+        exit_status_ = WIFEXITED(status) ? WEXITSTATUS(status) : 128;
+        return exit_status_;
+      }
+      usleep(10000);
+    }
+    return -1;
   }
-  kill(child, SIGINT);
-  int status = -1;
-  for (int k = 0; k < 300 && waitpid(child, &status, WNOHANG) == 0; ++k) usleep(10000);
-  if (waitpid(child, &status, WNOHANG) == 0) {
-    kill(child, SIGKILL);
-    waitpid(child, &status, 0);
-    ADD_FAILURE() << "demlink-server did not exit within 3 s of SIGINT";
+
+ private:
+  pid_t pid_ = -1;
+  int out_ = -1;
+  std::string first_line_;
+  std::uint16_t port_ = 0;
+  int exit_status_ = -1;
+};
+
+TEST(DemlinkServerCli, ListensOnAnEphemeralPortAndExitsZeroOnSigint) {
+  ServerProcess server({"--output", ::testing::TempDir() + "demlink_server_cli_sigint"});
+  ASSERT_GT(server.port(), 0) << server.firstLine();
+  {
+    TestClient client(server.port());
+    const std::optional<v1::ServerMessage> welcome = client.hello();
+    ASSERT_TRUE(welcome.has_value());
+    EXPECT_TRUE(welcome->has_welcome()) << welcome->DebugString();
   }
-  close(fds[0]);
-  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "status " << status;
+  server.signal(SIGINT);
+  EXPECT_EQ(server.waitForExit(), 0) << "SIGINT must end the server cleanly within 3 s";
+}
+
+/// The whole path with the real host: Hello, Declare, Compiled, the box's exchanges up to
+/// the end step, Finished, and --once ending the process with exit code 0.
+TEST(DemlinkServerCli, OnceRunsOneSimulationOverTcpAndExits) {
+  ServerProcess server({"--once", "--output", ::testing::TempDir() + "demlink_server_cli_once"});
+  ASSERT_GT(server.port(), 0) << server.firstLine();
+  TestClient client(server.port());
+  ASSERT_TRUE(client.hello().has_value());
+  // The box expects all four components, so compilation needs no quiet period.
+  const v1::Scene scene = parseSceneJson(R"({"components": [
+    {"name": "box", "communication_interval": 1e-4, "simulation_box": {"time_step": 1e-5, "end_time": 1e-3,
+      "coupling": {"expected_count": 4}}},
+    {"name": "glass", "material": {"density": 2500, "youngs_modulus": 5e6}},
+    {"name": "floor", "plane": {"normal": {"z": 1}, "material": "glass"}},
+    {"name": "spheres", "particle_lattice": {"material": "glass", "radius": 0.002, "spacing": 0.006,
+      "origin": {"x": 0.01, "y": 0.01, "z": 0.003}, "counts": {"nx": 2, "ny": 2, "nz": 2}}}]})",
+                                         "cli test scene");
+  for (const v1::ComponentDeclaration& component : scene.components()) {
+    v1::ClientMessage declare;
+    *declare.mutable_declare()->mutable_component() = component;
+    client.send(declare);
+  }
+  const std::optional<v1::ServerMessage> compiled = client.receive();
+  ASSERT_TRUE(compiled.has_value() && compiled->has_compiled()) << (compiled ? compiled->DebugString() : "none");
+  std::uint32_t box = 0;
+  std::uint64_t interval = 0;
+  for (const v1::CompiledComponent& component : compiled->compiled().components()) {
+    if (component.name() == "box") {
+      box = component.id();
+      interval = component.interval_steps();
+    }
+  }
+  ASSERT_GT(interval, 0u);
+  const std::uint64_t endStep = compiled->compiled().end_step();
+  std::uint64_t step = 0;
+  while (step < endStep) {
+    v1::ClientMessage package;
+    package.mutable_data()->set_component_id(box);
+    package.mutable_data()->set_step(step);
+    client.send(package);
+    const std::optional<v1::ServerMessage> answer = client.receive();
+    ASSERT_TRUE(answer.has_value() && answer->has_data()) << (answer ? answer->DebugString() : "none");
+    EXPECT_EQ(answer->data().step(), step + interval) << "answered at the end of the interval";
+    EXPECT_EQ(answer->data().simulation_box().particle_count(), 8u) << "no source or sink: the 2x2x2 lattice stays";
+    step = answer->data().step();
+  }
+  const std::optional<v1::ServerMessage> finished = client.receive();
+  ASSERT_TRUE(finished.has_value() && finished->has_finished()) << (finished ? finished->DebugString() : "none");
+  EXPECT_EQ(finished->finished().step(), endStep);
+  EXPECT_EQ(server.waitForExit(), 0) << "--once: the process ends after its simulation";
 }
 
 }  // namespace
