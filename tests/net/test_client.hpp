@@ -46,6 +46,8 @@ class TestClient {
     sendHello(name, token);
     return receive();
   }
+  /// Hangs up (the server sees EOF).
+  void close() { socket_.close(); }
   /// No more bytes from this client (the server sees EOF; reading still works).
   void shutdownSend() { socket_.shutdown(asio::ip::tcp::socket::shutdown_send); }
 

@@ -194,6 +194,8 @@ TEST(DemlinkServerCli, OnceRunsOneSimulationOverTcpAndExits) {
   const std::optional<v1::ServerMessage> finished = client.receive();
   ASSERT_TRUE(finished.has_value() && finished->has_finished()) << (finished ? finished->DebugString() : "none");
   EXPECT_EQ(finished->finished().step(), endStep);
+  EXPECT_TRUE(client.waitForClose());
+  client.close();
   EXPECT_EQ(server.waitForExit(), 0) << "--once: the process ends after its simulation";
 }
 
