@@ -10,6 +10,9 @@ packages=(
   libeigen3-dev libspdlog-dev libfmt-dev
   googletest libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-protobuf
+  # scripts/run_fuzz.sh: clang with the libFuzzer/ASan runtimes (only recommended by clang,
+  # and recommendations are not installed below).
+  clang libclang-rt-14-dev
 )
 if [[ "${1:-}" == "--with-peers" ]]; then
   packages+=(liggghts time)

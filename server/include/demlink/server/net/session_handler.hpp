@@ -1,0 +1,45 @@
+#pragma once
+/// What the network layer drives: the protocol behind the sockets.
+///
+/// TcpServer talks to this interface instead of CoSimulationHost directly so that the
+/// transport is testable with a scripted fake (tests/net) and the host with no sockets
+/// at all; the calls mirror CoSimulationHost one to one (HostSessionHandler forwards them).
+///
+/// Contract the transport keeps:
+/// - connected() only after a valid Hello (protocol version and access token checked).
+/// - received() only for connections that passed connected(), and only for messages with
+///   their oneof set (Hello included: a second Hello is the handler's to refuse).
+/// - every id given to connected() gets exactly one disconnected() when its socket closes,
+///   whatever the reason (EOF, reset, bad frame, close_after, stop); the handler must
+///   tolerate it for ids it already forgot.
+/// - all calls come from one thread (the server's io_context), never concurrently.
+/// - an Outgoing for an id that is already closed is dropped.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "demlink/server/cosim/co_simulation_host.hpp"
+
+namespace demlink::server {
+
+class SessionHandler {
+ public:
+  virtual ~SessionHandler() = default;
+
+  /// A connection passed Hello: normally Welcome, or an Error with close_after.
+  virtual std::vector<Outgoing> connected(ConnectionId id, const v1::Hello& hello, SteadyClock::time_point now) = 0;
+  /// Any later message of a connected connection.
+  virtual std::vector<Outgoing> received(ConnectionId from, const v1::ClientMessage& message,
+                                         SteadyClock::time_point now) = 0;
+  /// The connection is gone; `why` is for logs and for the other clients.
+  virtual std::vector<Outgoing> disconnected(ConnectionId id, const std::string& why,
+                                             SteadyClock::time_point now) = 0;
+  /// Called when nextDeadline() has passed.
+  virtual std::vector<Outgoing> poll(SteadyClock::time_point now) = 0;
+  /// When poll() next has something to do; nullopt: nothing scheduled.
+  [[nodiscard]] virtual std::optional<SteadyClock::time_point> nextDeadline() const = 0;
+  /// The server is stopping (signal): last messages before every connection closes.
+  virtual std::vector<Outgoing> shutdown(const std::string& reason, SteadyClock::time_point now) = 0;
+};
+
+}  // namespace demlink::server
