@@ -19,15 +19,20 @@ void CellGrid::build(std::span<const Vec3> positions, double minCellSize) {
   origin_ = lo;
   cell_size_ = minCellSize;
   const double maxCells = 4.0 * static_cast<double>(n) + 64.0;
+  // Cell counts are found in double precision first: particles spread over an absurd
+  // extent (found by fuzzing: a lattice spacing of 1e175 m) must grow the cells, not
+  // overflow the integer conversion. An extent that is not even finite as a double
+  // gets one cell along that axis (every particle clamps into it: slow but correct).
+  std::array<double, 3> counts{};
   for (;;) {
     for (int d = 0; d < 3; ++d) {
-      dims_[d] = static_cast<std::int64_t>(std::floor((hi[d] - lo[d]) / cell_size_)) + 1;
+      const double extent = hi[d] - lo[d];
+      counts[d] = std::isfinite(extent) ? std::floor(extent / cell_size_) + 1.0 : 1.0;
     }
-    if (static_cast<double>(dims_[0]) * static_cast<double>(dims_[1]) * static_cast<double>(dims_[2]) <= maxCells) {
-      break;
-    }
+    if (counts[0] * counts[1] * counts[2] <= maxCells) break;
     cell_size_ *= 1.5;
   }
+  for (int d = 0; d < 3; ++d) dims_[d] = static_cast<std::int64_t>(counts[d]);
   const std::size_t cells = static_cast<std::size_t>(dims_[0] * dims_[1] * dims_[2]);
   cell_start_.assign(cells + 1, 0);
   cell_of_slot_.resize(n);
@@ -45,8 +50,10 @@ void CellGrid::build(std::span<const Vec3> positions, double minCellSize) {
 std::array<std::int64_t, 3> CellGrid::cellCoords(const Vec3& x) const {
   std::array<std::int64_t, 3> c{};
   for (int d = 0; d < 3; ++d) {
-    const auto k = static_cast<std::int64_t>(std::floor((x[d] - origin_[d]) / cell_size_));
-    c[d] = std::clamp<std::int64_t>(k, 0, dims_[d] - 1);
+    // Clamped in double before the conversion (an out-of-range double -> int64 is UB).
+    const double k = std::floor((x[d] - origin_[d]) / cell_size_);
+    const auto last = static_cast<double>(dims_[d] - 1);
+    c[d] = !(k > 0.0) ? 0 : static_cast<std::int64_t>(std::min(k, last));
   }
   return c;
 }
