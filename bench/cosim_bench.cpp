@@ -55,6 +55,7 @@
 #include "demlink/server/net/asio.hpp"
 #include "demlink/server/net/host_session_handler.hpp"
 #include "demlink/server/net/tcp_server.hpp"
+#include "demlink/server/particle_csv.hpp"
 #include "demlink/server/scene_loader.hpp"
 #include "demlink/server/scene_translator.hpp"
 
@@ -68,6 +69,13 @@ namespace core = demlink::core;
 using Clock = std::chrono::steady_clock;
 
 constexpr double kWallLimitSeconds = 90.0;  ///< a configuration that takes longer is aborted
+
+/// A double for JSON text without loss (std::to_string prints 1e-7 as 0.000000).
+std::string num(double value) {
+  std::array<char, 32> text{};
+  std::snprintf(text.data(), text.size(), "%.17g", value);
+  return text.data();
+}
 
 double secondsOf(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
 
@@ -128,9 +136,12 @@ class TimedHandler final : public server::SessionHandler {
     if (packages_ == 0) first_cpu_ = cpu;
     const Clock::time_point begin = Clock::now();
     std::vector<server::Outgoing> out = inner_.received(from, message, now);
-    host_seconds_ += secondsOf(Clock::now() - begin);
+    const Clock::duration inHost = Clock::now() - begin;
+    host_seconds_ += secondsOf(inHost);
+    if (record_) host_ns_.push_back(std::chrono::duration_cast<std::chrono::nanoseconds>(inHost).count());
     ++packages_;
     last_cpu_ = threadCpuSeconds();
+    host_cpu_ += last_cpu_ - cpu;
     return out;
   }
   std::vector<server::Outgoing> disconnected(server::ConnectionId id, const std::string& why,
@@ -145,14 +156,25 @@ class TimedHandler final : public server::SessionHandler {
     return inner_.shutdown(reason, now);
   }
 
+  /// Keep the wall time in the host of every package (reserve `count`); only for one client
+  /// with one component, where packages and exchanges correspond one to one.
+  void recordEach(std::size_t count) {
+    record_ = true;
+    host_ns_.reserve(count);
+  }
+  [[nodiscard]] const std::vector<std::int64_t>& hostNanoseconds() const { return host_ns_; }
   [[nodiscard]] std::uint64_t packages() const { return packages_; }
   [[nodiscard]] double hostSeconds() const { return host_seconds_; }  ///< inside the host, for packages [s]
+  [[nodiscard]] double hostCpuSeconds() const { return host_cpu_; }  ///< the same in CPU time [s]
   [[nodiscard]] double busyCpuSeconds() const { return last_cpu_ - first_cpu_; }
 
  private:
   server::HostSessionHandler inner_;
   std::uint64_t packages_ = 0;
   double host_seconds_ = 0.0;
+  double host_cpu_ = 0.0;
+  bool record_ = false;
+  std::vector<std::int64_t> host_ns_;
   double first_cpu_ = 0.0;
   double last_cpu_ = 0.0;
 };
@@ -176,6 +198,8 @@ class InProcessServer {
 
   [[nodiscard]] std::uint16_t port() const { return server_.port(); }
   [[nodiscard]] const TimedHandler& handler() const { return handler_; }
+  /// Before any client connects (the server thread only touches the handler for packages).
+  [[nodiscard]] TimedHandler& handler() { return handler_; }
   /// Waits for run() to return (the simulation ended); false after `seconds`.
   bool waitDone(double seconds) {
     const Clock::time_point end = Clock::now() + std::chrono::duration_cast<Clock::duration>(
@@ -276,7 +300,7 @@ struct RoundtripOptions {
 v1::Scene emptyWorld(std::size_t clients, double timeStep) {
   const std::string json = R"({"components": [
     {"name": "steel", "material": {"density": 7800, "youngs_modulus": 2e8}},
-    {"name": "box", "simulation_box": {"time_step": )" + std::to_string(timeStep) + R"(, "end_time": 0,
+    {"name": "box", "simulation_box": {"time_step": )" + num(timeStep) + R"(, "end_time": 0,
       "bounds": {"lower": {"x": -10, "y": -10, "z": -10}, "upper": {"x": 10, "y": 10, "z": 10}},
       "output": {"final_checkpoint": false, "final_particles_csv": false},
       "coupling": {"expected_count": )" + std::to_string(clients + 2) + R"(}}}]})";
@@ -362,7 +386,7 @@ void roundtrip(const RoundtripOptions& o, bool withFloor) {
   if (o.clients > 0) counts = {o.clients};
   for (const std::size_t clients : counts) {
     std::size_t exchanges = o.exchanges;
-    if (exchanges == 0) exchanges = clients == 1 ? 20000 : clients <= 4 ? 10000 : 3000;
+    if (exchanges == 0) exchanges = clients == 1 ? 100000 : 20000;
     double wall = 0.0;
     std::vector<std::int64_t> ns = runRoundtrip(clients, exchanges, o.warmup, o.sensor, wall);
     const Distribution d = distributionOf(ns);
@@ -379,8 +403,9 @@ void roundtrip(const RoundtripOptions& o, bool withFloor) {
 struct OverheadOptions {
   std::size_t particles = 10000;
   double interval = 1.0e-3;  ///< [s]
-  double duration = 0.02;    ///< simulated [s]
-  std::size_t pairs = 3;
+  double duration = 0.25;    ///< simulated [s]
+  double settle = 0.15;      ///< simulated settling of the lattice before the timed runs [s]
+  std::size_t pairs = 5;
 };
 
 struct BedScene {
@@ -388,6 +413,7 @@ struct BedScene {
   double time_step;   ///< [s]
   std::uint64_t interval_steps;
   std::uint64_t exchanges;
+  std::string particles_json;  ///< the particle_system component of the settled bed
 };
 
 constexpr double kRadius = 0.005;    // [m]
@@ -398,9 +424,9 @@ constexpr double kBodySpeed = 0.5;               // [m/s] along +x
 std::string latticeJson(std::size_t particles) {
   const auto side = static_cast<std::size_t>(std::ceil(std::sqrt(static_cast<double>(particles) / 16.0)));
   const std::size_t layers = (particles + side * side - 1) / (side * side);
-  return R"({"name": "bed", "particle_lattice": {"material": "glass", "radius": )" + std::to_string(kRadius) +
-         R"(, "spacing": )" + std::to_string(kSpacing) + R"(, "origin": {"x": 0, "y": 0, "z": )" +
-         std::to_string(kRadius) + R"(}, "counts": {"nx": )" + std::to_string(side) + R"(, "ny": )" +
+  return R"({"name": "bed", "particle_lattice": {"material": "glass", "radius": )" + num(kRadius) +
+         R"(, "spacing": )" + num(kSpacing) + R"(, "origin": {"x": 0, "y": 0, "z": )" +
+         num(kRadius) + R"(}, "counts": {"nx": )" + std::to_string(side) + R"(, "ny": )" +
          std::to_string(side) + R"(, "nz": )" + std::to_string(layers) + "}}}";
 }
 
@@ -410,17 +436,22 @@ double bedSide(std::size_t particles) {
   return (side - 1.0) * kSpacing + 2.0 * kRadius;
 }
 
-v1::Scene bedScene(std::size_t particles, double timeStep, std::uint32_t expected, bool withBody,
+/// `particles`: the lattice JSON or a particle_system reading the settled bed's CSV.
+v1::Scene bedScene(const std::string& particles, double timeStep, std::uint32_t expected, bool withBody,
                    const std::string& bodyJson) {
   std::string json = R"({"components": [
     {"name": "glass", "material": {"density": 2500, "youngs_modulus": 5e6}},
     {"name": "floor", "plane": {"normal": {"z": 1}, "material": "glass"}},
-    )" + latticeJson(particles) + R"(,
-    {"name": "box", "simulation_box": {"time_step": )" + std::to_string(timeStep) + R"(, "end_time": 0,
+    )" + particles + R"(,
+    {"name": "box", "simulation_box": {"time_step": )" + num(timeStep) + R"(, "end_time": 0,
       "output": {"final_checkpoint": false, "final_particles_csv": false},
       "coupling": {"expected_count": )" + std::to_string(expected) + "}}}";
   if (withBody) json += ",\n" + bodyJson;
   return server::parseSceneJson(json + "]}", "cosim bench (bed)");
+}
+
+std::string settledJson(const fs::path& csv) {
+  return R"({"name": "bed", "particle_system": {"csv_file": ")" + csv.string() + R"("}})";
 }
 
 client::Vec3 bodyStart(std::size_t particles) {
@@ -430,18 +461,20 @@ client::Vec3 bodyStart(std::size_t particles) {
 /// The rigid body as a scene component (for the in-process run; the client declares the same).
 std::string bodyJson(std::size_t particles, double interval) {
   const client::Vec3 p = bodyStart(particles);
-  return R"({"name": "pusher", "communication_interval": )" + std::to_string(interval) +
-         R"(, "rigid_body": {"box": {"size": {"x": )" + std::to_string(kBodySize.x) + R"(, "y": )" +
-         std::to_string(kBodySize.y) + R"(, "z": )" + std::to_string(kBodySize.z) +
-         R"(}}, "material": "glass", "motion": "PREDICTED", "position": {"x": )" + std::to_string(p.x) +
-         R"(, "y": )" + std::to_string(p.y) + R"(, "z": )" + std::to_string(p.z) + "}}}";
+  return R"({"name": "pusher", "communication_interval": )" + num(interval) +
+         R"(, "rigid_body": {"box": {"size": {"x": )" + num(kBodySize.x) + R"(, "y": )" +
+         num(kBodySize.y) + R"(, "z": )" + num(kBodySize.z) +
+         R"(}}, "material": "glass", "motion": "PREDICTED", "position": {"x": )" + num(p.x) +
+         R"(, "y": )" + num(p.y) + R"(, "z": )" + num(p.z) + "}}}";
 }
 
-/// Largest time step <= the critical limit that divides the interval.
-BedScene makeBed(const OverheadOptions& o) {
-  server::TranslatedScene probe =
-      server::translateScene(bedScene(o.particles, 1.0e-7, 4, true, bodyJson(o.particles, o.interval)), ".",
-                             server::SceneUse::CoSimulation);
+/// The time step (largest <= the critical limit that divides the interval), then the
+/// lattice settled in this thread for `settle` simulated seconds and written to a CSV that
+/// both runs load, so the timed runs start from a bed in contact (not from a free fall).
+BedScene makeBed(const OverheadOptions& o, const fs::path& scratch) {
+  server::TranslatedScene probe = server::translateScene(
+      bedScene(latticeJson(o.particles), 1.0e-7, 4, true, bodyJson(o.particles, o.interval)), ".",
+      server::SceneUse::CoSimulation);
   probe.world.initialize();
   const double limit = probe.world.timeStepReport().limit;
   const auto perInterval = static_cast<std::uint64_t>(std::ceil(o.interval / limit * (1.0 + 1.0e-12)));
@@ -449,11 +482,23 @@ BedScene makeBed(const OverheadOptions& o) {
   bed.time_step = o.interval / static_cast<double>(perInterval);
   bed.interval_steps = perInterval;
   bed.exchanges = static_cast<std::uint64_t>(std::llround(o.duration / o.interval));
-  bed.scene = bedScene(o.particles, bed.time_step, 5, false, "");
+
+  server::TranslatedScene settle = server::translateScene(bedScene(latticeJson(o.particles), bed.time_step, 3, false, ""),
+                                                          ".", server::SceneUse::CoSimulation);
+  settle.world.initialize();
+  const auto settleSteps = static_cast<std::uint64_t>(std::llround(o.settle / bed.time_step));
+  const Clock::time_point begin = Clock::now();
+  for (std::uint64_t s = 0; s < settleSteps; ++s) settle.world.step();
+  const double settleSeconds = secondsOf(Clock::now() - begin);
+  const fs::path csv = scratch / "settled_bed.csv";
+  server::writeParticleCsv(settle.world, csv);
+  bed.scene = bedScene(settledJson(csv), bed.time_step, 5, false, "");
+  bed.particles_json = settledJson(csv);
   std::printf("bed: %zu spheres r = %.1f mm, critical step %.3g s -> dt %.4g s, %llu steps per exchange, "
-              "%llu exchanges\n",
-              probe.world.particles().size(), kRadius * 1e3, limit, bed.time_step,
-              static_cast<unsigned long long>(perInterval), static_cast<unsigned long long>(bed.exchanges));
+              "%llu exchanges; settled %.3g s (%llu steps, %.1f ms per step)\n",
+              settle.world.particles().size(), kRadius * 1e3, limit, bed.time_step,
+              static_cast<unsigned long long>(perInterval), static_cast<unsigned long long>(bed.exchanges), o.settle,
+              static_cast<unsigned long long>(settleSteps), 1e3 * settleSeconds / static_cast<double>(settleSteps));
   return bed;
 }
 
@@ -463,9 +508,14 @@ core::RigidPose poseAt(const client::Vec3& start, double t) {
   return p;
 }
 
-/// The same scene, the same poses, stepped in this thread: the physics alone [s].
-double runInProcess(const OverheadOptions& o, const BedScene& bed) {
-  v1::Scene scene = bedScene(o.particles, bed.time_step, 4, true, bodyJson(o.particles, o.interval));
+struct InProcessResult {
+  double seconds = 0.0;  ///< wall [s]
+  double cpu = 0.0;      ///< this thread's CPU [s]
+};
+
+/// The same scene, the same poses, stepped in this thread: the physics alone.
+InProcessResult runInProcess(const OverheadOptions& o, const BedScene& bed) {
+  v1::Scene scene = bedScene(bed.particles_json, bed.time_step, 4, true, bodyJson(o.particles, o.interval));
   server::TranslatedScene t = server::translateScene(scene, ".", server::SceneUse::CoSimulation);
   core::World& world = t.world;
   world.initialize();
@@ -479,6 +529,7 @@ double runInProcess(const OverheadOptions& o, const BedScene& bed) {
   core::RigidTwist twist;
   twist.linear = core::Vec3(kBodySpeed, 0.0, 0.0);
   double checksum = 0.0;
+  const double cpuBegin = threadCpuSeconds();
   const Clock::time_point begin = Clock::now();
   for (std::uint64_t k = 0; k < bed.exchanges; ++k) {
     const double t0 = static_cast<double>(k * bed.interval_steps) * bed.time_step;
@@ -489,15 +540,22 @@ double runInProcess(const OverheadOptions& o, const BedScene& bed) {
     }
     checksum += motion.endInterval(world).mean_force.x();
   }
-  const double seconds = secondsOf(Clock::now() - begin);
-  std::printf("  in-process: %8.3f s  (mean force x summed %.4g N)\n", seconds, checksum);
-  return seconds;
+  InProcessResult r;
+  r.seconds = secondsOf(Clock::now() - begin);
+  r.cpu = threadCpuSeconds() - cpuBegin;
+  std::printf("  in-process: %8.3f s wall, %.3f s CPU  (mean force x summed %.4g N)\n", r.seconds, r.cpu, checksum);
+  return r;
 }
 
 struct CoupledResult {
   double seconds = 0.0;       ///< client: first exchange to last answer [s]
   double host_seconds = 0.0;  ///< inside CoSimulationHost for packages (stepping included) [s]
+  double host_cpu = 0.0;      ///< the same in server thread CPU [s]
   double busy_cpu = 0.0;      ///< server thread CPU from the first package to the last [s]
+  double client_cpu = 0.0;    ///< client thread CPU over its loop [s]
+  /// Per exchange: client round trip minus the host's wall time for that package [ns].
+  std::vector<std::int64_t> outside_ns;
+  std::vector<std::int64_t> exchange_ns;  ///< per exchange: the client's round trip [ns]
 };
 
 CoupledResult runCoupled(const OverheadOptions& o, const BedScene& bed) {
@@ -506,6 +564,7 @@ CoupledResult runCoupled(const OverheadOptions& o, const BedScene& bed) {
   double checksum = 0.0;
   {
     InProcessServer srv(bed.scene, out);
+    srv.handler().recordEach(bed.exchanges + 1);
     client::Connection connection;
     connection.connect("127.0.0.1", srv.port(), connectOptions("bench-overhead"));
     client::Session session(connection);
@@ -518,52 +577,82 @@ CoupledResult runCoupled(const OverheadOptions& o, const BedScene& bed) {
     if (session.timeStep() != bed.time_step || body.intervalSteps() != bed.interval_steps) {
       throw std::runtime_error("coupled scene compiled to another time step or interval");
     }
+    const double cpuBegin = threadCpuSeconds();
     const Clock::time_point begin = Clock::now();
     for (std::uint64_t k = 0; k < bed.exchanges; ++k) {
       const double t0 = static_cast<double>(k * bed.interval_steps) * bed.time_step;
       body.setPose({start.x + kBodySpeed * t0, start.y, start.z}, {});
       body.setVelocity({kBodySpeed, 0.0, 0.0}, {});
+      const Clock::time_point t0Exchange = Clock::now();
       if (!session.exchange()) throw std::runtime_error("the simulation ended early");
+      r.exchange_ns.push_back(std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t0Exchange).count());
       checksum += body.meanForce().x;
     }
     r.seconds = secondsOf(Clock::now() - begin);
+    r.client_cpu = threadCpuSeconds() - cpuBegin;
     session.finish("benchmark done");
     if (!srv.waitDone(kWallLimitSeconds)) throw std::runtime_error("the server did not end the simulation");
     r.host_seconds = srv.handler().hostSeconds();
+    r.host_cpu = srv.handler().hostCpuSeconds();
+    const std::vector<std::int64_t>& inHost = srv.handler().hostNanoseconds();
+    if (inHost.size() < r.exchange_ns.size()) throw std::runtime_error("fewer packages than exchanges");
+    for (std::size_t k = 0; k < r.exchange_ns.size(); ++k) r.outside_ns.push_back(r.exchange_ns[k] - inHost[k]);
     r.busy_cpu = srv.handler().busyCpuSeconds();
   }
   std::error_code ignored;
   fs::remove_all(out, ignored);
-  std::printf("  coupled:    %8.3f s  (mean force x summed %.4g N; server: %.3f s in the host, %.3f s busy CPU)\n",
-              r.seconds, checksum, r.host_seconds, r.busy_cpu);
+  std::printf("  coupled:    %8.3f s wall, %.3f s CPU  (mean force x summed %.4g N; server thread %.3f s CPU, "
+              "of which %.3f s in the host (%.3f s wall); client thread %.3f s CPU)\n",
+              r.seconds, r.busy_cpu + r.client_cpu, checksum, r.busy_cpu, r.host_cpu, r.host_seconds, r.client_cpu);
   return r;
 }
 
 void overhead(const OverheadOptions& o) {
   std::printf("== overhead: %zu-sphere bed, one rigid_body at %.4g s interval, %.4g s simulated ==\n", o.particles,
               o.interval, o.duration);
-  const BedScene bed = makeBed(o);
-  std::vector<double> inproc, coupled, host, busy, ratio;
+  const fs::path scratch = scratchDirectory("bed");
+  const BedScene bed = makeBed(o, scratch);
+  std::vector<std::int64_t> outsideAll, exchangeAll;
+  std::vector<double> inproc, inprocCpu, coupled, coupledCpu, host, busy, outside, ratio, ratioCpu;
   for (std::size_t pair = 0; pair < o.pairs; ++pair) {
     std::printf("pair %zu\n", pair + 1);
-    const double a = runInProcess(o, bed);
+    const InProcessResult a = runInProcess(o, bed);
     const CoupledResult b = runCoupled(o, bed);
-    inproc.push_back(a);
+    inproc.push_back(a.seconds);
+    inprocCpu.push_back(a.cpu);
     coupled.push_back(b.seconds);
-    host.push_back(b.host_seconds);
+    coupledCpu.push_back(b.busy_cpu + b.client_cpu);
+    host.push_back(b.host_cpu);
+    outside.push_back(b.busy_cpu - b.host_cpu);
+    outsideAll.insert(outsideAll.end(), b.outside_ns.begin(), b.outside_ns.end());
+    exchangeAll.insert(exchangeAll.end(), b.exchange_ns.begin(), b.exchange_ns.end());
     busy.push_back(b.busy_cpu);
-    ratio.push_back((b.seconds - a) / b.seconds);
-    std::printf("  overhead this pair: %+.2f %%\n", 100.0 * ratio.back());
+    ratio.push_back((b.seconds - a.seconds) / b.seconds);
+    ratioCpu.push_back((coupledCpu.back() - a.cpu) / coupledCpu.back());
+    std::printf("  overhead this pair: wall %+.2f %%, CPU %+.2f %%\n", 100.0 * ratio.back(), 100.0 * ratioCpu.back());
     std::fflush(stdout);
   }
   const double a = medianOf(inproc);
   const double b = medianOf(coupled);
+  const double ac = medianOf(inprocCpu);
+  const double bc = medianOf(coupledCpu);
   const auto k = static_cast<double>(bed.exchanges);
-  std::printf("median in-process %.3f s, coupled %.3f s -> overhead %.2f %% (median of per-pair overheads %.2f %%)\n",
-              a, b, 100.0 * (b - a) / b, 100.0 * medianOf(ratio));
-  std::printf("per exchange: coupled - in-process %.1f us; server busy CPU - in-process %.1f us; "
-              "server outside the host %.1f us\n",
-              1e6 * (b - a) / k, 1e6 * (medianOf(busy) - a) / k, 1e6 * (medianOf(busy) - medianOf(host)) / k);
+  std::printf("wall: median in-process %.3f s, coupled %.3f s -> overhead %.2f %% (median of per-pair %.2f %%)\n", a,
+              b, 100.0 * (b - a) / b, 100.0 * medianOf(ratio));
+  std::printf("CPU:  median in-process %.3f s, coupled (server + client threads) %.3f s -> overhead %.2f %% "
+              "(median of per-pair %.2f %%)\n",
+              ac, bc, 100.0 * (bc - ac) / bc, 100.0 * medianOf(ratioCpu));
+  std::printf("per exchange (%.0f): CPU coupled - in-process %.1f us; server thread outside the host %.1f us; "
+              "wall coupled - in-process %.1f us\n",
+              k, 1e6 * (bc - ac) / k, 1e6 * medianOf(outside) / k, 1e6 * (b - a) / k);
+  const Distribution whole = distributionOf(exchangeAll);
+  const Distribution extra = distributionOf(outsideAll);
+  printDistribution("client exchange (all pairs)", whole);
+  printDistribution("  of which outside the host", extra);
+  std::printf("direct estimate: median outside-the-host time / median exchange = %.2f %%\n",
+              100.0 * extra.median_us / whole.median_us);
+  std::error_code ignored;
+  fs::remove_all(scratch, ignored);
 }
 
 // --- command line ----------------------------------------------------------------------
@@ -573,7 +662,8 @@ void overhead(const OverheadOptions& o) {
   std::fputs("usage: demlink-bench-cosim [roundtrip|overhead] [options]\n"
              "  roundtrip  --clients N (default: 1, 4, 16)  --exchanges M (per client)  --warmup W (1000)\n"
              "             --kind body|sensor (default body)\n"
-             "  overhead   --particles P (10000)  --interval S (0.001)  --duration S (0.02)  --pairs K (3)\n"
+             "  overhead   --particles P (10000)  --interval S (0.001)  --duration S (0.25)  --pairs K (5)\n"
+             "             --settle S (0.15: simulated settling of the bed before the timed runs)\n"
              "  no mode: roundtrip then overhead with the defaults\n",
              stderr);
   std::exit(error.empty() ? 0 : 2);
@@ -624,6 +714,8 @@ int main(int argc, char** argv) {
       ov.interval = number(arg, value);
     } else if (arg == "--duration") {
       ov.duration = number(arg, value);
+    } else if (arg == "--settle") {
+      ov.settle = number(arg, value);
     } else if (arg == "--pairs") {
       ov.pairs = count(arg, value);
     } else {
