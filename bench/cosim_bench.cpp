@@ -1,0 +1,734 @@
+/// demlink-bench-cosim: what the co-simulation coupling costs (issue 4 targets; plan in
+/// bench/cosim_bench.md, figures in docs/benchmarks.md "Co-simulation").
+///
+///   demlink-bench-cosim roundtrip [--clients N] [--exchanges M] [--warmup W] [--kind body|sensor]
+///   demlink-bench-cosim overhead [--particles P] [--interval S] [--duration S] [--pairs K]
+///   demlink-bench-cosim            (both, with the defaults: well under two minutes)
+///
+/// roundtrip: the server runs in this process exactly as demlink-server wires it
+/// (CoSimulationHost + HostSessionHandler + TcpServer on 127.0.0.1, port 0, its own
+/// thread); the world is empty (a SimulationBox and one material, no particles), every
+/// client is a thread with its own connection and one component exchanged every step.
+/// Each client times every Session::exchange() (package out -> answer in) with
+/// steady_clock; the distribution over all clients after a warm-up is printed. With N > 1
+/// clients a round trip includes waiting for the slowest of them, since the server only
+/// advances when every due package is in. Without --clients it runs N = 1, 4 and 16, and
+/// first a raw loopback ping-pong (same socket options, no protobuf, no host): the floor.
+///
+/// overhead: a bed of P spheres (particle_lattice on a floor) with one client RigidBody
+/// (a box pushed through the bed, PREDICTED motion) exchanged at the interval, against the
+/// SAME scene advanced in this thread for the same steps with core::CoupledMotion fed the
+/// same poses (no network, no protobuf). Pairs alternate in-process / coupled; medians are
+/// reported because the machine is shared. Overhead = (T_coupled - T_inproc) / T_coupled.
+///
+/// Why plain main and not Google Benchmark: the quantity is a distribution of single events
+/// (round trips) or a pair of long runs, not a throughput loop.
+#include <time.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <filesystem>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <thread>
+#include <vector>
+
+#include <spdlog/spdlog.h>
+
+#include "demlink/client/connection.hpp"
+#include "demlink/client/rigid_body.hpp"
+#include "demlink/client/sensor_components.hpp"
+#include "demlink/client/session.hpp"
+#include "demlink/core/coupled_motion.hpp"
+#include "demlink/core/world.hpp"
+#include "demlink/server/cosim/co_simulation_host.hpp"
+#include "demlink/server/net/asio.hpp"
+#include "demlink/server/net/host_session_handler.hpp"
+#include "demlink/server/net/tcp_server.hpp"
+#include "demlink/server/particle_csv.hpp"
+#include "demlink/server/scene_loader.hpp"
+#include "demlink/server/scene_translator.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+namespace v1 = demlink::v1;
+namespace client = demlink::client;
+namespace server = demlink::server;
+namespace core = demlink::core;
+using Clock = std::chrono::steady_clock;
+
+constexpr double kWallLimitSeconds = 90.0;  ///< a configuration that takes longer is aborted
+
+/// A double for JSON text without loss (std::to_string prints 1e-7 as 0.000000).
+std::string num(double value) {
+  std::array<char, 32> text{};
+  std::snprintf(text.data(), text.size(), "%.17g", value);
+  return text.data();
+}
+
+double secondsOf(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
+
+double threadCpuSeconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1.0e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+// --- statistics ------------------------------------------------------------------------
+
+struct Distribution {
+  std::size_t n = 0;
+  double median_us = 0.0, p90_us = 0.0, p99_us = 0.0, max_us = 0.0;
+};
+
+/// Order statistics of nanosecond samples (reorders the vector).
+Distribution distributionOf(std::vector<std::int64_t>& ns) {
+  Distribution d;
+  d.n = ns.size();
+  if (ns.empty()) return d;
+  auto at = [&](double q) {
+    const auto k = static_cast<std::size_t>(std::min<double>(q * static_cast<double>(ns.size()),
+                                                             static_cast<double>(ns.size() - 1)));
+    std::nth_element(ns.begin(), ns.begin() + static_cast<std::ptrdiff_t>(k), ns.end());
+    return 1.0e-3 * static_cast<double>(ns[k]);
+  };
+  d.median_us = at(0.5);
+  d.p90_us = at(0.9);
+  d.p99_us = at(0.99);
+  d.max_us = 1.0e-3 * static_cast<double>(*std::max_element(ns.begin(), ns.end()));
+  return d;
+}
+
+double medianOf(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  if (n == 0) return 0.0;
+  return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+// --- the in-process server -------------------------------------------------------------
+
+/// HostSessionHandler plus counters: time spent inside the host for DataPackages and the
+/// server thread's CPU time from the first package to the last answer.
+class TimedHandler final : public server::SessionHandler {
+ public:
+  explicit TimedHandler(server::CoSimulationHost& host) : inner_(host) {}
+
+  std::vector<server::Outgoing> connected(server::ConnectionId id, const v1::Hello& hello,
+                                          server::SteadyClock::time_point now) override {
+    return inner_.connected(id, hello, now);
+  }
+  std::vector<server::Outgoing> received(server::ConnectionId from, const v1::ClientMessage& message,
+                                         server::SteadyClock::time_point now) override {
+    if (!message.has_data()) return inner_.received(from, message, now);
+    const double cpu = threadCpuSeconds();
+    if (packages_ == 0) first_cpu_ = cpu;
+    const Clock::time_point begin = Clock::now();
+    std::vector<server::Outgoing> out = inner_.received(from, message, now);
+    const Clock::duration inHost = Clock::now() - begin;
+    host_seconds_ += secondsOf(inHost);
+    if (record_) host_ns_.push_back(std::chrono::duration_cast<std::chrono::nanoseconds>(inHost).count());
+    ++packages_;
+    last_cpu_ = threadCpuSeconds();
+    host_cpu_ += last_cpu_ - cpu;
+    return out;
+  }
+  std::vector<server::Outgoing> disconnected(server::ConnectionId id, const std::string& why,
+                                             server::SteadyClock::time_point now) override {
+    return inner_.disconnected(id, why, now);
+  }
+  std::vector<server::Outgoing> poll(server::SteadyClock::time_point now) override { return inner_.poll(now); }
+  [[nodiscard]] std::optional<server::SteadyClock::time_point> nextDeadline() const override {
+    return inner_.nextDeadline();
+  }
+  std::vector<server::Outgoing> shutdown(const std::string& reason, server::SteadyClock::time_point now) override {
+    return inner_.shutdown(reason, now);
+  }
+
+  /// Keep the wall time in the host of every package (reserve `count`); only for one client
+  /// with one component, where packages and exchanges correspond one to one.
+  void recordEach(std::size_t count) {
+    record_ = true;
+    host_ns_.reserve(count);
+  }
+  [[nodiscard]] const std::vector<std::int64_t>& hostNanoseconds() const { return host_ns_; }
+  [[nodiscard]] std::uint64_t packages() const { return packages_; }
+  [[nodiscard]] double hostSeconds() const { return host_seconds_; }  ///< inside the host, for packages [s]
+  [[nodiscard]] double hostCpuSeconds() const { return host_cpu_; }  ///< the same in CPU time [s]
+  [[nodiscard]] double busyCpuSeconds() const { return last_cpu_ - first_cpu_; }
+
+ private:
+  server::HostSessionHandler inner_;
+  std::uint64_t packages_ = 0;
+  double host_seconds_ = 0.0;
+  double host_cpu_ = 0.0;
+  bool record_ = false;
+  std::vector<std::int64_t> host_ns_;
+  double first_cpu_ = 0.0;
+  double last_cpu_ = 0.0;
+};
+
+/// demlink-server's wiring in a thread: serves one simulation, then run() returns.
+class InProcessServer {
+ public:
+  InProcessServer(const v1::Scene& baseScene, const fs::path& outputRoot)
+      : host_(hostOptions(baseScene, outputRoot)), handler_(host_), server_(handler_, netOptions(host_)) {
+    thread_ = std::thread([this] {
+      server_.run();
+      done_ = true;
+    });
+  }
+  ~InProcessServer() {
+    if (!done_) server_.stop("benchmark ended");
+    thread_.join();
+  }
+  InProcessServer(const InProcessServer&) = delete;
+  InProcessServer& operator=(const InProcessServer&) = delete;
+
+  [[nodiscard]] std::uint16_t port() const { return server_.port(); }
+  [[nodiscard]] const TimedHandler& handler() const { return handler_; }
+  /// Before any client connects (the server thread only touches the handler for packages).
+  [[nodiscard]] TimedHandler& handler() { return handler_; }
+  /// Waits for run() to return (the simulation ended); false after `seconds`.
+  bool waitDone(double seconds) {
+    const Clock::time_point end = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                                     std::chrono::duration<double>(seconds));
+    while (!done_) {
+      if (Clock::now() > end) return false;
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    return true;
+  }
+
+ private:
+  static server::CoSimulationOptions hostOptions(const v1::Scene& baseScene, const fs::path& outputRoot) {
+    server::CoSimulationOptions options;
+    options.base_scene = baseScene;
+    options.output_root = outputRoot;
+    options.quiet_period_s = 30.0;  // every scene here says expected_count
+    options.client_timeout_s = 30.0;
+    return options;
+  }
+  static server::TcpServerOptions netOptions(server::CoSimulationHost& host) {
+    server::TcpServerOptions options;
+    options.listen_address = "127.0.0.1";
+    options.port = 0;
+    options.stop_when = [&host] { return host.simulationsFinished() >= 1; };
+    return options;
+  }
+
+  server::CoSimulationHost host_;
+  TimedHandler handler_;
+  server::TcpServer server_;
+  std::atomic<bool> done_{false};
+  std::thread thread_;
+};
+
+client::ConnectOptions connectOptions(const std::string& name) {
+  client::ConnectOptions options;
+  options.client_name = name;
+  options.timeout = std::chrono::milliseconds(30000);
+  return options;
+}
+
+fs::path scratchDirectory(const std::string& what) {
+  const fs::path dir = fs::temp_directory_path() /
+                       ("demlink_bench_cosim_" + what + "_" + std::to_string(static_cast<long long>(::getpid())));
+  fs::create_directories(dir);
+  return dir;
+}
+
+// --- raw loopback floor ----------------------------------------------------------------
+
+/// Ping-pong of a 50-byte message between two threads over loopback TCP with TCP_NODELAY:
+/// the kernel's share of a round trip on this machine.
+Distribution loopbackFloor(std::size_t exchanges, std::size_t warmup) {
+  constexpr std::size_t kBytes = 50;
+  asio::io_context io;
+  asio::ip::tcp::acceptor acceptor(io, asio::ip::tcp::endpoint(asio::ip::make_address("127.0.0.1"), 0));
+  const std::uint16_t port = acceptor.local_endpoint().port();
+  const std::size_t total = exchanges + warmup;
+  std::thread echo([&] {
+    asio::ip::tcp::socket socket(io);
+    acceptor.accept(socket);
+    socket.set_option(asio::ip::tcp::no_delay(true));
+    std::array<char, kBytes> buffer{};
+    for (std::size_t k = 0; k < total; ++k) {
+      asio::read(socket, asio::buffer(buffer));
+      asio::write(socket, asio::buffer(buffer));
+    }
+  });
+  asio::io_context clientIo;
+  asio::ip::tcp::socket socket(clientIo);
+  socket.connect(asio::ip::tcp::endpoint(asio::ip::make_address("127.0.0.1"), port));
+  socket.set_option(asio::ip::tcp::no_delay(true));
+  std::array<char, kBytes> buffer{};
+  std::vector<std::int64_t> ns;
+  ns.reserve(exchanges);
+  for (std::size_t k = 0; k < total; ++k) {
+    const Clock::time_point t0 = Clock::now();
+    asio::write(socket, asio::buffer(buffer));
+    asio::read(socket, asio::buffer(buffer));
+    const Clock::time_point t1 = Clock::now();
+    if (k >= warmup) ns.push_back(std::chrono::duration_cast<std::chrono::nanoseconds>(t1 - t0).count());
+  }
+  echo.join();
+  return distributionOf(ns);
+}
+
+// --- roundtrip -------------------------------------------------------------------------
+
+struct RoundtripOptions {
+  std::size_t clients = 0;  ///< 0: 1, 4 and 16
+  std::size_t exchanges = 0;  ///< per client, after the warm-up; 0: by client count
+  std::size_t warmup = 1000;
+  bool sensor = false;  ///< RegionSensor instead of RigidBody
+};
+
+/// Empty world: one material, a SimulationBox with fixed bounds, no particles.
+v1::Scene emptyWorld(std::size_t clients, double timeStep) {
+  const std::string json = R"({"components": [
+    {"name": "steel", "material": {"density": 7800, "youngs_modulus": 2e8}},
+    {"name": "box", "simulation_box": {"time_step": )" + num(timeStep) + R"(, "end_time": 0,
+      "bounds": {"lower": {"x": -10, "y": -10, "z": -10}, "upper": {"x": 10, "y": 10, "z": 10}},
+      "output": {"final_checkpoint": false, "final_particles_csv": false},
+      "coupling": {"expected_count": )" + std::to_string(clients + 2) + R"(}}}]})";
+  return server::parseSceneJson(json, "cosim bench (empty world)");
+}
+
+/// Runs one configuration; returns the per-exchange times of all clients (after warm-up).
+std::vector<std::int64_t> runRoundtrip(std::size_t clients, std::size_t exchanges, std::size_t warmup, bool sensor,
+                                       double& wallSeconds) {
+  constexpr double kTimeStep = 1.0e-4;  // [s]; one exchange = one (empty) step
+  const fs::path out = scratchDirectory("roundtrip");
+  std::vector<std::vector<std::int64_t>> perClient(clients);
+  std::vector<std::string> failures(clients);
+  const Clock::time_point begin = Clock::now();
+  {
+    InProcessServer srv(emptyWorld(clients, kTimeStep), out);
+    std::vector<std::thread> threads;
+    for (std::size_t c = 0; c < clients; ++c) {
+      threads.emplace_back([&, c] {
+        try {
+          client::Connection connection;
+          connection.connect("127.0.0.1", srv.port(), connectOptions("bench-" + std::to_string(c)));
+          client::Session session(connection);
+          client::RigidBody* body = nullptr;
+          if (sensor) {
+            auto& s = session.add<client::RegionSensor>("sensor_" + std::to_string(c));
+            s.setBox({0.0, 0.0, 0.0}, {1.0, 1.0, 1.0});
+            s.setCommunicationInterval(kTimeStep);
+          } else {
+            body = &session.add<client::RigidBody>("body_" + std::to_string(c));
+            const client::Vec3 at{static_cast<double>(c) * 0.5 - 4.0, 0.0, 0.0};
+            body->setBox({0.2, 0.2, 0.2}).setMaterial("steel").setInitialPose(at);
+            body->setCommunicationInterval(kTimeStep);
+          }
+          session.declare();
+          session.waitCompiled();
+          std::vector<std::int64_t>& ns = perClient[c];
+          ns.reserve(exchanges);
+          const client::Vec3 at{static_cast<double>(c) * 0.5 - 4.0, 0.0, 0.0};
+          for (std::size_t k = 0; k < exchanges + warmup; ++k) {
+            if (body != nullptr) {
+              body->setPose(at, {});
+              body->setVelocity({}, {});
+            }
+            const Clock::time_point t0 = Clock::now();
+            if (!session.exchange()) throw std::runtime_error("the simulation ended early");
+            const Clock::time_point t1 = Clock::now();
+            if (k >= warmup) ns.push_back(std::chrono::duration_cast<std::chrono::nanoseconds>(t1 - t0).count());
+          }
+          session.finish("benchmark done");
+        } catch (const std::exception& error) {
+          failures[c] = error.what();
+        }
+      });
+    }
+    for (std::thread& t : threads) t.join();
+    if (!srv.waitDone(kWallLimitSeconds)) failures.emplace_back("the server did not end the simulation");
+  }
+  wallSeconds = secondsOf(Clock::now() - begin);
+  std::error_code ignored;
+  fs::remove_all(out, ignored);
+  for (const std::string& f : failures) {
+    if (!f.empty()) throw std::runtime_error("roundtrip with " + std::to_string(clients) + " clients: " + f);
+  }
+  std::vector<std::int64_t> all;
+  for (const auto& ns : perClient) all.insert(all.end(), ns.begin(), ns.end());
+  return all;
+}
+
+void printDistribution(const char* label, const Distribution& d) {
+  std::printf("%-34s n=%-7zu median %8.1f us  p90 %8.1f us  p99 %8.1f us  max %9.1f us\n", label, d.n, d.median_us,
+              d.p90_us, d.p99_us, d.max_us);
+}
+
+void roundtrip(const RoundtripOptions& o, bool withFloor) {
+  std::printf("== roundtrip: empty world, %s per client, exchanged every step, loopback TCP ==\n",
+              o.sensor ? "one region_sensor" : "one rigid_body (12-triangle box)");
+  if (withFloor) {
+    const std::size_t n = o.exchanges > 0 ? o.exchanges : 20000;
+    printDistribution("raw loopback ping-pong (50 B)", loopbackFloor(n, o.warmup));
+  }
+  std::vector<std::size_t> counts = {1, 4, 16};
+  if (o.clients > 0) counts = {o.clients};
+  for (const std::size_t clients : counts) {
+    std::size_t exchanges = o.exchanges;
+    if (exchanges == 0) exchanges = clients == 1 ? 100000 : 20000;
+    double wall = 0.0;
+    std::vector<std::int64_t> ns = runRoundtrip(clients, exchanges, o.warmup, o.sensor, wall);
+    const Distribution d = distributionOf(ns);
+    const std::string label = std::to_string(clients) + (clients == 1 ? " client" : " clients (incl. waiting)");
+    printDistribution(label.c_str(), d);
+    std::printf("%-34s %zu exchanges per client after %zu warm-up, %.1f s wall in all\n", "", exchanges, o.warmup,
+                wall);
+    std::fflush(stdout);
+  }
+}
+
+// --- overhead --------------------------------------------------------------------------
+
+struct OverheadOptions {
+  std::size_t particles = 10000;
+  double interval = 1.0e-3;  ///< [s]
+  double duration = 0.25;    ///< simulated [s]
+  double settle = 0.15;      ///< simulated settling of the lattice before the timed runs [s]
+  std::size_t pairs = 5;
+};
+
+struct BedScene {
+  v1::Scene scene;    ///< material, floor, lattice, box (without the rigid body: the client declares it)
+  double time_step;   ///< [s]
+  std::uint64_t interval_steps;
+  std::uint64_t exchanges;
+  std::string particles_json;  ///< the particle_system component of the settled bed
+};
+
+constexpr double kRadius = 0.005;    // [m]
+constexpr double kSpacing = 0.0105;  // [m] lattice pitch: 0.5 mm gaps, the bed settles a little
+const client::Vec3 kBodySize{0.04, 0.04, 0.08};  // [m]
+constexpr double kBodySpeed = 0.5;               // [m/s] along +x
+
+std::string latticeJson(std::size_t particles) {
+  const auto side = static_cast<std::size_t>(std::ceil(std::sqrt(static_cast<double>(particles) / 16.0)));
+  const std::size_t layers = (particles + side * side - 1) / (side * side);
+  return R"({"name": "bed", "particle_lattice": {"material": "glass", "radius": )" + num(kRadius) +
+         R"(, "spacing": )" + num(kSpacing) + R"(, "origin": {"x": 0, "y": 0, "z": )" +
+         num(kRadius) + R"(}, "counts": {"nx": )" + std::to_string(side) + R"(, "ny": )" +
+         std::to_string(side) + R"(, "nz": )" + std::to_string(layers) + "}}}";
+}
+
+/// Side of the lattice in x and y [m].
+double bedSide(std::size_t particles) {
+  const auto side = std::ceil(std::sqrt(static_cast<double>(particles) / 16.0));
+  return (side - 1.0) * kSpacing + 2.0 * kRadius;
+}
+
+/// `particles`: the lattice JSON or a particle_system reading the settled bed's CSV.
+v1::Scene bedScene(const std::string& particles, double timeStep, std::uint32_t expected, bool withBody,
+                   const std::string& bodyJson) {
+  std::string json = R"({"components": [
+    {"name": "glass", "material": {"density": 2500, "youngs_modulus": 5e6}},
+    {"name": "floor", "plane": {"normal": {"z": 1}, "material": "glass"}},
+    )" + particles + R"(,
+    {"name": "box", "simulation_box": {"time_step": )" + num(timeStep) + R"(, "end_time": 0,
+      "output": {"final_checkpoint": false, "final_particles_csv": false},
+      "coupling": {"expected_count": )" + std::to_string(expected) + "}}}";
+  if (withBody) json += ",\n" + bodyJson;
+  return server::parseSceneJson(json + "]}", "cosim bench (bed)");
+}
+
+std::string settledJson(const fs::path& csv) {
+  return R"({"name": "bed", "particle_system": {"csv_file": ")" + csv.string() + R"("}})";
+}
+
+client::Vec3 bodyStart(std::size_t particles) {
+  return {-0.5 * kBodySize.x - kRadius - 0.002, 0.5 * bedSide(particles), 0.5 * kBodySize.z + 0.005};
+}
+
+/// The rigid body as a scene component (for the in-process run; the client declares the same).
+std::string bodyJson(std::size_t particles, double interval) {
+  const client::Vec3 p = bodyStart(particles);
+  return R"({"name": "pusher", "communication_interval": )" + num(interval) +
+         R"(, "rigid_body": {"box": {"size": {"x": )" + num(kBodySize.x) + R"(, "y": )" +
+         num(kBodySize.y) + R"(, "z": )" + num(kBodySize.z) +
+         R"(}}, "material": "glass", "motion": "PREDICTED", "position": {"x": )" + num(p.x) +
+         R"(, "y": )" + num(p.y) + R"(, "z": )" + num(p.z) + "}}}";
+}
+
+/// The time step (largest <= the critical limit that divides the interval), then the
+/// lattice settled in this thread for `settle` simulated seconds and written to a CSV that
+/// both runs load, so the timed runs start from a bed in contact (not from a free fall).
+BedScene makeBed(const OverheadOptions& o, const fs::path& scratch) {
+  server::TranslatedScene probe = server::translateScene(
+      bedScene(latticeJson(o.particles), 1.0e-7, 4, true, bodyJson(o.particles, o.interval)), ".",
+      server::SceneUse::CoSimulation);
+  probe.world.initialize();
+  const double limit = probe.world.timeStepReport().limit;
+  const auto perInterval = static_cast<std::uint64_t>(std::ceil(o.interval / limit * (1.0 + 1.0e-12)));
+  BedScene bed;
+  bed.time_step = o.interval / static_cast<double>(perInterval);
+  bed.interval_steps = perInterval;
+  bed.exchanges = static_cast<std::uint64_t>(std::llround(o.duration / o.interval));
+
+  server::TranslatedScene settle = server::translateScene(bedScene(latticeJson(o.particles), bed.time_step, 3, false, ""),
+                                                          ".", server::SceneUse::CoSimulation);
+  settle.world.initialize();
+  const auto settleSteps = static_cast<std::uint64_t>(std::llround(o.settle / bed.time_step));
+  const Clock::time_point begin = Clock::now();
+  for (std::uint64_t s = 0; s < settleSteps; ++s) settle.world.step();
+  const double settleSeconds = secondsOf(Clock::now() - begin);
+  const fs::path csv = scratch / "settled_bed.csv";
+  server::writeParticleCsv(settle.world, csv);
+  bed.scene = bedScene(settledJson(csv), bed.time_step, 5, false, "");
+  bed.particles_json = settledJson(csv);
+  std::printf("bed: %zu spheres r = %.1f mm, critical step %.3g s -> dt %.4g s, %llu steps per exchange, "
+              "%llu exchanges; settled %.3g s (%llu steps, %.1f ms per step)\n",
+              settle.world.particles().size(), kRadius * 1e3, limit, bed.time_step,
+              static_cast<unsigned long long>(perInterval), static_cast<unsigned long long>(bed.exchanges), o.settle,
+              static_cast<unsigned long long>(settleSteps), 1e3 * settleSeconds / static_cast<double>(settleSteps));
+  return bed;
+}
+
+core::RigidPose poseAt(const client::Vec3& start, double t) {
+  core::RigidPose p;
+  p.position = core::Vec3(start.x + kBodySpeed * t, start.y, start.z);
+  return p;
+}
+
+struct InProcessResult {
+  double seconds = 0.0;  ///< wall [s]
+  double cpu = 0.0;      ///< this thread's CPU [s]
+};
+
+/// The same scene, the same poses, stepped in this thread: the physics alone.
+InProcessResult runInProcess(const OverheadOptions& o, const BedScene& bed) {
+  v1::Scene scene = bedScene(bed.particles_json, bed.time_step, 4, true, bodyJson(o.particles, o.interval));
+  server::TranslatedScene t = server::translateScene(scene, ".", server::SceneUse::CoSimulation);
+  core::World& world = t.world;
+  world.initialize();
+  std::size_t mesh = world.meshes().size();
+  for (std::size_t m = 0; m < world.meshes().size(); ++m) {
+    if (world.meshes()[m].name() == "pusher") mesh = m;
+  }
+  if (mesh == world.meshes().size()) throw std::runtime_error("in-process scene: no mesh named pusher");
+  core::CoupledMotion motion(mesh, core::MotionMode::Predicted);
+  const client::Vec3 start = bodyStart(o.particles);
+  core::RigidTwist twist;
+  twist.linear = core::Vec3(kBodySpeed, 0.0, 0.0);
+  double checksum = 0.0;
+  const double cpuBegin = threadCpuSeconds();
+  const Clock::time_point begin = Clock::now();
+  for (std::uint64_t k = 0; k < bed.exchanges; ++k) {
+    const double t0 = static_cast<double>(k * bed.interval_steps) * bed.time_step;
+    motion.beginInterval(world, poseAt(start, t0), twist, bed.interval_steps);
+    for (std::uint64_t s = 0; s < bed.interval_steps; ++s) {
+      world.step();
+      motion.afterStep(world);
+    }
+    checksum += motion.endInterval(world).mean_force.x();
+  }
+  InProcessResult r;
+  r.seconds = secondsOf(Clock::now() - begin);
+  r.cpu = threadCpuSeconds() - cpuBegin;
+  std::printf("  in-process: %8.3f s wall, %.3f s CPU  (mean force x summed %.4g N)\n", r.seconds, r.cpu, checksum);
+  return r;
+}
+
+struct CoupledResult {
+  double seconds = 0.0;       ///< client: first exchange to last answer [s]
+  double host_seconds = 0.0;  ///< inside CoSimulationHost for packages (stepping included) [s]
+  double host_cpu = 0.0;      ///< the same in server thread CPU [s]
+  double busy_cpu = 0.0;      ///< server thread CPU from the first package to the last [s]
+  double client_cpu = 0.0;    ///< client thread CPU over its loop [s]
+  /// Per exchange: client round trip minus the host's wall time for that package [ns].
+  std::vector<std::int64_t> outside_ns;
+  std::vector<std::int64_t> exchange_ns;  ///< per exchange: the client's round trip [ns]
+};
+
+CoupledResult runCoupled(const OverheadOptions& o, const BedScene& bed) {
+  const fs::path out = scratchDirectory("overhead");
+  CoupledResult r;
+  double checksum = 0.0;
+  {
+    InProcessServer srv(bed.scene, out);
+    srv.handler().recordEach(bed.exchanges + 1);
+    client::Connection connection;
+    connection.connect("127.0.0.1", srv.port(), connectOptions("bench-overhead"));
+    client::Session session(connection);
+    const client::Vec3 start = bodyStart(o.particles);
+    auto& body = session.add<client::RigidBody>("pusher");
+    body.setBox(kBodySize).setMaterial("glass").setInitialPose(start).setMotion(v1::RigidBody::PREDICTED);
+    body.setCommunicationInterval(o.interval);
+    session.declare();
+    session.waitCompiled();
+    if (session.timeStep() != bed.time_step || body.intervalSteps() != bed.interval_steps) {
+      throw std::runtime_error("coupled scene compiled to another time step or interval");
+    }
+    const double cpuBegin = threadCpuSeconds();
+    const Clock::time_point begin = Clock::now();
+    for (std::uint64_t k = 0; k < bed.exchanges; ++k) {
+      const double t0 = static_cast<double>(k * bed.interval_steps) * bed.time_step;
+      body.setPose({start.x + kBodySpeed * t0, start.y, start.z}, {});
+      body.setVelocity({kBodySpeed, 0.0, 0.0}, {});
+      const Clock::time_point t0Exchange = Clock::now();
+      if (!session.exchange()) throw std::runtime_error("the simulation ended early");
+      r.exchange_ns.push_back(std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t0Exchange).count());
+      checksum += body.meanForce().x;
+    }
+    r.seconds = secondsOf(Clock::now() - begin);
+    r.client_cpu = threadCpuSeconds() - cpuBegin;
+    session.finish("benchmark done");
+    if (!srv.waitDone(kWallLimitSeconds)) throw std::runtime_error("the server did not end the simulation");
+    r.host_seconds = srv.handler().hostSeconds();
+    r.host_cpu = srv.handler().hostCpuSeconds();
+    const std::vector<std::int64_t>& inHost = srv.handler().hostNanoseconds();
+    if (inHost.size() < r.exchange_ns.size()) throw std::runtime_error("fewer packages than exchanges");
+    for (std::size_t k = 0; k < r.exchange_ns.size(); ++k) r.outside_ns.push_back(r.exchange_ns[k] - inHost[k]);
+    r.busy_cpu = srv.handler().busyCpuSeconds();
+  }
+  std::error_code ignored;
+  fs::remove_all(out, ignored);
+  std::printf("  coupled:    %8.3f s wall, %.3f s CPU  (mean force x summed %.4g N; server thread %.3f s CPU, "
+              "of which %.3f s in the host (%.3f s wall); client thread %.3f s CPU)\n",
+              r.seconds, r.busy_cpu + r.client_cpu, checksum, r.busy_cpu, r.host_cpu, r.host_seconds, r.client_cpu);
+  return r;
+}
+
+void overhead(const OverheadOptions& o) {
+  std::printf("== overhead: %zu-sphere bed, one rigid_body at %.4g s interval, %.4g s simulated ==\n", o.particles,
+              o.interval, o.duration);
+  const fs::path scratch = scratchDirectory("bed");
+  const BedScene bed = makeBed(o, scratch);
+  std::vector<std::int64_t> outsideAll, exchangeAll;
+  std::vector<double> inproc, inprocCpu, coupled, coupledCpu, host, busy, outside, ratio, ratioCpu;
+  for (std::size_t pair = 0; pair < o.pairs; ++pair) {
+    std::printf("pair %zu\n", pair + 1);
+    const InProcessResult a = runInProcess(o, bed);
+    const CoupledResult b = runCoupled(o, bed);
+    inproc.push_back(a.seconds);
+    inprocCpu.push_back(a.cpu);
+    coupled.push_back(b.seconds);
+    coupledCpu.push_back(b.busy_cpu + b.client_cpu);
+    host.push_back(b.host_cpu);
+    outside.push_back(b.busy_cpu - b.host_cpu);
+    outsideAll.insert(outsideAll.end(), b.outside_ns.begin(), b.outside_ns.end());
+    exchangeAll.insert(exchangeAll.end(), b.exchange_ns.begin(), b.exchange_ns.end());
+    busy.push_back(b.busy_cpu);
+    ratio.push_back((b.seconds - a.seconds) / b.seconds);
+    ratioCpu.push_back((coupledCpu.back() - a.cpu) / coupledCpu.back());
+    std::printf("  overhead this pair: wall %+.2f %%, CPU %+.2f %%\n", 100.0 * ratio.back(), 100.0 * ratioCpu.back());
+    std::fflush(stdout);
+  }
+  const double a = medianOf(inproc);
+  const double b = medianOf(coupled);
+  const double ac = medianOf(inprocCpu);
+  const double bc = medianOf(coupledCpu);
+  const auto k = static_cast<double>(bed.exchanges);
+  std::printf("wall: median in-process %.3f s, coupled %.3f s -> overhead %.2f %% (median of per-pair %.2f %%)\n", a,
+              b, 100.0 * (b - a) / b, 100.0 * medianOf(ratio));
+  std::printf("CPU:  median in-process %.3f s, coupled (server + client threads) %.3f s -> overhead %.2f %% "
+              "(median of per-pair %.2f %%)\n",
+              ac, bc, 100.0 * (bc - ac) / bc, 100.0 * medianOf(ratioCpu));
+  std::printf("per exchange (%.0f): CPU coupled - in-process %.1f us; server thread outside the host %.1f us; "
+              "wall coupled - in-process %.1f us\n",
+              k, 1e6 * (bc - ac) / k, 1e6 * medianOf(outside) / k, 1e6 * (b - a) / k);
+  const Distribution whole = distributionOf(exchangeAll);
+  const Distribution extra = distributionOf(outsideAll);
+  printDistribution("client exchange (all pairs)", whole);
+  printDistribution("  of which outside the host", extra);
+  std::printf("direct estimate: median outside-the-host time / median exchange = %.2f %%\n",
+              100.0 * extra.median_us / whole.median_us);
+  std::error_code ignored;
+  fs::remove_all(scratch, ignored);
+}
+
+// --- command line ----------------------------------------------------------------------
+
+[[noreturn]] void usage(const std::string& error) {
+  if (!error.empty()) std::fprintf(stderr, "error: %s\n", error.c_str());
+  std::fputs("usage: demlink-bench-cosim [roundtrip|overhead] [options]\n"
+             "  roundtrip  --clients N (default: 1, 4, 16)  --exchanges M (per client)  --warmup W (1000)\n"
+             "             --kind body|sensor (default body)\n"
+             "  overhead   --particles P (10000)  --interval S (0.001)  --duration S (0.25)  --pairs K (5)\n"
+             "             --settle S (0.15: simulated settling of the bed before the timed runs)\n"
+             "  no mode: roundtrip then overhead with the defaults\n",
+             stderr);
+  std::exit(error.empty() ? 0 : 2);
+}
+
+double number(std::string_view option, const char* text) {
+  char* end = nullptr;
+  const double v = std::strtod(text, &end);
+  if (end == text || *end != '\0' || !std::isfinite(v) || v <= 0.0) {
+    usage(std::string(option) + " = " + text + ": must be a positive number");
+  }
+  return v;
+}
+
+std::size_t count(std::string_view option, const char* text) {
+  const double v = number(option, text);
+  if (v != std::floor(v) || v > 1e9) usage(std::string(option) + " = " + text + ": must be a positive integer");
+  return static_cast<std::size_t>(v);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  spdlog::set_level(spdlog::level::warn);  // the host logs joins and compiles at info
+  std::string mode = "all";
+  RoundtripOptions rt;
+  OverheadOptions ov;
+  int k = 1;
+  if (argc > 1 && argv[1][0] != '-') mode = argv[k++];
+  if (mode != "all" && mode != "roundtrip" && mode != "overhead") usage("unknown mode " + mode);
+  for (; k < argc; ++k) {
+    const std::string_view arg = argv[k];
+    if (arg == "-h" || arg == "--help") usage("");
+    if (k + 1 >= argc) usage(std::string(arg) + ": missing value or unknown option");
+    const char* value = argv[++k];
+    if (arg == "--clients") {
+      rt.clients = count(arg, value);
+    } else if (arg == "--exchanges") {
+      rt.exchanges = count(arg, value);
+    } else if (arg == "--warmup") {
+      rt.warmup = std::string_view(value) == "0" ? 0 : count(arg, value);
+    } else if (arg == "--kind") {
+      if (std::string_view(value) != "body" && std::string_view(value) != "sensor") usage("--kind: body or sensor");
+      rt.sensor = std::string_view(value) == "sensor";
+    } else if (arg == "--particles") {
+      ov.particles = count(arg, value);
+    } else if (arg == "--interval") {
+      ov.interval = number(arg, value);
+    } else if (arg == "--duration") {
+      ov.duration = number(arg, value);
+    } else if (arg == "--settle") {
+      ov.settle = number(arg, value);
+    } else if (arg == "--pairs") {
+      ov.pairs = count(arg, value);
+    } else {
+      usage("unknown option " + std::string(arg));
+    }
+  }
+  try {
+    std::printf("demlink-bench-cosim: %u hardware threads\n", std::thread::hardware_concurrency());
+    if (mode == "all" || mode == "roundtrip") roundtrip(rt, rt.clients == 0);
+    if (mode == "all" || mode == "overhead") overhead(ov);
+  } catch (const std::exception& error) {
+    std::fprintf(stderr, "error: %s\n", error.what());
+    return 1;
+  }
+  return 0;
+}
