@@ -1,0 +1,47 @@
+#pragma once
+/// The excavator-and-truck site (issue 5), shared by the system models, the server's scene
+/// file (examples/cosim/site_scene.json must agree) and the tests. World frame: z up,
+/// ground level z = 0, SI units. Header-only constants, no dependencies, so both the C++
+/// client (excavator) and the C ABI client (truck) can include it.
+///
+///   y
+///   ^            +----------- pit 6 x 2 x 1 m, centre (0, 0), floor z = -1 ----------+
+///   |            |                                                                   |
+///   |            +-------------------------------------------------------------------+
+///   |                        X excavator swing axis (0, -3.5)     [truck bed] centre (5.5, -3.5)
+///   +------------------------------------------------------------------------------------> x
+///
+/// The excavator faces +y to dig (bucket 2.5 .. 4.5 m from its axis), swings +90 deg about z
+/// to face +x and dumps over the truck bed (5.5 m from its axis).
+namespace demlink::examples::site {
+
+// Pit dug into the ground: x in [-3, 3], y in [-1, 1], z in [-1, 0].
+inline constexpr double kPitHalfX = 3.0;  ///< [m]
+inline constexpr double kPitHalfY = 1.0;  ///< [m]
+inline constexpr double kPitDepth = 1.0;  ///< [m]
+
+// Gravel (materials database "gravel"), coarse spheres so the demo runs in minutes.
+inline constexpr double kGravelRadiusMin = 0.06;   ///< [m]
+inline constexpr double kGravelRadiusMax = 0.075;  ///< [m]
+
+// Excavator: vertical swing axis through (x, y) at ground level.
+inline constexpr double kExcavatorX = 0.0;   ///< [m]
+inline constexpr double kExcavatorY = -3.5;  ///< [m]
+
+// Truck dump body (open box): centre of its floor's top surface at rest, inner size.
+inline constexpr double kTruckBedX = 5.5;       ///< [m]
+inline constexpr double kTruckBedY = -3.5;      ///< [m]
+inline constexpr double kTruckBedFloorZ = 1.2;  ///< [m] top of the floor, suspension at rest under the empty body
+inline constexpr double kTruckBedLength = 3.0;  ///< inner, along x [m]
+inline constexpr double kTruckBedWidth = 2.0;   ///< inner, along y [m]
+inline constexpr double kTruckBedWallHeight = 0.6;  ///< [m]
+
+// Engine and exchange.
+inline constexpr double kTimeStep = 2.0e-4;              ///< [s]
+inline constexpr double kCommunicationInterval = 1.0e-3;  ///< [s] (5 steps)
+
+// Default server address of the demo.
+inline constexpr const char* kDefaultHost = "127.0.0.1";
+inline constexpr unsigned kDefaultPort = 47000;
+
+}  // namespace demlink::examples::site
