@@ -200,6 +200,9 @@ TEST(LoopbackCoupling, ThreeClientsOverTcpMatchInProcessCouplingBitForBit) {
   const std::string live = fileBytes(std::filesystem::path(a.finishedInfo().output_directory()) / "checkpoint_final.bin");
   EXPECT_GT(live.size(), 1000u);
   EXPECT_TRUE(live == bytes.str()) << "final checkpoint over TCP differs from the in-process coupling";
+  connA.close();
+  connB.close();
+  connC.close();
   server.stop();
   if (!::testing::Test::HasFailure()) std::filesystem::remove_all(root);
 }
