@@ -59,7 +59,10 @@ int main(int argc, char** argv) {
     }
   }
 
-  /* initial algorithm of every component: connect and declare (no waiting for Compiled). */
+  /* initial algorithm of every component: connect and declare (no waiting for Compiled).
+   * The box's end time is the experiment's stop time (samples x tc), as the Modelica model
+   * passes it: with a later end time the real server would go on simulating to it after the
+   * last exchanged component said Bye, while a Bye of a non-exchanged one is still in flight. */
   {
     const double gravity[3] = {0.0, 0.0, -9.81};
     const double lower[3] = {-2.0, -2.0, -1.0};
@@ -74,7 +77,7 @@ int main(int argc, char** argv) {
     for (i = 0; i < kCount && ok; ++i) {
       ok = check(dl_connect_to_host(clients[i], host, port, kNames[i], ""), clients[i], "dl_connect_to_host");
     }
-    ok = ok && check(dl_declare_simulation_box(clients[kBox], kNames[kBox], tc, 1e-5, 1.0, gravity, lower, upper,
+    ok = ok && check(dl_declare_simulation_box(clients[kBox], kNames[kBox], tc, 1e-5, samples * tc, gravity, lower, upper,
                                                kCount, &handles[kBox]),
                      clients[kBox], "dl_declare_simulation_box");
     ok = ok && check(dl_declare_material(clients[kMaterial], kNames[kMaterial], "gravel", -1, -1, -1, -1, -1, -1,
