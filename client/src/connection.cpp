@@ -132,7 +132,27 @@ void Connection::send(const v1::ClientMessage& message) {
 
 v1::ServerMessage Connection::receive() {
   if (!impl_) throw ConnectionError("receive on a connection that was never opened");
-  const auto deadline = std::chrono::steady_clock::now() + options_.timeout;
+  v1::ServerMessage message = readMessage(options_.timeout);
+  if (message.has_error()) {
+    if (message.error().fatal()) {
+      // The server follows a fatal Error with Finished (the output directory, the reason),
+      // then closes. Read it within a short grace so the caller can still learn where the
+      // simulation's results are; anything else (or nothing) is not an error here.
+      try {
+        v1::ServerMessage next = readMessage(std::min<std::chrono::milliseconds>(options_.timeout, kFinishedGrace));
+        if (next.has_finished()) finished_after_error_ = next.finished();
+      } catch (const std::exception&) {
+      }
+      impl_->closeSocket();
+    }
+    throw ServerError(message.error());
+  }
+  if (message.has_finished()) finished_after_error_.reset();
+  return message;
+}
+
+v1::ServerMessage Connection::readMessage(std::chrono::milliseconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
   for (;;) {
     // A frame may already be buffered (several messages can arrive in one read).
     if (std::optional<std::string> payload = impl_->decoder.next()) {
@@ -140,10 +160,6 @@ v1::ServerMessage Connection::receive() {
       if (!wire::parsePayload(*payload, message)) {
         impl_->closeSocket();
         throw ConnectionError("the server sent a frame that is not a ServerMessage");
-      }
-      if (message.has_error()) {
-        if (message.error().fatal()) impl_->closeSocket();
-        throw ServerError(message.error());
       }
       return message;
     }

@@ -91,7 +91,17 @@ Component* Session::applyData(const v1::DataPackage& package) {
 }
 
 Component* Session::pump() {
-  const v1::ServerMessage message = connection_.receive();
+  v1::ServerMessage message;
+  try {
+    message = connection_.receive();
+  } catch (const ServerError&) {
+    // A fatal error ends the simulation: keep its Finished (where the results are).
+    if (connection_.finishedAfterError()) {
+      finished_ = *connection_.finishedAfterError();
+      finished_flag_ = true;
+    }
+    throw;
+  }
   switch (message.message_case()) {
     case v1::ServerMessage::kCompiled:
       applyCompiled(message.compiled());
@@ -101,6 +111,7 @@ Component* Session::pump() {
     case v1::ServerMessage::kFinished:
       finished_ = message.finished();
       finished_flag_ = true;
+      connection_.close();  // the server ends the connection after Finished; hang up at once
       return nullptr;
     default:
       throw StateError("unexpected server message (case " + std::to_string(static_cast<int>(message.message_case())) +

@@ -249,6 +249,12 @@ TEST(FaultsOverTcp, NanInRigidBodyInputIsInvalidInputNamingTheField) {
     EXPECT_EQ(error.field(), "rigid_body_input.position.y");
     EXPECT_TRUE(error.fatal());
   }
+  // The Finished that follows the fatal error still reaches the library client: it says
+  // where the flushed results are.
+  ASSERT_TRUE(session.finished());
+  EXPECT_TRUE(std::filesystem::exists(std::filesystem::path(session.finishedInfo().output_directory()) /
+                                      "checkpoint_final.bin"));
+  EXPECT_FALSE(connection.isOpen());
   connection.close();
   expectFreshSimulationCompletes(server.port(), 2);
 }

@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "demlink/client/types.hpp"
@@ -42,9 +43,13 @@ class Connection {
   /// timeout).
   void send(const v1::ClientMessage& message);
 
-  /// The next ServerMessage. An Error message is thrown as ServerError (after closing the
-  /// connection when it is fatal); nothing arriving within the timeout is a TimeoutError.
+  /// The next ServerMessage. An Error message is thrown as ServerError; when it is fatal,
+  /// the Finished the server sends after it is read first (within a short grace) and kept
+  /// as finishedAfterError(), then the connection is closed. Nothing arriving within the
+  /// timeout is a TimeoutError.
   [[nodiscard]] v1::ServerMessage receive();
+  /// The Finished that followed the last fatal Error (reason, step, output directory).
+  [[nodiscard]] const std::optional<v1::Finished>& finishedAfterError() const { return finished_after_error_; }
 
   /// Closes the socket (idempotent). A later send/receive throws ConnectionError.
   void close();
@@ -54,6 +59,12 @@ class Connection {
   void setTimeout(std::chrono::milliseconds timeout) { options_.timeout = timeout; }
 
  private:
+  /// How long receive() waits for the Finished that follows a fatal Error.
+  static constexpr std::chrono::milliseconds kFinishedGrace{2000};
+  /// One framed message, Errors included (no interpretation).
+  v1::ServerMessage readMessage(std::chrono::milliseconds timeout);
+
+  std::optional<v1::Finished> finished_after_error_;
   struct Impl;  // Asio lives only in the .cpp: clients of this header need no Asio
   std::unique_ptr<Impl> impl_;
   ConnectOptions options_;
