@@ -9,7 +9,7 @@
 set -euo pipefail
 server_exe=$1 excavator_exe=$2 scene=$3 checker=$4 work=$5
 rm -rf "$work" && mkdir -p "$work"
-timeout 170 "$server_exe" --port 0 --once --scene "$scene" --output "$work/server" --timeout 60 \
+timeout 600 "$server_exe" --port 0 --once --scene "$scene" --output "$work/server" --timeout 60 \
   >"$work/server.log" 2>&1 &
 server_pid=$!
 trap 'kill "$server_pid" 2>/dev/null || true' EXIT
@@ -23,7 +23,7 @@ if [[ -z "$port" ]]; then
   echo "FAIL: the server did not start listening:"; cat "$work/server.log"; exit 1
 fi
 status=0
-timeout 160 "$excavator_exe" --host 127.0.0.1 --port "$port" --cycles 1 --output "$work/excavator" --timeout 60 \
+timeout 590 "$excavator_exe" --host 127.0.0.1 --port "$port" --cycles 1 --output "$work/excavator" --timeout 60 \
   >"$work/excavator.log" 2>&1 || status=$?
 wait "$server_pid" || { echo "FAIL: server exit $?"; tail -20 "$work/server.log"; exit 1; }
 trap - EXIT
