@@ -11,8 +11,9 @@
 ///   |                        X excavator swing axis (0, -3.5)     [truck bed] centre (5.5, -3.5)
 ///   +------------------------------------------------------------------------------------> x
 ///
-/// The excavator faces +y to dig (bucket 2.5 .. 4.5 m from its axis), swings +90 deg about z
-/// to face +x and dumps over the truck bed (5.5 m from its axis).
+/// The excavator faces +y to dig (bucket 2.5 .. 4.5 m from its axis), swings 90 deg about z
+/// (clockwise seen from above, heading 90 -> 0 deg) to face +x and dumps over the truck bed
+/// (5.5 m from its axis).
 namespace demlink::examples::site {
 
 // Pit dug into the ground: x in [-3, 3], y in [-1, 1], z in [-1, 0].

@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# One dig-dump cycle of demlink-excavator against a real demlink-server (child process,
+# --port 0 --once) on a small site scene, then check_excavator_run.py judges the CSV.
+#
+# Why a smaller scene: the full 6 m pit (4400 particles, 18 s to generate) takes minutes
+# per cycle; this one keeps the site's pit depth and width but is 1.6 m long (the bucket is
+# 1.2 m wide), with a 1/3 ms time step (70 % of the critical step). Every wait is bounded.
+# usage: run_excavator_cycle.sh SERVER_EXE EXCAVATOR_EXE SCENE CHECKER WORKDIR
+set -euo pipefail
+server_exe=$1 excavator_exe=$2 scene=$3 checker=$4 work=$5
+rm -rf "$work" && mkdir -p "$work"
+timeout 600 "$server_exe" --port 0 --once --scene "$scene" --output "$work/server" --timeout 60 \
+  >"$work/server.log" 2>&1 &
+server_pid=$!
+trap 'kill "$server_pid" 2>/dev/null || true' EXIT
+port=""
+for _ in $(seq 1 100); do
+  port=$(sed -n 's/.*listening on [0-9.]*:\([0-9]*\).*/\1/p' "$work/server.log" | head -n1)
+  [[ -n "$port" ]] && break
+  sleep 0.1
+done
+if [[ -z "$port" ]]; then
+  echo "FAIL: the server did not start listening:"; cat "$work/server.log"; exit 1
+fi
+status=0
+timeout 590 "$excavator_exe" --host 127.0.0.1 --port "$port" --cycles 1 --output "$work/excavator" --timeout 60 \
+  >"$work/excavator.log" 2>&1 || status=$?
+wait "$server_pid" || { echo "FAIL: server exit $?"; tail -20 "$work/server.log"; exit 1; }
+trap - EXIT
+if [[ $status -ne 0 ]]; then
+  echo "FAIL: excavator exit $status"; tail -20 "$work/excavator.log"; tail -20 "$work/server.log"; exit 1
+fi
+grep -E "cycle 1:|mass dumped" "$work/excavator.log"
+python3 "$checker" "$work/excavator/excavator.csv"
