@@ -95,6 +95,13 @@ std::unique_ptr<Component> componentFromPackage(const Package& p) {
     if (p.reals.size() >= 12) c->setBounds(r.vec(6), r.vec(9));
     if (r.integer(0, 0) > 0) c->setExpectedCount(static_cast<std::uint32_t>(r.integer(0, 0)));
     for (std::size_t i = 2; i < p.strings.size(); ++i) c->addExpectedName(p.strings[i]);
+    if (r.hasReal(12)) {
+      if (!(r.real(12) >= 0.0)) throw ArgumentError("simulation_box: reals[12] (VTK interval) must be >= 0 s");
+      c->message().mutable_output()->set_vtk_interval(r.real(12));
+    }
+    const long long threads = r.integer(1, -1);
+    if (threads > static_cast<long long>(UINT32_MAX)) throw ArgumentError("simulation_box: ints[1] (threads) is too large");
+    if (threads >= 0) c->message().set_threads(static_cast<std::uint32_t>(threads));
     out = std::move(c);
   } else if (kind == "material") {
     auto c = std::make_unique<Material>(name);

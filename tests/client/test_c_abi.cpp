@@ -231,6 +231,46 @@ TEST(ClientCAbi, StatusCodesAndMessages) {
   EXPECT_NE(std::string(dl_last_error(refused.client)).find("'tracker' has no generic layout"), std::string::npos);
 }
 
+// The optional simulation_box entries of the generic layout (VTK interval, threads,
+// expected names, the room frame input) reach the declaration; omitted ones stay unset.
+TEST(ClientCAbi, GenericSimulationBoxCarriesOutputThreadsAndNames) {
+  const std::string log = logFile("generic_box");
+  FakeServerProcess server(1, 1, log);
+  ASSERT_NE(server.port(), 0);
+  ClientGuard c;
+  PackageGuard pkg;
+  ASSERT_EQ(dl_connect_to_host(c.client, "127.0.0.1", server.port(), "room", nullptr), DL_OK) << dl_last_error(c.client);
+  const double nan = std::nan("");
+  const char* boxStrings[] = {"simulation_box", "room", "room", "truck_body"};
+  const long long boxInts[] = {0, 2};
+  const double boxReals[] = {0.001, 2e-4, 1.0, 0.0, 0.0, -9.81, -1.0, -2.0, -3.0, 4.0, 5.0, 6.0, 0.25};
+  ASSERT_EQ(dl_set_data(pkg.package, boxInts, 2, boxReals, 13, boxStrings, 4), DL_OK);
+  ASSERT_EQ(dl_send_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
+  ASSERT_EQ(dl_wait_compiled(c.client), DL_OK) << dl_last_error(c.client);
+  // The frame input: gravity unchanged (NaN), then a_f, Omega, alpha, origin.
+  const long long handle[] = {0};
+  const double frame[] = {nan, nan, nan, 1.5, 0.0, 0.0, 0.0, 0.0, 0.5, 0.0, 0.0, 0.1, 5.5, -3.5, 0.0};
+  ASSERT_EQ(dl_set_data(pkg.package, handle, 1, frame, 15, nullptr, 0), DL_OK);
+  ASSERT_EQ(dl_send_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
+  ASSERT_EQ(dl_recv_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
+  EXPECT_EQ(dl_finish(c.client, "done"), DL_OK);
+  EXPECT_EQ(dl_wait_finished(c.client), DL_OK) << dl_last_error(c.client);
+  ASSERT_EQ(server.wait(), 0);
+
+  const auto lines = readLines(log);
+  EXPECT_TRUE(contains(lines, "DECL room", "output { vtk_interval: 0.25 }"));
+  EXPECT_TRUE(contains(lines, "DECL room", "threads: 2"));
+  EXPECT_TRUE(contains(lines, "DECL room", "expected_names: \"room\" expected_names: \"truck_body\""));
+  EXPECT_TRUE(contains(lines, "DECL room", "bounds { lower { x: -1 y: -2 z: -3 } upper { x: 4 y: 5 z: 6 } }"));
+
+  // A negative VTK interval is refused by name before anything is sent.
+  const double badReals[] = {0.001, 2e-4, 1.0, 0.0, 0.0, -9.81, -1.0, -2.0, -3.0, 4.0, 5.0, 6.0, -0.25};
+  ClientGuard other;
+  ASSERT_EQ(dl_set_data(pkg.package, boxInts, 2, badReals, 13, boxStrings, 4), DL_OK);
+  EXPECT_EQ(dl_send_package(other.client, pkg.package), DL_ERR_ARGUMENT);
+  EXPECT_NE(std::string(dl_last_error(other.client)).find("reals[12]"), std::string::npos);
+}
+
 // The C program that makes the Modelica package's calls, against the fake scheduler with
 // one connection per component.
 TEST(ClientCAbi, ModelicaSequenceProgramRunsAgainstTheFakeServer) {

@@ -40,7 +40,9 @@
  *   exchanged). Per kind:
  *   simulation_box : reals[1] time step [s] (NaN: default), [2] end time [s],
  *                    [3..5] gravity [m/s^2], [6..8] bounds lower, [9..11] bounds upper [m]
- *                    (bounds only when nReals >= 12); ints[0] expected component count;
+ *                    (bounds only when nReals >= 12), [12] VTK output interval [s]
+ *                    (optional; NaN: default); ints[0] expected component count,
+ *                    ints[1] engine threads (optional; negative: default 1, 0: all cores);
  *                    strings[2..] expected component names.
  *   material       : strings[2] database name ("" none); reals[1] density [kg/m^3],
  *                    [2] Young's modulus [Pa], [3] Poisson ratio, [4] restitution,

@@ -1,0 +1,485 @@
+/// demlink-truck: the truck of the excavator-and-truck co-simulation (issue 5), a system
+/// model coupled through the C ABI only (demlink_c.h, generic packages as in the coupling
+/// paper: dl_set_data / dl_send_package / dl_recv_package).
+///
+/// Why the C ABI and generic packages: this is the path a Modelica tool takes, and the
+/// example is its executable check at full scale. Generic packages are needed anyway for
+/// what the typed helpers do not carry: the room frame input, expected names, the VTK
+/// interval, and an STL body whose bytes are sent from the client.
+///
+/// The client declares the SimulationBox (the room; it must, because it moves the room
+/// while the truck drives), the dump body (RigidBody, LAGGED: the pose sent at sample k is
+/// the model's pose at sample k+1, reached by the mesh over the interval), the load sensor
+/// (RegionSensor attached to the body) and, in the `source` scenario, a ParticleSource over
+/// the bed. One exchange per communication interval; the suspension model (truck_model.hpp)
+/// takes one RK4 step per interval with the DEM wrench of the interval that just ended.
+/// Phases: loading -> settling -> holding (at rest, the static reference) -> accelerating
+/// -> turning -> done (room inertial again, Bye).
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <sys/stat.h>
+
+#include "../cosim/site_layout.hpp"
+#include "demlink/demlink_c.h"
+#include "dump_body_mesh.hpp"
+#include "truck_model.hpp"
+
+namespace {
+
+namespace site = demlink::examples::site;
+using demlink::examples::truck::DumpBodyShape;
+using demlink::examples::truck::TruckInputs;
+using demlink::examples::truck::TruckModel;
+using demlink::examples::truck::TruckParameters;
+
+constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
+
+// Component names (the excavator and the scene file use others).
+constexpr const char* kRoomName = "truck_room";
+constexpr const char* kBodyName = "truck_body";
+constexpr const char* kLoadName = "truck_load";
+constexpr const char* kFeederName = "truck_feeder";
+
+struct Options {
+  std::string host = site::kDefaultHost;
+  int port = static_cast<int>(site::kDefaultPort);
+  bool source = false;  ///< scenario: false excavator, true source
+  bool expected_given = false;
+  std::vector<std::string> expected;  ///< the other clients' component names
+  std::string output = "out/truck";
+  double load_target = 1000.0;  ///< [kg] source scenario: mass the source inserts
+  double source_rate = 500.0;   ///< [kg/s]
+  double drive_time = 3.0;      ///< [s] accelerating half, turning half
+  double drive_at = 0.0;        ///< [s] excavator scenario: start driving at this time (0: when steady)
+  double acceleration = 1.5;    ///< [m/s^2]
+  double yaw_rate = 0.5;        ///< [rad/s] (left turn)
+  double body_mass = 2000.0;    ///< [kg]
+  double steady_time = 0.4;     ///< [s] load unchanged this long = settled
+  double max_time = 0.0;        ///< [s] start driving at the latest here (0: source 30 s, excavator 600 s)
+  std::string material = "gravel";
+};
+
+[[noreturn]] void usage(const char* why) {
+  std::fprintf(stderr,
+               "demlink-truck: %s\n"
+               "usage: demlink-truck [--host H] [--port N] [--scenario excavator|source] [--expected N1,N2,...]\n"
+               "                     [--output DIR] [--load-target KG] [--source-rate KG_PER_S] [--drive-time S]\n"
+               "                     [--drive-at S] [--acceleration M_S2] [--yaw-rate RAD_S] [--body-mass KG]\n"
+               "                     [--steady-time S] [--max-time S] [--material NAME]\n",
+               why);
+  std::exit(2);
+}
+
+double number(const std::string& flag, const char* text, double lo) {
+  char* end = nullptr;
+  errno = 0;
+  const double v = std::strtod(text, &end);
+  if (end == text || *end != '\0' || errno != 0 || !std::isfinite(v) || v < lo) {
+    usage((flag + " = " + text + ": not a number >= " + std::to_string(lo)).c_str());
+  }
+  return v;
+}
+
+std::vector<std::string> splitNames(const std::string& list) {
+  std::vector<std::string> out;
+  std::size_t start = 0;
+  while (start <= list.size()) {
+    const std::size_t comma = list.find(',', start);
+    const std::string item = list.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    if (!item.empty()) out.push_back(item);
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return out;
+}
+
+Options parse(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    const std::string flag = argv[i];
+    if (flag == "--help" || flag == "-h") usage("help");
+    if (i + 1 >= argc) usage((flag + ": missing value").c_str());
+    const char* v = argv[++i];
+    if (flag == "--host") o.host = v;
+    else if (flag == "--port") o.port = static_cast<int>(number(flag, v, 1.0));
+    else if (flag == "--scenario") {
+      if (std::strcmp(v, "source") == 0) o.source = true;
+      else if (std::strcmp(v, "excavator") == 0) o.source = false;
+      else usage((flag + " = " + v + ": expected excavator or source").c_str());
+    } else if (flag == "--expected") {
+      o.expected = splitNames(v);
+      o.expected_given = true;
+    } else if (flag == "--output") o.output = v;
+    else if (flag == "--load-target") o.load_target = number(flag, v, 1e-9);
+    else if (flag == "--source-rate") o.source_rate = number(flag, v, 1e-9);
+    else if (flag == "--drive-time") o.drive_time = number(flag, v, 0.0);
+    else if (flag == "--drive-at") o.drive_at = number(flag, v, 0.0);
+    else if (flag == "--acceleration") o.acceleration = number(flag, v, 0.0);
+    else if (flag == "--yaw-rate") o.yaw_rate = number(flag, v, -10.0);
+    else if (flag == "--body-mass") o.body_mass = number(flag, v, 1.0);
+    else if (flag == "--steady-time") o.steady_time = number(flag, v, 0.0);
+    else if (flag == "--max-time") o.max_time = number(flag, v, 0.0);
+    else if (flag == "--material") o.material = v;
+    else usage(("unknown option " + flag).c_str());
+  }
+  if (o.port > 65535) usage("--port must be <= 65535");
+  if (!o.expected_given && !o.source) o.expected = {"excavator_bucket", "bucket_fill"};
+  if (o.max_time <= 0.0) o.max_time = o.source ? 30.0 : 600.0;
+  return o;
+}
+
+/// Creates DIR and its parents (like mkdir -p).
+void makeDirectories(const std::string& path) {
+  for (std::size_t pos = 1; pos <= path.size(); ++pos) {
+    if (pos == path.size() || path[pos] == '/') {
+      const std::string prefix = path.substr(0, pos);
+      if (::mkdir(prefix.c_str(), 0755) != 0 && errno != EEXIST) {
+        throw std::runtime_error("cannot create directory '" + prefix + "': " + std::strerror(errno));
+      }
+    }
+  }
+}
+
+/// A C ABI client with error checks that turn a failed call into an exception naming it.
+class Link {
+ public:
+  Link() : client_(dl_client_create()), package_(dl_package_create()) {
+    if (client_ == nullptr || package_ == nullptr) throw std::runtime_error("out of memory");
+  }
+  ~Link() {
+    dl_package_destroy(package_);
+    dl_client_destroy(client_);
+  }
+  Link(const Link&) = delete;
+  Link& operator=(const Link&) = delete;
+
+  void check(int status, const char* what) const {
+    if (status == DL_OK) return;
+    if (status == DL_ERR_FINISHED) throw std::runtime_error(std::string(what) + ": " + dl_last_error(client_));
+    throw std::runtime_error(std::string(what) + " failed (status " + std::to_string(status) + "): " +
+                             dl_last_error(client_));
+  }
+  dl_client* client() { return client_; }
+
+  /// Sends one generic package (declaration when strings are given, else inputs).
+  void send(const std::vector<long long>& ints, const std::vector<double>& reals,
+            const std::vector<std::string>& strings, const char* what) {
+    std::vector<const char*> raw;
+    for (const auto& s : strings) raw.push_back(s.c_str());
+    check(dl_set_data(package_, ints.data(), static_cast<int>(ints.size()), reals.data(),
+                      static_cast<int>(reals.size()), raw.data(), static_cast<int>(raw.size())),
+          what);
+    check(dl_send_package(client_, package_), what);
+  }
+  /// Receives the next answer; returns its handle and fills reals / ints.
+  int receive(std::vector<double>& reals, std::vector<long long>& ints) {
+    check(dl_recv_package(client_, package_), "dl_recv_package");
+    return unpack(reals, ints);
+  }
+  /// The latest (initial) outputs of a component.
+  void outputs(int handle, std::vector<double>& reals, std::vector<long long>& ints) {
+    check(dl_get_outputs(client_, handle, package_), "dl_get_outputs");
+    unpack(reals, ints);
+  }
+
+ private:
+  int unpack(std::vector<double>& reals, std::vector<long long>& ints) {
+    int n = 0;
+    check(dl_get_reals(package_, nullptr, 0, &n), "dl_get_reals");
+    reals.assign(static_cast<std::size_t>(n), 0.0);
+    if (n > 0) check(dl_get_reals(package_, reals.data(), n, &n), "dl_get_reals");
+    check(dl_get_ints(package_, nullptr, 0, &n), "dl_get_ints");
+    ints.assign(static_cast<std::size_t>(n), 0);
+    if (n > 0) check(dl_get_ints(package_, ints.data(), n, &n), "dl_get_ints");
+    return ints.empty() ? -1 : static_cast<int>(ints[0]);
+  }
+
+  dl_client* client_;
+  dl_package* package_;
+};
+
+enum class Phase { Loading, Settling, Holding, Accelerating, Turning, Done };
+
+const char* phaseName(Phase p) {
+  switch (p) {
+    case Phase::Loading: return "loading";
+    case Phase::Settling: return "settling";
+    case Phase::Holding: return "holding";
+    case Phase::Accelerating: return "accelerating";
+    case Phase::Turning: return "turning";
+    case Phase::Done: return "done";
+  }
+  return "?";
+}
+
+/// Quaternion (w, x, y, z) of pitch theta about y, then roll phi about x (body axes).
+std::array<double, 4> attitude(double theta, double phi) {
+  const double cy = std::cos(0.5 * theta), sy = std::sin(0.5 * theta);
+  const double cx = std::cos(0.5 * phi), sx = std::sin(0.5 * phi);
+  // q_y * q_x
+  return {cy * cx, cy * sx, sy * cx, -sy * sx};
+}
+
+/// Rotates v by the quaternion q (w, x, y, z).
+std::array<double, 3> rotate(const std::array<double, 4>& q, const std::array<double, 3>& v) {
+  const double w = q[0], x = q[1], y = q[2], z = q[3];
+  // t = 2 q_vec x v; v' = v + w t + q_vec x t
+  const double tx = 2.0 * (y * v[2] - z * v[1]);
+  const double ty = 2.0 * (z * v[0] - x * v[2]);
+  const double tz = 2.0 * (x * v[1] - y * v[0]);
+  return {v[0] + w * tx + (y * tz - z * ty), v[1] + w * ty + (z * tx - x * tz), v[2] + w * tz + (x * ty - y * tx)};
+}
+
+int run(const Options& o) {
+  makeDirectories(o.output);
+  const double tc = site::kCommunicationInterval;
+  const DumpBodyShape shape{site::kTruckBedLength, site::kTruckBedWidth, site::kTruckBedWallHeight, 0.08, 0.1};
+  const std::string stlPath = o.output + "/truck_body.stl";
+  demlink::examples::truck::writeBinaryStl(stlPath, demlink::examples::truck::dumpBodyTriangles(shape));
+
+  TruckParameters params;
+  params.body_mass = o.body_mass;
+  // Inertia of a solid block 3.4 x 2.4 x 1.0 m of the body's mass (a simple estimate).
+  params.pitch_inertia = o.body_mass * (3.4 * 3.4 + 1.0) / 12.0;
+  params.roll_inertia = o.body_mass * (2.4 * 2.4 + 1.0) / 12.0;
+  // Spring rate for a heave frequency of about 1.5 Hz under the empty body, damping ratio 0.35.
+  const double omega = 2.0 * M_PI * 1.5;
+  params.spring_stiffness = 0.25 * o.body_mass * omega * omega;
+  params.spring_damping = 0.25 * 2.0 * 0.35 * o.body_mass * omega;
+  TruckModel model(params);
+  // Centre of gravity in the body frame (origin: centre of the floor's top surface).
+  const std::array<double, 3> cgLocal{0.0, 0.0, -0.35};
+  const std::array<double, 3> bodyOrigin{site::kTruckBedX, site::kTruckBedY, site::kTruckBedFloorZ};
+  const std::array<double, 3> cgRest{bodyOrigin[0] + cgLocal[0], bodyOrigin[1] + cgLocal[1], bodyOrigin[2] + cgLocal[2]};
+
+  Link link;
+  link.check(dl_set_timeout(link.client(), 120.0), "dl_set_timeout");
+  link.check(dl_connect_to_host(link.client(), o.host.c_str(), o.port, "truck", ""), "dl_connect_to_host");
+
+  // SimulationBox: the whole site, run until Bye, VTK every 0.25 s, 2 threads.
+  std::vector<std::string> boxStrings{"simulation_box", kRoomName, kRoomName, kBodyName, kLoadName};
+  if (o.source) boxStrings.emplace_back(kFeederName);
+  for (const auto& n : o.expected) boxStrings.push_back(n);
+  link.send({0, 2},
+            {tc, site::kTimeStep, 0.0, 0.0, 0.0, -9.81, -5.0, -6.5, -2.0, 9.5, 3.0, 5.0, 0.25}, boxStrings,
+            "declare simulation_box");
+  // The dump body: STL bytes sent from here, reference point = the body frame's origin.
+  link.send({2, 2},
+            {tc, 0.0, 0.0, 0.0, bodyOrigin[0], bodyOrigin[1], bodyOrigin[2], 1.0, 0.0, 0.0, 0.0},
+            {"rigid_body", kBodyName, o.material, stlPath}, "declare rigid_body");
+  // Load sensor: the cavity and up to 0.6 m of heap above the walls, riding with the body.
+  const double sensorHeight = site::kTruckBedWallHeight + 0.6;
+  link.send({0}, {tc, 0.0, 0.0, 0.5 * sensorHeight, site::kTruckBedLength, site::kTruckBedWidth, sensorHeight},
+            {"region_sensor", kLoadName, kBodyName}, "declare region_sensor");
+  const double sourceStop = o.load_target / o.source_rate;
+  if (o.source) {
+    const double z = site::kTruckBedFloorZ + site::kTruckBedWallHeight + 0.15;
+    link.send({7},
+              {tc, site::kTruckBedX, site::kTruckBedY, z, 0.5 * site::kTruckBedLength - 0.3,
+               0.5 * site::kTruckBedWidth - 0.3, 0.12, site::kGravelRadiusMin, site::kGravelRadiusMax, kNan,
+               o.source_rate, 0.0, 0.0, -0.5, 0.0, sourceStop},
+              {"particle_source", kFeederName, o.material, ""}, "declare particle_source");
+  }
+  const int kRoom = 0, kBody = 1, kLoad = 2, kFeeder = 3;
+  const int components = o.source ? 4 : 3;
+  std::printf("demlink-truck: declared %s, %s, %s%s%s; waiting for compile (expected:", kRoomName, kBodyName, kLoadName,
+              o.source ? ", " : "", o.source ? kFeederName : "");
+  for (std::size_t i = 2; i < boxStrings.size(); ++i) std::printf(" %s", boxStrings[i].c_str());
+  std::printf(")\n");
+  std::fflush(stdout);
+  link.check(dl_wait_compiled(link.client()), "dl_wait_compiled");
+
+  const std::string csvPath = o.output + "/truck.csv";
+  std::FILE* csv = std::fopen(csvPath.c_str(), "w");
+  if (csv == nullptr) throw std::runtime_error("cannot write '" + csvPath + "'");
+  std::fprintf(csv,
+               "# body_mass_kg=%g cg_above_seats_m=%g front_axle_x_m=%g rear_axle_x_m=%g half_track_m=%g "
+               "cg_z_m=%g acceleration_m_s2=%g yaw_rate_rad_s=%g\n",
+               params.body_mass, -params.seat_height, params.front_axle_x, params.rear_axle_x, params.half_track,
+               cgRest[2], o.acceleration, o.yaw_rate);
+  std::fprintf(csv,
+               "time_s,phase,load_mass_kg,load_count,load_com_x_m,load_com_y_m,load_com_z_m,inserted_mass_kg,"
+               "spring_fl_N,spring_fr_N,spring_rl_N,spring_rr_N,axle_front_N,axle_rear_N,side_left_N,side_right_N,"
+               "heave_m,pitch_rad,roll_rad,dem_fx_N,dem_fy_N,dem_fz_N,dem_mx_Nm,dem_my_Nm,dem_mz_Nm,"
+               "room_ax_m_s2,room_ay_m_s2,room_az_m_s2,yaw_rate_rad_s,speed_m_s\n");
+
+  // Latest outputs per component.
+  std::vector<double> reals;
+  std::vector<long long> ints;
+  std::array<double, 12> wrench{};
+  double loadMass = 0.0;
+  long long loadCount = 0;
+  std::array<double, 3> loadCom{kNan, kNan, kNan};
+  double inserted = 0.0;
+  const auto take = [&](int handle) {
+    if (handle == kBody) {
+      for (std::size_t i = 0; i < 12 && i < reals.size(); ++i) wrench[i] = reals[i];
+    } else if (handle == kLoad && reals.size() >= 4) {
+      loadMass = reals[0];
+      loadCount = ints.size() > 2 ? ints[2] : 0;
+      loadCom = {reals[1], reals[2], reals[3]};
+    } else if (handle == kFeeder && reals.size() >= 2) {
+      inserted = reals[1];
+    }
+  };
+  for (int h = 0; h < components; ++h) {
+    link.outputs(h, reals, ints);
+    take(h);
+  }
+
+  Phase phase = Phase::Loading;
+  double phaseStart = 0.0;
+  double massRef = 0.0, massChangedAt = 0.0, stillSince = 0.0;
+  bool dumped = false;
+  double speed = 0.0, yawRate = 0.0;
+  const double accelerateTime = 0.5 * o.drive_time, turnTime = 0.5 * o.drive_time;
+  const double yawRamp = std::min(0.25, 0.5 * turnTime);
+  double nextLog = 0.0;
+  int doneSamples = 0;
+
+  for (long long k = 0;; ++k) {
+    if (k > 0) {
+      for (int n = 0; n < components; ++n) take(link.receive(reals, ints));
+    }
+    const double t = static_cast<double>(k) * tc;
+
+    // Phase logic (at sample k, for the interval [t, t + tc]).
+    if (std::fabs(loadMass - massRef) > std::max(1.0, 0.005 * massRef)) {
+      massRef = loadMass;
+      massChangedAt = t;
+    }
+    if (loadMass > 20.0) dumped = true;
+    // Settled: the sensed mass unchanged for steady_time, the body nearly still, and the
+    // body carrying the sensed load's weight (the particles no longer bounce).
+    const double weightError = std::fabs(wrench[2] + loadMass * params.gravity);
+    if (std::fabs(model.state().z_rate) > 2e-3 || std::fabs(model.state().theta_rate) > 2e-3 ||
+        std::fabs(model.state().phi_rate) > 2e-3 || weightError > 0.01 * (params.body_mass + loadMass) * params.gravity) {
+      stillSince = t;
+    }
+    const bool steady = t - massChangedAt >= o.steady_time && t - stillSince >= 0.1;
+    const auto enter = [&](Phase p) {
+      phase = p;
+      phaseStart = t;
+      std::printf("demlink-truck: t = %.3f s: %s (load %.1f kg)\n", t, phaseName(p), loadMass);
+      std::fflush(stdout);
+    };
+    switch (phase) {
+      case Phase::Loading: {
+        const bool over = o.source ? t >= sourceStop
+                                   : ((o.drive_at > 0.0 && t >= o.drive_at) || (o.drive_at <= 0.0 && dumped && steady));
+        if (over || t >= o.max_time) enter(o.source ? Phase::Settling : Phase::Holding);
+        break;
+      }
+      case Phase::Settling:
+        if ((steady && t - phaseStart >= o.steady_time) || t >= o.max_time) enter(Phase::Holding);
+        break;
+      case Phase::Holding:
+        if (t - phaseStart >= 0.2) enter(Phase::Accelerating);
+        break;
+      case Phase::Accelerating:
+        if (t - phaseStart >= accelerateTime - 0.5 * tc) enter(Phase::Turning);
+        break;
+      case Phase::Turning:
+        if (t - phaseStart >= turnTime - 0.5 * tc) enter(Phase::Done);
+        break;
+      case Phase::Done:
+        break;
+    }
+
+    // Room motion for this interval (truck frame, origin at the body's centre of gravity).
+    std::array<double, 3> frameAcc{0.0, 0.0, 0.0};
+    double yawAcc = 0.0;
+    if (phase == Phase::Accelerating) {
+      frameAcc[0] = o.acceleration;
+    } else if (phase == Phase::Turning) {
+      yawAcc = t - phaseStart < yawRamp ? o.yaw_rate / yawRamp : 0.0;
+      frameAcc[1] = speed * (yawRate + 0.5 * yawAcc * tc);
+    }
+
+    // DEM wrench on the body, torque moved from the reference point to the CG.
+    const auto q = attitude(model.state().theta, model.state().phi);
+    const auto arm = rotate(q, {-cgLocal[0], -cgLocal[1], -cgLocal[2]});  // CG -> reference point
+    TruckInputs in;
+    for (std::size_t i = 0; i < 3; ++i) in.dem_force[i] = wrench[i];
+    in.dem_torque = {wrench[3] + arm[1] * wrench[2] - arm[2] * wrench[1],
+                     wrench[4] + arm[2] * wrench[0] - arm[0] * wrench[2],
+                     wrench[5] + arm[0] * wrench[1] - arm[1] * wrench[0]};
+    in.frame_acceleration = frameAcc;
+
+    // Log the state at t with the wrench of the interval that ended at t.
+    const auto f = model.springForces();
+    const auto& s = model.state();
+    std::fprintf(csv,
+                 "%.4f,%s,%.4f,%lld,%.5f,%.5f,%.5f,%.4f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.7f,%.7f,%.7f,"
+                 "%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.4f,%.4f,%.4f,%.5f,%.5f\n",
+                 t, phaseName(phase), loadMass, loadCount, loadCom[0], loadCom[1], loadCom[2], inserted, f[0], f[1],
+                 f[2], f[3], f[0] + f[1], f[2] + f[3], f[0] + f[2], f[1] + f[3], s.z, s.theta, s.phi, in.dem_force[0],
+                 in.dem_force[1], in.dem_force[2], in.dem_torque[0], in.dem_torque[1], in.dem_torque[2], frameAcc[0],
+                 frameAcc[1], frameAcc[2], yawRate, speed);
+    if (t >= nextLog - 1e-9) {
+      std::printf("t %7.3f s  %-12s load %8.1f kg (%4lld)  axles F %8.0f N  R %8.0f N  heave %+7.4f m  pitch %+7.4f rad"
+                  "  roll %+7.4f rad\n",
+                  t, phaseName(phase), loadMass, loadCount, f[0] + f[1], f[2] + f[3], s.z, s.theta, s.phi);
+      std::fflush(stdout);
+      nextLog += 0.5;
+    }
+
+    if (phase == Phase::Done && ++doneSamples > 1) break;
+
+    // Advance the model to t + tc and send the pose it reaches (LAGGED: the mesh gets there
+    // over the interval), the room frame and the other components' empty packages.
+    model.step(in, tc);
+    const auto& n = model.state();
+    const auto qn = attitude(n.theta, n.phi);
+    const auto armN = rotate(qn, {-cgLocal[0], -cgLocal[1], -cgLocal[2]});
+    const std::array<double, 3> omegaBody{n.phi_rate, n.theta_rate, 0.0};
+    const std::array<double, 3> position{cgRest[0] + armN[0], cgRest[1] + armN[1], cgRest[2] + n.z + armN[2]};
+    const std::array<double, 3> velocity{omegaBody[1] * armN[2] - omegaBody[2] * armN[1],
+                                         omegaBody[2] * armN[0] - omegaBody[0] * armN[2],
+                                         n.z_rate + omegaBody[0] * armN[1] - omegaBody[1] * armN[0]};
+    const double yawNext = yawRate + yawAcc * tc;
+    if (phase == Phase::Accelerating || phase == Phase::Turning || phase == Phase::Done) {
+      link.send({kRoom},
+                {kNan, kNan, kNan, frameAcc[0], frameAcc[1], frameAcc[2], 0.0, 0.0, phase == Phase::Done ? 0.0 : yawRate,
+                 0.0, 0.0, phase == Phase::Done ? 0.0 : yawAcc, cgRest[0], cgRest[1], 0.0},
+                {}, "send simulation_box");
+    } else {
+      link.send({kRoom}, {}, {}, "send simulation_box");
+    }
+    link.send({kBody},
+              {position[0], position[1], position[2], qn[0], qn[1], qn[2], qn[3], velocity[0], velocity[1], velocity[2],
+               omegaBody[0], omegaBody[1], omegaBody[2]},
+              {}, "send rigid_body");
+    link.send({kLoad}, {}, {}, "send region_sensor");
+    if (o.source) link.send({kFeeder}, {}, {}, "send particle_source");
+    speed += frameAcc[0] * tc;
+    yawRate = phase == Phase::Turning ? yawNext : 0.0;
+  }
+  std::fclose(csv);
+  link.check(dl_finish(link.client(), "truck finished driving"), "dl_finish");
+  link.check(dl_wait_finished(link.client()), "dl_wait_finished");
+  std::printf("demlink-truck: finished (%s); load %.1f kg (%lld particles)%s; wrote %s\n",
+              dl_finished_reason(link.client()), loadMass, loadCount,
+              o.source ? (", inserted " + std::to_string(inserted) + " kg").c_str() : "", csvPath.c_str());
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const Options options = parse(argc, argv);
+  try {
+    return run(options);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "demlink-truck: %s\n", e.what());
+    return 1;
+  }
+}
