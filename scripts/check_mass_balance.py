@@ -7,8 +7,8 @@ the clients' own logs). Conservation is the check that ties them together:
 
     pit + bucket + truck + spill + removed = initial   (at every common sample time)
 
-This script knows nothing about excavators: each term is FILE:COLUMN, optionally with a
-sign (-FILE:COLUMN subtracts). Rows of different files are matched by their time column
+This script knows nothing about excavators: each term is FILE:COLUMN (added), or
+--subtract FILE:COLUMN. Rows of different files are matched by their time column
 (the first of --time-columns the file has; times equal to within 1e-9 s), and the sum is
 checked at every time all files share. The reference is --initial KG if given, otherwise
 the sum at the first shared time.
@@ -34,12 +34,7 @@ class InputProblem(Exception):
     """Bad input; the message names the file, column or value."""
 
 
-def parse_term(text):
-    sign = 1.0
-    if text.startswith("-"):
-        sign, text = -1.0, text[1:]
-    elif text.startswith("+"):
-        text = text[1:]
+def parse_term(text, sign):
     path, sep, column = text.rpartition(":")
     if not sep or not path or not column:
         raise InputProblem(f"term '{text}': expected FILE:COLUMN")
@@ -79,7 +74,7 @@ def read_series(path, column, time_columns):
 
 
 def check(args):
-    terms = [parse_term(t) for t in args.terms]
+    terms = [parse_term(t, 1.0) for t in args.terms] + [parse_term(t, -1.0) for t in args.subtract]
     series = [(sign, path, column, read_series(path, column, args.time_columns)) for sign, path, column in terms]
     shared = sorted(set.intersection(*(set(s.keys()) for _, _, _, s in series)))
     if not shared:
@@ -110,14 +105,16 @@ def check(args):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0],
                                      formatter_class=argparse.RawDescriptionHelpFormatter, epilog=__doc__)
-    parser.add_argument("terms", nargs="+", metavar="[-]FILE:COLUMN", help="a mass term [kg]")
+    parser.add_argument("terms", nargs="+", metavar="FILE:COLUMN", help="a mass term [kg], added")
+    parser.add_argument("--subtract", action="append", default=[], metavar="FILE:COLUMN",
+                        help="a mass term [kg] to subtract (repeatable)")
     parser.add_argument("--initial", type=float, help="expected sum [kg] (default: the sum at the first shared time)")
     parser.add_argument("--rel-tol", type=float, default=1e-9, help="tolerance relative to the reference [-]")
     parser.add_argument("--abs-tol", type=float, default=0.0, help="absolute tolerance [kg]")
     parser.add_argument("--time-columns", default="time_s,time,t",
                         type=lambda s: [c for c in s.split(",") if c],
                         help="names tried for the time column, in order (default time_s,time,t)")
-    args = parser.parse_args()
+    args = parser.parse_intermixed_args()
     if args.rel_tol < 0 or args.abs_tol < 0:
         parser.error("tolerances must be >= 0")
     try:
