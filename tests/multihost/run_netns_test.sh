@@ -137,13 +137,13 @@ created_ns+=("$ns_b")
 if ! why=$(ip -n "$ns_server" link add br0 type bridge 2>&1); then
   skip "namespaces work but a bridge cannot be created (no bridge support in this kernel?): $why"
 fi
-setup_client_link() {  # namespace, server-side name, address
-  ip -n "$1" link add eth0 type veth peer name "$2" netns "$ns_server"
-  ip -n "$ns_server" link set "$2" master br0
-  ip -n "$ns_server" link set "$2" up
-  ip -n "$1" addr add "$3/24" dev eth0
-  ip -n "$1" link set eth0 up
-  ip -n "$1" link set lo up
+setup_client_link() {  # namespace, server-side name, address (set -e is off in `f || fail`)
+  ip -n "$1" link add eth0 type veth peer name "$2" netns "$ns_server" &&
+    ip -n "$ns_server" link set "$2" master br0 &&
+    ip -n "$ns_server" link set "$2" up &&
+    ip -n "$1" addr add "$3/24" dev eth0 &&
+    ip -n "$1" link set eth0 up &&
+    ip -n "$1" link set lo up
 }
 setup_client_link "$ns_a" va "$kClientAAddress" || fail "veth pair for $ns_a"
 setup_client_link "$ns_b" vb "$kClientBAddress" || fail "veth pair for $ns_b"
