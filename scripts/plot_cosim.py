@@ -25,17 +25,18 @@ import math
 import os
 import sys
 
-# Role -> CSV column (a list for roles drawn as several curves). Units in the names.
+# Role -> CSV column (a list for roles drawn as several curves). As the models wrote them
+# when this was written (examples/excavator/main.cpp, examples/truck/truck_client.cpp).
 EXCAVATOR_COLUMNS = {
-    "time": "time_s",
-    "bucket_fill": "bucket_fill_kg",
-    "cylinder_forces": ["boom_cylinder_force_N", "stick_cylinder_force_N", "bucket_cylinder_force_N"],
+    "time": "time",
+    "bucket_fill": "fill_mass",
+    "cylinder_forces": ["boom_force", "stick_force", "bucket_force"],
 }
 TRUCK_COLUMNS = {
     "time": "time_s",
     "load": "load_mass_kg",
-    "axle_forces": ["front_axle_force_N", "rear_axle_force_N"],
-    "acceleration": "room_acceleration_m_s2",
+    "axle_forces": ["axle_front_N", "axle_rear_N"],
+    "acceleration": ["room_ax_m_s2", "room_ay_m_s2"],
     "yaw_rate": "yaw_rate_rad_s",
 }
 
@@ -111,8 +112,10 @@ def plot_truck(plt, data, mapping, out_dir):
         axle_ax.plot(t, [f / 1e3 for f in data[name]], label=name)
     axle_ax.set_ylabel("axle force [kN]")
     axle_ax.legend(loc="best", fontsize="small")
-    motion_ax.plot(t, data[mapping["acceleration"]], color="tab:blue")
-    motion_ax.set_ylabel("acceleration [m/s²]", color="tab:blue")
+    for name, style in zip(as_list(mapping["acceleration"]), ("-", "--", ":")):
+        motion_ax.plot(t, data[name], color="tab:blue", linestyle=style, label=name)
+    motion_ax.set_ylabel("room acceleration [m/s²]", color="tab:blue")
+    motion_ax.legend(loc="upper left", fontsize="small")
     yaw_ax = motion_ax.twinx()
     yaw_ax.plot(t, data[mapping["yaw_rate"]], color="tab:red")
     yaw_ax.set_ylabel("yaw rate [rad/s]", color="tab:red")

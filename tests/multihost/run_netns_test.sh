@@ -22,8 +22,9 @@
 # Environment:
 #   CLIENT_A_CMD, CLIENT_B_CMD  client commands, run with `bash -c` in their own working
 #       directory (client_a/, client_b/ of the run) with DEMLINK_HOST, DEMLINK_PORT and
-#       DEMLINK_TOKEN exported. Defaults: the demo's clients,
-#       demlink-excavator / demlink-truck --host "$DEMLINK_HOST" --port "$DEMLINK_PORT".
+#       DEMLINK_TOKEN exported. Defaults: the demo's clients, A = demlink-truck (it
+#       declares the SimulationBox), B = demlink-excavator, each with
+#       --host "$DEMLINK_HOST" --port "$DEMLINK_PORT" --output . (on PATH).
 #   CLIENT_A_READY  extended regular expression; client B starts only once the server's
 #       log matches it (e.g. 'declared "a_ram"', A's last declaration). The compiler takes
 #       declarations in arrival order, so without it the order of the two clients'
@@ -60,8 +61,8 @@ client_timeout=${DEMLINK_NETNS_TIMEOUT:-240}
 server_timeout=$((client_timeout + 60))
 python=${PYTHON:-python3}
 export DEMLINK_TOKEN=${DEMLINK_TOKEN-netns-test-token}  # set it empty for no token
-client_a_cmd=${CLIENT_A_CMD:-'demlink-excavator --host "$DEMLINK_HOST" --port "$DEMLINK_PORT"'}
-client_b_cmd=${CLIENT_B_CMD:-'demlink-truck --host "$DEMLINK_HOST" --port "$DEMLINK_PORT"'}
+client_a_cmd=${CLIENT_A_CMD:-'demlink-truck --host "$DEMLINK_HOST" --port "$DEMLINK_PORT" --output .'}
+client_b_cmd=${CLIENT_B_CMD:-'demlink-excavator --host "$DEMLINK_HOST" --port "$DEMLINK_PORT" --output .'}
 client_a_ready=${CLIENT_A_READY:-}
 if [[ -z "$client_a_ready" ]]; then
   echo "run_netns_test: warning: CLIENT_A_READY is not set; both clients start at once, so the" \

@@ -50,13 +50,13 @@ def truck_rows(n=200):
         accel = 1.5 if 6.0 <= t < 8.0 else 0.0
         yaw = 0.2 if t >= 8.0 else 0.0
         weight = (3000.0 + load) * 9.81
-        rows.append((t, load, weight / 2 - 300.0 * accel, weight / 2 + 300.0 * accel, accel, yaw))
+        lateral = 0.4 * yaw  # v * yaw rate at 2 m/s
+        rows.append((t, load, weight / 2 - 300.0 * accel, weight / 2 + 300.0 * accel, accel, lateral, yaw))
     return rows
 
 
-EXCAVATOR_HEADER = ["time_s", "bucket_fill_kg", "boom_cylinder_force_N", "stick_cylinder_force_N",
-                    "bucket_cylinder_force_N"]
-TRUCK_HEADER = ["time_s", "load_mass_kg", "front_axle_force_N", "rear_axle_force_N", "room_acceleration_m_s2",
+EXCAVATOR_HEADER = ["time", "fill_mass", "boom_force", "stick_force", "bucket_force"]
+TRUCK_HEADER = ["time_s", "load_mass_kg", "axle_front_N", "axle_rear_N", "room_ax_m_s2", "room_ay_m_s2",
                 "yaw_rate_rad_s"]
 
 
@@ -101,11 +101,11 @@ class PlotCosimTest(unittest.TestCase):
 
     def test_missing_column_names_file_and_column(self):
         header = list(EXCAVATOR_HEADER)
-        header[2] = "boom_force"
+        header[2] = "boom_cylinder_force"
         write_csv(self.excavator, header, excavator_rows())
         r = self.run_script("--excavator", self.excavator, "--output-dir", self.out)
         self.assertEqual(r.returncode, 2)
-        self.assertIn("no column 'boom_cylinder_force_N'", r.stderr)
+        self.assertIn("no column 'boom_force'", r.stderr)
         self.assertIn(self.excavator, r.stderr)
         self.assertNotIn("Traceback", r.stderr)
         self.assertFalse(os.path.exists(os.path.join(self.out, "excavator.png")))
@@ -132,7 +132,7 @@ class PlotCosimTest(unittest.TestCase):
                 f.write(",".join(values) + "\n")
         r = self.run_script("--truck", self.truck, "--output-dir", self.out)
         self.assertEqual(r.returncode, 2)
-        self.assertIn("'room_acceleration_m_s2' has a value that is not a number", r.stderr)
+        self.assertIn("'room_ax_m_s2' has a value that is not a number", r.stderr)
         self.assertNotIn("Traceback", r.stderr)
 
 
