@@ -10,6 +10,10 @@ packages=(
   libeigen3-dev libspdlog-dev libfmt-dev
   googletest libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-protobuf
+  # scripts/plot_cosim.py (PNG plots, headless Agg backend)
+  python3-matplotlib
+  # tests/multihost: network namespaces and veth pairs (ip netns, ip link)
+  iproute2
   # scripts/run_fuzz.sh: clang with the libFuzzer/ASan runtimes (only recommended by clang,
   # and recommendations are not installed below).
   clang libclang-rt-14-dev

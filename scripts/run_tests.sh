@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Builds DEMLink and runs every test. This is the README's test command and what
-# CI runs (.ci/run). Warnings are errors in this build.
+# Builds DEMLink (scripts/build.sh) and runs every test. This is the README's test
+# command and what CI runs (.ci/run). Warnings are errors in this build.
 #   scripts/run_tests.sh           release build, all tests
 #   scripts/run_tests.sh --asan    AddressSanitizer + UBSan build, all tests
 # The release run then fuzzes the frame decoder and the co-simulation host for a
@@ -12,8 +12,7 @@ preset=release
 if [[ "${1:-}" == "--asan" ]]; then preset=asan; fi
 
 scripts/install_deps.sh
-cmake --preset "$preset" -G Ninja
-cmake --build --preset "$preset"
+scripts/build.sh "$preset"
 ctest --preset "$preset"
 if [[ "$preset" == release ]]; then
   DEMLINK_FUZZ_SECONDS="${DEMLINK_FUZZ_SECONDS:-30}" scripts/run_fuzz.sh

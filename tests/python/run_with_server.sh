@@ -72,12 +72,13 @@ for _ in $(seq 1 200); do
   sleep 0.1
 done
 if kill -0 "$server_pid" 2>/dev/null; then
+  # server_pid stays set: the trap stops the server.
   echo "run_with_server: the server did not exit within 20 s after the client" >&2
   server_status=124
 else
   wait "$server_pid" || server_status=$?
+  server_pid=""
 fi
-server_pid=""
 
 echo "---- server output ----"
 cat "$server_log"
