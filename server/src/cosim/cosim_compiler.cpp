@@ -168,7 +168,14 @@ std::optional<v1::Error> CosimCompiler::declare(ConnectionId owner, const v1::Co
                      "a second simulation_box (\"" + name + "\"): a simulation has exactly one", name,
                      "component.simulation_box");
   }
-  declared_.push_back({declaration, owner});
+  // Clients' declarations are kept sorted by name (after the scene file's, in file order):
+  // clients that connect at the same time declare in a racy order, and the compiled world
+  // (ids, particle order) must not depend on it, or the same co-simulation would not give
+  // the same results run after run (found by the multi-host test).
+  const auto position = std::upper_bound(
+      declared_.begin() + static_cast<std::ptrdiff_t>(base_count_), declared_.end(), name,
+      [](const std::string& n, const DeclaredComponent& d) { return n < d.declaration.name(); });
+  declared_.insert(position, {declaration, owner});
   return std::nullopt;
 }
 
