@@ -1,7 +1,7 @@
 within DEMLink.Basics;
 model SimulationBox "Server address, communication interval and scene-wide settings (use as inner simBox)"
   parameter String address = "127.0.0.1" "Host of demlink-server";
-  parameter Integer port = 7878 "TCP port of demlink-server (its --port)";
+  parameter Integer port = 47000 "TCP port of demlink-server (its --port)";
   parameter String token = "" "Access token when the server requires one";
   parameter Modelica.Units.SI.Time tc = 1e-3 "Communication interval of the components";
   parameter Modelica.Units.SI.Time timeStep = 1e-5 "DEM time step";
