@@ -131,7 +131,7 @@ Options parse(int argc, char** argv) {
     else usage(("unknown option " + flag).c_str());
   }
   if (o.port > 65535) usage("--port must be <= 65535");
-  if (!o.expected_given && !o.source) o.expected = {"excavator_bucket", "bucket_fill"};
+  if (!o.expected_given && !o.source) o.expected = {"bucket", "bucket_fill"};  // demlink-excavator's components
   if (o.max_time <= 0.0) o.max_time = o.source ? 30.0 : 600.0;
   return o;
 }
