@@ -49,7 +49,8 @@ def read_columns(path, mapping, what):
     """{column name: [float]} for every column the mapping names."""
     try:
         with open(path, newline="") as f:
-            rows = [row for row in csv.reader(f) if row]
+            # '#' lines carry model parameters (truck.csv's first line), not data.
+            rows = [row for row in csv.reader(line for line in f if not line.startswith("#")) if row]
     except OSError as e:
         raise PlotInputError(f"{what} file {path}: cannot read ({e.strerror})") from None
     if len(rows) < 2:

@@ -1,0 +1,65 @@
+#!/usr/bin/env bash
+# The excavator-and-truck co-simulation on one machine (issue 5; work in progress, see
+# docs/tutorial.md): demlink-server with the site scene (pit, ground, gravel), demlink-truck
+# (C ABI; declares the SimulationBox and waits for the excavator's components) and
+# demlink-excavator (C++ client library) over loopback. Everything goes into one folder:
+# server/ (VTK for ParaView, sensor CSVs, checkpoints), truck/ and excavator/ (model CSVs,
+# STL), the PNG plots and summary.txt.
+#   scripts/demo_cosim.sh [OUT_DIR] [CYCLES]        (defaults: out/cosim_demo, 1)
+# Expects a release build (scripts/build.sh).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+out=${1:-out/cosim_demo}
+cycles=${2:-1}
+bin=build/release
+for exe in "$bin/server/demlink-server" "$bin/examples/truck/demlink-truck" "$bin/examples/excavator/demlink-excavator"; do
+  [[ -x "$exe" ]] || { echo "demo_cosim: $exe is missing; build first (scripts/build.sh)" >&2; exit 2; }
+done
+rm -rf "$out" && mkdir -p "$out"
+start=$(date +%s)
+
+"$bin/server/demlink-server" --port 0 --once --scene examples/cosim/site_scene.json --output "$out/server" \
+  >"$out/server.log" 2>&1 &
+server=$!
+pids=("$server")
+trap 'kill "${pids[@]}" 2>/dev/null || true' EXIT
+port=""
+for _ in $(seq 1 100); do
+  port=$(sed -n 's/.*listening on [0-9.]*:\([0-9]*\).*/\1/p' "$out/server.log" | head -n1)
+  [[ -n "$port" ]] && break
+  sleep 0.1
+done
+[[ -n "$port" ]] || { echo "demo_cosim: the server did not start:" >&2; cat "$out/server.log" >&2; exit 1; }
+echo "demo_cosim: server on 127.0.0.1:$port; output in $out"
+
+# The truck declares the SimulationBox first; the server compiles once the excavator's
+# bucket and fill sensor are declared too (the box's expected_names).
+"$bin/examples/truck/demlink-truck" --host 127.0.0.1 --port "$port" --scenario excavator --output "$out/truck" \
+  >"$out/truck.log" 2>&1 &
+truck=$!
+pids+=("$truck")
+sleep 1
+"$bin/examples/excavator/demlink-excavator" --host 127.0.0.1 --port "$port" --cycles "$cycles" \
+  --output "$out/excavator" >"$out/excavator.log" 2>&1 &
+excavator=$!
+pids+=("$excavator")
+
+# Progress: the models' latest log lines every 10 s until both clients are done.
+while kill -0 "$excavator" 2>/dev/null || kill -0 "$truck" 2>/dev/null; do
+  sleep 10
+  echo "[$(($(date +%s) - start)) s] excavator: $(tail -n1 "$out/excavator.log" 2>/dev/null | cut -c1-110)"
+  echo "[$(($(date +%s) - start)) s] truck:     $(tail -n1 "$out/truck.log" 2>/dev/null | cut -c1-110)"
+done
+status=0
+wait "$excavator" || status=$?
+wait "$truck" || status=$?
+wait "$server" || status=$?
+trap - EXIT
+if ((status != 0)); then
+  echo "demo_cosim: a process failed (exit $status); logs in $out/*.log" >&2
+  exit "$status"
+fi
+python3 scripts/plot_cosim.py --excavator "$out/excavator/excavator.csv" --truck "$out/truck/truck.csv" \
+  --output-dir "$out" | tee "$out/summary.txt"
+echo "demo_cosim: done in $(($(date +%s) - start)) s. ParaView: $out/server/sim_001/particles.pvd;" \
+     "plots: $out/excavator.png, $out/truck.png; summary: $out/summary.txt"
