@@ -59,7 +59,10 @@ if ((status != 0)); then
   echo "demo_cosim: a process failed (exit $status); logs in $out/*.log" >&2
   exit "$status"
 fi
-python3 scripts/plot_cosim.py --excavator "$out/excavator/excavator.csv" --truck "$out/truck/truck.csv" \
+# The first python3 on PATH may be a private one without Debian's matplotlib.
+python=python3
+"$python" -c 'import matplotlib' 2>/dev/null || python=/usr/bin/python3
+"$python" scripts/plot_cosim.py --excavator "$out/excavator/excavator.csv" --truck "$out/truck/truck.csv" \
   --output-dir "$out" | tee "$out/summary.txt"
 echo "demo_cosim: done in $(($(date +%s) - start)) s. ParaView: $out/server/sim_001/particles.pvd;" \
      "plots: $out/excavator.png, $out/truck.png; summary: $out/summary.txt"

@@ -356,6 +356,8 @@ int run(const Options& o) {
       massRef = loadMass;
       massChangedAt = t;
     }
+    // A loaded bucket swinging through the sensor's heap space counts for a moment; the
+    // load must also still be there (and, below, resting on the body) before the truck drives.
     if (loadMass > 20.0) dumped = true;
     // Settled: the sensed mass unchanged for steady_time, the body nearly still, and the
     // body carrying the sensed load's weight (the particles no longer bounce).
@@ -374,7 +376,7 @@ int run(const Options& o) {
     switch (phase) {
       case Phase::Loading: {
         const bool over = o.source ? t >= sourceStop
-                                   : ((o.drive_at > 0.0 && t >= o.drive_at) || (o.drive_at <= 0.0 && dumped && steady));
+                                   : ((o.drive_at > 0.0 && t >= o.drive_at) || (o.drive_at <= 0.0 && dumped && loadMass > 20.0 && steady));
         if (over || t >= o.max_time) enter(o.source ? Phase::Settling : Phase::Holding);
         break;
       }
