@@ -7,9 +7,11 @@
 # 1.2 m wide), with a 1/3 ms time step (70 % of the critical step). Every wait is bounded.
 # usage: run_excavator_cycle.sh SERVER_EXE EXCAVATOR_EXE SCENE CHECKER WORKDIR
 set -euo pipefail
+# Sanitizer builds run several times slower: their tests set DEMLINK_TEST_TIME_SCALE.
+scale=${DEMLINK_TEST_TIME_SCALE:-1}
 server_exe=$1 excavator_exe=$2 scene=$3 checker=$4 work=$5
 rm -rf "$work" && mkdir -p "$work"
-timeout 600 "$server_exe" --port 0 --once --scene "$scene" --output "$work/server" --timeout 60 \
+timeout $((600 * scale)) "$server_exe" --port 0 --once --scene "$scene" --output "$work/server" --timeout $((60 * scale)) \
   >"$work/server.log" 2>&1 &
 server_pid=$!
 trap 'kill "$server_pid" 2>/dev/null || true' EXIT
@@ -23,7 +25,7 @@ if [[ -z "$port" ]]; then
   echo "FAIL: the server did not start listening:"; cat "$work/server.log"; exit 1
 fi
 status=0
-timeout 590 "$excavator_exe" --host 127.0.0.1 --port "$port" --cycles 1 --output "$work/excavator" --timeout 60 \
+timeout $((590 * scale)) "$excavator_exe" --host 127.0.0.1 --port "$port" --cycles 1 --output "$work/excavator" --timeout $((60 * scale)) \
   >"$work/excavator.log" 2>&1 || status=$?
 wait "$server_pid" || { echo "FAIL: server exit $?"; tail -20 "$work/server.log"; exit 1; }
 trap - EXIT

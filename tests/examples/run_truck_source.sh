@@ -9,6 +9,8 @@
 #
 # Usage: run_truck_source.sh SERVER_EXE TRUCK_EXE CHECK_EXE SCENE_FILE
 set -euo pipefail
+# Sanitizer builds run several times slower: their tests set DEMLINK_TEST_TIME_SCALE.
+scale=${DEMLINK_TEST_TIME_SCALE:-1}
 if (($# != 4)); then
   echo "usage: $0 SERVER_EXE TRUCK_EXE CHECK_EXE SCENE_FILE" >&2
   exit 2
@@ -31,7 +33,7 @@ cleanup() {
 }
 trap cleanup EXIT
 
-(cd "$workdir" && exec timeout --kill-after=5 90 "$server_exe" --port 0 --once --scene "$scene" --output server_out) \
+(cd "$workdir" && exec timeout --kill-after=5 $((90 * scale)) "$server_exe" --port 0 --once --scene "$scene" --output server_out) \
   >"$workdir/server.log" 2>&1 &
 server_pid=$!
 port=""
@@ -50,7 +52,7 @@ if [[ -z "$port" ]]; then
 fi
 
 truck_status=0
-timeout --kill-after=5 60 "$truck_exe" --port "$port" --scenario source --output "$workdir/truck" \
+timeout --kill-after=5 $((60 * scale)) "$truck_exe" --port "$port" --scenario source --output "$workdir/truck" \
   --load-target "$load_target" --source-rate 400 --body-mass 1000 --drive-time 1.5 || truck_status=$?
 
 server_status=0
