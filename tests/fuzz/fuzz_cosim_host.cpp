@@ -10,6 +10,7 @@
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <cstdlib>
@@ -32,6 +33,33 @@ void check(bool condition) {
   if (!condition) std::abort();
 }
 
+/// Bounds the work one input can ask for, so the fuzzer spends its time on the host's
+/// logic rather than on legitimately long simulations (a 1e-220 s time step or a 1e6 s
+/// interval is valid input that the server would dutifully step for ages; found by CI's
+/// first fuzz runs as a libFuzzer timeout). Values that the compiler must refuse (NaN,
+/// negative, zero) pass unchanged.
+void boundWork(demlink::v1::ClientMessage& message) {
+  if (!message.has_declare()) return;
+  demlink::v1::ComponentDeclaration& c = *message.mutable_declare()->mutable_component();
+  if (c.communication_interval() > 0.01) c.set_communication_interval(0.01);
+  if (c.has_simulation_box()) {
+    demlink::v1::SimulationBox& box = *c.mutable_simulation_box();
+    if (box.has_time_step() && box.time_step() > 0.0 && box.time_step() < 1e-6) box.set_time_step(1e-6);
+    if (box.end_time() > 0.01) box.set_end_time(0.01);
+  }
+  if (c.has_particle_lattice()) {
+    demlink::v1::LatticeCounts& n = *c.mutable_particle_lattice()->mutable_counts();
+    n.set_nx(std::min(n.nx(), 10u));
+    n.set_ny(std::min(n.ny(), 10u));
+    n.set_nz(std::min(n.nz(), 10u));
+  }
+  if (c.has_particle_source()) {
+    demlink::v1::ParticleSource& source = *c.mutable_particle_source();
+    if (source.rate_particles_per_s() > 1e4) source.set_rate_particles_per_s(1e4);
+    if (source.rate_kg_per_s() > 10.0) source.set_rate_kg_per_s(10.0);
+  }
+}
+
 class Session {
  public:
   explicit Session(demlink::server::CoSimulationHost& host) : host_(host) {}
@@ -50,6 +78,7 @@ class Session {
       take(host_.connected(ids_[slot], message.hello(), now_));
       return;
     }
+    boundWork(message);
     take(host_.received(ids_[slot], message, now_));
   }
 
