@@ -131,6 +131,8 @@ int run(const Options& opt) {
   dc::Connection connection;
   dc::ConnectOptions connectOptions;
   connectOptions.client_name = "excavator";
+  // The server's access token, as demlink-server reads it (docker/compose.yaml sets it).
+  if (const char* token = std::getenv("DEMLINK_TOKEN")) connectOptions.access_token = token;
   connectOptions.timeout = std::chrono::milliseconds(static_cast<long long>(opt.timeout_s * 1000.0));
   connection.connect(opt.host, static_cast<std::uint16_t>(opt.port), connectOptions);
   dc::Session session(connection);

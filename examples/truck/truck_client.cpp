@@ -262,7 +262,10 @@ int run(const Options& o) {
 
   Link link;
   link.check(dl_set_timeout(link.client(), 120.0), "dl_set_timeout");
-  link.check(dl_connect_to_host(link.client(), o.host.c_str(), o.port, "truck", ""), "dl_connect_to_host");
+  // The server's access token, as demlink-server reads it (docker/compose.yaml sets it).
+  const char* token = std::getenv("DEMLINK_TOKEN");
+  link.check(dl_connect_to_host(link.client(), o.host.c_str(), o.port, "truck", token != nullptr ? token : ""),
+             "dl_connect_to_host");
 
   // SimulationBox: the whole site, run until Bye, VTK every 0.25 s, 2 threads.
   std::vector<std::string> boxStrings{"simulation_box", kRoomName, kRoomName, kBodyName, kLoadName};
