@@ -18,6 +18,7 @@
 #include <string_view>
 
 #include "demlink/core/input_error.hpp"
+#include "demlink/server/command_line_main.hpp"
 #include "demlink/server/headless_runner.hpp"
 #include "demlink/server/scene_loader.hpp"
 #include "demlink/server/scene_translator.hpp"
@@ -119,17 +120,4 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  try {
-    return run(argc, argv);
-  } catch (const InputError& error) {
-    std::fprintf(stderr, "error: %s\n", error.what());
-    return 2;
-  } catch (const std::exception& error) {
-    std::fprintf(stderr, "error: %s\n", error.what());
-    return 1;
-  } catch (...) {
-    std::fputs("error: unknown failure\n", stderr);
-    return 1;
-  }
-}
+int main(int argc, char** argv) { return demlink::server::runCommandLine(run, argc, argv); }

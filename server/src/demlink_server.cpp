@@ -26,6 +26,7 @@
 #include "demlink/core/input_error.hpp"
 #include "demlink/server/cosim/co_simulation_host.hpp"
 #include "demlink/server/cosim/session_replay.hpp"
+#include "demlink/server/command_line_main.hpp"
 #include "demlink/server/net/host_session_handler.hpp"
 #include "demlink/server/net/tcp_server.hpp"
 #include "demlink/server/scene_loader.hpp"
@@ -208,17 +209,4 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  try {
-    return run(argc, argv);
-  } catch (const InputError& error) {
-    std::fprintf(stderr, "error: %s\n", error.what());
-    return 2;
-  } catch (const std::exception& error) {
-    std::fprintf(stderr, "error: %s\n", error.what());
-    return 1;
-  } catch (...) {
-    std::fputs("error: unknown failure\n", stderr);
-    return 1;
-  }
-}
+int main(int argc, char** argv) { return demlink::server::runCommandLine(run, argc, argv); }
