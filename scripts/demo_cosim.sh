@@ -1,16 +1,18 @@
 #!/usr/bin/env bash
-# The excavator-and-truck co-simulation on one machine (issue 5; work in progress, see
-# docs/tutorial.md): demlink-server with the site scene (pit, ground, gravel), demlink-truck
+# The excavator-and-truck co-simulation on one machine (docs/tutorial.md): demlink-server with the site scene (pit, ground, gravel), demlink-truck
 # (C ABI; declares the SimulationBox and waits for the excavator's components) and
 # demlink-excavator (C++ client library) over loopback. Everything goes into one folder:
 # server/ (VTK for ParaView, sensor CSVs, checkpoints), truck/ and excavator/ (model CSVs,
-# STL), the PNG plots and summary.txt.
-#   scripts/demo_cosim.sh [OUT_DIR] [CYCLES]        (defaults: out/cosim_demo, 1)
+# STL), the PNG plots and summary.txt (mass dug, delivered, spilled, the mass balance over
+# pit + bucket + truck + spill + removed, peak cylinder force). The truck drives off once
+# CYCLES dumps have settled on its body. Exit code 1 if a process failed or mass is not
+# balanced.
+#   scripts/demo_cosim.sh [OUT_DIR] [CYCLES]        (defaults: out/cosim_demo, 2)
 # Expects a release build (scripts/build.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=${1:-out/cosim_demo}
-cycles=${2:-1}
+cycles=${2:-2}
 bin=build/release
 for exe in "$bin/server/demlink-server" "$bin/examples/truck/demlink-truck" "$bin/examples/excavator/demlink-excavator"; do
   [[ -x "$exe" ]] || { echo "demo_cosim: $exe is missing; build first (scripts/build.sh)" >&2; exit 2; }
@@ -34,7 +36,8 @@ echo "demo_cosim: server on 127.0.0.1:$port; output in $out"
 
 # The truck declares the SimulationBox first; the server compiles once the excavator's
 # bucket and fill sensor are declared too (the box's expected_names).
-"$bin/examples/truck/demlink-truck" --host 127.0.0.1 --port "$port" --scenario excavator --output "$out/truck" \
+"$bin/examples/truck/demlink-truck" --host 127.0.0.1 --port "$port" --scenario excavator --dumps "$cycles" \
+  --output "$out/truck" \
   >"$out/truck.log" 2>&1 &
 truck=$!
 pids+=("$truck")
@@ -63,6 +66,16 @@ fi
 python=python3
 "$python" -c 'import matplotlib' 2>/dev/null || python=/usr/bin/python3
 "$python" scripts/plot_cosim.py --excavator "$out/excavator/excavator.csv" --truck "$out/truck/truck.csv" \
-  --output-dir "$out" | tee "$out/summary.txt"
-echo "demo_cosim: done in $(($(date +%s) - start)) s. ParaView: $out/server/sim_001/particles.pvd;" \
-     "plots: $out/excavator.png, $out/truck.png; summary: $out/summary.txt"
+  --output-dir "$out" >"$out/plots.log"
+balance=0
+"$python" scripts/cosim_summary.py "$out/server/sim_001" --excavator-summary "$out/excavator/excavator_summary.txt" \
+  >"$out/summary.txt" 2>&1 || balance=$?
+echo
+cat "$out/summary.txt"
+echo
+echo "demo_cosim: done in $(($(date +%s) - start)) s. Results in $out:"
+echo "  ParaView:  $out/server/sim_001/particles.pvd and meshes.pvd (VTK)"
+echo "  plots:     $out/excavator.png (bucket fill, cylinder forces), $out/truck.png (load, axle forces, room motion)"
+echo "  CSV:       $out/excavator/excavator.csv, $out/truck/truck.csv, $out/server/sim_001/region_sensor_*.csv"
+echo "  summary:   $out/summary.txt; logs: $out/*.log"
+exit "$balance"

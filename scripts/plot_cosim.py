@@ -8,7 +8,8 @@ load step up with each dump, does the axle load shift when it accelerates and tu
 matplotlib from Debian (python3-matplotlib) with the Agg backend: no display needed.
 
     excavator.png: bucket fill mass; cylinder forces            (vs time)
-    truck.png:     load mass; axle forces; room acceleration and yaw rate (vs time)
+    truck.png:     load mass; axle forces (front/rear) and side forces (left/right, dashed);
+                   room acceleration and yaw rate (vs time)
 
 The CSV column names live in the two tables below (EXCAVATOR_COLUMNS, TRUCK_COLUMNS),
 the one place to change when a model's header changes; --column excavator.bucket_fill=NAME
@@ -36,6 +37,7 @@ TRUCK_COLUMNS = {
     "time": "time_s",
     "load": "load_mass_kg",
     "axle_forces": ["axle_front_N", "axle_rear_N"],
+    "side_forces": ["side_left_N", "side_right_N"],
     "acceleration": ["room_ax_m_s2", "room_ay_m_s2"],
     "yaw_rate": "yaw_rate_rad_s",
 }
@@ -109,9 +111,12 @@ def plot_truck(plt, data, mapping, out_dir):
     load_ax.plot(t, data[mapping["load"]], color="tab:brown")
     load_ax.set_ylabel("load mass [kg]")
     load_ax.set_title("Truck: load, axle forces, room motion")
+    # Front/rear shows the shift when accelerating, left/right the shift when turning.
     for name in as_list(mapping["axle_forces"]):
         axle_ax.plot(t, [f / 1e3 for f in data[name]], label=name)
-    axle_ax.set_ylabel("axle force [kN]")
+    for name in as_list(mapping["side_forces"]):
+        axle_ax.plot(t, [f / 1e3 for f in data[name]], linestyle="--", label=name)
+    axle_ax.set_ylabel("suspension force [kN]")
     axle_ax.legend(loc="best", fontsize="small")
     for name, style in zip(as_list(mapping["acceleration"]), ("-", "--", ":")):
         motion_ax.plot(t, data[name], color="tab:blue", linestyle=style, label=name)

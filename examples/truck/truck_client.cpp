@@ -58,7 +58,8 @@ struct Options {
   double load_target = 1000.0;  ///< [kg] source scenario: mass the source inserts
   double source_rate = 500.0;   ///< [kg/s]
   double drive_time = 3.0;      ///< [s] accelerating half, turning half
-  double drive_at = 0.0;        ///< [s] excavator scenario: start driving at this time (0: when steady)
+  double drive_at = 0.0;        ///< [s] excavator scenario: start driving at this time (0: after `dumps` dumps)
+  int dumps = 1;                ///< excavator scenario: drive once this many dumps have settled on the body
   double acceleration = 1.5;    ///< [m/s^2]
   double yaw_rate = 0.5;        ///< [rad/s] (left turn)
   double body_mass = 2000.0;    ///< [kg]
@@ -72,7 +73,7 @@ struct Options {
                "demlink-truck: %s\n"
                "usage: demlink-truck [--host H] [--port N] [--scenario excavator|source] [--expected N1,N2,...]\n"
                "                     [--output DIR] [--load-target KG] [--source-rate KG_PER_S] [--drive-time S]\n"
-               "                     [--drive-at S] [--acceleration M_S2] [--yaw-rate RAD_S] [--body-mass KG]\n"
+               "                     [--drive-at S] [--dumps N] [--acceleration M_S2] [--yaw-rate RAD_S] [--body-mass KG]\n"
                "                     [--steady-time S] [--max-time S] [--material NAME]\n",
                why);
   std::exit(2);
@@ -122,6 +123,7 @@ Options parse(int argc, char** argv) {
     else if (flag == "--source-rate") o.source_rate = number(flag, v, 1e-9);
     else if (flag == "--drive-time") o.drive_time = number(flag, v, 0.0);
     else if (flag == "--drive-at") o.drive_at = number(flag, v, 0.0);
+    else if (flag == "--dumps") o.dumps = static_cast<int>(number(flag, v, 1.0));
     else if (flag == "--acceleration") o.acceleration = number(flag, v, 0.0);
     else if (flag == "--yaw-rate") o.yaw_rate = number(flag, v, -10.0);
     else if (flag == "--body-mass") o.body_mass = number(flag, v, 1.0);
@@ -278,8 +280,11 @@ int run(const Options& o) {
   link.send({2, 2},
             {tc, 0.0, 0.0, 0.0, bodyOrigin[0], bodyOrigin[1], bodyOrigin[2], 1.0, 0.0, 0.0, 0.0},
             {"rigid_body", kBodyName, o.material, stlPath}, "declare rigid_body");
-  // Load sensor: the cavity and up to 0.6 m of heap above the walls, riding with the body.
-  const double sensorHeight = site::kTruckBedWallHeight + 0.6;
+  // Load sensor: the cavity and up to 0.15 m of heap above the walls, riding with the body.
+  // Why so little heap: a loaded bucket swinging in passes a metre above the rim, and a
+  // taller box counted its contents for a moment before the dump (a few bucket loads
+  // heap far less than the 0.6 m walls).
+  const double sensorHeight = site::kTruckBedWallHeight + 0.15;
   link.send({0}, {tc, 0.0, 0.0, 0.5 * sensorHeight, site::kTruckBedLength, site::kTruckBedWidth, sensorHeight},
             {"region_sensor", kLoadName, kBodyName}, "declare region_sensor");
   const double sourceStop = o.load_target / o.source_rate;
@@ -341,7 +346,10 @@ int run(const Options& o) {
   Phase phase = Phase::Loading;
   double phaseStart = 0.0;
   double massRef = 0.0, massChangedAt = 0.0, stillSince = 0.0;
-  bool dumped = false;
+  // Dumps so far: a settled rise of the load by more than kDumpMinimum over the last settled load.
+  constexpr double kDumpMinimum = 20.0;  // [kg]
+  double settledLoad = 0.0;
+  int dumps = 0;
   double speed = 0.0, yawRate = 0.0;
   const double accelerateTime = 0.5 * o.drive_time, turnTime = 0.5 * o.drive_time;
   const double yawRamp = std::min(0.25, 0.5 * turnTime);
@@ -359,9 +367,6 @@ int run(const Options& o) {
       massRef = loadMass;
       massChangedAt = t;
     }
-    // A loaded bucket swinging through the sensor's heap space counts for a moment; the
-    // load must also still be there (and, below, resting on the body) before the truck drives.
-    if (loadMass > 20.0) dumped = true;
     // Settled: the sensed mass unchanged for steady_time, the body nearly still, and the
     // body carrying the sensed load's weight (the particles no longer bounce).
     const double weightError = std::fabs(wrench[2] + loadMass * params.gravity);
@@ -370,6 +375,13 @@ int run(const Options& o) {
       stillSince = t;
     }
     const bool steady = t - massChangedAt >= o.steady_time && t - stillSince >= 0.1;
+    if (steady && loadMass > settledLoad + kDumpMinimum) {
+      ++dumps;
+      std::printf("demlink-truck: t = %.3f s: dump %d settled: load %.1f kg (+%.1f kg)\n", t, dumps, loadMass,
+                  loadMass - settledLoad);
+      std::fflush(stdout);
+    }
+    if (steady) settledLoad = loadMass;
     const auto enter = [&](Phase p) {
       phase = p;
       phaseStart = t;
@@ -379,7 +391,7 @@ int run(const Options& o) {
     switch (phase) {
       case Phase::Loading: {
         const bool over = o.source ? t >= sourceStop
-                                   : ((o.drive_at > 0.0 && t >= o.drive_at) || (o.drive_at <= 0.0 && dumped && loadMass > 20.0 && steady));
+                                   : ((o.drive_at > 0.0 && t >= o.drive_at) || (o.drive_at <= 0.0 && dumps >= o.dumps && steady));
         if (over || t >= o.max_time) enter(o.source ? Phase::Settling : Phase::Holding);
         break;
       }

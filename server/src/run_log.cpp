@@ -85,6 +85,7 @@ void RunLog::writeTiming(const core::World& world, const RunTiming& timing) {
   add("timing", "final_particles", std::to_string(world.particles().size()));
   add("timing", "final_kinetic_energy", number(world.kineticEnergy()), "J");
   add("timing", "removed_at_bounds", std::to_string(world.removedAtBounds().count));
+  add("timing", "removed_mass_at_bounds", number(world.removedAtBounds().mass), "kg");
   add("timing", "status", "completed");
 }
 

@@ -130,26 +130,28 @@ TEST(ExcavatorOperator, RunsTheCycleWithoutLoadAndEndsAtHome) {
   EXPECT_LT(t, 25.0);
 }
 
-TEST(BucketMesh, ShellIsOpenAndTheFillBoxLiesInsideIt) {
+TEST(BucketMesh, FillBoxHoldsTheWholeShellInteriorAndNoMoreThanItsBoundsAndHeap) {
   const auto mesh = ex::makeBucketMesh();
   EXPECT_EQ(mesh.triangles.size(), 10u);
   EXPECT_NEAR(ex::bucketCapacity(), 0.4275 * ex::kBucketWidth, 1e-12);
-  // Every fill-box corner with z >= 0 is on the inner side of the back and bottom plates.
-  for (double sx : {-0.5, 0.5}) {
-    for (double z : {0.0, ex::kFillBoxCentre.z() + 0.5 * ex::kFillBoxSize.z()}) {
-      const double x = ex::kFillBoxCentre.x() + sx * ex::kFillBoxSize.x();
-      bool inside = true;
-      const auto& p = ex::kBucketProfile;
-      // The plates only (edges 0..2); past the mouth (edge 3) the box holds the heap.
-      for (std::size_t k = 0; k + 1 < p.size(); ++k) {
-        const auto& a = p[k];
-        const auto& b = p[k + 1];
-        // The profile runs clockwise in (x, z): inside is to the right of each edge
-        // (allowing 2 cm: a centre that close to a plate belongs to a stone resting on it).
-        const double length = std::hypot(b[0] - a[0], b[1] - a[1]);
-        if (((b[0] - a[0]) * (z - a[1]) - (b[1] - a[1]) * (x - a[0])) / length > 0.02) inside = false;
-      }
-      EXPECT_TRUE(inside) << "corner (" << x << ", " << z << ")";
+  const Eigen::Vector3d lo = ex::kFillBoxCentre - 0.5 * ex::kFillBoxSize;
+  const Eigen::Vector3d hi = ex::kFillBoxCentre + 0.5 * ex::kFillBoxSize;
+  // Every shell vertex is inside the box (the interior is their convex hull, so all of it
+  // is), and the box reaches no further than the shell's bounds along x and y.
+  Eigen::Vector3d shellLo = mesh.vertices.front(), shellHi = mesh.vertices.front();
+  for (const auto& v : mesh.vertices) {
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_GE(v[i], lo[i] - 1e-12) << "vertex (" << v.transpose() << ") axis " << i;
+      EXPECT_LE(v[i], hi[i] + 1e-12) << "vertex (" << v.transpose() << ") axis " << i;
     }
+    shellLo = shellLo.cwiseMin(v);
+    shellHi = shellHi.cwiseMax(v);
   }
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_NEAR(lo[i], shellLo[i], 1e-12);
+    EXPECT_NEAR(hi[i], shellHi[i], 1e-12);
+  }
+  // Beyond the mouth (z < 0 side) the box holds a heap of at most 0.15 m.
+  EXPECT_NEAR(hi.z(), shellHi.z(), 1e-12);
+  EXPECT_GE(lo.z(), shellLo.z() - 0.15 - 1e-12);
 }

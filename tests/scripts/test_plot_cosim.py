@@ -51,13 +51,14 @@ def truck_rows(n=200):
         yaw = 0.2 if t >= 8.0 else 0.0
         weight = (3000.0 + load) * 9.81
         lateral = 0.4 * yaw  # v * yaw rate at 2 m/s
-        rows.append((t, load, weight / 2 - 300.0 * accel, weight / 2 + 300.0 * accel, accel, lateral, yaw))
+        rows.append((t, load, weight / 2 - 300.0 * accel, weight / 2 + 300.0 * accel, accel, lateral, yaw,
+                     weight / 2 + 500.0 * lateral, weight / 2 - 500.0 * lateral))
     return rows
 
 
 EXCAVATOR_HEADER = ["time", "fill_mass", "boom_force", "stick_force", "bucket_force"]
 TRUCK_HEADER = ["time_s", "load_mass_kg", "axle_front_N", "axle_rear_N", "room_ax_m_s2", "room_ay_m_s2",
-                "yaw_rate_rad_s"]
+                "yaw_rate_rad_s", "side_left_N", "side_right_N"]
 
 
 def png_size(path):
