@@ -5,8 +5,14 @@
 # packages of scripts/install_deps.sh to be installed.
 #   scripts/build.sh            release build in build/release
 #   scripts/build.sh asan       AddressSanitizer + UBSan build in build/asan
+#   scripts/build.sh release demlink_server ...   only these targets (scripts/demo.sh)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 preset=${1:-release}
+shift || true
 cmake --preset "$preset" -G Ninja
-cmake --build --preset "$preset"
+if (($# > 0)); then
+  cmake --build --preset "$preset" --target "$@"
+else
+  cmake --build --preset "$preset"
+fi

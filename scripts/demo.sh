@@ -1,11 +1,15 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds DEMLink and runs the main demo: a headless
-# deposition scene with progress output, VTK (ParaView) and CSV results.
+# The README's first command: installs what is missing (Debian packages only), builds
+# DEMLink and runs the main demo — the excavator-and-truck co-simulation, headless on this
+# machine: demlink-server plus the two system-model clients (excavator: C++ client library;
+# truck: C ABI) over loopback, with progress lines, VTK for ParaView, CSV, PNG plots and a
+# summary (mass dug, delivered, peak cylinder force, mass balance) in one folder.
+#   scripts/demo.sh [OUT_DIR] [CYCLES]      (defaults: out/cosim_demo, 2)
+# The headless deposition scene of issue 2 is one command once built:
+#   build/release/server/demlink-run examples/scenes/deposition_small.json --output out/deposition
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install_deps.sh
-cmake --preset release -G Ninja
-cmake --build --preset release
-out="${1:-out/deposition}"
-./build/release/server/demlink-run examples/scenes/deposition_small.json --output "$out"
-echo "Results in $out (open $out/particles.pvd in ParaView)."
+# Only what the demo runs (scripts/run_tests.sh builds the rest).
+scripts/build.sh release demlink_server demlink-truck demlink_excavator
+exec scripts/demo_cosim.sh "$@"
