@@ -13,9 +13,16 @@ spilled, the balance and, from the excavator's summary, the peak cylinder force 
 mass carried per cycle.
 
     cosim_summary.py SIM_DIR [--excavator-summary FILE] [--rel-tol 1e-9]
+                     [--min-delivered-fraction F]
 
-Exit code 0: balanced; 1: unbalanced (a particle is in none of the regions, or in two);
-2: bad input (missing file or column), with a message naming it.
+With --min-delivered-fraction (needs --excavator-summary) it also checks that the load that
+left the bucket arrived in the truck: delivered >= F x the sum of the cycles' carried mass
+(some may bounce off the body onto the ground; none may appear from nowhere: delivered
+<= carried + 1 %).
+
+Exit code 0: balanced (and delivered); 1: unbalanced (a particle is in none of the
+regions, or in two) or not delivered; 2: bad input (missing file or column), with a
+message naming it.
 """
 
 import argparse
@@ -91,6 +98,7 @@ def summarize(args):
     print(f"removed at the bounds:    {removed:10.1f} kg")
     print(f"mass balance at t = {t_end:.3f} s: pit + bucket + truck + spill + removed = {accounted:.6f} kg, "
           f"initial {initial:.6f} kg, residual {residual:+.3g} kg (tolerance {tolerance:.3g} kg)")
+    failed = False
     if args.excavator_summary:
         ex = excavator_numbers(args.excavator_summary)
         forces = {k[len("peak_force_"):-len("_N")]: v for k, v in ex.items() if k.startswith("peak_force_")}
@@ -103,12 +111,24 @@ def summarize(args):
                   f"{ex.get(f'cycle_{cycle}_after_dump_kg', float('nan')):.1f} kg left after the dump, "
                   f"peak fill {ex.get(f'cycle_{cycle}_peak_fill_kg', float('nan')):.1f} kg")
             cycle += 1
+        if args.min_delivered_fraction is not None:
+            carried = math.fsum(ex[f"cycle_{c}_carried_kg"] for c in range(1, cycle))
+            delivered = mass["truck_load"]
+            ok = carried > 0 and args.min_delivered_fraction * carried <= delivered <= 1.01 * carried
+            print(f"bucket -> truck: carried {carried:.1f} kg in {cycle - 1} cycle(s), delivered {delivered:.1f} kg "
+                  f"({delivered / carried if carried > 0 else float('nan'):.1%}; required "
+                  f"{args.min_delivered_fraction:.0%} .. 101 %)")
+            if not ok:
+                print("cosim_summary: the load that left the bucket did NOT arrive in the truck", file=sys.stderr)
+                failed = True
+    elif args.min_delivered_fraction is not None:
+        raise InputProblem("--min-delivered-fraction needs --excavator-summary (the mass carried per cycle)")
     if abs(residual) > tolerance:
         print(f"cosim_summary: mass NOT balanced: {residual:+.6g} kg unaccounted (a particle outside every "
               "region, or in two of them)", file=sys.stderr)
         return 1
     print("cosim_summary: mass balanced")
-    return 0
+    return 1 if failed else 0
 
 
 def main():
@@ -117,6 +137,8 @@ def main():
     parser.add_argument("sim_dir", help="the server's simulation folder (sim_001)")
     parser.add_argument("--excavator-summary", help="demlink-excavator's excavator_summary.txt")
     parser.add_argument("--rel-tol", type=float, default=1e-9, help="balance tolerance relative to the initial mass")
+    parser.add_argument("--min-delivered-fraction", type=float,
+                        help="require truck load >= this fraction of the mass the bucket carried")
     args = parser.parse_args()
     try:
         return summarize(args)

@@ -31,8 +31,10 @@
 #       components, and with it the bits of the result, may differ between runs.
 #   COMPARE_FILES  more files to compare between the runs, relative to a run directory
 #       (server/sim_001/..., client_a/..., client_b/...), space-separated.
-#   MASS_BALANCE_ARGS  arguments of scripts/check_mass_balance.py, run in each run
-#       directory (paths relative to it, space-separated, no quoting).
+#   MASS_BALANCE_ARGS  arguments of the mass-balance script, run in each run directory
+#       (paths relative to it, space-separated, no quoting).
+#   MASS_BALANCE_SCRIPT  that script, in scripts/ (default check_mass_balance.py; the
+#       excavator-and-truck site uses cosim_summary.py, which also checks bucket -> truck).
 #   DEMLINK_TOKEN  access token the server requires (it reads the variable) and the client
 #       commands should pass on (default: a fixed test token; set it empty for none).
 #   DEMLINK_NETNS_TIMEOUT  seconds each client may take (default 240).
@@ -264,7 +266,7 @@ log "identical in both runs: ${compare[*]}"
 if [[ -n "${MASS_BALANCE_ARGS:-}" ]]; then
   read -r -a balance <<<"$MASS_BALANCE_ARGS"
   for mode in netns loopback; do
-    (cd "$workdir/$mode" && "$python" "$repo/scripts/check_mass_balance.py" "${balance[@]}") ||
+    (cd "$workdir/$mode" && "$python" "$repo/scripts/${MASS_BALANCE_SCRIPT:-check_mass_balance.py}" "${balance[@]}") ||
       fail "$mode: mass balance"
   done
 fi

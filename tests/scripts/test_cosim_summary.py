@@ -5,8 +5,9 @@ Why: the demo's closing numbers (mass dug, delivered, spilled, peak cylinder for
 mass-balance verdict come from it; a summary that balanced anything would hide particles
 lost between regions. Checked: mass moving pit -> bucket -> truck and onto the ground, with
 particles removed at the bounds, balances at the last shared time and the numbers are
-printed; a particle missing from every region fails (exit 1); a missing sensor file or
-column is an input error (exit 2) naming it.
+printed; a particle missing from every region fails (exit 1); the bucket -> truck check
+passes when the truck got what the bucket carried and fails when it got too little or
+more than was carried; a missing sensor file or column is an input error (exit 2) naming it.
 """
 
 import os
@@ -74,6 +75,22 @@ class CosimSummaryTest(unittest.TestCase):
         r = self.run_script()
         self.assertEqual(r.returncode, 1, r.stdout)
         self.assertIn("-1 kg unaccounted", r.stderr)
+
+    def test_delivery_check_compares_the_truck_with_what_the_bucket_carried(self):
+        # The bucket carried 255 kg; the truck holds 250 kg (98 %).
+        r = self.run_script("--excavator-summary", self.summary, "--min-delivered-fraction", "0.95")
+        self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+        self.assertIn("carried 255.0 kg in 1 cycle(s), delivered 250.0 kg (98.0%", r.stdout)
+        r = self.run_script("--excavator-summary", self.summary, "--min-delivered-fraction", "0.99")
+        self.assertEqual(r.returncode, 1)
+        self.assertIn("did NOT arrive in the truck", r.stderr)
+        with open(self.summary, "w") as f:
+            f.write("cycle_1_carried_kg = 200\n")  # the truck holds more than was carried
+        r = self.run_script("--excavator-summary", self.summary, "--min-delivered-fraction", "0.5")
+        self.assertEqual(r.returncode, 1)
+        r = self.run_script("--min-delivered-fraction", "0.5")
+        self.assertEqual(r.returncode, 2)
+        self.assertIn("needs --excavator-summary", r.stderr)
 
     def test_missing_sensor_file_and_column_are_input_errors(self):
         os.remove(os.path.join(self.sim, "region_sensor_truck_load.csv"))
