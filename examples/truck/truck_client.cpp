@@ -65,6 +65,7 @@ struct Options {
   double body_mass = 2000.0;    ///< [kg]
   double steady_time = 0.4;     ///< [s] load unchanged this long = settled
   double max_time = 0.0;        ///< [s] start driving at the latest here (0: source 30 s, excavator 600 s)
+  double timeout = 300.0;       ///< [s] bound of every wait for the server (the compile may generate a pit)
   std::string material = "gravel";
 };
 
@@ -74,7 +75,7 @@ struct Options {
                "usage: demlink-truck [--host H] [--port N] [--scenario excavator|source] [--expected N1,N2,...]\n"
                "                     [--output DIR] [--load-target KG] [--source-rate KG_PER_S] [--drive-time S]\n"
                "                     [--drive-at S] [--dumps N] [--acceleration M_S2] [--yaw-rate RAD_S] [--body-mass KG]\n"
-               "                     [--steady-time S] [--max-time S] [--material NAME]\n",
+               "                     [--steady-time S] [--max-time S] [--material NAME] [--timeout S]\n",
                why);
   std::exit(2);
 }
@@ -130,6 +131,7 @@ Options parse(int argc, char** argv) {
     else if (flag == "--steady-time") o.steady_time = number(flag, v, 0.0);
     else if (flag == "--max-time") o.max_time = number(flag, v, 0.0);
     else if (flag == "--material") o.material = v;
+    else if (flag == "--timeout") o.timeout = number(flag, v, 1e-3);
     else usage(("unknown option " + flag).c_str());
   }
   if (o.port > 65535) usage("--port must be <= 65535");
@@ -263,7 +265,7 @@ int run(const Options& o) {
   const std::array<double, 3> cgRest{bodyOrigin[0] + cgLocal[0], bodyOrigin[1] + cgLocal[1], bodyOrigin[2] + cgLocal[2]};
 
   Link link;
-  link.check(dl_set_timeout(link.client(), 120.0), "dl_set_timeout");
+  link.check(dl_set_timeout(link.client(), o.timeout), "dl_set_timeout");
   // The server's access token, as demlink-server reads it (docker/compose.yaml sets it).
   const char* token = std::getenv("DEMLINK_TOKEN");
   link.check(dl_connect_to_host(link.client(), o.host.c_str(), o.port, "truck", token != nullptr ? token : ""),
