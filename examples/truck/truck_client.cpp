@@ -59,7 +59,7 @@ struct Options {
   double source_rate = 500.0;   ///< [kg/s]
   double drive_time = 3.0;      ///< [s] accelerating half, turning half
   double drive_at = 0.0;        ///< [s] excavator scenario: start driving at this time (0: after `dumps` dumps)
-  int dumps = 1;                ///< excavator scenario: drive once this many dumps have settled on the body
+  int dumps = 2;                ///< excavator scenario: drive once this many dumps have settled (demlink-excavator's default cycles)
   double acceleration = 1.5;    ///< [m/s^2]
   double yaw_rate = 0.5;        ///< [rad/s] (left turn)
   double body_mass = 2000.0;    ///< [kg]
