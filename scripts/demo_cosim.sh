@@ -67,6 +67,10 @@ python=python3
 "$python" -c 'import matplotlib' 2>/dev/null || python=/usr/bin/python3
 "$python" scripts/plot_cosim.py --excavator "$out/excavator/excavator.csv" --truck "$out/truck/truck.csv" \
   --output-dir "$out" >"$out/plots.log"
+# Snapshots: the first cycle's drag and dump (phases in the excavator's CSV) and the end.
+times=$(awk -F, 'NR > 1 && !drag && $3 == "drag" { drag = $1 + 1.0 } NR > 1 && !dump && $3 == "dump" { dump = $1 + 0.5 }
+                 END { printf "%s,%s,end", drag + 0, dump + 0 }' "$out/excavator/excavator.csv")
+"$python" scripts/plot_site.py "$out/server/sim_001" --times "$times" --output "$out/site.png" >>"$out/plots.log"
 balance=0
 "$python" scripts/cosim_summary.py "$out/server/sim_001" --excavator-summary "$out/excavator/excavator_summary.txt" \
   --min-delivered-fraction 0.9 >"$out/summary.txt" 2>&1 || balance=$?
@@ -75,7 +79,8 @@ cat "$out/summary.txt"
 echo
 echo "demo_cosim: done in $(($(date +%s) - start)) s. Results in $out:"
 echo "  ParaView:  $out/server/sim_001/particles.pvd and meshes.pvd (VTK)"
-echo "  plots:     $out/excavator.png (bucket fill, cylinder forces), $out/truck.png (load, axle forces, room motion)"
+echo "  plots:     $out/excavator.png (bucket fill, cylinder forces), $out/truck.png (load, axle forces, room motion),"
+echo "             $out/site.png (the site from above and the side while digging, dumping and at the end)"
 echo "  CSV:       $out/excavator/excavator.csv, $out/truck/truck.csv, $out/server/sim_001/region_sensor_*.csv"
 echo "  summary:   $out/summary.txt; logs: $out/*.log"
 exit "$balance"
