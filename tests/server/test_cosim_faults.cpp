@@ -175,6 +175,30 @@ TEST(CosimFaults, TimeoutViaPoll) {
   EXPECT_EQ(h.errors(2)[0].component(), "view");
 }
 
+// The clients' time to answer starts when Compiled leaves, not when the declaration that
+// triggered the compile arrived: a compile that generates a large bed (a pit under ASan
+// took longer than the 60 s timeout) must not eat the clients' time. The harness's clock
+// stands still, so the deadline's excess over now + timeout is the compile's real time.
+TEST(CosimFaults, ClientTimeoutStartsWhenTheCompileIsDone) {
+  ScratchDir dir;
+  CosimHarness h(dir.path());
+  h.hello(1, "alpha");
+  const std::vector<std::string> bed = smallBedJson(150);  // 22,500 particles
+  h.declare(1, boxJson(1e-5, 0.0, R"("coupling": {"expected_count": 4, "client_timeout": 30})", 2e-5));
+  h.declare(1, bed[0]);
+  h.declare(1, bed[1]);
+  const SteadyClock::time_point before = SteadyClock::now();
+  h.declare(1, bed[2]);  // the fourth expected component: compiles
+  const SteadyClock::duration compileTime = SteadyClock::now() - before;
+  ASSERT_TRUE(h.compiled(1));
+  ASSERT_TRUE(h.host().nextDeadline());
+  const SteadyClock::duration excess = *h.host().nextDeadline() - (h.now() + std::chrono::seconds(30));
+  EXPECT_GE(excess, compileTime / 2) << "compile took "
+                                     << std::chrono::duration<double>(compileTime).count() << " s, the deadline moved by "
+                                     << std::chrono::duration<double>(excess).count() << " s";
+  EXPECT_LE(excess, compileTime);
+}
+
 TEST(CosimFaults, ShutdownFlushesAndTellsEveryone) {
   ScratchDir dir;
   CosimHarness h(dir.path());

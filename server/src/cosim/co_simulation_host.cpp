@@ -149,6 +149,7 @@ struct CoSimulationHost::Impl {
   }
 
   void compile(std::vector<Outgoing>& out, SteadyClock::time_point now) {
+    const SteadyClock::time_point workStart = SteadyClock::now();
     CompiledSimulation compiled;
     try {
       compiled = compiler.compile(options.scene_directory);
@@ -193,12 +194,22 @@ struct CoSimulationHost::Impl {
       out.push_back(std::move(o));
     }
     quiet_since.reset();
-    run(out, now);
+    run(out, now + (SteadyClock::now() - workStart));
   }
 
-  /// Advances while every due component has reported.
+  /// Advances while every due component has reported. The clients' time to answer
+  /// (timeout()) starts when this call's answers leave, after its work: `now` is when the
+  /// message that triggered it arrived, and a compile that generates a large pit, or many
+  /// steps to the next exchange, can take longer than the timeout itself (seen under
+  /// ASan: the 60 s had passed before Compiled was sent). The elapsed time is measured on
+  /// the real clock and added to `now`, so tests that drive `now` by hand keep their times.
   void run(std::vector<Outgoing>& out, SteadyClock::time_point now) {
-    waiting_since = now;
+    const SteadyClock::time_point workStart = SteadyClock::now();
+    advanceWhileComplete(out);
+    if (sim) waiting_since = now + (SteadyClock::now() - workStart);
+  }
+
+  void advanceWhileComplete(std::vector<Outgoing>& out) {
     while (sim && sim->scheduler().complete()) {
       CosimSimulation::Advance advance = sim->advance();
       for (auto& [to, package] : advance.answers) {
