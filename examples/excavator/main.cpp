@@ -40,7 +40,6 @@ namespace dc = demlink::client;
 namespace {
 
 constexpr double kRadToDeg = 180.0 / std::numbers::pi;
-constexpr double kLogInterval = 0.5;  // [s] simulated time between log lines
 
 struct Options {
   std::string host = site::kDefaultHost;
@@ -48,15 +47,18 @@ struct Options {
   int cycles = 2;
   std::string output = "out/excavator";
   double timeout_s = 300.0;  // the compile includes the pit generation
+  double log_interval_s = 0.5;  // simulated time between log lines; 0: every sample
 };
 
 void usage() {
   std::cout << "usage: demlink-excavator [--host H] [--port N] [--cycles N] [--output DIR] [--timeout S]\n"
+               "                         [--log-interval S]\n"
                "  --host H      server address (default " << site::kDefaultHost << ")\n"
                "  --port N      server port (default " << site::kDefaultPort << ")\n"
                "  --cycles N    dig-dump cycles (default 2)\n"
                "  --output DIR  where bucket.stl, excavator.csv and excavator_summary.txt go (default out/excavator)\n"
-               "  --timeout S   bound of every wait for the server (default 300 s; the compile generates the pit)\n";
+               "  --timeout S   bound of every wait for the server (default 300 s; the compile generates the pit)\n"
+               "  --log-interval S  simulated time between log lines (default 0.5 s; 0: every sample)\n";
 }
 
 /// Parses the command line; exits with 2 and a message naming the option on bad input.
@@ -89,6 +91,9 @@ Options parse(int argc, char** argv) {
       } else if (arg == "--timeout") {
         o.timeout_s = std::stod(value);
         if (!(o.timeout_s > 0.0 && o.timeout_s < 1e6)) fail(arg, value, "must be > 0 s");
+      } else if (arg == "--log-interval") {
+        o.log_interval_s = std::stod(value);
+        if (!(o.log_interval_s >= 0.0 && o.log_interval_s < 1e6)) fail(arg, value, "must be >= 0 s");
       } else {
         fail(arg, value, "unknown option (see --help)");
       }
@@ -219,7 +224,7 @@ int run(const Options& opt) {
         << force.x() << "," << force.y() << "," << force.z() << "," << torque.x() << "," << torque.y() << ","
         << torque.z() << "\n";
     if (t + 1e-9 >= nextLog) {
-      nextLog += kLogInterval;
+      nextLog += opt.log_interval_s;
       std::printf(
           "excavator t %6.2f s  cycle %d %-14s fill %7.1f kg  force [kN] swing %6.1f boom %7.1f stick %7.1f bucket "
           "%7.1f  angles [deg] %6.1f %6.1f %7.1f %7.1f  |F_dem| %6.2f kN\n",

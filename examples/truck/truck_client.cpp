@@ -66,6 +66,7 @@ struct Options {
   double steady_time = 0.4;     ///< [s] load unchanged this long = settled
   double max_time = 0.0;        ///< [s] start driving at the latest here (0: source 30 s, excavator 600 s)
   double timeout = 300.0;       ///< [s] bound of every wait for the server (the compile may generate a pit)
+  double log_interval = 0.5;    ///< [s] simulated time between log lines; 0: every sample
   std::string material = "gravel";
 };
 
@@ -75,7 +76,8 @@ struct Options {
                "usage: demlink-truck [--host H] [--port N] [--scenario excavator|source] [--expected N1,N2,...]\n"
                "                     [--output DIR] [--load-target KG] [--source-rate KG_PER_S] [--drive-time S]\n"
                "                     [--drive-at S] [--dumps N] [--acceleration M_S2] [--yaw-rate RAD_S] [--body-mass KG]\n"
-               "                     [--steady-time S] [--max-time S] [--material NAME] [--timeout S]\n",
+               "                     [--steady-time S] [--max-time S] [--material NAME] [--timeout S]\n"
+               "                     [--log-interval S]\n",
                why);
   std::exit(2);
 }
@@ -132,6 +134,7 @@ Options parse(int argc, char** argv) {
     else if (flag == "--max-time") o.max_time = number(flag, v, 0.0);
     else if (flag == "--material") o.material = v;
     else if (flag == "--timeout") o.timeout = number(flag, v, 1e-3);
+    else if (flag == "--log-interval") o.log_interval = number(flag, v, 0.0);
     else usage(("unknown option " + flag).c_str());
   }
   if (o.port > 65535) usage("--port must be <= 65535");
@@ -448,7 +451,7 @@ int run(const Options& o) {
                   "  roll %+7.4f rad\n",
                   t, phaseName(phase), loadMass, loadCount, f[0] + f[1], f[2] + f[3], s.z, s.theta, s.phi);
       std::fflush(stdout);
-      nextLog += 0.5;
+      nextLog += o.log_interval;
     }
 
     if (phase == Phase::Done && ++doneSamples > 1) break;
