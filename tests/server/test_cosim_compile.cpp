@@ -144,6 +144,41 @@ TEST(CosimCompile, CompileErrorsNameComponentAndField) {
   }
 }
 
+// An interval of more than 1e8 time steps would stall the server's thread: refused,
+// naming the interval, whether the interval is long or the time step tiny (the fuzzer's
+// valid 1e-220 s step); 1e8 steps exactly is accepted.
+TEST(CosimCompile, IntervalOfTooManyStepsIsRefused) {
+  const std::string glass = smallBedJson()[0];
+  {
+    const v1::Error e = compileError({boxJson(1e-5, 0.0), glass,
+                                      R"({"name": "view", "communication_interval": 1000.01, "particle_view": {}})"});
+    EXPECT_EQ(e.component(), "view");
+    EXPECT_EQ(e.field(), "view.communication_interval");
+    EXPECT_NE(e.message().find("1e+08 time steps"), std::string::npos) << e.message();
+  }
+  {
+    const v1::Error e = compileError({R"({"name": "box", "simulation_box": {"time_step": 1e-220}})", glass,
+                                      R"({"name": "view", "communication_interval": 0.001, "particle_view": {}})"});
+    EXPECT_EQ(e.field(), "view.communication_interval");
+    EXPECT_NE(e.message().find("1e-220"), std::string::npos) << e.message();
+  }
+  ScratchDir dir;
+  CosimHarness h(dir.path());
+  h.hello(1);
+  h.declare(1, boxJson(1e-5, 0.0, R"("coupling": {"expected_count": 3})"));
+  h.declare(1, glass);
+  h.declare(1, R"({"name": "view", "communication_interval": 1000, "particle_view": {}})");
+  ASSERT_TRUE(h.compiled(1)) << (h.errors(1).empty() ? "" : h.errors(1)[0].message());
+  const v1::Compiled compiled = *h.compiled(1);
+  bool found = false;
+  for (const v1::CompiledComponent& c : compiled.components()) {
+    if (c.name() != "view") continue;
+    found = true;
+    EXPECT_EQ(c.interval_steps(), 100'000'000u);
+  }
+  EXPECT_TRUE(found);
+}
+
 TEST(CosimCompile, NonMultipleIntervalIsRoundedWithAWarning) {
   ScratchDir dir;
   CosimHarness h(dir.path());

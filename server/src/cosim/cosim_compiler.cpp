@@ -23,6 +23,12 @@ namespace {
 
 using Kind = v1::ComponentDeclaration;
 
+/// Most time steps one communication interval may span. Why a cap: the host steps an
+/// interval in one go on the server's only thread, so an interval of 1e15 steps (a valid
+/// 1e-220 s time step, found by the host fuzzer) would stall every connection for ever.
+/// 1e8 steps is minutes even for a handful of particles; no coupling needs more.
+constexpr std::uint64_t kMaxStepsPerInterval = 100'000'000;
+
 std::string kindName(Kind::KindCase kind) {
   const google::protobuf::FieldDescriptor* field =
       v1::ComponentDeclaration::descriptor()->FindFieldByNumber(static_cast<int>(kind));
@@ -279,6 +285,12 @@ CompiledSimulation CosimCompiler::compile(const std::filesystem::path& sceneDire
                                               "steps = {} s",
                                               field, core::formatValue(interval), core::formatValue(dt), steps,
                                               core::formatValue(static_cast<double>(steps) * dt)));
+        }
+        if (steps > kMaxStepsPerInterval) {
+          throw failure(c.name, field, core::formatValue(interval),
+                        fmt::format("{:.3g} time steps of {} s; at most {} per exchange (the server steps an "
+                                    "interval in one go): use a shorter interval or a larger time step",
+                                    exact, core::formatValue(dt), kMaxStepsPerInterval));
         }
         c.interval_steps = steps;
       }
