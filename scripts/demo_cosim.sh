@@ -25,13 +25,9 @@ start=$(date +%s)
 server=$!
 pids=("$server")
 trap 'kill "${pids[@]}" 2>/dev/null || true' EXIT
-port=""
-for _ in $(seq 1 100); do
-  port=$(sed -n 's/.*listening on [0-9.]*:\([0-9]*\).*/\1/p' "$out/server.log" | head -n1)
-  [[ -n "$port" ]] && break
-  sleep 0.1
-done
-[[ -n "$port" ]] || { echo "demo_cosim: the server did not start:" >&2; cat "$out/server.log" >&2; exit 1; }
+source scripts/lib/server_port.sh
+port=$(wait_for_server_port "$out/server.log" "$server") ||
+  { echo "demo_cosim: the server did not start:" >&2; cat "$out/server.log" >&2; exit 1; }
 echo "demo_cosim: server on 127.0.0.1:$port; output in $out"
 
 # The truck declares the SimulationBox first; the server compiles once the excavator's

@@ -15,13 +15,8 @@ timeout $((600 * scale)) "$server_exe" --port 0 --once --scene "$scene" --output
   >"$work/server.log" 2>&1 &
 server_pid=$!
 trap 'kill "$server_pid" 2>/dev/null || true' EXIT
-port=""
-for _ in $(seq 1 100); do
-  port=$(sed -n 's/.*listening on [0-9.]*:\([0-9]*\).*/\1/p' "$work/server.log" | head -n1)
-  [[ -n "$port" ]] && break
-  sleep 0.1
-done
-if [[ -z "$port" ]]; then
+source "$(dirname "$0")/../../scripts/lib/server_port.sh"
+if ! port=$(wait_for_server_port "$work/server.log" "$server_pid"); then
   echo "FAIL: the server did not start listening:"; cat "$work/server.log"; exit 1
 fi
 status=0

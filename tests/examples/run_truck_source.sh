@@ -36,16 +36,8 @@ trap cleanup EXIT
 (cd "$workdir" && exec timeout --kill-after=5 $((90 * scale)) "$server_exe" --port 0 --once --scene "$scene" --output server_out) \
   >"$workdir/server.log" 2>&1 &
 server_pid=$!
-port=""
-for _ in $(seq 1 100); do  # at most 10 s to listen
-  if line=$(grep -m1 -oE 'listening on [^ ]+:[0-9]+' "$workdir/server.log" 2>/dev/null); then
-    port=${line##*:}
-    break
-  fi
-  kill -0 "$server_pid" 2>/dev/null || break
-  sleep 0.1
-done
-if [[ -z "$port" ]]; then
+source "$(dirname "$0")/../../scripts/lib/server_port.sh"
+if ! port=$(wait_for_server_port "$workdir/server.log" "$server_pid"); then
   echo "run_truck_source: the server did not listen within 10 s:" >&2
   cat "$workdir/server.log" >&2
   exit 1

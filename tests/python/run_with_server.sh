@@ -42,16 +42,8 @@ trap cleanup EXIT
 (cd "$workdir" && exec "$server_exe" --port 0 --once) >"$server_log" 2>&1 &
 server_pid=$!
 
-port=""
-for _ in $(seq 1 100); do  # at most 10 s for the server to listen
-  if line=$(grep -m1 -oE 'listening on [^ ]+:[0-9]+' "$server_log" 2>/dev/null); then
-    port=${line##*:}
-    break
-  fi
-  if ! kill -0 "$server_pid" 2>/dev/null; then break; fi
-  sleep 0.1
-done
-if [[ -z "$port" ]]; then
+source "$(dirname "$0")/../../scripts/lib/server_port.sh"
+if ! port=$(wait_for_server_port "$server_log" "$server_pid"); then
   echo "run_with_server: the server did not print 'listening on ADDR:PORT' within 10 s; its output:" >&2
   cat "$server_log" >&2
   exit 1
