@@ -39,7 +39,7 @@ TIME_COLUMNS = ["time_s"]
 
 
 def last_shared(series_by_name):
-    """The latest time every series has a row for, and each series' (count-free) mass then."""
+    """The latest time every series has a row for, and each series' mass then."""
     shared = set.intersection(*(set(s.keys()) for s in series_by_name.values()))
     if not shared:
         raise InputProblem("the sensor CSVs share no sample time: " + ", ".join(series_by_name))
@@ -48,16 +48,25 @@ def last_shared(series_by_name):
 
 
 def removed_at_bounds(sim_dir):
-    """Mass removed at the domain bounds [kg] from run_log.csv ('timing,removed_at_bounds_kg,...'), else 0."""
+    """Mass removed at the domain bounds [kg]: run_log.csv's row 'timing,removed_mass_at_bounds,KG,kg'."""
     path = os.path.join(sim_dir, "run_log.csv")
     try:
         with open(path, newline="") as f:
-            for row in csv.reader(f):
-                if len(row) >= 3 and row[0] == "timing" and row[1] == "removed_mass_at_bounds":
-                    return float(row[2])
-    except OSError:
-        raise InputProblem(f"{path}: cannot read") from None
-    return 0.0
+            rows = list(csv.reader(f))
+    except OSError as e:
+        raise InputProblem(f"{path}: cannot read ({e.strerror})") from None
+    for row in rows:
+        if len(row) >= 3 and row[0] == "timing" and row[1] == "removed_mass_at_bounds":
+            try:
+                value = float(row[2])
+            except ValueError:
+                value = math.nan
+            if not math.isfinite(value) or value < 0:
+                raise InputProblem(f"{path}: removed_mass_at_bounds = '{row[2]}' is not a mass >= 0")
+            return value
+    # Written when a run ends (with the timing rows): missing means it did not end.
+    raise InputProblem(f"{path}: no 'timing,removed_mass_at_bounds' row (the run did not end, or the "
+                       "server predates the row)")
 
 
 def excavator_numbers(path):
@@ -77,7 +86,9 @@ def excavator_numbers(path):
 
 
 def summarize(args):
-    csv_of = lambda name: os.path.join(args.sim_dir, f"region_sensor_{name}.csv")  # noqa: E731
+    def csv_of(name):
+        return os.path.join(args.sim_dir, f"region_sensor_{name}.csv")
+
     spills = sorted(os.path.basename(p)[len("region_sensor_"):-len(".csv")]
                     for p in glob.glob(csv_of("spill_*")))
     names = ["pit_contents", "bucket_fill", "truck_load"] + spills

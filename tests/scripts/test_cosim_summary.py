@@ -7,7 +7,8 @@ lost between regions. Checked: mass moving pit -> bucket -> truck and onto the g
 particles removed at the bounds, balances at the last shared time and the numbers are
 printed; a particle missing from every region fails (exit 1); the bucket -> truck check
 passes when the truck got what the bucket carried and fails when it got too little or
-more than was carried; a missing sensor file or column is an input error (exit 2) naming it.
+more than was carried; a missing sensor file or column, a run log without the removed-mass row and a non-number in it are input errors
+(exit 2) naming them.
 """
 
 import os
@@ -52,8 +53,10 @@ class CosimSummaryTest(unittest.TestCase):
 
     def write_run_log(self, removed_kg):
         with open(os.path.join(self.sim, "run_log.csv"), "w") as f:
-            f.write("section,key,value,unit\ntiming,removed_at_bounds,3,\n"
-                    f"timing,removed_mass_at_bounds,{removed_kg!r},kg\ntiming,status,completed,\n")
+            f.write("section,key,value,unit\ntiming,removed_at_bounds,3,\n")
+            if removed_kg is not None:
+                f.write(f"timing,removed_mass_at_bounds,{removed_kg},kg\n")
+            f.write("timing,status,completed,\n")
 
     def run_script(self, *args):
         return subprocess.run([sys.executable, SCRIPT, self.sim, *args], capture_output=True, text=True, timeout=30)
@@ -102,6 +105,17 @@ class CosimSummaryTest(unittest.TestCase):
         r = self.run_script()
         self.assertEqual(r.returncode, 2)
         self.assertIn("no column 'mass_kg'", r.stderr)
+
+    def test_run_log_without_or_with_a_bad_removed_mass_is_an_input_error(self):
+        self.write_run_log(None)
+        r = self.run_script()
+        self.assertEqual(r.returncode, 2)
+        self.assertIn("no 'timing,removed_mass_at_bounds' row", r.stderr)
+        self.write_run_log("lots")
+        r = self.run_script()
+        self.assertEqual(r.returncode, 2)
+        self.assertIn("removed_mass_at_bounds = 'lots' is not a mass >= 0", r.stderr)
+        self.assertNotIn("Traceback", r.stderr)
 
 
 if __name__ == "__main__":
