@@ -25,7 +25,7 @@ start=$(date +%s)
 server=$!
 pids=("$server")
 trap 'kill "${pids[@]}" 2>/dev/null || true' EXIT
-source scripts/lib/server_port.sh
+source scripts/lib/child_server.sh
 port=$(wait_for_server_port "$out/server.log" "$server") ||
   { echo "demo_cosim: the server did not start:" >&2; cat "$out/server.log" >&2; exit 1; }
 echo "demo_cosim: server on 127.0.0.1:$port; output in $out"

@@ -15,7 +15,7 @@ timeout $((600 * scale)) "$server_exe" --port 0 --once --scene "$scene" --output
   >"$work/server.log" 2>&1 &
 server_pid=$!
 trap 'kill "$server_pid" 2>/dev/null || true' EXIT
-source "$(dirname "$0")/../../scripts/lib/server_port.sh"
+source "$(dirname "$0")/../../scripts/lib/child_server.sh"
 if ! port=$(wait_for_server_port "$work/server.log" "$server_pid"); then
   echo "FAIL: the server did not start listening:"; cat "$work/server.log"; exit 1
 fi

@@ -23,12 +23,9 @@ load_target=300
 
 workdir=$(mktemp -d "${TMPDIR:-/tmp}/demlink_truck.XXXXXX")
 server_pid=""
+source "$(dirname "$0")/../../scripts/lib/child_server.sh"
 cleanup() {
-  if [[ -n "$server_pid" ]] && kill -0 "$server_pid" 2>/dev/null; then
-    kill "$server_pid" 2>/dev/null || true
-    sleep 0.5
-    kill -9 "$server_pid" 2>/dev/null || true
-  fi
+  stop_server "$server_pid"
   rm -rf "$workdir"
 }
 trap cleanup EXIT
@@ -36,7 +33,6 @@ trap cleanup EXIT
 (cd "$workdir" && exec timeout --kill-after=5 $((90 * scale)) "$server_exe" --port 0 --once --scene "$scene" --output server_out) \
   >"$workdir/server.log" 2>&1 &
 server_pid=$!
-source "$(dirname "$0")/../../scripts/lib/server_port.sh"
 if ! port=$(wait_for_server_port "$workdir/server.log" "$server_pid"); then
   echo "run_truck_source: the server did not listen within 10 s:" >&2
   cat "$workdir/server.log" >&2
@@ -47,18 +43,12 @@ truck_status=0
 timeout --kill-after=5 $((60 * scale)) "$truck_exe" --port "$port" --scenario source --output "$workdir/truck" \
   --load-target "$load_target" --source-rate 400 --body-mass 1000 --drive-time 1.5 || truck_status=$?
 
+# --once: the server exits by itself; 20 s at most (else the trap stops it).
 server_status=0
-for _ in $(seq 1 200); do  # --once: the server exits by itself; 20 s at most
-  kill -0 "$server_pid" 2>/dev/null || break
-  sleep 0.1
-done
-if kill -0 "$server_pid" 2>/dev/null; then
+wait_for_server_exit "$server_pid" 20 || server_status=$?
+if ((server_status == 124)); then
   echo "run_truck_source: the server did not exit within 20 s after the truck" >&2
-  server_status=124
-else
-  wait "$server_pid" || server_status=$?
 fi
-server_pid=""
 echo "---- server output ----"
 tail -n 25 "$workdir/server.log"
 echo "-----------------------"

@@ -28,12 +28,9 @@ client_timeout=${DEMLINK_TEST_TIMEOUT:-60}
 workdir=$(mktemp -d "${TMPDIR:-/tmp}/demlink_pytest.XXXXXX")
 server_log=$workdir/server.log
 server_pid=""
+source "$(dirname "$0")/../../scripts/lib/child_server.sh"
 cleanup() {
-  if [[ -n "$server_pid" ]] && kill -0 "$server_pid" 2>/dev/null; then
-    kill "$server_pid" 2>/dev/null || true
-    sleep 0.5
-    kill -9 "$server_pid" 2>/dev/null || true
-  fi
+  stop_server "$server_pid"
   rm -rf "$workdir"
 }
 trap cleanup EXIT
@@ -42,7 +39,6 @@ trap cleanup EXIT
 (cd "$workdir" && exec "$server_exe" --port 0 --once) >"$server_log" 2>&1 &
 server_pid=$!
 
-source "$(dirname "$0")/../../scripts/lib/server_port.sh"
 if ! port=$(wait_for_server_port "$server_log" "$server_pid"); then
   echo "run_with_server: the server did not print 'listening on ADDR:PORT' within 10 s; its output:" >&2
   cat "$server_log" >&2
@@ -57,19 +53,12 @@ if ((client_status == 124)); then
   echo "run_with_server: the client did not finish within ${client_timeout} s" >&2
 fi
 
-# --once: the server exits by itself after the simulation; give it 20 s.
+# --once: the server exits by itself after the simulation; 20 s at most (else the trap
+# stops it).
 server_status=0
-for _ in $(seq 1 200); do
-  kill -0 "$server_pid" 2>/dev/null || break
-  sleep 0.1
-done
-if kill -0 "$server_pid" 2>/dev/null; then
-  # server_pid stays set: the trap stops the server.
+wait_for_server_exit "$server_pid" 20 || server_status=$?
+if ((server_status == 124)); then
   echo "run_with_server: the server did not exit within 20 s after the client" >&2
-  server_status=124
-else
-  wait "$server_pid" || server_status=$?
-  server_pid=""
 fi
 
 echo "---- server output ----"
