@@ -68,6 +68,21 @@ Options parse(int argc, char** argv) {
     std::cerr << "error: " << option << " = " << value << ": " << why << "\n";
     std::exit(2);
   };
+  // The whole value must be the number ("2.5" is not a cycle count, "1x" not a port).
+  auto whole = [&](const std::string& option, const std::string& value, auto convert) {
+    std::size_t used = 0;
+    const auto v = convert.parse(value, &used);
+    if (used != value.size()) fail(option, value, std::string("not ") + convert.what);
+    return v;
+  };
+  struct {
+    const char* what = "a whole number";
+    long parse(const std::string& t, std::size_t* used) const { return std::stol(t, used); }
+  } toLong;
+  struct {
+    const char* what = "a number";
+    double parse(const std::string& t, std::size_t* used) const { return std::stod(t, used); }
+  } toDouble;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--help" || arg == "-h") {
@@ -80,19 +95,20 @@ Options parse(int argc, char** argv) {
       if (arg == "--host") {
         o.host = value;
       } else if (arg == "--port") {
-        const long p = std::stol(value);
+        const long p = whole(arg, value, toLong);
         if (p < 1 || p > 65535) fail(arg, value, "must be 1..65535");
         o.port = static_cast<unsigned>(p);
       } else if (arg == "--cycles") {
-        o.cycles = std::stoi(value);
-        if (o.cycles < 1 || o.cycles > 100) fail(arg, value, "must be 1..100");
+        const long cycles = whole(arg, value, toLong);
+        if (cycles < 1 || cycles > 100) fail(arg, value, "must be 1..100");
+        o.cycles = static_cast<int>(cycles);
       } else if (arg == "--output") {
         o.output = value;
       } else if (arg == "--timeout") {
-        o.timeout_s = std::stod(value);
+        o.timeout_s = whole(arg, value, toDouble);
         if (!(o.timeout_s > 0.0 && o.timeout_s < 1e6)) fail(arg, value, "must be > 0 s");
       } else if (arg == "--log-interval") {
-        o.log_interval_s = std::stod(value);
+        o.log_interval_s = whole(arg, value, toDouble);
         if (!(o.log_interval_s >= 0.0 && o.log_interval_s < 1e6)) fail(arg, value, "must be >= 0 s");
       } else {
         fail(arg, value, "unknown option (see --help)");

@@ -92,6 +92,15 @@ double number(const std::string& flag, const char* text, double lo) {
   return v;
 }
 
+/// A whole number in [lo, hi]; anything else (2.5, 1e20, "x") exits with a message naming it.
+int integer(const std::string& flag, const char* text, int lo, int hi) {
+  const double v = number(flag, text, static_cast<double>(lo));
+  if (v > hi || v != std::floor(v)) {
+    usage((flag + " = " + text + ": not a whole number in " + std::to_string(lo) + ".." + std::to_string(hi)).c_str());
+  }
+  return static_cast<int>(v);
+}
+
 std::vector<std::string> splitNames(const std::string& list) {
   std::vector<std::string> out;
   std::size_t start = 0;
@@ -113,7 +122,7 @@ Options parse(int argc, char** argv) {
     if (i + 1 >= argc) usage((flag + ": missing value").c_str());
     const char* v = argv[++i];
     if (flag == "--host") o.host = v;
-    else if (flag == "--port") o.port = static_cast<int>(number(flag, v, 1.0));
+    else if (flag == "--port") o.port = integer(flag, v, 1, 65535);
     else if (flag == "--scenario") {
       if (std::strcmp(v, "source") == 0) o.source = true;
       else if (std::strcmp(v, "excavator") == 0) o.source = false;
@@ -126,7 +135,7 @@ Options parse(int argc, char** argv) {
     else if (flag == "--source-rate") o.source_rate = number(flag, v, 1e-9);
     else if (flag == "--drive-time") o.drive_time = number(flag, v, 0.0);
     else if (flag == "--drive-at") o.drive_at = number(flag, v, 0.0);
-    else if (flag == "--dumps") o.dumps = static_cast<int>(number(flag, v, 1.0));
+    else if (flag == "--dumps") o.dumps = integer(flag, v, 1, 1000);
     else if (flag == "--acceleration") o.acceleration = number(flag, v, 0.0);
     else if (flag == "--yaw-rate") o.yaw_rate = number(flag, v, -10.0);
     else if (flag == "--body-mass") o.body_mass = number(flag, v, 1.0);
@@ -137,7 +146,6 @@ Options parse(int argc, char** argv) {
     else if (flag == "--log-interval") o.log_interval = number(flag, v, 0.0);
     else usage(("unknown option " + flag).c_str());
   }
-  if (o.port > 65535) usage("--port must be <= 65535");
   if (!o.expected_given && !o.source) o.expected = {"bucket", "bucket_fill"};  // demlink-excavator's components
   if (o.max_time <= 0.0) o.max_time = o.source ? 30.0 : 600.0;
   return o;
