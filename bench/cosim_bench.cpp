@@ -49,15 +49,15 @@
 #include "demlink/client/rigid_body.hpp"
 #include "demlink/client/sensor_components.hpp"
 #include "demlink/client/session.hpp"
-#include "demlink/core/coupled_motion.hpp"
+#include "demlink/core/walls/coupled_motion.hpp"
 #include "demlink/core/world.hpp"
 #include "demlink/server/cosim/co_simulation_host.hpp"
 #include "demlink/server/net/asio.hpp"
 #include "demlink/server/net/host_session_handler.hpp"
 #include "demlink/server/net/tcp_server.hpp"
-#include "demlink/server/particle_csv.hpp"
-#include "demlink/server/scene_loader.hpp"
-#include "demlink/server/scene_translator.hpp"
+#include "demlink/server/run/particle_csv.hpp"
+#include "demlink/server/scene/scene_loader.hpp"
+#include "demlink/server/scene/scene_translator.hpp"
 
 namespace {
 

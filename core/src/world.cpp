@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <numeric>
 
-#include "demlink/core/contact_stage.hpp"
+#include "demlink/core/contact/contact_stage.hpp"
 #include "demlink/core/input_error.hpp"
-#include "demlink/core/integrator.hpp"
-#include "demlink/core/moving_frame.hpp"
-#include "demlink/core/parallel.hpp"
+#include "demlink/core/step/integrator.hpp"
+#include "demlink/core/step/moving_frame.hpp"
+#include "demlink/core/step/parallel.hpp"
 
 namespace demlink::core {
 namespace {

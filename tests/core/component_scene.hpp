@@ -7,11 +7,11 @@
 #include <functional>
 #include <memory>
 
-#include "demlink/core/flow_sensor.hpp"
-#include "demlink/core/particle_sink.hpp"
-#include "demlink/core/particle_source.hpp"
-#include "demlink/core/particle_tracker.hpp"
-#include "demlink/core/region_sensor.hpp"
+#include "demlink/core/components/flow_sensor.hpp"
+#include "demlink/core/components/particle_sink.hpp"
+#include "demlink/core/components/particle_source.hpp"
+#include "demlink/core/components/particle_tracker.hpp"
+#include "demlink/core/components/region_sensor.hpp"
 #include "test_scenes.hpp"
 
 namespace demlink::core::test {

@@ -20,7 +20,7 @@
 #include <string_view>
 
 #include "demlink/server/cosim/co_simulation_host.hpp"
-#include "demlink/server/scene_loader.hpp"
+#include "demlink/server/scene/scene_loader.hpp"
 #include "fuzz_seeds.hpp"
 
 namespace {

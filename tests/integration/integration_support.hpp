@@ -23,7 +23,7 @@
 #include "demlink/server/cosim/co_simulation_host.hpp"
 #include "demlink/server/net/host_session_handler.hpp"
 #include "demlink/server/net/tcp_server.hpp"
-#include "demlink/server/scene_loader.hpp"
+#include "demlink/server/scene/scene_loader.hpp"
 #include "demlink/v1/recording.pb.h"
 #include "demlink/wire/frame_codec.hpp"
 

@@ -16,8 +16,8 @@
 #include <sstream>
 #include <thread>
 
-#include "demlink/core/coupled_motion.hpp"
-#include "demlink/server/scene_translator.hpp"
+#include "demlink/core/walls/coupled_motion.hpp"
+#include "demlink/server/scene/scene_translator.hpp"
 #include "integration_support.hpp"
 
 namespace demlink::integration {

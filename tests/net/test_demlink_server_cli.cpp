@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "demlink/server/scene_loader.hpp"
+#include "demlink/server/scene/scene_loader.hpp"
 #include "test_client.hpp"
 
 namespace demlink::server::test {

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "demlink/core/checkpoint.hpp"
+#include "demlink/core/state/checkpoint.hpp"
 #include "demlink/server/cosim/co_simulation_host.hpp"
 #include "scene_test_support.hpp"
 #include "test_support.hpp"

@@ -5,8 +5,8 @@
 #include <vector>
 
 #include "demlink/core/input_error.hpp"
-#include "demlink/server/scene_loader.hpp"
-#include "demlink/server/scene_translator.hpp"
+#include "demlink/server/scene/scene_loader.hpp"
+#include "demlink/server/scene/scene_translator.hpp"
 
 namespace demlink::server::test {
 

@@ -16,7 +16,7 @@
 #include <map>
 
 #include "demlink/core/input_error.hpp"
-#include "demlink/server/translate_rigid_body.hpp"
+#include "demlink/server/scene/translate_rigid_body.hpp"
 
 namespace demlink::server {
 namespace {

@@ -11,9 +11,9 @@
 
 #include <algorithm>
 
-#include "demlink/core/particle_sink.hpp"
-#include "demlink/core/particle_source.hpp"
-#include "demlink/core/region_sensor.hpp"
+#include "demlink/core/components/particle_sink.hpp"
+#include "demlink/core/components/particle_source.hpp"
+#include "demlink/core/components/region_sensor.hpp"
 
 namespace demlink::server {
 namespace {

@@ -13,10 +13,10 @@
 #include <cmath>
 #include <fstream>
 
-#include "demlink/core/checkpoint.hpp"
-#include "demlink/core/sampled_component.hpp"
+#include "demlink/core/state/checkpoint.hpp"
+#include "demlink/core/components/sampled_component.hpp"
 #include "demlink/server/cosim/cosim_inputs.hpp"
-#include "demlink/server/particle_csv.hpp"
+#include "demlink/server/run/particle_csv.hpp"
 
 namespace demlink::server {
 namespace {

@@ -5,9 +5,9 @@
 #include <optional>
 #include <string>
 
-#include "demlink/core/contact_model.hpp"
+#include "demlink/core/contact/contact_model.hpp"
 #include "demlink/core/math_types.hpp"
-#include "demlink/core/moving_frame.hpp"
+#include "demlink/core/step/moving_frame.hpp"
 
 namespace demlink::core {
 

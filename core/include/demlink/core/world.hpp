@@ -17,21 +17,21 @@
 #include <string_view>
 #include <vector>
 
-#include "demlink/core/clump_body.hpp"
-#include "demlink/core/clump_template.hpp"
-#include "demlink/core/contact_pair_table.hpp"
-#include "demlink/core/critical_time_step.hpp"
-#include "demlink/core/material.hpp"
-#include "demlink/core/mesh_body.hpp"
-#include "demlink/core/mesh_contact.hpp"
-#include "demlink/core/mesh_near_list.hpp"
-#include "demlink/core/neighbour_list.hpp"
-#include "demlink/core/pair_loop_partition.hpp"
-#include "demlink/core/particle_arrays.hpp"
-#include "demlink/core/plane_wall.hpp"
+#include "demlink/core/particles/clump_body.hpp"
+#include "demlink/core/particles/clump_template.hpp"
+#include "demlink/core/contact/contact_pair_table.hpp"
+#include "demlink/core/contact/critical_time_step.hpp"
+#include "demlink/core/materials/material.hpp"
+#include "demlink/core/walls/mesh_body.hpp"
+#include "demlink/core/walls/mesh_contact.hpp"
+#include "demlink/core/walls/mesh_near_list.hpp"
+#include "demlink/core/particles/neighbour_list.hpp"
+#include "demlink/core/step/pair_loop_partition.hpp"
+#include "demlink/core/particles/particle_arrays.hpp"
+#include "demlink/core/walls/plane_wall.hpp"
 #include "demlink/core/simulation_settings.hpp"
-#include "demlink/core/thread_pool.hpp"
-#include "demlink/core/world_component.hpp"
+#include "demlink/core/step/thread_pool.hpp"
+#include "demlink/core/components/world_component.hpp"
 
 namespace demlink::core {
 

@@ -16,10 +16,10 @@
 #include <string>
 #include <vector>
 
-#include "demlink/core/coupled_motion.hpp"
-#include "demlink/core/world_component.hpp"
+#include "demlink/core/walls/coupled_motion.hpp"
+#include "demlink/core/components/world_component.hpp"
 #include "demlink/server/cosim/co_simulation_host.hpp"
-#include "demlink/server/scene_translator.hpp"
+#include "demlink/server/scene/scene_translator.hpp"
 #include "demlink/v1/protocol.pb.h"
 
 namespace demlink::server {

@@ -7,8 +7,8 @@
 /// "rigid_body_input.position.x", and the value.
 #include <optional>
 
-#include "demlink/core/coupled_motion.hpp"
-#include "demlink/core/moving_frame.hpp"
+#include "demlink/core/walls/coupled_motion.hpp"
+#include "demlink/core/step/moving_frame.hpp"
 #include "demlink/server/cosim/cosim_compiler.hpp"
 #include "demlink/v1/protocol.pb.h"
 

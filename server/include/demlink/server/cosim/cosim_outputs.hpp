@@ -10,8 +10,8 @@
 #include <optional>
 #include <vector>
 
-#include "demlink/core/coupled_motion.hpp"
-#include "demlink/core/flow_sensor.hpp"
+#include "demlink/core/walls/coupled_motion.hpp"
+#include "demlink/core/components/flow_sensor.hpp"
 #include "demlink/core/world.hpp"
 #include "demlink/server/cosim/cosim_compiler.hpp"
 #include "demlink/v1/protocol.pb.h"

@@ -16,12 +16,12 @@
 #include <utility>
 #include <vector>
 
-#include "demlink/core/coupled_motion.hpp"
+#include "demlink/core/walls/coupled_motion.hpp"
 #include "demlink/server/cosim/cosim_compiler.hpp"
 #include "demlink/server/cosim/cosim_outputs.hpp"
 #include "demlink/server/cosim/exchange_scheduler.hpp"
-#include "demlink/server/frame_series.hpp"
-#include "demlink/server/run_log.hpp"
+#include "demlink/server/run/frame_series.hpp"
+#include "demlink/server/run/run_log.hpp"
 
 namespace demlink::server {
 

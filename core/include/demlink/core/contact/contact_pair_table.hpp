@@ -1,0 +1,70 @@
+#pragma once
+/// Mixes material properties into per-pair contact coefficients once, at set-up,
+/// so the force stage only indexes a table (no mixing per contact).
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "demlink/core/contact/contact_model.hpp"
+#include "demlink/core/materials/material.hpp"
+
+namespace demlink::core {
+
+/// Reference scales for the linear law's stiffness when the scene gives none:
+/// k_n is chosen so a head-on impact of two reference spheres at the reference
+/// speed reaches the same maximum overlap as under Hertz.
+struct LinearStiffnessReference {
+  double radius = 0.0;          ///< [m] reference particle radius (scene mean)
+  double impact_velocity = 1.0; ///< [m/s]
+  double normal_stiffness = 0.0;///< [N/m] if > 0, used as given for every pair
+};
+
+/// Contact coefficients of one material pair given explicitly (scene component
+/// material_pair) instead of the arithmetic mean of the two materials. Unset
+/// values keep the mean. The damping is calibrated for the overriding e.
+struct PairOverride {
+  std::optional<double> restitution;       ///< e [-], in (0, 1]
+  std::optional<double> sliding_friction;  ///< mu [-], >= 0
+  std::optional<double> rolling_friction;  ///< mu_r [-], >= 0
+
+  /// Throws InputError naming `fieldPrefix + ".<field>"` for the first invalid value.
+  void validate(const std::string& fieldPrefix) const;
+};
+
+/// An override for the unordered pair (material_a, material_b) (indices; equal
+/// indices override a like-material pair).
+struct PairOverrideEntry {
+  std::uint32_t material_a = 0;
+  std::uint32_t material_b = 0;
+  PairOverride values;
+};
+
+class ContactPairTable {
+ public:
+  ContactPairTable() = default;
+  /// `overrides` must name existing materials, each unordered pair at most once
+  /// (World::setPairOverride checks); all other pairs take the mean mix.
+  ContactPairTable(const std::vector<Material>& materials, ContactModel model,
+                   const LinearStiffnessReference& linearReference,
+                   const std::vector<PairOverrideEntry>& overrides = {});
+
+  [[nodiscard]] const ContactPairParams& operator()(std::uint32_t a, std::uint32_t b) const {
+    return pairs_[a * count_ + b];
+  }
+  [[nodiscard]] std::uint32_t materialCount() const { return count_; }
+  [[nodiscard]] bool anyRollingFriction() const { return any_rolling_; }
+
+ private:
+  std::uint32_t count_ = 0;
+  bool any_rolling_ = false;
+  std::vector<ContactPairParams> pairs_;
+};
+
+/// E* of two materials (solver paper eq. 3) [Pa].
+double effectiveYoungsModulus(const Material& a, const Material& b);
+/// G* of two materials [Pa]: (2(2-nu1)(1+nu1)/E1 + 2(2-nu2)(1+nu2)/E2)^-1.
+/// The paper's eq. 4 prints (1-nu)/G; Mindlin's result is (2-nu)/G.
+double effectiveShearModulus(const Material& a, const Material& b);
+
+}  // namespace demlink::core

@@ -1,0 +1,64 @@
+#pragma once
+/// Verlet neighbour list with a skin, as a half list in compressed rows: the
+/// partners of slot i are partners[offsets[i] .. offsets[i+1]), all > i, within
+/// r_i + r_j + skin at build time. Rebuilt only when some particle has moved more
+/// than skin/2 since the last build (then no pair can have closed the skin
+/// unseen). Each pair carries its tangential history; a rebuild carries it over,
+/// also when slots were compacted or reordered in between.
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "demlink/core/particles/cell_grid.hpp"
+#include "demlink/core/math_types.hpp"
+#include "demlink/core/particles/particle_arrays.hpp"
+#include "demlink/core/step/thread_pool.hpp"
+
+namespace demlink::core {
+
+/// Effective radius and mass of a listed pair, fixed for the pair's lifetime in
+/// the list (particle radii and masses do not change), so the force loop does not
+/// divide for them at every step.
+struct ReducedPair {
+  double radius;  ///< R* = r_i r_j / (r_i + r_j) [m]
+  double mass;    ///< m* = m_i m_j / (m_i + m_j) [kg]
+};
+
+class NeighbourList {
+ public:
+  explicit NeighbourList(double skin = 0.0) : skin_(skin) {}
+
+  [[nodiscard]] double skin() const { return skin_; }
+
+  /// True when the largest displacement since the last build exceeds skin/2.
+  [[nodiscard]] bool needsRebuild(std::span<const Vec3> positions, ThreadPool* pool = nullptr) const;
+
+  /// Rebuilds the list. newSlotOfOld maps every slot of the previous build to its
+  /// current slot (kRemovedSlot if removed); empty means slots are unchanged.
+  /// excludeSameClump: leave out pairs of spheres of the same clump (equal
+  /// non-zero clump_id); false compiles the search without the test.
+  void build(const ParticleArrays& particles, std::span<const std::uint32_t> newSlotOfOld,
+             ThreadPool* pool = nullptr, bool excludeSameClump = false);
+
+  [[nodiscard]] std::span<const std::uint32_t> offsets() const { return offsets_; }
+  [[nodiscard]] std::span<const std::uint32_t> partners() const { return partners_; }
+  [[nodiscard]] std::span<const ReducedPair> reduced() const { return reduced_; }
+  [[nodiscard]] std::span<Vec3> history() { return history_; }
+  [[nodiscard]] std::span<const Vec3> history() const { return history_; }
+  [[nodiscard]] std::size_t pairCount() const { return partners_.size(); }
+  [[nodiscard]] std::uint64_t buildCount() const { return builds_; }
+  [[nodiscard]] const CellGrid& grid() const { return grid_; }
+
+ private:
+  friend class World;  // checkpoint.cpp saves and restores the private state
+  double skin_;
+  std::uint64_t builds_ = 0;
+  CellGrid grid_;
+  std::vector<std::uint32_t> offsets_{0};
+  std::vector<std::uint32_t> partners_;
+  std::vector<Vec3> history_;
+  std::vector<ReducedPair> reduced_;
+  std::vector<Vec3> position_at_build_;
+};
+
+}  // namespace demlink::core

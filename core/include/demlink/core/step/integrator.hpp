@@ -1,0 +1,23 @@
+#pragma once
+/// Time integration of sphere translation and rotation.
+///   Velocity Verlet (default): v += a dt/2; x += v dt; forces(x, v); v += a dt/2.
+///   Explicit Euler (solver paper eqs. 14-17): x += v_old dt; v += a_old dt.
+/// Gravity enters as an acceleration here, not as a stored force, so
+/// ParticleArrays::force holds contact forces only.
+#include "demlink/core/math_types.hpp"
+#include "demlink/core/particles/particle_arrays.hpp"
+#include "demlink/core/step/thread_pool.hpp"
+
+namespace demlink::core {
+
+/// v += (F/m + g) h;  omega += (T/I) h.
+void kick(ParticleArrays& p, const Vec3& gravity, double h, ThreadPool* pool = nullptr);
+/// x += v dt.
+void drift(ParticleArrays& p, double dt, ThreadPool* pool = nullptr);
+/// kick(h) then drift(dt) in one pass over the particles.
+void kickAndDrift(ParticleArrays& p, const Vec3& gravity, double h, double dt, ThreadPool* pool = nullptr);
+/// Paper eqs. 14-17: positions advance with the OLD velocities, then velocities
+/// with the old accelerations.
+void explicitEulerStep(ParticleArrays& p, const Vec3& gravity, double dt, ThreadPool* pool = nullptr);
+
+}  // namespace demlink::core

@@ -1,0 +1,31 @@
+#pragma once
+/// Candidate triangles of one mesh per nearby particle: for every particle whose
+/// sphere inflated by the skin reaches a triangle at build time, the list of such
+/// triangles, each with a tangential history. Built together with the particle
+/// neighbour list (same skin, same cell grid) and rebuilt when particles or the
+/// mesh have moved more than skin/2; histories are carried across rebuilds and
+/// slot changes like the particle pairs'.
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "demlink/core/particles/cell_grid.hpp"
+#include "demlink/core/math_types.hpp"
+#include "demlink/core/walls/mesh_body.hpp"
+#include "demlink/core/particles/particle_arrays.hpp"
+
+namespace demlink::core {
+
+struct MeshNearList {
+  std::vector<std::uint32_t> slots;      ///< particles with at least one candidate
+  std::vector<std::uint32_t> offsets{0}; ///< candidates of slots[k]: [offsets[k], offsets[k+1])
+  std::vector<std::uint32_t> triangles;  ///< candidate triangle indices, ascending per row
+  std::vector<Vec3> history;             ///< tangential spring per candidate
+
+  /// Rebuilds from the current mesh pose, using `grid` (built over the current
+  /// particle positions) to find particles near each triangle.
+  void build(const ParticleArrays& particles, const MeshBody& mesh, const CellGrid& grid, double skin,
+             std::span<const std::uint32_t> newSlotOfOld);
+};
+
+}  // namespace demlink::core

@@ -1,0 +1,94 @@
+/// Region sensor (contract in region_sensor.hpp).
+///
+/// One pass over the particles at each sample (not every step): transform the centre
+/// into the region's frame, test membership, accumulate m, m v and m x in slot order
+/// (deterministic for a given slot order).
+#include "demlink/core/components/region_sensor.hpp"
+
+#include <limits>
+
+#include "demlink/core/components/component_state.hpp"
+#include "demlink/core/state/state_stream.hpp"
+#include "demlink/core/world.hpp"
+
+namespace demlink::core {
+
+RegionSensor::RegionSensor(std::string name, VolumeShape shape, RegionPlacement placement, SampleSchedule schedule,
+                           std::string fieldPrefix)
+    : SampledComponent(std::move(name), schedule, std::move(fieldPrefix)),
+      shape_(shape),
+      placement_(std::move(placement)) {
+  placement_.validate(this->fieldPrefix() + ".region");
+}
+
+void RegionSensor::initialize(World& world) {
+  placement_.resolve(world, fieldPrefix() + ".region");
+  resolveSchedule(world);
+  sample(world);
+}
+
+void RegionSensor::observe(const World& world) {
+  if (sampleDue(world)) sample(world);
+}
+
+RegionReading RegionSensor::measure(const World& world) const {
+  const RegionPose pose = placement_.poseAt(world);
+  const ParticleArrays& p = world.particles();
+  RegionReading reading;
+  reading.time = world.time();
+  Vec3 momentum = Vec3::Zero();  // [kg m/s]
+  Vec3 moment = Vec3::Zero();    // [kg m]
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (!shape_.contains(pose, p.position[i])) continue;
+    ++reading.count;
+    reading.mass += p.mass[i];
+    momentum += p.mass[i] * p.velocity[i];
+    moment += p.mass[i] * p.position[i];
+  }
+  if (reading.count == 0) {
+    reading.mean_velocity = reading.centre_of_mass = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
+  } else {
+    reading.mean_velocity = momentum / reading.mass;
+    reading.centre_of_mass = moment / reading.mass;
+  }
+  return reading;
+}
+
+void RegionSensor::sample(const World& world) {
+  latest_ = measure(world);
+  const RegionReading& r = latest_;
+  publish({r.time, static_cast<double>(r.count), r.mass, r.mean_velocity.x(), r.mean_velocity.y(),
+           r.mean_velocity.z(), r.centre_of_mass.x(), r.centre_of_mass.y(), r.centre_of_mass.z()});
+}
+
+void RegionSensor::saveState(StateWriter& out) const {
+  SampledComponent::saveState(out);
+  const std::size_t section = out.beginSection("REGN");
+  out.write(latest_.time);
+  out.write(latest_.count);
+  out.write(latest_.mass);
+  out.write(latest_.mean_velocity);
+  out.write(latest_.centre_of_mass);
+  out.endSection(section);
+}
+
+void RegionSensor::loadState(StateReader& in) {
+  SampledComponent::loadState(in);
+  StateReader s = componentSection(in, "REGN", "latest");
+  RegionReading r;
+  r.time = readFinite(s, "time of the latest reading");
+  r.count = s.read<std::uint64_t>();
+  r.mass = readNonNegative(s, "mass of the latest reading");
+  // NaN is the documented value of an empty region's mean velocity and centre of mass.
+  r.mean_velocity = s.read<Vec3>();
+  r.centre_of_mass = s.read<Vec3>();
+  s.requireEnd();
+  latest_ = r;
+}
+
+std::vector<std::string> RegionSensor::columns() const {
+  return {"time_s",      "count",       "mass_kg", "mean_vx_m_s", "mean_vy_m_s",
+          "mean_vz_m_s", "com_x_m",     "com_y_m", "com_z_m"};
+}
+
+}  // namespace demlink::core

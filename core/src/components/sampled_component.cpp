@@ -1,0 +1,102 @@
+/// Sample schedule and CSV output shared by sensors, sinks and trackers (contract in
+/// sampled_component.hpp).
+///
+/// The period is an integer number of steps so that samples land on exact steps and no
+/// floating-point accumulation of time decides whether a sample is taken.
+#include "demlink/core/components/sampled_component.hpp"
+
+#include <cmath>
+#include <set>
+
+#include "demlink/core/components/component_state.hpp"
+#include "demlink/core/input_error.hpp"
+#include "demlink/core/world.hpp"
+
+namespace demlink::core {
+
+SampledComponent::SampledComponent(std::string name, SampleSchedule schedule, std::string fieldPrefix)
+    : WorldComponent(std::move(name)), schedule_(schedule), field_prefix_(std::move(fieldPrefix)) {
+  if (schedule_.every_steps == 0) requirePositive(field_prefix_ + ".sample_interval", schedule_.interval);
+}
+
+void SampledComponent::resolveSchedule(const World& world) {
+  if (schedule_.every_steps > 0) {
+    every_ = schedule_.every_steps;
+    return;
+  }
+  const double dt = world.settings().time_step;
+  const double steps = std::round(schedule_.interval / dt);
+  if (!(steps >= 1.0)) {
+    throw InputError(field_prefix_ + ".sample_interval", formatValue(schedule_.interval),
+                     "rounds to zero time steps (dt = " + formatValue(dt) + " s)");
+  }
+  if (!(steps < 1.0e15)) {
+    throw InputError(field_prefix_ + ".sample_interval", formatValue(schedule_.interval), "too many time steps");
+  }
+  every_ = static_cast<std::uint64_t>(steps);
+}
+
+bool SampledComponent::sampleDue(const World& world) const {
+  return every_ > 0 && world.stepCount() % every_ == 0;
+}
+
+void SampledComponent::publish(std::vector<double> row) {
+  latest_ = std::move(row);
+  ++samples_;
+  if (csv_) csv_->writeRow(latest_);
+}
+
+void SampledComponent::saveState(StateWriter& out) const {
+  const std::size_t section = out.beginSection("SMPL");
+  out.write(every_);
+  out.write(samples_);
+  out.writeVector(latest_);
+  out.endSection(section);
+}
+
+void SampledComponent::loadState(StateReader& in) {
+  StateReader s = componentSection(in, "SMPL", "schedule");
+  const auto every = s.read<std::uint64_t>();
+  if (every != every_) {
+    s.fail(std::to_string(every), "sample period in steps differs from the scene's " + std::to_string(every_) +
+                                      " (restore into a world built from the same scene)");
+  }
+  const auto samples = s.read<std::uint64_t>();
+  std::vector<double> latest = s.readVector<double>();
+  s.requireEnd();
+  const std::size_t width = columns().size();
+  if (latest.size() != width) {
+    s.fail(std::to_string(latest.size()), "latest sample has the wrong number of values (expected " +
+                                              std::to_string(width) + ")");
+  }
+  if (samples == 0) s.fail("0", "sample count must be >= 1 (the initial sample)");
+  samples_ = samples;
+  latest_ = std::move(latest);
+}
+
+void SampledComponent::writeCsvTo(const std::filesystem::path& path) {
+  csv_ = std::make_unique<CsvTable>(path, columns());
+  if (!latest_.empty()) csv_->writeRow(latest_);
+}
+
+std::vector<std::filesystem::path> writeSamplesToCsv(World& world, const std::filesystem::path& directory) {
+  std::vector<std::filesystem::path> paths;
+  std::set<std::string> used;
+  for (const auto& component : world.components()) {
+    auto* sampled = dynamic_cast<SampledComponent*>(component.get());
+    if (sampled == nullptr) continue;
+    std::string stem = std::string(sampled->kind()) + "_" + sampled->name();
+    for (char& c : stem) {
+      const bool plain = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-' ||
+                         c == '_' || c == '.';
+      if (!plain) c = '_';
+    }
+    std::string file = stem + ".csv";
+    for (int k = 2; !used.insert(file).second; ++k) file = stem + "_" + std::to_string(k) + ".csv";
+    paths.push_back(directory / file);
+    sampled->writeCsvTo(paths.back());
+  }
+  return paths;
+}
+
+}  // namespace demlink::core

@@ -1,0 +1,56 @@
+#include "demlink/core/contact/critical_time_step.hpp"
+
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+namespace demlink::core {
+namespace {
+
+double contactDuration(ContactModel model, const ContactPairParams& p, double rStar, double mStar, double v) {
+  if (model == ContactModel::LinearSpringDashpot) return std::numbers::pi * std::sqrt(mStar / p.linear_normal_stiffness);
+  return 2.87 * std::pow(mStar * mStar / (rStar * p.effective_youngs * p.effective_youngs * v), 0.2);
+}
+
+}  // namespace
+
+double rayleighTimeStep(const Material& m, double radius) {
+  return std::numbers::pi * radius * std::sqrt(m.density / m.shearModulus()) / (0.1631 * m.poisson_ratio + 0.8766);
+}
+
+TimeStepReport criticalTimeStep(const std::vector<Material>& materials, const ContactPairTable& table,
+                                ContactModel model, const std::vector<double>& minRadiusOfMaterial,
+                                double maxImpactVelocity) {
+  TimeStepReport report;
+  report.rayleigh_time_step = std::numeric_limits<double>::infinity();
+  report.contact_duration = std::numeric_limits<double>::infinity();
+  auto massOf = [&](std::size_t k) {
+    const double r = minRadiusOfMaterial[k];
+    return 4.0 / 3.0 * std::numbers::pi * r * r * r * materials[k].density;
+  };
+  for (std::size_t a = 0; a < materials.size(); ++a) {
+    if (minRadiusOfMaterial[a] <= 0.0) continue;
+    report.rayleigh_time_step = std::min(report.rayleigh_time_step, rayleighTimeStep(materials[a], minRadiusOfMaterial[a]));
+    for (std::size_t b = 0; b < materials.size(); ++b) {
+      const ContactPairParams& p = table(static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b));
+      const double ra = minRadiusOfMaterial[a];
+      const double ma = massOf(a);
+      double rStar = ra;  // against a rigid wall of material b
+      double mStar = ma;
+      if (minRadiusOfMaterial[b] > 0.0) {
+        const double rb = minRadiusOfMaterial[b];
+        const double mb = massOf(b);
+        rStar = ra * rb / (ra + rb);
+        mStar = ma * mb / (ma + mb);
+      }
+      report.contact_duration = std::min(report.contact_duration, contactDuration(model, p, rStar, mStar, maxImpactVelocity));
+    }
+  }
+  const double byRayleigh = kRayleighSafetyFraction * report.rayleigh_time_step;
+  const double byContact = report.contact_duration / kMinStepsPerContact;
+  report.limit = std::min(byRayleigh, byContact);
+  report.limited_by = byRayleigh <= byContact ? "rayleigh" : "contact duration";
+  return report;
+}
+
+}  // namespace demlink::core

@@ -1,0 +1,111 @@
+#include "demlink/core/state/state_stream.hpp"
+
+#include "demlink/core/input_error.hpp"
+
+namespace demlink::core {
+namespace {
+
+constexpr std::size_t kTagBytes = 4;
+constexpr std::size_t kSectionHeaderBytes = kTagBytes + sizeof(std::uint64_t);
+
+/// A tag as printable text for error messages (non-printable bytes as '?').
+std::string printableTag(std::string_view tag) {
+  std::string text(tag);
+  for (char& c : text) {
+    if (c < 32 || c > 126) c = '?';
+  }
+  return "\"" + text + "\"";
+}
+
+}  // namespace
+
+void StateWriter::writeBytes(const void* data, std::size_t size) {
+  buffer_.append(static_cast<const char*>(data), size);
+}
+
+void StateWriter::writeString(std::string_view text) {
+  write<std::uint64_t>(text.size());
+  writeBytes(text.data(), text.size());
+}
+
+std::size_t StateWriter::beginSection(std::string_view tag) {
+  std::string padded(tag.substr(0, kTagBytes));
+  padded.resize(kTagBytes, ' ');
+  writeBytes(padded.data(), kTagBytes);
+  const std::size_t handle = buffer_.size();
+  write<std::uint64_t>(0);
+  return handle;
+}
+
+void StateWriter::endSection(std::size_t handle) {
+  const std::uint64_t length = buffer_.size() - handle - sizeof(std::uint64_t);
+  std::memcpy(buffer_.data() + handle, &length, sizeof length);
+}
+
+StateReader::StateReader(std::string_view bytes, std::string source, std::string section)
+    : bytes_(bytes), source_(std::move(source)), section_(std::move(section)) {}
+
+void StateReader::fail(const std::string& value, const std::string& reason) const {
+  throw InputError(source_ + ":" + section_, value, reason);
+}
+
+void StateReader::requireAvailable(std::uint64_t count, std::size_t elementBytes, const std::string& what) const {
+  const std::uint64_t available = remaining() / (elementBytes > 0 ? elementBytes : 1);
+  if (count > available) {
+    fail(std::to_string(count), what + " exceeds the " + std::to_string(remaining()) +
+                                    " bytes left in the section (truncated or corrupt file)");
+  }
+}
+
+void StateReader::readBytes(void* out, std::size_t size) {
+  if (size > remaining()) {
+    fail("(" + std::to_string(remaining()) + " bytes left)",
+         "unexpected end of data, " + std::to_string(size) + " bytes needed (truncated or corrupt file)");
+  }
+  std::memcpy(out, bytes_.data() + position_, size);
+  position_ += size;
+}
+
+std::string StateReader::readString() {
+  const auto length = read<std::uint64_t>();
+  requireAvailable(length, 1, "string length");
+  std::string text(bytes_.substr(position_, static_cast<std::size_t>(length)));
+  position_ += static_cast<std::size_t>(length);
+  return text;
+}
+
+std::string StateReader::peekTag() const {
+  if (remaining() < kTagBytes) return {};
+  return std::string(bytes_.substr(position_, kTagBytes));
+}
+
+StateReader StateReader::section(std::string_view tag, const std::string& name) {
+  if (remaining() < kSectionHeaderBytes) {
+    fail("(" + std::to_string(remaining()) + " bytes left)",
+         "section " + printableTag(tag) + " (" + name + ") missing: the file ends early (truncated file)");
+  }
+  const std::string found = peekTag();
+  if (found != tag) {
+    fail(printableTag(found), "expected section " + printableTag(tag) + " (" + name + ") (corrupt file)");
+  }
+  position_ += kTagBytes;
+  const auto length = read<std::uint64_t>();
+  if (length > remaining()) {
+    fail(std::to_string(length), "length of section " + printableTag(tag) + " (" + name + ") exceeds the " +
+                                     std::to_string(remaining()) + " bytes left (truncated or corrupt file)");
+  }
+  StateReader inner(bytes_.substr(position_, static_cast<std::size_t>(length)), source_, name);
+  position_ += static_cast<std::size_t>(length);
+  return inner;
+}
+
+void StateReader::skipSection() {
+  const std::string tag = peekTag();
+  (void)section(tag, "skipped section " + printableTag(tag));
+}
+
+void StateReader::requireEnd() const {
+  if (!atEnd()) fail(std::to_string(remaining()) + " bytes", "unexpected data at the end of the section (corrupt file)");
+}
+
+}  // namespace demlink::core

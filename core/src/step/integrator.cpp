@@ -1,0 +1,37 @@
+#include "demlink/core/step/integrator.hpp"
+
+#include "demlink/core/step/parallel.hpp"
+
+namespace demlink::core {
+
+void kick(ParticleArrays& p, const Vec3& gravity, double h, ThreadPool* pool) {
+  parallelChunks(pool, p.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      p.velocity[i] += (p.force[i] * p.inv_mass[i] + gravity) * h;
+      p.angular_velocity[i] += p.torque[i] * (p.inv_inertia[i] * h);
+    }
+  });
+}
+
+void drift(ParticleArrays& p, double dt, ThreadPool* pool) {
+  parallelChunks(pool, p.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) p.position[i] += p.velocity[i] * dt;
+  });
+}
+
+void kickAndDrift(ParticleArrays& p, const Vec3& gravity, double h, double dt, ThreadPool* pool) {
+  parallelChunks(pool, p.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      p.velocity[i] += (p.force[i] * p.inv_mass[i] + gravity) * h;
+      p.angular_velocity[i] += p.torque[i] * (p.inv_inertia[i] * h);
+      p.position[i] += p.velocity[i] * dt;
+    }
+  });
+}
+
+void explicitEulerStep(ParticleArrays& p, const Vec3& gravity, double dt, ThreadPool* pool) {
+  drift(p, dt, pool);
+  kick(p, gravity, dt, pool);
+}
+
+}  // namespace demlink::core

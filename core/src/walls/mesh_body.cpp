@@ -1,0 +1,208 @@
+/// Rigid, kinematically driven triangle mesh; see mesh_body.hpp for the kinematics.
+///
+/// Normals are computed once in the body frame and rotated with the body (a rotation
+/// preserves unit length and the right-hand orientation of (b-a)x(c-a)), which is cheaper
+/// and more accurate than re-deriving them from the world vertices every step.
+/// The rotation update composes quaternions and re-normalises, so the orientation stays a
+/// unit quaternion over arbitrarily many steps.
+#include "demlink/core/walls/mesh_body.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "demlink/core/input_error.hpp"
+#include "demlink/core/walls/stl_reader.hpp"
+
+namespace demlink::core {
+namespace {
+
+std::string formatVec(const Vec3& v) {
+  return "(" + formatValue(v.x()) + ", " + formatValue(v.y()) + ", " + formatValue(v.z()) + ")";
+}
+
+void requireFiniteVec(const std::string& field, const Vec3& v) {
+  if (!v.allFinite()) throw InputError(field, formatVec(v), "all components must be finite");
+}
+
+}  // namespace
+
+TriangleMesh axisAlignedBoxMesh(const Vec3& lo, const Vec3& hi) {
+  requireFiniteVec("box.lo", lo);
+  requireFiniteVec("box.hi", hi);
+  if (!(hi.array() > lo.array()).all()) {
+    throw InputError("box.hi", formatVec(hi),
+                     "must exceed box.lo " + formatVec(lo) + " in every component");
+  }
+  TriangleMesh mesh;
+  // Corner k has x = hi.x if bit 0 of k is set, y = hi.y if bit 1, z = hi.z if bit 2.
+  for (std::uint32_t k = 0; k < 8; ++k) {
+    mesh.vertices.emplace_back((k & 1u) != 0 ? hi.x() : lo.x(), (k & 2u) != 0 ? hi.y() : lo.y(),
+                               (k & 4u) != 0 ? hi.z() : lo.z());
+  }
+  // Two counter-clockwise (seen from outside) triangles per face.
+  mesh.triangles = {{0, 2, 1}, {1, 2, 3},   // z = lo, normal -z
+                    {4, 5, 7}, {4, 7, 6},   // z = hi, normal +z
+                    {0, 1, 5}, {0, 5, 4},   // y = lo, normal -y
+                    {2, 6, 7}, {2, 7, 3},   // y = hi, normal +y
+                    {0, 4, 6}, {0, 6, 2},   // x = lo, normal -x
+                    {1, 3, 7}, {1, 7, 5}};  // x = hi, normal +x
+  return mesh;
+}
+
+TriangleMesh rectangleMesh(const Vec3& centre, double halfX, double halfY, std::uint32_t nx,
+                           std::uint32_t ny) {
+  requireFiniteVec("rectangle.centre", centre);
+  requirePositive("rectangle.half_x", halfX);
+  requirePositive("rectangle.half_y", halfY);
+  if (nx < 1) throw InputError("rectangle.nx", std::to_string(nx), "must be >= 1");
+  if (ny < 1) throw InputError("rectangle.ny", std::to_string(ny), "must be >= 1");
+  TriangleMesh mesh;
+  mesh.vertices.reserve(std::size_t{nx + 1} * (ny + 1));
+  for (std::uint32_t j = 0; j <= ny; ++j) {
+    for (std::uint32_t i = 0; i <= nx; ++i) {
+      const double fx = 2.0 * static_cast<double>(i) / static_cast<double>(nx) - 1.0;
+      const double fy = 2.0 * static_cast<double>(j) / static_cast<double>(ny) - 1.0;
+      mesh.vertices.emplace_back(centre.x() + halfX * fx, centre.y() + halfY * fy, centre.z());
+    }
+  }
+  const auto id = [nx](std::uint32_t i, std::uint32_t j) { return j * (nx + 1) + i; };
+  for (std::uint32_t j = 0; j < ny; ++j) {
+    for (std::uint32_t i = 0; i < nx; ++i) {
+      mesh.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      mesh.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  }
+  return mesh;
+}
+
+MeshBody::MeshBody(std::string name, std::vector<Vec3> localVertices,
+                   std::vector<std::array<std::uint32_t, 3>> triangles, std::uint32_t materialIndex)
+    : name_(std::move(name)),
+      localVertices_(std::move(localVertices)),
+      triangles_(std::move(triangles)),
+      materialIndex_(materialIndex) {
+  const std::string prefix = name_.empty() ? std::string("mesh") : name_;
+  if (triangles_.empty()) throw InputError(prefix + ".triangles", "0", "mesh has no triangles");
+  for (std::size_t i = 0; i < localVertices_.size(); ++i) {
+    requireFiniteVec(prefix + ".vertices[" + std::to_string(i) + "]", localVertices_[i]);
+    boundingRadius_ = std::max(boundingRadius_, localVertices_[i].norm());
+  }
+  localNormals_.reserve(triangles_.size());
+  for (std::size_t t = 0; t < triangles_.size(); ++t) {
+    for (const std::uint32_t idx : triangles_[t]) {
+      if (idx >= localVertices_.size()) {
+        throw InputError(
+            prefix + ".triangles[" + std::to_string(t) + "]", std::to_string(idx),
+            "vertex index out of range (" + std::to_string(localVertices_.size()) + " vertices)");
+      }
+    }
+    const auto& tri = triangles_[t];
+    const Vec3 n = (localVertices_[tri[1]] - localVertices_[tri[0]])
+                       .cross(localVertices_[tri[2]] - localVertices_[tri[0]]);
+    const double len = n.norm();
+    localNormals_.push_back(len > 0.0 ? Vec3(n / len) : Vec3::Zero());
+  }
+  updateWorldGeometry();
+  markNeighbourBuild();
+}
+
+MeshBody MeshBody::fromStl(std::string name, const std::string& path,
+                           const Vec3& referencePointInFile, std::uint32_t materialIndex) {
+  requireFiniteVec("reference_point", referencePointInFile);
+  StlMesh stl = readStl(path);
+  for (Vec3& v : stl.vertices) v -= referencePointInFile;
+  MeshBody body(std::move(name), std::move(stl.vertices), std::move(stl.triangles), materialIndex);
+  body.loadWarnings_ = std::move(stl.warnings);
+  body.setPose(referencePointInFile, Quat::Identity());
+  body.markNeighbourBuild();
+  return body;
+}
+
+void MeshBody::setPose(const Vec3& position, const Quat& orientation) {
+  requireFiniteVec("pose.position", position);
+  const double norm = orientation.norm();
+  if (!orientation.coeffs().allFinite() || !(norm > 1e-12)) {
+    const auto& q = orientation;
+    throw InputError("pose.orientation",
+                     "(w=" + formatValue(q.w()) + ", x=" + formatValue(q.x()) +
+                         ", y=" + formatValue(q.y()) + ", z=" + formatValue(q.z()) + ")",
+                     "quaternion must be finite with non-zero norm");
+  }
+  position_ = position;
+  orientation_ = Quat(orientation.coeffs() / norm);
+  updateWorldGeometry();
+}
+
+void MeshBody::setVelocity(const Vec3& linear, const Vec3& angular) {
+  requireFiniteVec("velocity.linear", linear);
+  requireFiniteVec("velocity.angular", angular);
+  linearVelocity_ = linear;
+  angularVelocity_ = angular;
+}
+
+void MeshBody::advance(double dt) {
+  requireFinite("dt", dt);
+  position_ += linearVelocity_ * dt;
+  const double rate = angularVelocity_.norm();
+  const double angle = rate * dt;
+  if (angle != 0.0) {
+    const Vec3 axisSin = std::sin(0.5 * angle) * (angularVelocity_ / rate);
+    const Quat dq(std::cos(0.5 * angle), axisSin.x(), axisSin.y(), axisSin.z());
+    orientation_ = (dq * orientation_).normalized();
+  }
+  updateWorldGeometry();
+}
+
+void MeshBody::updateWorldGeometry() {
+  const Mat3 rot = orientation_.toRotationMatrix();
+  worldVertices_.resize(localVertices_.size());
+  for (std::size_t i = 0; i < localVertices_.size(); ++i) {
+    worldVertices_[i] = position_ + rot * localVertices_[i];
+  }
+  worldNormals_.resize(localNormals_.size());
+  for (std::size_t t = 0; t < localNormals_.size(); ++t) worldNormals_[t] = rot * localNormals_[t];
+}
+
+Vec3 MeshBody::velocityAt(const Vec3& worldPoint) const {
+  return linearVelocity_ + angularVelocity_.cross(worldPoint - position_);
+}
+
+void MeshBody::addContactForce(const Vec3& forceOnMesh, const Vec3& worldPoint) {
+  force_ += forceOnMesh;
+  torque_ += (worldPoint - position_).cross(forceOnMesh);
+}
+
+void MeshBody::addWrench(const Vec3& force, const Vec3& torqueAboutReference) {
+  force_ += force;
+  torque_ += torqueAboutReference;
+}
+
+void MeshBody::clearWrench() {
+  force_.setZero();
+  torque_.setZero();
+}
+
+void MeshBody::setCollisionWindow(double from, double until) {
+  if (std::isnan(from)) throw InputError("active_from", formatValue(from), "must be a number");
+  if (std::isnan(until)) throw InputError("active_until", formatValue(until), "must be a number");
+  if (until < from) {
+    throw InputError("active_until", formatValue(until), "must not be earlier than active_from = " + formatValue(from));
+  }
+  collideFrom_ = from;
+  collideUntil_ = until;
+}
+
+void MeshBody::markNeighbourBuild() {
+  markPosition_ = position_;
+  markOrientation_ = orientation_;
+}
+
+double MeshBody::maxDisplacementSinceMark() const {
+  // Relative rotation q q0^-1 has |vec| = sin(theta/2) (for a unit quaternion).
+  const Quat rel = orientation_ * markOrientation_.conjugate();
+  const double relNorm = rel.norm();
+  const double sinHalf = relNorm > 0.0 ? std::min(1.0, rel.vec().norm() / relNorm) : 0.0;
+  return (position_ - markPosition_).norm() + 2.0 * boundingRadius_ * sinHalf;
+}
+
+}  // namespace demlink::core

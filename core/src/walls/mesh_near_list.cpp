@@ -1,0 +1,74 @@
+#include "demlink/core/walls/mesh_near_list.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "demlink/core/walls/triangle_geometry.hpp"
+
+namespace demlink::core {
+
+void MeshNearList::build(const ParticleArrays& particles, const MeshBody& mesh, const CellGrid& grid, double skin,
+                         std::span<const std::uint32_t> newSlotOfOld) {
+  // Old histories keyed by (current slot, triangle); only touching ones matter.
+  std::map<std::pair<std::uint32_t, std::uint32_t>, Vec3> carried;
+  for (std::size_t k = 0; k < slots.size(); ++k) {
+    const std::uint32_t slot = newSlotOfOld.empty() ? slots[k] : newSlotOfOld[slots[k]];
+    if (slot == kRemovedSlot) continue;
+    for (std::uint32_t c = offsets[k]; c < offsets[k + 1]; ++c) {
+      if (!history[c].isZero(0.0)) carried.emplace(std::make_pair(slot, triangles[c]), history[c]);
+    }
+  }
+
+  const std::size_t n = particles.size();
+  const auto& vertices = mesh.worldVertices();
+  const auto& tris = mesh.triangles();
+  std::vector<std::vector<std::uint32_t>> candidatesOf(n);
+  if (n > 0) {
+    const double maxRadius = *std::max_element(particles.radius.begin(), particles.radius.end());
+    const double reach = maxRadius + skin;
+    const auto& dims = grid.dims();
+    for (std::uint32_t t = 0; t < tris.size(); ++t) {
+      const Vec3& a = vertices[tris[t][0]];
+      const Vec3& b = vertices[tris[t][1]];
+      const Vec3& c = vertices[tris[t][2]];
+      const Vec3 lo = a.cwiseMin(b).cwiseMin(c) - Vec3::Constant(reach);
+      const Vec3 hi = a.cwiseMax(b).cwiseMax(c) + Vec3::Constant(reach);
+      // cellCoords clamps to the grid, so a box entirely outside it maps to its
+      // border cells; the exact distance test below rejects those particles.
+      const auto cLo = grid.cellCoords(lo);
+      const auto cHi = grid.cellCoords(hi);
+      for (std::int64_t iz = cLo[2]; iz <= cHi[2] && iz < dims[2]; ++iz) {
+        for (std::int64_t iy = cLo[1]; iy <= cHi[1] && iy < dims[1]; ++iy) {
+          for (std::int64_t ix = cLo[0]; ix <= cHi[0] && ix < dims[0]; ++ix) {
+            for (const std::uint32_t i : grid.cell(grid.cellIndex(ix, iy, iz))) {
+              const Vec3& x = particles.position[i];
+              const double limit = particles.radius[i] + skin;
+              if ((x - closestPointOnTriangle(x, a, b, c).point).squaredNorm() < limit * limit) {
+                candidatesOf[i].push_back(t);
+              }
+            }
+          }
+        }
+      }
+    }
+  }
+
+  slots.clear();
+  offsets.assign(1, 0);
+  triangles.clear();
+  history.clear();
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (candidatesOf[i].empty()) continue;
+    std::sort(candidatesOf[i].begin(), candidatesOf[i].end());
+    slots.push_back(i);
+    for (const std::uint32_t t : candidatesOf[i]) {
+      triangles.push_back(t);
+      const auto it = carried.find({i, t});
+      history.push_back(it == carried.end() ? Vec3::Zero() : it->second);
+    }
+    offsets.push_back(static_cast<std::uint32_t>(triangles.size()));
+  }
+}
+
+}  // namespace demlink::core

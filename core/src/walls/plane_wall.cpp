@@ -1,0 +1,25 @@
+#include "demlink/core/walls/plane_wall.hpp"
+
+namespace demlink::core {
+
+void PlaneWall::buildNearList(const ParticleArrays& particles, double skin,
+                              std::span<const std::uint32_t> newSlotOfOld) {
+  const std::size_t n = particles.size();
+  // Scatter old histories by their current slot, then gather into the new list.
+  std::vector<Vec3> historyBySlot(n, Vec3::Zero());
+  for (std::size_t k = 0; k < near_slots.size(); ++k) {
+    const std::uint32_t slot = newSlotOfOld.empty() ? near_slots[k] : newSlotOfOld[near_slots[k]];
+    if (slot != kRemovedSlot) historyBySlot[slot] = near_history[k];
+  }
+  near_slots.clear();
+  near_history.clear();
+  for (std::size_t i = 0; i < n; ++i) {
+    const double gap = (particles.position[i] - spec.point).dot(spec.normal) - particles.radius[i];
+    if (gap < skin) {
+      near_slots.push_back(static_cast<std::uint32_t>(i));
+      near_history.push_back(historyBySlot[i]);
+    }
+  }
+}
+
+}  // namespace demlink::core

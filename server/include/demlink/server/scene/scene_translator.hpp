@@ -1,0 +1,48 @@
+#pragma once
+/// The scene compiler: the only place where protobuf declarations become engine
+/// objects (docs: DESIGN.md, "compiler").
+///
+/// It validates the whole declaration set before anything runs and names every
+/// problem by its path in the scene, e.g. "components[2].material.youngs_modulus"
+/// or "components[3].plane.material" = "stel": unknown material. Rules:
+///   - exactly one simulation_box; component names non-empty and unique;
+///   - materials are registered first (declaration order), so a plane may
+///     precede the material it names; material names are unique;
+///   - omitted optional scalars take core::SimulationSettings / core::Material
+///     defaults; relative file paths are relative to the scene file's directory;
+///   - particles are added in declaration order (their ids follow it).
+#include <filesystem>
+#include <string>
+
+#include "demlink/core/world.hpp"
+#include "demlink/server/scene/mesh_body_declaration.hpp"
+#include "demlink/server/run/run_options.hpp"
+#include "demlink/v1/scene.pb.h"
+
+namespace demlink::server {
+
+/// A compiled scene: the engine world (not yet initialised) and the run options.
+struct TranslatedScene {
+  core::World world;
+  RunOptions run;
+};
+
+/// What the scene is translated for. A co-simulation may run without an end time
+/// (end_time 0: until every client said Bye); a headless run needs one.
+enum class SceneUse { Headless, CoSimulation };
+
+/// Validates and translates a scene. `sceneDirectory` anchors relative paths.
+/// Throws core::InputError naming the offending field (for a mesh_body whose
+/// STL cannot be read: "<component>.mesh_body.stl_file").
+[[nodiscard]] TranslatedScene translateScene(const v1::Scene& scene, const std::filesystem::path& sceneDirectory,
+                                             SceneUse use = SceneUse::Headless);
+
+/// Translates one MeshBody declaration (material resolved to `materialIndex`).
+/// Throws core::InputError naming `fieldPrefix + ".<field>"` for an empty
+/// stl_file, a missing file, non-finite vectors or a zero quaternion.
+[[nodiscard]] MeshBodyDeclaration translateMeshBody(const v1::MeshBody& mesh, const std::string& name,
+                                                    std::uint32_t materialIndex,
+                                                    const std::filesystem::path& sceneDirectory,
+                                                    const std::string& fieldPrefix);
+
+}  // namespace demlink::server

@@ -1,0 +1,30 @@
+#pragma once
+/// Scene translation of the materials family: Material declarations (with an
+/// optional materials-database base) and MaterialPair overrides. Called by the
+/// scene compiler (scene_translator.cpp); docs/materials.md describes the rules.
+#include <cstdint>
+#include <map>
+#include <string>
+
+#include "demlink/core/materials/material.hpp"
+#include "demlink/core/world.hpp"
+#include "demlink/v1/scene.pb.h"
+
+namespace demlink::server {
+
+/// A Material declaration as an engine material: the database entry named by
+/// database_name (if any) or core::Material's defaults, then every field given
+/// explicitly. The name defaults to the component's name. Throws
+/// core::InputError naming `fieldPrefix + ".<field>"` (an unknown database_name
+/// lists the known names).
+[[nodiscard]] core::Material translateMaterial(const v1::Material& declared, const std::string& componentName,
+                                               const std::string& fieldPrefix);
+
+/// Registers every material_pair component with the world. `materials` maps
+/// declared material names to world indices. Throws core::InputError naming
+/// "components[i].material_pair.<field>" for an unknown material, a bad value
+/// or a pair overridden twice.
+void addMaterialPairs(const v1::Scene& scene, const std::map<std::string, std::uint32_t>& materials,
+                      core::World& world);
+
+}  // namespace demlink::server

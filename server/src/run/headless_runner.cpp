@@ -1,0 +1,259 @@
+/// Headless run loop (contract in headless_runner.hpp).
+///
+/// Time is an integer step count: the end and the frame interval are converted
+/// to steps once (rounded to the nearest step, with a warning when that changes
+/// the requested time by more than 1e-6 dt), so frames land on exact steps and
+/// no floating-point accumulation decides whether a frame is written.
+/// Progress is measured over the last report interval (steps/s and
+/// particle-steps/s), and the estimated time left assumes that rate persists.
+#include "demlink/server/run/headless_runner.hpp"
+
+#include <spdlog/fmt/fmt.h>
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "demlink/core/state/checkpoint.hpp"
+#include "demlink/core/input_error.hpp"
+#include "demlink/core/components/particle_source.hpp"
+#include "demlink/core/components/sampled_component.hpp"
+#include "demlink/server/run/frame_series.hpp"
+#include "demlink/server/run/particle_csv.hpp"
+#include "demlink/server/run/run_log.hpp"
+
+namespace demlink::server {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+std::string formatDuration(double seconds) {
+  if (!std::isfinite(seconds)) return "?";
+  if (seconds < 60.0) return fmt::format("{:.1f} s", seconds);
+  const auto total = static_cast<long long>(std::llround(seconds));
+  if (total < 3600) return fmt::format("{} min {:02} s", total / 60, total % 60);
+  return fmt::format("{} h {:02} min", total / 3600, (total % 3600) / 60);
+}
+
+/// Number of time steps covering `duration` [s]; throws InputError naming `field`.
+std::uint64_t stepsFor(double duration, double dt, const std::string& field) {
+  const double exact = duration / dt;
+  if (!(exact < 1.0e15)) throw core::InputError(field, core::formatValue(duration), "too many time steps");
+  const auto steps = static_cast<std::uint64_t>(std::llround(exact));
+  if (steps == 0) {
+    throw core::InputError(field, core::formatValue(duration),
+                           "shorter than one time step (" + core::formatValue(dt) + " s)");
+  }
+  if (std::abs(static_cast<double>(steps) * dt - duration) > 1.0e-6 * dt) {
+    spdlog::warn("{} = {} s is not a multiple of the time step {} s; using {} steps = {} s", field,
+                 core::formatValue(duration), core::formatValue(dt), steps,
+                 core::formatValue(static_cast<double>(steps) * dt));
+  }
+  return steps;
+}
+
+/// world.initialize(), with the engine's "simulation_box.<field>" errors renamed
+/// to the SimulationBox's path in the scene.
+void initializeWorld(core::World& world, const std::string& boxPrefix) {
+  if (world.initialized()) return;
+  try {
+    world.initialize();
+  } catch (const core::InputError& error) {
+    const std::string engineBox = "simulation_box";
+    if (error.field().rfind(engineBox, 0) != 0 || boxPrefix == engineBox) throw;
+    const std::string what = error.what();
+    const std::string reason = what.substr(error.field().size() + 3 + error.value().size() + 2);
+    throw core::InputError(boxPrefix + error.field().substr(engineBox.size()), error.value(), reason);
+  }
+}
+
+void logCompileReport(const core::World& world, std::uint64_t endStep, std::uint64_t frameEvery,
+                      const std::string& directory) {
+  const core::TimeStepReport& report = world.timeStepReport();
+  const core::SimulationSettings& settings = world.settings();
+  std::string stages;
+  for (const std::string& stage : world.activeStages()) stages += (stages.empty() ? "" : ", ") + stage;
+  spdlog::info("compiled scene: particles {}, materials {}, planes {}", world.particles().size(),
+               world.materials().size(), world.planes().size());
+  spdlog::info("active stages: {}", stages);
+  spdlog::info("critical time step: {:.4g} s, limited by {} (Rayleigh {:.4g} s x {}, contact duration {:.4g} s / {} "
+               "at {} m/s)",
+               report.limit, report.limited_by, report.rayleigh_time_step, core::kRayleighSafetyFraction,
+               report.contact_duration, core::kMinStepsPerContact, settings.max_impact_velocity);
+  const double percent = 100.0 * settings.time_step / report.limit;
+  if (settings.time_step > report.limit) {
+    spdlog::warn("time step: {:.4g} s = {:.1f} % of the limit (allowed by allow_unsafe_time_step)",
+                 settings.time_step, percent);
+  } else {
+    spdlog::info("time step: {:.4g} s = {:.1f} % of the limit", settings.time_step, percent);
+  }
+  spdlog::info("neighbour skin: {:.4g} m; gravity ({}, {}, {}) m/s^2", settings.neighbour_skin, settings.gravity.x(),
+               settings.gravity.y(), settings.gravity.z());
+  const std::uint64_t frames = (endStep + frameEvery - 1) / frameEvery + 1;
+  spdlog::info("run: {} steps to t = {:.6g} s, a frame every {} steps ({} frames) -> {}", endStep,
+               static_cast<double>(endStep) * settings.time_step, frameEvery, frames, directory);
+}
+
+/// Prints a progress line every `interval` wall seconds.
+class ProgressMeter {
+ public:
+  ProgressMeter(double interval, std::uint64_t endStep, std::uint64_t firstStep)
+      : interval_(interval), end_step_(endStep), last_step_(firstStep) {}
+
+  void update(const core::World& world) {
+    const Clock::time_point now = Clock::now();
+    const double elapsed = std::chrono::duration<double>(now - last_time_).count();
+    if (elapsed < interval_) return;
+    const std::uint64_t step = world.stepCount();
+    const double stepsPerSecond = static_cast<double>(step - last_step_) / elapsed;
+    const double particleSteps = stepsPerSecond * static_cast<double>(world.particles().size());
+    const double left = stepsPerSecond > 0.0 ? static_cast<double>(end_step_ - step) / stepsPerSecond
+                                            : std::numeric_limits<double>::quiet_NaN();
+    spdlog::info("t = {:.4f} / {:.4f} s ({:.1f} %) | {:.0f} steps/s | {:.3g} M particle-steps/s | {} particles | "
+                 "{} left",
+                 world.time(), static_cast<double>(end_step_) * world.settings().time_step,
+                 100.0 * static_cast<double>(step) / static_cast<double>(end_step_), stepsPerSecond,
+                 particleSteps * 1.0e-6, world.particles().size(), formatDuration(left));
+    last_time_ = now;
+    last_step_ = step;
+  }
+
+ private:
+  double interval_;
+  std::uint64_t end_step_;
+  Clock::time_point last_time_ = Clock::now();
+  std::uint64_t last_step_;
+};
+
+}  // namespace
+
+RunSummary runHeadless(TranslatedScene& scene) {
+  core::World& world = scene.world;
+  const RunOptions& run = scene.run;
+  const std::string& box = run.field_prefix;
+  core::requirePositive(box + ".end_time", run.end_time);
+  core::requireNonNegative(box + ".output.vtk_interval", run.vtk_interval);
+  core::requirePositive(box + ".output.progress_interval_s", run.progress_interval);
+  if (run.output_directory.empty()) {
+    throw core::InputError(box + ".output.directory", "\"\"", "no output directory given");
+  }
+
+  const Clock::time_point initStart = Clock::now();
+  initializeWorld(world, box);
+  if (!run.restore_file.empty()) {
+    core::restoreCheckpointFile(world, run.restore_file);
+    spdlog::info("restored {} at t = {:.6g} s ({} particles)", run.restore_file, world.time(),
+                 world.particles().size());
+  }
+  RunTiming timing;
+  timing.initialise_seconds = secondsSince(initStart);
+  const double dt = world.settings().time_step;
+  const std::uint64_t endStep = stepsFor(run.end_time, dt, box + ".end_time");
+  if (world.stepCount() >= endStep) {
+    throw core::InputError(box + ".end_time", core::formatValue(run.end_time),
+                           "the restored checkpoint is already at t = " + core::formatValue(world.time()) +
+                               " s; nothing left to run");
+  }
+  const std::uint64_t frameEvery =
+      run.vtk_interval > 0.0 ? stepsFor(run.vtk_interval, dt, box + ".output.vtk_interval") : endStep;
+  const std::uint64_t checkpointEvery =
+      run.checkpoint_interval > 0.0 ? stepsFor(run.checkpoint_interval, dt, box + ".output.checkpoint_interval") : 0;
+  FrameSeries output(run.output_directory, box + ".output.directory");
+  logCompileReport(world, endStep, frameEvery, output.directory().string());
+  for (const std::filesystem::path& csv : core::writeSamplesToCsv(world, output.directory())) {
+    spdlog::info("sensor output: {}", csv.string());
+  }
+  RunLog runLog(output.directory() / "run_log.csv");
+  runLog.writeConfiguration(world, run, endStep);
+
+  const Clock::time_point start = Clock::now();
+  const std::uint64_t firstStep = world.stepCount();
+  const std::uint64_t firstBuild = world.neighbourList().buildCount();
+  auto timed = [&](auto&& write) {
+    const Clock::time_point begin = Clock::now();
+    write();
+    timing.output_seconds += secondsSince(begin);
+  };
+  try {
+    timed([&] {
+      output.writePlanes(world);
+      output.writeFrame(world, 0.0);
+    });
+    ProgressMeter progress(run.progress_interval, endStep, firstStep);
+    while (world.stepCount() < endStep) {
+      world.step();
+      timing.particle_steps += world.particles().size();
+      const std::uint64_t step = world.stepCount();
+      if (step % frameEvery == 0 || step == endStep) timed([&] { output.writeFrame(world, secondsSince(start)); });
+      if (checkpointEvery > 0 && step % checkpointEvery == 0) {
+        timed([&] {
+          core::writeCheckpointFile(world,
+                                    output.directory() / fmt::format("checkpoint_{:06}.bin", step / checkpointEvery));
+        });
+        ++timing.checkpoints;
+      }
+      progress.update(world);
+    }
+    timed([&] {
+      if (run.final_checkpoint) {
+        core::writeCheckpointFile(world, output.directory() / "checkpoint_final.bin");
+        ++timing.checkpoints;
+      }
+      if (run.final_particles_csv) writeParticleCsv(world, output.directory() / "particles_final.csv");
+    });
+  } catch (const std::exception& error) {
+    runLog.add("timing", "status", std::string("aborted: ") + error.what());
+    throw;
+  }
+  timing.total_seconds = secondsSince(start);
+  timing.steps = world.stepCount() - firstStep;
+  timing.neighbour_builds = world.neighbourList().buildCount() - firstBuild;
+  timing.frames = output.frameCount();
+  runLog.writeTiming(world, timing);
+  const std::uint64_t particleSteps = timing.particle_steps;
+
+  RunSummary summary;
+  summary.steps = timing.steps;
+  summary.checkpoints = timing.checkpoints;
+  summary.frames = output.frameCount();
+  summary.final_particles = world.particles().size();
+  summary.final_time = world.time();
+  summary.final_kinetic_energy = world.kineticEnergy();
+  summary.wall_seconds = std::max(secondsSince(start), 1.0e-9);
+  summary.output_directory = output.directory();
+
+  const FrameStats last = frameStats(world);
+  spdlog::info("finished: {} steps to t = {:.6g} s in {} wall ({:.0f} steps/s, {:.3g} M particle-steps/s)",
+               summary.steps, summary.final_time, formatDuration(summary.wall_seconds),
+               static_cast<double>(summary.steps) / summary.wall_seconds,
+               static_cast<double>(particleSteps) / summary.wall_seconds * 1.0e-6);
+  spdlog::info("final state: {} particles ({} removed at the bounds), kinetic energy {:.4g} J, mean z {:.5g} m, "
+               "max z {:.5g} m, {} neighbour builds",
+               last.particles, world.removedAtBounds().count, last.kinetic_energy, last.mean_z, last.max_z,
+               last.neighbour_builds);
+  for (const auto& component : world.components()) {
+    if (const auto* source = dynamic_cast<const core::ParticleSource*>(component.get())) {
+      if (source->report().shortfall_count > 0) {
+        spdlog::warn("{}", source->summaryLine());
+      } else {
+        spdlog::info("{}", source->summaryLine());
+      }
+    }
+  }
+  if (const auto bounds = world.currentBounds(); bounds && bounds->growing) {
+    spdlog::info("bounds (growing): lower ({}, {}, {}) m, upper ({}, {}, {}) m", bounds->lower.x(), bounds->lower.y(),
+                 bounds->lower.z(), bounds->upper.x(), bounds->upper.y(), bounds->upper.z());
+  }
+  spdlog::info("output: {} frames in {} (particles.pvd, summary.csv{}{})", summary.frames,
+               summary.output_directory.string(), world.planes().empty() ? "" : ", planes.vtp",
+               world.meshes().empty() ? "" : ", meshes.pvd");
+  return summary;
+}
+
+}  // namespace demlink::server

@@ -1,0 +1,92 @@
+/// run_log.csv writer (contract in run_log.hpp; columns in docs/state.md).
+#include "demlink/server/run/run_log.hpp"
+
+#include <spdlog/fmt/fmt.h>
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace demlink::server {
+namespace {
+
+/// RFC 4180 quoting: a field with a comma, quote or line break is enclosed in
+/// quotes, inner quotes doubled.
+std::string csvField(std::string_view text) {
+  if (text.find_first_of(",\"\n\r") == std::string_view::npos) return std::string(text);
+  std::string quoted = "\"";
+  for (char c : text) {
+    if (c == '"') quoted += '"';
+    quoted += c;
+  }
+  return quoted + "\"";
+}
+
+std::string number(double value) { return fmt::format("{:.9g}", value); }
+
+}  // namespace
+
+RunLog::RunLog(const std::filesystem::path& path) : out_(path, std::ios::trunc), path_(path) {
+  if (!out_) throw std::runtime_error("cannot write " + path.string());
+  out_ << "section,key,value,unit\n";
+  out_.flush();
+}
+
+void RunLog::add(std::string_view section, std::string_view key, std::string_view value, std::string_view unit) {
+  out_ << csvField(section) << ',' << csvField(key) << ',' << csvField(value) << ',' << csvField(unit) << '\n';
+  out_.flush();
+  if (!out_) throw std::runtime_error("cannot write " + path_.string());
+}
+
+void RunLog::writeConfiguration(const core::World& world, const RunOptions& run, std::uint64_t endStep) {
+  const core::SimulationSettings& s = world.settings();
+  const core::TimeStepReport& report = world.timeStepReport();
+  add("config", "status", "running");
+  add("config", "scene_file", run.scene_file);
+  add("config", "restored_from", run.restore_file);
+  add("config", "start_time", number(world.time()), "s");
+  add("config", "end_time", number(static_cast<double>(endStep) * s.time_step), "s");
+  add("config", "time_step", number(s.time_step), "s");
+  add("config", "critical_time_step", number(report.limit), "s");
+  add("config", "critical_time_step_limited_by", report.limited_by);
+  add("config", "time_step_fraction_of_critical", number(s.time_step / report.limit));
+  add("config", "contact_model", core::toString(s.contact_model));
+  add("config", "integrator", core::toString(s.integrator));
+  add("config", "threads", std::to_string(s.threads));
+  add("config", "neighbour_skin", number(s.neighbour_skin), "m");
+  add("config", "sort_every_builds", std::to_string(s.sort_every_builds));
+  add("config", "max_impact_velocity", number(s.max_impact_velocity), "m/s");
+  add("config", "gravity", fmt::format("{} {} {}", s.gravity.x(), s.gravity.y(), s.gravity.z()), "m/s^2");
+  add("config", "particles", std::to_string(world.particles().size()));
+  add("config", "materials", std::to_string(world.materials().size()));
+  add("config", "planes", std::to_string(world.planes().size()));
+  add("config", "meshes", std::to_string(world.meshes().size()));
+  std::string stages;
+  for (const std::string& stage : world.activeStages()) stages += (stages.empty() ? "" : ";") + stage;
+  add("config", "active_stages", stages);
+  add("config", "output_directory", run.output_directory);
+  add("config", "vtk_interval", number(run.vtk_interval), "s");
+  add("config", "checkpoint_interval", number(run.checkpoint_interval), "s");
+}
+
+void RunLog::writeTiming(const core::World& world, const RunTiming& timing) {
+  const double total = std::max(timing.total_seconds, 1.0e-9);
+  const double stepping = std::max(total - timing.output_seconds, 1.0e-9);
+  add("timing", "initialise_wall", number(timing.initialise_seconds), "s");
+  add("timing", "total_wall", number(timing.total_seconds), "s");
+  add("timing", "stepping_wall", number(total - timing.output_seconds), "s");
+  add("timing", "output_wall", number(timing.output_seconds), "s");
+  add("timing", "steps", std::to_string(timing.steps));
+  add("timing", "steps_per_second", number(static_cast<double>(timing.steps) / stepping), "1/s");
+  add("timing", "particle_steps_per_second", number(static_cast<double>(timing.particle_steps) / stepping), "1/s");
+  add("timing", "neighbour_builds", std::to_string(timing.neighbour_builds));
+  add("timing", "frames", std::to_string(timing.frames));
+  add("timing", "checkpoints", std::to_string(timing.checkpoints));
+  add("timing", "final_time", number(world.time()), "s");
+  add("timing", "final_particles", std::to_string(world.particles().size()));
+  add("timing", "final_kinetic_energy", number(world.kineticEnergy()), "J");
+  add("timing", "removed_at_bounds", std::to_string(world.removedAtBounds().count));
+  add("timing", "removed_mass_at_bounds", number(world.removedAtBounds().mass), "kg");
+  add("timing", "status", "completed");
+}
+
+}  // namespace demlink::server

@@ -1,0 +1,363 @@
+/// Scene compiler: protobuf declarations -> core::World + RunOptions.
+///
+/// Three passes over the declarations, so that errors come out in a useful order
+/// and the scene's order does not matter for references:
+///   1. structure: every component has a unique non-empty name and a kind, and
+///      there is exactly one simulation_box (its settings build the World);
+///   2. materials, in declaration order (indices follow it);
+///   3. planes, particle sets and meshes, in declaration order;
+///   4. sinks, sensors and trackers (translate_sensors), which refer to meshes by name.
+/// Every field is checked here or by the core validators with a field path
+/// "components[i].<kind>.<field>", so a user can find it in the scene file.
+#include "demlink/server/scene/scene_translator.hpp"
+
+#include <algorithm>
+
+#include <map>
+#include <string_view>
+#include <system_error>
+#include <thread>
+#include <utility>
+#include <vector>
+
+#include "demlink/core/input_error.hpp"
+#include "demlink/server/scene/particle_file_reader.hpp"
+#include "demlink/server/scene/particle_lattice.hpp"
+#include "demlink/server/scene/translate_materials.hpp"
+#include "demlink/server/scene/translate_sensors.hpp"
+#include "demlink/server/scene/translate_sources.hpp"
+#include "demlink/server/scene/translate_state.hpp"
+#include "demlink/server/scene/translate_facets.hpp"
+#include "demlink/server/scene/translate_room.hpp"
+#include "demlink/server/scene/translate_clumps.hpp"
+#include "demlink/server/scene/translate_rigid_body.hpp"
+
+namespace demlink::server {
+namespace {
+
+using core::InputError;
+using MaterialNames = std::map<std::string, std::uint32_t>;
+
+std::string componentPath(int index) { return "components[" + std::to_string(index) + "]"; }
+
+std::string quoted(const std::string& text) { return "\"" + text + "\""; }
+
+core::Vec3 toVec3(const v1::Vector3& v) { return {v.x(), v.y(), v.z()}; }
+
+void requireFiniteVector(const std::string& field, const core::Vec3& v) {
+  for (int k = 0; k < 3; ++k) core::requireFinite(field + "[" + std::to_string(k) + "]", v[k]);
+}
+
+std::filesystem::path resolvePath(const std::string& path, const std::filesystem::path& sceneDirectory) {
+  const std::filesystem::path p(path);
+  return p.is_absolute() || sceneDirectory.empty() ? p : sceneDirectory / p;
+}
+
+std::uint32_t resolveMaterial(const MaterialNames& materials, const std::string& name, const std::string& field) {
+  if (name.empty()) throw InputError(field, "\"\"", "a material name is required");
+  const auto it = materials.find(name);
+  if (it != materials.end()) return it->second;
+  std::string declared;
+  for (const auto& entry : materials) declared += (declared.empty() ? "" : ", ") + entry.first;
+  throw InputError(field, quoted(name), "unknown material (declared: " + (declared.empty() ? "none" : declared) + ")");
+}
+
+/// Pass 1. Returns the index of the single simulation_box.
+int checkStructure(const v1::Scene& scene) {
+  std::map<std::string, int> firstUse;
+  std::vector<int> boxes;
+  for (int i = 0; i < scene.components_size(); ++i) {
+    const v1::ComponentDeclaration& component = scene.components(i);
+    const std::string path = componentPath(i);
+    if (component.name().empty()) throw InputError(path + ".name", "\"\"", "every component needs a name");
+    const auto [it, inserted] = firstUse.emplace(component.name(), i);
+    if (!inserted) {
+      throw InputError(path + ".name", quoted(component.name()),
+                       "component name already used by " + componentPath(it->second));
+    }
+    if (component.kind_case() == v1::ComponentDeclaration::KIND_NOT_SET) {
+      throw InputError(path, quoted(component.name()),
+                       "declares no kind (one of simulation_box, material, plane, mesh_body, particle_lattice, "
+                       "particle_file, particle_system, single_particle, particle_source, pit_generator, "
+                       "particle_sink, region_sensor, flow_sensor, tracker, clump_template, facet_body, material_pair, "
+                       "rigid_body, particle_view)");
+    }
+    if (component.has_simulation_box()) boxes.push_back(i);
+  }
+  if (boxes.size() != 1) {
+    std::string where;
+    for (int i : boxes) where += (where.empty() ? " (" : ", ") + componentPath(i);
+    if (!where.empty()) where += ")";
+    throw InputError("components", std::to_string(boxes.size()) + " simulation_box components",
+                     "a scene needs exactly one simulation_box, found " + std::to_string(boxes.size()) + where);
+  }
+  return boxes.front();
+}
+
+core::SimulationSettings toSettings(const v1::SimulationBox& box, const std::string& prefix) {
+  core::SimulationSettings settings;
+  if (box.has_time_step()) settings.time_step = box.time_step();
+  if (box.has_gravity()) settings.gravity = toVec3(box.gravity());
+  switch (box.contact_model()) {
+    case v1::SimulationBox::CONTACT_MODEL_UNSPECIFIED:
+    case v1::SimulationBox::HERTZ_MINDLIN: settings.contact_model = core::ContactModel::HertzMindlin; break;
+    case v1::SimulationBox::LINEAR_SPRING_DASHPOT:
+      settings.contact_model = core::ContactModel::LinearSpringDashpot;
+      break;
+    default:
+      throw InputError(prefix + ".contact_model", std::to_string(box.contact_model()), "unknown contact model");
+  }
+  switch (box.integrator()) {
+    case v1::SimulationBox::INTEGRATOR_UNSPECIFIED:
+    case v1::SimulationBox::VELOCITY_VERLET: settings.integrator = core::IntegratorKind::VelocityVerlet; break;
+    case v1::SimulationBox::EXPLICIT_EULER: settings.integrator = core::IntegratorKind::ExplicitEuler; break;
+    default: throw InputError(prefix + ".integrator", std::to_string(box.integrator()), "unknown integrator");
+  }
+  settings.neighbour_skin = box.neighbour_skin();
+  if (box.has_max_impact_velocity()) settings.max_impact_velocity = box.max_impact_velocity();
+  settings.linear_normal_stiffness = box.linear_normal_stiffness();
+  settings.allow_unsafe_time_step = box.allow_unsafe_time_step();
+  if (box.has_threads()) {
+    settings.threads = box.threads() == 0 ? std::max(1u, std::thread::hardware_concurrency()) : box.threads();
+  }
+  if (box.has_bounds()) {
+    const v1::SimulationBox::Bounds& bounds = box.bounds();
+    if (!bounds.has_lower()) throw InputError(prefix + ".bounds.lower", "(missing)", "required when bounds is given");
+    if (!bounds.has_upper()) throw InputError(prefix + ".bounds.upper", "(missing)", "required when bounds is given");
+    settings.bounds = core::DomainBounds{toVec3(bounds.lower()), toVec3(bounds.upper())};
+  }
+  translateRoom(box, prefix, settings);
+  settings.validate(prefix);
+  return settings;
+}
+
+RunOptions toRunOptions(const v1::SimulationBox& box, const std::string& prefix, SceneUse use) {
+  RunOptions run;
+  run.field_prefix = prefix;
+  run.end_time = box.end_time();
+  if (use == SceneUse::CoSimulation) {
+    core::requireNonNegative(prefix + ".end_time", run.end_time);
+  } else {
+    core::requirePositive(prefix + ".end_time", run.end_time);
+  }
+  run.output_directory = box.output().directory();
+  run.vtk_interval = box.output().vtk_interval();
+  core::requireNonNegative(prefix + ".output.vtk_interval", run.vtk_interval);
+  if (box.output().has_progress_interval_s()) run.progress_interval = box.output().progress_interval_s();
+  core::requirePositive(prefix + ".output.progress_interval_s", run.progress_interval);
+  run.checkpoint_interval = box.output().checkpoint_interval();
+  core::requireNonNegative(prefix + ".output.checkpoint_interval", run.checkpoint_interval);
+  if (box.output().has_final_checkpoint()) run.final_checkpoint = box.output().final_checkpoint();
+  if (box.output().has_final_particles_csv()) run.final_particles_csv = box.output().final_particles_csv();
+  return run;
+}
+
+/// Pass 2: registers every material; returns name -> world index.
+MaterialNames addMaterials(const v1::Scene& scene, core::World& world) {
+  MaterialNames names;
+  std::map<std::string, int> declaredBy;
+  for (int i = 0; i < scene.components_size(); ++i) {
+    const v1::ComponentDeclaration& component = scene.components(i);
+    if (!component.has_material()) continue;
+    const std::string prefix = componentPath(i) + ".material";
+    const core::Material material = translateMaterial(component.material(), component.name(), prefix);
+    const auto [it, inserted] = declaredBy.emplace(material.name, i);
+    if (!inserted) {
+      throw InputError(prefix + ".name", quoted(material.name),
+                       "material name already used by " + componentPath(it->second));
+    }
+    names.emplace(material.name, world.addMaterial(material));
+  }
+  return names;
+}
+
+void addPlane(const v1::Plane& plane, const std::string& name, const MaterialNames& materials,
+              const std::string& prefix, core::World& world) {
+  core::PlaneSpec spec;
+  spec.name = name;
+  spec.point = toVec3(plane.point());
+  if (!plane.has_normal()) throw InputError(prefix + ".normal", "(missing)", "a plane needs a normal");
+  spec.normal = toVec3(plane.normal());
+  spec.material = resolveMaterial(materials, plane.material(), prefix + ".material");
+  world.addPlane(std::move(spec), prefix);
+}
+
+void addLattice(const v1::ParticleLattice& lattice, const MaterialNames& materials, const std::string& prefix,
+                core::World& world) {
+  LatticeSpec spec;
+  spec.material = resolveMaterial(materials, lattice.material(), prefix + ".material");
+  if (!lattice.clump_template().empty()) {
+    addClumpLattice(lattice, spec.material, prefix, world);
+    return;
+  }
+  spec.radius = lattice.radius();
+  if (lattice.has_radius_max()) spec.radius_max = lattice.radius_max();
+  spec.origin = toVec3(lattice.origin());
+  spec.spacing = lattice.spacing();
+  if (!lattice.has_counts()) throw InputError(prefix + ".counts", "(missing)", "required (nx, ny, nz)");
+  spec.counts = {lattice.counts().nx(), lattice.counts().ny(), lattice.counts().nz()};
+  spec.jitter = lattice.jitter();
+  spec.seed = lattice.seed();
+  spec.velocity = toVec3(lattice.velocity());
+  spec.validate(prefix);
+  for (const core::ParticleSpec& sphere : generateLattice(spec)) world.addParticle(sphere, prefix);
+}
+
+void addParticleFile(const v1::ParticleFile& file, const MaterialNames& materials,
+                     const std::filesystem::path& sceneDirectory, const std::string& prefix, core::World& world) {
+  const std::uint32_t material = resolveMaterial(materials, file.material(), prefix + ".material");
+  if (file.path().empty()) throw InputError(prefix + ".path", "\"\"", "a particle file path is required");
+  const std::string path = resolvePath(file.path(), sceneDirectory).string();
+  for (const ParticleRecord& record : readParticleFile(path)) {
+    core::ParticleSpec sphere;
+    sphere.position = record.position;
+    sphere.radius = record.radius;
+    sphere.material = material;
+    world.addParticle(sphere, path + ":line " + std::to_string(record.line));
+  }
+}
+
+}  // namespace
+
+MeshBodyDeclaration translateMeshBody(const v1::MeshBody& mesh, const std::string& name,
+                                      std::uint32_t materialIndex, const std::filesystem::path& sceneDirectory,
+                                      const std::string& fieldPrefix) {
+  MeshBodyDeclaration out;
+  out.name = name;
+  out.material = materialIndex;
+  if (mesh.stl_file().empty()) throw InputError(fieldPrefix + ".stl_file", "\"\"", "an STL file path is required");
+  out.stl_file = resolvePath(mesh.stl_file(), sceneDirectory);
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(out.stl_file, ec)) {
+    throw InputError(fieldPrefix + ".stl_file", quoted(mesh.stl_file()),
+                     "file not found (looked for " + out.stl_file.string() + ")");
+  }
+  out.position = toVec3(mesh.position());
+  out.linear_velocity = toVec3(mesh.linear_velocity());
+  out.angular_velocity = toVec3(mesh.angular_velocity());
+  out.reference_point = toVec3(mesh.reference_point());
+  requireFiniteVector(fieldPrefix + ".position", out.position);
+  requireFiniteVector(fieldPrefix + ".linear_velocity", out.linear_velocity);
+  requireFiniteVector(fieldPrefix + ".angular_velocity", out.angular_velocity);
+  requireFiniteVector(fieldPrefix + ".reference_point", out.reference_point);
+  if (mesh.has_orientation()) {
+    const v1::Quaternion& q = mesh.orientation();
+    const core::Quat orientation(q.w(), q.x(), q.y(), q.z());
+    for (int k = 0; k < 4; ++k) core::requireFinite(fieldPrefix + ".orientation", orientation.coeffs()[k]);
+    const double norm = orientation.norm();
+    if (!(norm > 0.0)) throw InputError(fieldPrefix + ".orientation", "(0, 0, 0, 0)", "must be a non-zero quaternion");
+    out.orientation = orientation.normalized();
+  }
+  return out;
+}
+
+namespace {
+
+/// Loads the STL, places it at the declared pose and hands it to the engine.
+void addMeshBody(const MeshBodyDeclaration& declaration, const std::string& prefix, core::World& world) {
+  core::MeshBody body = [&] {
+    try {
+      return core::MeshBody::fromStl(declaration.name, declaration.stl_file.string(), declaration.reference_point,
+                                     declaration.material);
+    } catch (const InputError& e) {
+      throw InputError(prefix + ".stl_file", e.value(), e.what());
+    }
+  }();
+  body.setPose(declaration.position, declaration.orientation);
+  body.setVelocity(declaration.linear_velocity, declaration.angular_velocity);
+  world.addMesh(std::move(body), prefix);
+}
+
+}  // namespace
+
+TranslatedScene translateScene(const v1::Scene& scene, const std::filesystem::path& sceneDirectory, SceneUse use) {
+  const int boxIndex = checkStructure(scene);
+  const std::string boxPrefix = componentPath(boxIndex) + ".simulation_box";
+  const v1::SimulationBox& box = scene.components(boxIndex).simulation_box();
+  TranslatedScene out{core::World(toSettings(box, boxPrefix)), toRunOptions(box, boxPrefix, use)};
+
+  const MaterialNames materials = addMaterials(scene, out.world);
+  addMaterialPairs(scene, materials, out.world);
+  addClumpTemplates(scene, out.world);
+  for (int i = 0; i < scene.components_size(); ++i) {
+    const v1::ComponentDeclaration& component = scene.components(i);
+    const std::string path = componentPath(i);
+    switch (component.kind_case()) {
+      case v1::ComponentDeclaration::kPlane:
+        addPlane(component.plane(), component.name(), materials, path + ".plane", out.world);
+        break;
+      case v1::ComponentDeclaration::kParticleLattice:
+        addLattice(component.particle_lattice(), materials, path + ".particle_lattice", out.world);
+        break;
+      case v1::ComponentDeclaration::kParticleFile:
+        addParticleFile(component.particle_file(), materials, sceneDirectory, path + ".particle_file", out.world);
+        break;
+      case v1::ComponentDeclaration::kParticleSystem:
+        addParticleSystem(component.particle_system(), sceneDirectory, path + ".particle_system", out.world);
+        break;
+      case v1::ComponentDeclaration::kMeshBody: {
+        const std::string prefix = path + ".mesh_body";
+        const v1::MeshBody& mesh = component.mesh_body();
+        const std::uint32_t material = resolveMaterial(materials, mesh.material(), prefix + ".material");
+        const MeshBodyDeclaration declaration =
+            translateMeshBody(mesh, component.name(), material, sceneDirectory, prefix);
+        addMeshBody(declaration, prefix, out.world);
+        break;
+      }
+      case v1::ComponentDeclaration::kFacetBody: {
+        const std::string prefix = path + ".facet_body";
+        const auto resolve = [&](const std::string& name, const std::string& field) {
+          return resolveMaterial(materials, name, field);
+        };
+        out.world.addMesh(translateFacetBody(component.facet_body(), component.name(), resolve, sceneDirectory, prefix),
+                          prefix);
+        break;
+      }
+      case v1::ComponentDeclaration::kRigidBody: {
+        const std::string prefix = path + ".rigid_body";
+        const auto resolve = [&](const std::string& name, const std::string& field) {
+          return resolveMaterial(materials, name, field);
+        };
+        out.world.addMesh(translateRigidBody(component.rigid_body(), component.name(), resolve, sceneDirectory, prefix),
+                          prefix);
+        break;
+      }
+      case v1::ComponentDeclaration::kSingleParticle: {
+        const std::string prefix = path + ".single_particle";
+        const std::uint32_t material =
+            resolveMaterial(materials, component.single_particle().material(), prefix + ".material");
+        addSingleParticle(component.single_particle(), material, prefix, out.world);
+        break;
+      }
+      case v1::ComponentDeclaration::kParticleSource: {
+        const std::string prefix = path + ".particle_source";
+        const std::uint32_t material =
+            resolveMaterial(materials, component.particle_source().material(), prefix + ".material");
+        addParticleSource(component.particle_source(), component.name(), material, prefix, out.world);
+        break;
+      }
+      case v1::ComponentDeclaration::kPitGenerator: {
+        const std::string prefix = path + ".pit_generator";
+        const std::uint32_t material =
+            resolveMaterial(materials, component.pit_generator().material(), prefix + ".material");
+        addPitGenerator(component.pit_generator(), component.name(), material, prefix, out.world);
+        break;
+      }
+      case v1::ComponentDeclaration::kParticleSink:
+      case v1::ComponentDeclaration::kRegionSensor:
+      case v1::ComponentDeclaration::kFlowSensor:
+      case v1::ComponentDeclaration::kTracker:  // after all mesh bodies: addSensorComponents
+      case v1::ComponentDeclaration::kSimulationBox:
+      case v1::ComponentDeclaration::kMaterial:
+      case v1::ComponentDeclaration::kMaterialPair:
+      case v1::ComponentDeclaration::kClumpTemplate:
+      case v1::ComponentDeclaration::kParticleView:  // served by the co-simulation host, no engine object
+      case v1::ComponentDeclaration::KIND_NOT_SET:
+        break;
+    }
+  }
+  addSensorComponents(scene, out.world);
+  return out;
+}
+
+}  // namespace demlink::server

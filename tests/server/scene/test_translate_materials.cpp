@@ -1,0 +1,134 @@
+/// Scene translation of the materials family: database materials with explicit
+/// overrides, unknown database names, material_pair components and their errors.
+#include <gtest/gtest.h>
+
+#include <ostream>
+
+#include "demlink/core/input_error.hpp"
+#include "demlink/core/materials/material_database.hpp"
+#include "demlink/server/scene/scene_loader.hpp"
+#include "demlink/server/scene/scene_translator.hpp"
+#include "scene_test_support.hpp"
+
+namespace demlink::server {
+namespace {
+
+constexpr const char* kBox = R"({"name": "box", "simulation_box": {"end_time": 0.1}})";
+
+using test::sceneOf;
+
+core::InputError translationError(const v1::Scene& scene) {
+  try {
+    (void)translateScene(scene, {});
+  } catch (const core::InputError& error) {
+    return error;
+  }
+  ADD_FAILURE() << "expected an InputError";
+  return core::InputError("(none)", "", "");
+}
+
+TEST(TranslateMaterials, DatabaseValuesWithExplicitOverride) {
+  const TranslatedScene t = translateScene(
+      sceneOf({kBox, R"({"name": "grain", "material": {"database_name": "Wheat", "restitution": 0.7}})",
+               R"({"name": "stones", "material": {"database_name": "gravel"}})"}),
+      {});
+  const core::MaterialDatabase& db = core::MaterialDatabase::builtIn();
+  const core::Material& wheat = db.at("wheat", "test").material;
+  const core::Material& gravel = db.at("gravel", "test").material;
+  ASSERT_EQ(t.world.materials().size(), 2u);
+  const core::Material& grain = t.world.materials()[0];
+  EXPECT_EQ(grain.name, "grain") << "the name is the component's, not the database's";
+  EXPECT_EQ(grain.restitution, 0.7) << "explicit field overrides the database";
+  EXPECT_NE(wheat.restitution, 0.7) << "test needs an override that differs from the database";
+  EXPECT_EQ(grain.density, wheat.density);
+  EXPECT_EQ(grain.youngs_modulus, wheat.youngs_modulus);
+  EXPECT_EQ(grain.poisson_ratio, wheat.poisson_ratio);
+  EXPECT_EQ(grain.sliding_friction, wheat.sliding_friction);
+  EXPECT_EQ(grain.rolling_friction, wheat.rolling_friction);
+  const core::Material& stones = t.world.materials()[1];
+  EXPECT_EQ(stones.density, gravel.density);
+  EXPECT_EQ(stones.restitution, gravel.restitution);
+  EXPECT_EQ(stones.rolling_friction, gravel.rolling_friction);
+}
+
+TEST(TranslateMaterials, CustomMaterialsKeepEngineDefaults) {
+  const TranslatedScene t = translateScene(sceneOf({kBox, R"({"name": "m", "material": {"density": 7800}})"}), {});
+  const core::Material defaults;
+  EXPECT_EQ(t.world.materials()[0].density, 7800.0);
+  EXPECT_EQ(t.world.materials()[0].restitution, defaults.restitution);
+}
+
+TEST(TranslateMaterials, UnknownDatabaseNameNamesFieldAndListsKnownNames) {
+  const core::InputError e =
+      translationError(sceneOf({kBox, R"({"name": "m", "material": {"database_name": "granite"}})"}));
+  EXPECT_EQ(e.field(), "components[1].material.database_name");
+  const std::string what = e.what();
+  for (const char* name : {"gravel", "sand", "hard_coal", "brown_coal", "iron_ore", "potash", "corn", "wheat"}) {
+    EXPECT_NE(what.find(name), std::string::npos) << name << " missing from: " << what;
+  }
+}
+
+TEST(TranslateMaterials, OverrideOfDatabaseValueIsValidated) {
+  const core::InputError e = translationError(
+      sceneOf({kBox, R"({"name": "m", "material": {"database_name": "sand", "restitution": 1.5}})"}));
+  EXPECT_EQ(e.field(), "components[1].material.restitution");
+}
+
+TEST(TranslateMaterials, MaterialPairReachesThePairTable) {
+  TranslatedScene t = translateScene(
+      sceneOf({R"({"name": "pair", "material_pair": {"material_a": "wheat", "material_b": "gravel",
+                  "restitution": 0.2, "sliding_friction": 0.9}})",
+               kBox, R"({"name": "wheat", "material": {"database_name": "wheat"}})",
+               R"({"name": "gravel", "material": {"database_name": "gravel"}})"}),
+      {});
+  t.world.initialize();
+  const core::ContactPairParams& p = t.world.pairTable()(0, 1);
+  EXPECT_EQ(p.restitution, 0.2);
+  EXPECT_EQ(p.sliding_friction, 0.9);
+  const core::Material& wheat = t.world.materials()[0];
+  const core::Material& gravel = t.world.materials()[1];
+  EXPECT_EQ(p.rolling_friction, 0.5 * (wheat.rolling_friction + gravel.rolling_friction)) << "not overridden";
+  EXPECT_EQ(t.world.pairTable()(0, 0).restitution, wheat.restitution);
+  EXPECT_EQ(t.world.pairTable()(1, 1).restitution, gravel.restitution);
+}
+
+struct PairError {
+  const char* what;
+  std::string pair;   ///< material_pair JSON body
+  std::string field;  ///< expected error field
+};
+
+void PrintTo(const PairError& c, std::ostream* os) { *os << c.what; }
+
+class MaterialPairErrors : public ::testing::TestWithParam<PairError> {};
+
+TEST_P(MaterialPairErrors, NameTheField) {
+  const PairError& c = GetParam();
+  const core::InputError e = translationError(sceneOf(
+      {kBox, R"({"name": "a", "material": {}})", R"({"name": "b", "material": {}})",
+       R"({"name": "p1", "material_pair": {"material_a": "a", "material_b": "b", "restitution": 0.4}})",
+       R"({"name": "p2", "material_pair": )" + c.pair + "}"}));
+  EXPECT_EQ(e.field(), c.field) << e.what();
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, MaterialPairErrors,
+    ::testing::Values(
+        PairError{"unknown_a", R"({"material_a": "steel", "material_b": "a", "restitution": 0.4})",
+                  "components[4].material_pair.material_a"},
+        PairError{"unknown_b", R"({"material_a": "a", "material_b": "stel", "restitution": 0.4})",
+                  "components[4].material_pair.material_b"},
+        PairError{"missing_b", R"({"material_a": "a", "restitution": 0.4})", "components[4].material_pair.material_b"},
+        PairError{"bad_restitution", R"({"material_a": "a", "material_b": "a", "restitution": 0})",
+                  "components[4].material_pair.restitution"},
+        PairError{"bad_friction", R"({"material_a": "a", "material_b": "a", "sliding_friction": -1})",
+                  "components[4].material_pair.sliding_friction"},
+        PairError{"bad_rolling", R"({"material_a": "a", "material_b": "a", "rolling_friction": -0.1})",
+                  "components[4].material_pair.rolling_friction"},
+        PairError{"nothing", R"({"material_a": "a", "material_b": "a"})", "components[4].material_pair"},
+        PairError{"duplicate", R"({"material_a": "b", "material_b": "a", "sliding_friction": 0.1})",
+                  "components[4].material_pair.material_b"}),
+    [](const ::testing::TestParamInfo<PairError>& param) { return std::string(param.param.what); });
+
+}  // namespace
+}  // namespace demlink::server
