@@ -19,8 +19,10 @@ source "$(dirname "$0")/../../scripts/lib/child_server.sh"
 if ! port=$(wait_for_server_port "$work/server.log" "$server_pid"); then
   echo "FAIL: the server did not start listening:"; cat "$work/server.log"; exit 1
 fi
+# The excavator waits up to 180 s for Compiled: generating the pit took over 60 s on a
+# machine loaded by parallel builds.
 status=0
-timeout $((590 * scale)) "$excavator_exe" --host 127.0.0.1 --port "$port" --cycles 1 --output "$work/excavator" --timeout $((60 * scale)) \
+timeout $((590 * scale)) "$excavator_exe" --host 127.0.0.1 --port "$port" --cycles 1 --output "$work/excavator" --timeout $((180 * scale)) \
   >"$work/excavator.log" 2>&1 || status=$?
 wait "$server_pid" || { echo "FAIL: server exit $?"; tail -20 "$work/server.log"; exit 1; }
 trap - EXIT
