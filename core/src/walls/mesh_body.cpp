@@ -129,58 +129,58 @@ void MeshBody::setPose(const Vec3& position, const Quat& orientation) {
                          ", y=" + formatValue(q.y()) + ", z=" + formatValue(q.z()) + ")",
                      "quaternion must be finite with non-zero norm");
   }
-  position_ = position;
-  orientation_ = Quat(orientation.coeffs() / norm);
+  state_.position = position;
+  state_.orientation = Quat(orientation.coeffs() / norm);
   updateWorldGeometry();
 }
 
 void MeshBody::setVelocity(const Vec3& linear, const Vec3& angular) {
   requireFiniteVec("velocity.linear", linear);
   requireFiniteVec("velocity.angular", angular);
-  linear_velocity_ = linear;
-  angular_velocity_ = angular;
+  state_.linear_velocity = linear;
+  state_.angular_velocity = angular;
 }
 
 void MeshBody::advance(double dt) {
   requireFinite("dt", dt);
-  position_ += linear_velocity_ * dt;
-  const double rate = angular_velocity_.norm();
+  state_.position += state_.linear_velocity * dt;
+  const double rate = state_.angular_velocity.norm();
   const double angle = rate * dt;
   if (angle != 0.0) {
-    const Vec3 axisSin = std::sin(0.5 * angle) * (angular_velocity_ / rate);
+    const Vec3 axisSin = std::sin(0.5 * angle) * (state_.angular_velocity / rate);
     const Quat dq(std::cos(0.5 * angle), axisSin.x(), axisSin.y(), axisSin.z());
-    orientation_ = (dq * orientation_).normalized();
+    state_.orientation = (dq * state_.orientation).normalized();
   }
   updateWorldGeometry();
 }
 
 void MeshBody::updateWorldGeometry() {
-  const Mat3 rot = orientation_.toRotationMatrix();
+  const Mat3 rot = state_.orientation.toRotationMatrix();
   world_vertices_.resize(local_vertices_.size());
   for (std::size_t i = 0; i < local_vertices_.size(); ++i) {
-    world_vertices_[i] = position_ + rot * local_vertices_[i];
+    world_vertices_[i] = state_.position + rot * local_vertices_[i];
   }
   world_normals_.resize(local_normals_.size());
   for (std::size_t t = 0; t < local_normals_.size(); ++t) world_normals_[t] = rot * local_normals_[t];
 }
 
 Vec3 MeshBody::velocityAt(const Vec3& worldPoint) const {
-  return linear_velocity_ + angular_velocity_.cross(worldPoint - position_);
+  return state_.linear_velocity + state_.angular_velocity.cross(worldPoint - state_.position);
 }
 
 void MeshBody::addContactForce(const Vec3& forceOnMesh, const Vec3& worldPoint) {
-  force_ += forceOnMesh;
-  torque_ += (worldPoint - position_).cross(forceOnMesh);
+  state_.force += forceOnMesh;
+  state_.torque += (worldPoint - state_.position).cross(forceOnMesh);
 }
 
 void MeshBody::addWrench(const Vec3& force, const Vec3& torqueAboutReference) {
-  force_ += force;
-  torque_ += torqueAboutReference;
+  state_.force += force;
+  state_.torque += torqueAboutReference;
 }
 
 void MeshBody::clearWrench() {
-  force_.setZero();
-  torque_.setZero();
+  state_.force.setZero();
+  state_.torque.setZero();
 }
 
 void MeshBody::setCollisionWindow(double from, double until) {
@@ -194,29 +194,29 @@ void MeshBody::setCollisionWindow(double from, double until) {
 }
 
 void MeshBody::markNeighbourBuild() {
-  mark_position_ = position_;
-  mark_orientation_ = orientation_;
+  state_.mark_position = state_.position;
+  state_.mark_orientation = state_.orientation;
 }
 
 double MeshBody::maxDisplacementSinceMark() const {
   // Relative rotation q q0^-1 has |vec| = sin(theta/2) (for a unit quaternion).
-  const Quat rel = orientation_ * mark_orientation_.conjugate();
+  const Quat rel = state_.orientation * state_.mark_orientation.conjugate();
   const double relNorm = rel.norm();
   const double sinHalf = relNorm > 0.0 ? std::min(1.0, rel.vec().norm() / relNorm) : 0.0;
-  return (position_ - mark_position_).norm() + 2.0 * bounding_radius_ * sinHalf;
+  return (state_.position - state_.mark_position).norm() + 2.0 * bounding_radius_ * sinHalf;
 }
 
 void MeshBody::save(StateWriter& out) const {
   out.writeString(name_);
   out.write<std::uint64_t>(triangles_.size());
-  out.write(position_);
-  out.write(orientation_);
-  out.write(linear_velocity_);
-  out.write(angular_velocity_);
-  out.write(force_);
-  out.write(torque_);
-  out.write(mark_position_);
-  out.write(mark_orientation_);
+  out.write(state_.position);
+  out.write(state_.orientation);
+  out.write(state_.linear_velocity);
+  out.write(state_.angular_velocity);
+  out.write(state_.force);
+  out.write(state_.torque);
+  out.write(state_.mark_position);
+  out.write(state_.mark_orientation);
 }
 
 MeshBody::State MeshBody::readState(StateReader& in) const {
@@ -239,14 +239,7 @@ MeshBody::State MeshBody::readState(StateReader& in) const {
 }
 
 void MeshBody::restoreState(const State& state) {
-  position_ = state.position;
-  orientation_ = state.orientation;
-  linear_velocity_ = state.linear_velocity;
-  angular_velocity_ = state.angular_velocity;
-  force_ = state.force;
-  torque_ = state.torque;
-  mark_position_ = state.mark_position;
-  mark_orientation_ = state.mark_orientation;
+  state_ = state;
   updateWorldGeometry();
 }
 

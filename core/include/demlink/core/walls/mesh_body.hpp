@@ -108,16 +108,16 @@ class MeshBody {
   [[nodiscard]] const std::vector<std::array<std::uint32_t, 3>>& triangles() const {
     return triangles_;
   }
-  [[nodiscard]] const Vec3& position() const { return position_; }
-  [[nodiscard]] const Quat& orientation() const { return orientation_; }
-  [[nodiscard]] const Vec3& linearVelocity() const { return linear_velocity_; }
-  [[nodiscard]] const Vec3& angularVelocity() const { return angular_velocity_; }
+  [[nodiscard]] const Vec3& position() const { return state_.position; }
+  [[nodiscard]] const Quat& orientation() const { return state_.orientation; }
+  [[nodiscard]] const Vec3& linearVelocity() const { return state_.linear_velocity; }
+  [[nodiscard]] const Vec3& angularVelocity() const { return state_.angular_velocity; }
   /// World-frame vertices, valid after the last setPose/advance/updateWorldGeometry.
   [[nodiscard]] const std::vector<Vec3>& worldVertices() const { return world_vertices_; }
   /// World-frame unit normals (b-a)x(c-a)/|...| per triangle (zero for a zero-area triangle).
   [[nodiscard]] const std::vector<Vec3>& triangleNormals() const { return world_normals_; }
-  [[nodiscard]] const Vec3& force() const { return force_; }
-  [[nodiscard]] const Vec3& torque() const { return torque_; }
+  [[nodiscard]] const Vec3& force() const { return state_.force; }
+  [[nodiscard]] const Vec3& torque() const { return state_.torque; }
   [[nodiscard]] std::uint32_t materialIndex() const { return material_index_; }
   /// Largest distance of a vertex from the reference point [m].
   [[nodiscard]] double boundingRadius() const { return bounding_radius_; }
@@ -156,14 +156,7 @@ class MeshBody {
   std::vector<Vec3> world_vertices_;
   std::vector<Vec3> world_normals_;
   std::vector<std::string> load_warnings_;
-  Vec3 position_ = Vec3::Zero();
-  Quat orientation_ = Quat::Identity();
-  Vec3 linear_velocity_ = Vec3::Zero();
-  Vec3 angular_velocity_ = Vec3::Zero();
-  Vec3 force_ = Vec3::Zero();
-  Vec3 torque_ = Vec3::Zero();
-  Vec3 mark_position_ = Vec3::Zero();
-  Quat mark_orientation_ = Quat::Identity();
+  State state_;
   double bounding_radius_ = 0.0;
   double collide_from_ = -std::numeric_limits<double>::infinity();  ///< [s]
   double collide_until_ = std::numeric_limits<double>::infinity();  ///< [s]
