@@ -67,4 +67,50 @@ StateReader componentSection(StateReader& in, std::string_view tag, const std::s
   return in.section(tag, in.sectionName() + "." + name);
 }
 
+void saveComponents(StateWriter& out, const std::vector<std::unique_ptr<WorldComponent>>& components) {
+  out.write<std::uint64_t>(components.size());
+  for (const auto& component : components) {
+    out.writeString(component->name());
+    out.writeString(component->kind());
+    out.section("DATA", [&] { component->saveState(out); });
+  }
+}
+
+std::vector<StateReader> readComponentSections(StateReader& in,
+                                               const std::vector<std::unique_ptr<WorldComponent>>& components) {
+  readMatchingCount(in, "component", components.size());
+  std::vector<StateReader> data;
+  for (const auto& component : components) {
+    const std::string name = in.readString();
+    const std::string kind = in.readString();
+    requireEqual(in, "component \"" + name + "\"", name, component->name());
+    requireEqual(in, "kind \"" + kind + "\" of component \"" + name + "\"", kind, std::string(component->kind()));
+    data.push_back(in.section("DATA", "components." + name));
+  }
+  in.requireEnd();
+  return data;
+}
+
+void restoreComponents(const std::vector<std::unique_ptr<WorldComponent>>& components,
+                       std::vector<StateReader>& data, const std::string& source) {
+  std::vector<std::string> previous;
+  for (const auto& component : components) {
+    StateWriter backup;
+    component->saveState(backup);
+    previous.push_back(backup.bytes());
+  }
+  try {
+    for (std::size_t k = 0; k < components.size(); ++k) {
+      components[k]->loadState(data[k]);
+      data[k].requireEnd();
+    }
+  } catch (...) {
+    for (std::size_t k = 0; k < components.size(); ++k) {
+      StateReader backup(previous[k], source, "components." + components[k]->name());
+      components[k]->loadState(backup);
+    }
+    throw;
+  }
+}
+
 }  // namespace demlink::core

@@ -3,6 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
+#include <utility>
+
+#include "demlink/core/state/state_stream.hpp"
 
 namespace demlink::core {
 namespace {
@@ -83,6 +87,58 @@ void placeClumpMembers(const ClumpBody& body, const ClumpTemplate& shape, Partic
     particles.velocity[slot] = body.velocity + w.cross(arm);
     particles.angular_velocity[slot] = w;
   }
+}
+
+void ClumpBody::save(StateWriter& out) const {
+  out.write(id);
+  out.write(template_index);
+  out.write(mass);
+  out.write(inertia);
+  out.write(position);
+  out.write(velocity);
+  out.write(orientation);
+  out.write(angular_momentum);
+  out.write(force);
+  out.write(torque);
+  out.writeVector(member_slots);
+}
+
+void ClumpBody::restore(StateReader& in, const std::vector<ClumpTemplate>& templates, std::size_t slotCount) {
+  ClumpBody staged;
+  staged.id = in.read<std::uint64_t>();
+  staged.template_index = in.read<std::uint32_t>();
+  staged.mass = in.read<double>();
+  staged.inertia = in.read<Vec3>();
+  staged.position = in.read<Vec3>();
+  staged.velocity = in.read<Vec3>();
+  staged.orientation = in.read<Quat>();
+  staged.angular_momentum = in.read<Vec3>();
+  staged.force = in.read<Vec3>();
+  staged.torque = in.read<Vec3>();
+  staged.member_slots = in.readVector<std::uint32_t>();
+  if (staged.template_index >= templates.size()) {
+    in.fail(std::to_string(staged.template_index), "clump template index out of range");
+  }
+  requireEqual(in, "member count of clump " + std::to_string(staged.id),
+               static_cast<std::uint64_t>(staged.member_slots.size()),
+               static_cast<std::uint64_t>(templates[staged.template_index].spheres().size()));
+  requireIndices(in, staged.member_slots, slotCount, "clump member slot");
+  *this = std::move(staged);
+}
+
+void saveClumps(StateWriter& out, const std::vector<ClumpBody>& clumps) {
+  out.write<std::uint64_t>(clumps.size());
+  for (const ClumpBody& body : clumps) body.save(out);
+}
+
+std::vector<ClumpBody> restoreClumps(StateReader& in, const std::vector<ClumpTemplate>& templates,
+                                     std::size_t slotCount) {
+  const auto count = in.read<std::uint64_t>();
+  // Each body needs well over 64 bytes: a corrupt count cannot allocate much.
+  if (count > in.remaining() / 64) in.fail(std::to_string(count), "clump count exceeds the section");
+  std::vector<ClumpBody> clumps(count);
+  for (ClumpBody& body : clumps) body.restore(in, templates, slotCount);
+  return clumps;
 }
 
 }  // namespace demlink::core

@@ -1,7 +1,9 @@
 #include "demlink/core/particles/neighbour_list.hpp"
 
 #include <algorithm>
+#include <utility>
 
+#include "demlink/core/state/state_stream.hpp"
 #include "demlink/core/step/parallel.hpp"
 
 namespace demlink::core {
@@ -138,6 +140,46 @@ void NeighbourList::build(const ParticleArrays& particles, std::span<const std::
   });
   position_at_build_.assign(x.begin(), x.end());
   ++builds_;
+}
+
+template <>
+struct StateCodec<ReducedPair> {
+  static constexpr std::size_t kBytes = 2 * sizeof(double);
+  static void write(StateWriter& out, const ReducedPair& value) {
+    out.write(value.radius);
+    out.write(value.mass);
+  }
+  static void read(StateReader& in, ReducedPair& value) {
+    value.radius = in.read<double>();
+    value.mass = in.read<double>();
+  }
+};
+
+void NeighbourList::save(StateWriter& out) const {
+  out.write(skin_);
+  out.write(builds_);
+  out.writeVector(offsets_);
+  out.writeVector(partners_);
+  out.writeVector(history_);
+  out.writeVector(reduced_);
+  out.writeVector(position_at_build_);
+}
+
+void NeighbourList::restore(StateReader& in) {
+  NeighbourList staged(in.read<double>());
+  requireEqual(in, "neighbour skin", staged.skin_, skin_);
+  staged.builds_ = in.read<std::uint64_t>();
+  staged.offsets_ = in.readVector<std::uint32_t>();
+  staged.partners_ = in.readVector<std::uint32_t>();
+  staged.history_ = in.readVector<Vec3>();
+  staged.reduced_ = in.readVector<ReducedPair>();
+  staged.position_at_build_ = in.readVector<Vec3>();
+  in.requireEnd();
+  requireOffsets(in, staged.offsets_, staged.partners_.size(), "neighbour offsets");
+  requireIndices(in, staged.partners_, staged.rowCount(), "neighbour partner");
+  requireSameLength(in, staged.history_, staged.partners_, "histories and partners differ in length");
+  requireSameLength(in, staged.reduced_, staged.partners_, "pair data and partners differ in length");
+  *this = std::move(staged);
 }
 
 }  // namespace demlink::core

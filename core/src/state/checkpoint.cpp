@@ -1,5 +1,8 @@
-/// Checkpoint writing and reading: the one place that knows which World state the
-/// next step reads (format in checkpoint.hpp and docs/state.md).
+/// Checkpoint writing and reading: the file header, the order of the sections,
+/// and the World's own counters and settings check (format in checkpoint.hpp and
+/// docs/state.md). Each stateful object writes and reads its own section payload
+/// (ParticleArrays, NeighbourList, PlaneWall, MeshBody, MeshNearList, FrameMotion,
+/// ClumpBody, the components), checking what it reads.
 ///
 /// Why everything, bit for bit: a continued run must equal an uninterrupted one,
 /// so besides positions and velocities the file holds the forces of the last
@@ -10,37 +13,24 @@
 /// pending slot map and the counters. Derived data (pair table, critical step,
 /// force kernel, cell grid, thread partition) is recomputed from the scene.
 ///
-/// Reading is in two phases: parse and check the whole file into a Restored
-/// record, then replace the world's state, so a bad file leaves the world as it was.
+/// Reading is in two phases: read and check the whole file into staging objects,
+/// then replace the world's state, so a bad file leaves the world as it was.
 #include "demlink/core/state/checkpoint.hpp"
 
 #include <cmath>
 #include <fstream>
 #include <istream>
-#include <map>
 #include <ostream>
 #include <sstream>
 #include <stdexcept>
 #include <system_error>
 
+#include "demlink/core/components/component_state.hpp"
 #include "demlink/core/input_error.hpp"
 #include "demlink/core/state/state_stream.hpp"
 #include "demlink/core/world.hpp"
 
 namespace demlink::core {
-
-template <>
-struct StateCodec<ReducedPair> {
-  static constexpr std::size_t kBytes = 2 * sizeof(double);
-  static void write(StateWriter& out, const ReducedPair& value) {
-    out.write(value.radius);
-    out.write(value.mass);
-  }
-  static void read(StateReader& in, ReducedPair& value) {
-    value.radius = in.read<double>();
-    value.mass = in.read<double>();
-  }
-};
 
 namespace {
 
@@ -83,13 +73,6 @@ void readHeader(StateReader& in) {
 StateReader findSection(StateReader& file, std::string_view tag, const std::string& name) {
   while (!file.atEnd() && file.peekTag() != tag) file.skipSection();
   return file.section(tag, name);
-}
-
-template <class T>
-void requireEqual(const StateReader& in, const std::string& what, const T& inFile, const T& inScene) {
-  if (!(inFile == inScene)) {
-    in.fail(what, "the checkpoint differs from the scene (restore into a world built from the same scene)");
-  }
 }
 
 void writeSettings(StateWriter& out, const SimulationSettings& s) {
@@ -168,87 +151,43 @@ void checkMaterials(StateReader in, const std::vector<Material>& scene) {
   }
 }
 
-void writeParticles(StateWriter& out, const ParticleArrays& particles) {
-  out.write<std::uint64_t>(particles.size());
-  std::uint32_t columns = 0;
-  particles.forEachColumn([&](const char*, const auto&) { ++columns; });
-  out.write(columns);
-  particles.forEachColumn([&](const char* name, const auto& column) {
-    using T = typename std::decay_t<decltype(column)>::value_type;
-    const std::size_t handle = out.beginSection("COL ");
-    out.writeString(name);
-    out.write(static_cast<std::uint32_t>(StateCodec<T>::kBytes));
-    out.writeVector(column);
-    out.endSection(handle);
-  });
-}
+/// World's own counters (section CLOK), read before anything is replaced.
+struct Clock {
+  std::uint64_t step_count = 0;
+  std::uint64_t next_id = 0;
+  RemovalTally removed;
+  bool rebuild_pending = false;
+  std::vector<std::uint32_t> pending;  ///< slot map since the last build (old slot -> current slot)
+};
 
-/// Reads the particle columns; every column of ParticleArrays must be present
-/// with its element size and the common row count, and no unknown column.
-ParticleArrays readParticles(StateReader in) {
-  const auto rows = in.read<std::uint64_t>();
-  const auto columns = in.read<std::uint32_t>();
-  std::map<std::string, std::pair<std::uint32_t, StateReader>> found;
-  for (std::uint32_t c = 0; c < columns; ++c) {
-    StateReader column = in.section("COL ", "particles.column[" + std::to_string(c) + "]");
-    std::string name = column.readString();
-    const auto bytes = column.read<std::uint32_t>();
-    found.emplace(name, std::pair{bytes, StateReader(column)});
-  }
+Clock readClock(StateReader& in) {
+  Clock clock;
+  clock.step_count = in.read<std::uint64_t>();
+  clock.next_id = in.read<std::uint64_t>();
+  clock.removed.count = in.read<std::uint64_t>();
+  clock.removed.mass = in.read<double>();
+  clock.rebuild_pending = in.read<std::uint8_t>() != 0;
+  clock.pending = in.readVector<std::uint32_t>();
   in.requireEnd();
-  ParticleArrays particles;
-  std::size_t used = 0;
-  particles.forEachColumn([&](const char* name, auto& column) {
-    using T = typename std::decay_t<decltype(column)>::value_type;
-    const auto it = found.find(name);
-    if (it == found.end()) in.fail(name, "particle column missing from the checkpoint");
-    StateReader& data = it->second.second;
-    if (it->second.first != StateCodec<T>::kBytes) {
-      data.fail(std::to_string(it->second.first), std::string("element size of column ") + name + " should be " +
-                                                      std::to_string(StateCodec<T>::kBytes));
-    }
-    column = data.readVector<T>();
-    data.requireEnd();
-    if (column.size() != rows) {
-      data.fail(std::to_string(column.size()), std::string("column ") + name + " length differs from the " +
-                                                   std::to_string(rows) + " particles");
-    }
-    ++used;
-  });
-  if (used != found.size()) {
-    for (const auto& entry : found) {
-      bool known = false;
-      particles.forEachColumn([&](const char* name, const auto&) { known = known || entry.first == name; });
-      if (!known) in.fail(entry.first, "particle column unknown to this engine (written by a newer version?)");
-    }
-  }
-  return particles;
+  return clock;
 }
 
-/// Every index in `indices` is below `limit` (or kRemovedSlot when allowed).
-void requireIndices(const StateReader& in, const std::vector<std::uint32_t>& indices, std::size_t limit,
-                    const std::string& what, bool removedAllowed = false) {
-  for (std::uint32_t index : indices) {
-    if (index >= limit && !(removedAllowed && index == kRemovedSlot)) {
-      in.fail(std::to_string(index), what + " out of range (limit " + std::to_string(limit) + ")");
-    }
+/// Rows and near-list slots are numbered as at the last build: the current slots
+/// unless a slot mapping is pending; without a pending rebuild they are the particles.
+void checkRowsAgainstParticles(const StateReader& clockSection, const StateReader& nbrl, const Clock& clock,
+                               std::size_t rows, std::size_t particles) {
+  requireIndices(clockSection, clock.pending, particles, "pending slot map entry", true);
+  if (!clock.pending.empty() && clock.pending.size() != rows) {
+    clockSection.fail(std::to_string(clock.pending.size()), "pending slot map does not match the " +
+                                                                std::to_string(rows) + " rows of the neighbour list");
   }
-}
-
-/// offsets: starts at 0, non-decreasing, ends at `entries`.
-void requireOffsets(const StateReader& in, const std::vector<std::uint32_t>& offsets, std::size_t entries,
-                    const std::string& what) {
-  if (offsets.empty() || offsets.front() != 0 || offsets.back() != entries) {
-    in.fail(what, "row offsets inconsistent with " + std::to_string(entries) + " entries");
+  if (clock.pending.empty() && rows > particles) {
+    nbrl.fail(std::to_string(rows), "neighbour list has more rows than the " + std::to_string(particles) +
+                                        " particles and no slot map");
   }
-  for (std::size_t k = 1; k < offsets.size(); ++k) {
-    if (offsets[k] < offsets[k - 1]) in.fail(what, "row offsets decrease");
+  if (!clock.rebuild_pending && (rows != particles || !clock.pending.empty())) {
+    nbrl.fail(std::to_string(rows), "neighbour list rows differ from the " + std::to_string(particles) + " particles");
   }
-}
-
-template <class A, class B>
-void requireSameLength(const StateReader& in, const A& a, const B& b, const std::string& what) {
-  if (a.size() != b.size()) in.fail(std::to_string(a.size()) + " vs " + std::to_string(b.size()), what);
 }
 
 }  // namespace
@@ -256,112 +195,45 @@ void requireSameLength(const StateReader& in, const A& a, const B& b, const std:
 void World::saveCheckpoint(std::ostream& out) const {
   StateWriter w;
   writeHeader(w);
-  std::size_t s = w.beginSection("SETT");
-  writeSettings(w, settings_);
-  w.endSection(s);
-
-  s = w.beginSection("MATL");
-  w.write<std::uint64_t>(materials_.size());
-  for (const Material& m : materials_) writeMaterial(w, m);
-  w.endSection(s);
-
-  s = w.beginSection("CLOK");
-  w.write(step_count_);
-  w.write(next_id_);
-  w.write(removed_at_bounds_.count);
-  w.write(removed_at_bounds_.mass);
-  w.write(static_cast<std::uint8_t>(rebuild_pending_));
-  w.writeVector(pending_new_slot_of_old_);
-  w.endSection(s);
-
-  s = w.beginSection("PART");
-  writeParticles(w, particles_);
-  w.endSection(s);
-
-  s = w.beginSection("NBRL");
-  w.write(neighbours_.skin_);
-  w.write(neighbours_.builds_);
-  w.writeVector(neighbours_.offsets_);
-  w.writeVector(neighbours_.partners_);
-  w.writeVector(neighbours_.history_);
-  w.writeVector(neighbours_.reduced_);
-  w.writeVector(neighbours_.position_at_build_);
-  w.endSection(s);
-
-  s = w.beginSection("PLAN");
-  w.write<std::uint64_t>(planes_.size());
-  for (const PlaneWall& wall : planes_) {
-    w.writeString(wall.spec.name);
-    w.writeVector(wall.near_slots);
-    w.writeVector(wall.near_history);
-    w.write(wall.force);
-    w.write(wall.torque);
-  }
-  w.endSection(s);
-
-  s = w.beginSection("MESH");
-  w.write<std::uint64_t>(meshes_.size());
-  for (std::size_t m = 0; m < meshes_.size(); ++m) {
-    const MeshBody& mesh = meshes_[m];
-    w.writeString(mesh.name_);
-    w.write<std::uint64_t>(mesh.triangles_.size());
-    w.write(mesh.position_);
-    w.write(mesh.orientation_);
-    w.write(mesh.linearVelocity_);
-    w.write(mesh.angularVelocity_);
-    w.write(mesh.force_);
-    w.write(mesh.torque_);
-    w.write(mesh.markPosition_);
-    w.write(mesh.markOrientation_);
-    const MeshNearList& near = mesh_near_[m];
-    w.writeVector(near.slots);
-    w.writeVector(near.offsets);
-    w.writeVector(near.triangles);
-    w.writeVector(near.history);
-  }
-  w.endSection(s);
-
-  s = w.beginSection("ROOM");
-  w.write(current_bounds_.lower);
-  w.write(current_bounds_.upper);
-  w.write(settings_.frame.linear_acceleration);
-  w.write(settings_.frame.angular_velocity);  // advanced by alpha dt every step
-  w.write(settings_.frame.angular_acceleration);
-  w.write(settings_.frame.origin);
-  w.writeVector(mesh_colliding_);
-  w.endSection(s);
-
-  s = w.beginSection("CLMP");
-  w.write<std::uint64_t>(clump_templates_.size());
-  w.write(next_clump_id_);
-  w.write<std::uint64_t>(clumps_.size());
-  for (const ClumpBody& body : clumps_) {
-    w.write(body.id);
-    w.write(body.template_index);
-    w.write(body.mass);
-    w.write(body.inertia);
-    w.write(body.position);
-    w.write(body.velocity);
-    w.write(body.orientation);
-    w.write(body.angular_momentum);
-    w.write(body.force);
-    w.write(body.torque);
-    w.writeVector(body.member_slots);
-  }
-  w.endSection(s);
-
-  s = w.beginSection("COMP");
-  w.write<std::uint64_t>(components_.size());
-  for (const auto& component : components_) {
-    w.writeString(component->name());
-    w.writeString(component->kind());
-    const std::size_t data = w.beginSection("DATA");
-    component->saveState(w);
-    w.endSection(data);
-  }
-  w.endSection(s);
-
-  w.endSection(w.beginSection("END "));
+  w.section("SETT", [&] { writeSettings(w, settings_); });
+  w.section("MATL", [&] {
+    w.write<std::uint64_t>(materials_.size());
+    for (const Material& m : materials_) writeMaterial(w, m);
+  });
+  w.section("CLOK", [&] {
+    w.write(step_count_);
+    w.write(next_id_);
+    w.write(removed_at_bounds_.count);
+    w.write(removed_at_bounds_.mass);
+    w.write(static_cast<std::uint8_t>(rebuild_pending_));
+    w.writeVector(pending_new_slot_of_old_);
+  });
+  w.section("PART", [&] { particles_.save(w); });
+  w.section("NBRL", [&] { neighbours_.save(w); });
+  w.section("PLAN", [&] {
+    w.write<std::uint64_t>(planes_.size());
+    for (const PlaneWall& wall : planes_) wall.save(w);
+  });
+  w.section("MESH", [&] {
+    w.write<std::uint64_t>(meshes_.size());
+    for (std::size_t m = 0; m < meshes_.size(); ++m) {
+      meshes_[m].save(w);
+      mesh_near_[m].save(w);
+    }
+  });
+  w.section("ROOM", [&] {
+    w.write(current_bounds_.lower);
+    w.write(current_bounds_.upper);
+    settings_.frame.save(w);
+    w.writeVector(mesh_colliding_);
+  });
+  w.section("CLMP", [&] {
+    w.write<std::uint64_t>(clump_templates_.size());
+    w.write(next_clump_id_);
+    saveClumps(w, clumps_);
+  });
+  w.section("COMP", [&] { saveComponents(w, components_); });
+  w.section("END ", [] {});
   out.write(w.bytes().data(), static_cast<std::streamsize>(w.bytes().size()));
   if (!out) throw std::runtime_error("checkpoint: writing failed");
 }
@@ -376,112 +248,38 @@ void World::restoreCheckpoint(std::istream& in, const std::string& source) {
 
 void World::restoreCheckpoint(std::string_view bytes, const std::string& source) {
   if (!initialized_) initialize();
+  // Phase 1: every section into staging objects, each checked by its reader.
   StateReader file(bytes, source, "header");
   readHeader(file);
   checkSettings(file.section("SETT", "settings"), settings_);
   checkMaterials(file.section("MATL", "materials"), materials_);
-
-  StateReader clock = file.section("CLOK", "clock");
-  const auto stepCount = clock.read<std::uint64_t>();
-  const auto nextId = clock.read<std::uint64_t>();
-  RemovalTally removed;
-  removed.count = clock.read<std::uint64_t>();
-  removed.mass = clock.read<double>();
-  const bool rebuildPending = clock.read<std::uint8_t>() != 0;
-  std::vector<std::uint32_t> pending = clock.readVector<std::uint32_t>();
-  clock.requireEnd();
+  StateReader clockSection = file.section("CLOK", "clock");
+  const Clock clock = readClock(clockSection);
 
   StateReader partSection = file.section("PART", "particles");
-  ParticleArrays particles = readParticles(partSection);
-  const std::size_t n = particles.size();
+  ParticleArrays particles;
+  particles.restore(partSection);
   requireIndices(partSection, particles.material, materials_.size(), "particle material index");
-  requireIndices(clock, pending, n, "pending slot map entry", true);
 
   StateReader nbrl = file.section("NBRL", "neighbour_list");
-  NeighbourList neighbours(nbrl.read<double>());
-  requireEqual(nbrl, "neighbour skin", neighbours.skin_, neighbours_.skin_);
-  neighbours.builds_ = nbrl.read<std::uint64_t>();
-  neighbours.offsets_ = nbrl.readVector<std::uint32_t>();
-  neighbours.partners_ = nbrl.readVector<std::uint32_t>();
-  neighbours.history_ = nbrl.readVector<Vec3>();
-  neighbours.reduced_ = nbrl.readVector<ReducedPair>();
-  neighbours.position_at_build_ = nbrl.readVector<Vec3>();
-  nbrl.requireEnd();
-  // Rows and near-list slots are numbered as at the last build: the current
-  // slots unless a slot mapping is pending.
-  const std::size_t rows = neighbours.offsets_.empty() ? 0 : neighbours.offsets_.size() - 1;
-  requireOffsets(nbrl, neighbours.offsets_, neighbours.partners_.size(), "neighbour offsets");
-  requireIndices(nbrl, neighbours.partners_, rows, "neighbour partner");
-  requireSameLength(nbrl, neighbours.history_, neighbours.partners_, "histories and partners differ in length");
-  requireSameLength(nbrl, neighbours.reduced_, neighbours.partners_, "pair data and partners differ in length");
-  if (!pending.empty() && pending.size() != rows) {
-    clock.fail(std::to_string(pending.size()), "pending slot map does not match the " + std::to_string(rows) +
-                                                   " rows of the neighbour list");
-  }
-  if (pending.empty() && rows > n) {
-    nbrl.fail(std::to_string(rows), "neighbour list has more rows than the " + std::to_string(n) +
-                                        " particles and no slot map");
-  }
-  if (!rebuildPending && (rows != n || !pending.empty())) {
-    nbrl.fail(std::to_string(rows), "neighbour list rows differ from the " + std::to_string(n) + " particles");
-  }
+  NeighbourList neighbours(neighbours_.skin());
+  neighbours.restore(nbrl);
+  const std::size_t rows = neighbours.rowCount();
+  checkRowsAgainstParticles(clockSection, nbrl, clock, rows, particles.size());
 
   StateReader plan = file.section("PLAN", "planes");
-  const auto planeCount = plan.read<std::uint64_t>();
-  requireEqual(plan, "plane count " + std::to_string(planeCount), planeCount,
-               static_cast<std::uint64_t>(planes_.size()));
+  readMatchingCount(plan, "plane", planes_.size());
   std::vector<PlaneWall> planes = planes_;
-  for (PlaneWall& wall : planes) {
-    const std::string name = plan.readString();
-    requireEqual(plan, "plane name " + quoted(name), name, wall.spec.name);
-    wall.near_slots = plan.readVector<std::uint32_t>();
-    wall.near_history = plan.readVector<Vec3>();
-    wall.force = plan.read<Vec3>();
-    wall.torque = plan.read<Vec3>();
-    requireIndices(plan, wall.near_slots, rows, "plane near-list slot");
-    requireSameLength(plan, wall.near_history, wall.near_slots, "plane histories and slots differ in length");
-  }
+  for (PlaneWall& wall : planes) wall.restore(plan, rows);
   plan.requireEnd();
 
   StateReader meshSection = file.section("MESH", "meshes");
-  const auto meshCount = meshSection.read<std::uint64_t>();
-  requireEqual(meshSection, "mesh count " + std::to_string(meshCount), meshCount,
-               static_cast<std::uint64_t>(meshes_.size()));
-  struct MeshState {
-    Vec3 position, linear, angular, force, torque, mark_position;
-    Quat orientation, mark_orientation;
-    MeshNearList near;
-  };
-  std::vector<MeshState> meshStates(meshes_.size());
+  readMatchingCount(meshSection, "mesh", meshes_.size());
+  std::vector<MeshBody::State> meshStates;
+  std::vector<MeshNearList> meshNear(meshes_.size());
   for (std::size_t m = 0; m < meshes_.size(); ++m) {
-    MeshState& state = meshStates[m];
-    const std::string name = meshSection.readString();
-    requireEqual(meshSection, "mesh name " + quoted(name), name, meshes_[m].name_);
-    const auto triangles = meshSection.read<std::uint64_t>();
-    requireEqual(meshSection, "triangle count " + std::to_string(triangles) + " of mesh " + quoted(name),
-                 triangles, static_cast<std::uint64_t>(meshes_[m].triangles_.size()));
-    state.position = meshSection.read<Vec3>();
-    state.orientation = meshSection.read<Quat>();
-    state.linear = meshSection.read<Vec3>();
-    state.angular = meshSection.read<Vec3>();
-    state.force = meshSection.read<Vec3>();
-    state.torque = meshSection.read<Vec3>();
-    state.mark_position = meshSection.read<Vec3>();
-    state.mark_orientation = meshSection.read<Quat>();
-    state.near.slots = meshSection.readVector<std::uint32_t>();
-    state.near.offsets = meshSection.readVector<std::uint32_t>();
-    state.near.triangles = meshSection.readVector<std::uint32_t>();
-    state.near.history = meshSection.readVector<Vec3>();
-    requireIndices(meshSection, state.near.slots, rows, "mesh near-list slot");
-    requireIndices(meshSection, state.near.triangles, triangles, "mesh near-list triangle");
-    requireOffsets(meshSection, state.near.offsets, state.near.triangles.size(), "mesh near-list offsets");
-    if (state.near.offsets.size() != state.near.slots.size() + 1) {
-      meshSection.fail(std::to_string(state.near.offsets.size()), "mesh near-list offsets do not match its slots");
-    }
-    requireSameLength(meshSection, state.near.history, state.near.triangles,
-                      "mesh histories and candidates differ in length");
-    const double qNorm = state.orientation.norm();
-    if (!(std::abs(qNorm - 1.0) < 1.0e-9)) meshSection.fail("orientation", "not a unit quaternion");
+    meshStates.push_back(meshes_[m].readState(meshSection));
+    meshNear[m].restore(meshSection, rows, meshes_[m].triangles().size());
   }
   meshSection.requireEnd();
 
@@ -490,112 +288,42 @@ void World::restoreCheckpoint(std::string_view bytes, const std::string& source)
   bounds.lower = room.read<Vec3>();
   bounds.upper = room.read<Vec3>();
   FrameMotion frame;
-  frame.linear_acceleration = room.read<Vec3>();
-  frame.angular_velocity = room.read<Vec3>();
-  frame.angular_acceleration = room.read<Vec3>();
-  frame.origin = room.read<Vec3>();
+  frame.restore(room);
   std::vector<char> colliding = room.readVector<char>();
   room.requireEnd();
   requireEqual(room, "colliding-flag count", static_cast<std::uint64_t>(colliding.size()),
                static_cast<std::uint64_t>(mesh_colliding_.size()));
 
   StateReader clmp = file.section("CLMP", "clumps");
-  requireEqual(clmp, "clump template count", clmp.read<std::uint64_t>(),
-               static_cast<std::uint64_t>(clump_templates_.size()));
+  readMatchingCount(clmp, "clump template", clump_templates_.size());
   const auto nextClumpId = clmp.read<std::uint64_t>();
-  const auto clumpCount = clmp.read<std::uint64_t>();
-  // Each body needs well over 64 bytes: a corrupt count cannot allocate much.
-  if (clumpCount > clmp.remaining() / 64) clmp.fail(std::to_string(clumpCount), "clump count exceeds the section");
-  std::vector<ClumpBody> clumps(clumpCount);
-  for (ClumpBody& body : clumps) {
-    body.id = clmp.read<std::uint64_t>();
-    body.template_index = clmp.read<std::uint32_t>();
-    body.mass = clmp.read<double>();
-    body.inertia = clmp.read<Vec3>();
-    body.position = clmp.read<Vec3>();
-    body.velocity = clmp.read<Vec3>();
-    body.orientation = clmp.read<Quat>();
-    body.angular_momentum = clmp.read<Vec3>();
-    body.force = clmp.read<Vec3>();
-    body.torque = clmp.read<Vec3>();
-    body.member_slots = clmp.readVector<std::uint32_t>();
-    if (body.template_index >= clump_templates_.size()) {
-      clmp.fail(std::to_string(body.template_index), "clump template index out of range");
-    }
-    requireEqual(clmp, "member count of clump " + std::to_string(body.id),
-                 static_cast<std::uint64_t>(body.member_slots.size()),
-                 static_cast<std::uint64_t>(clump_templates_[body.template_index].spheres().size()));
-    requireIndices(clmp, body.member_slots, n, "clump member slot");
-  }
+  std::vector<ClumpBody> clumps = restoreClumps(clmp, clump_templates_, particles.size());
   clmp.requireEnd();
 
   StateReader comp = file.section("COMP", "components");
-  const auto componentCount = comp.read<std::uint64_t>();
-  requireEqual(comp, "component count " + std::to_string(componentCount), componentCount,
-               static_cast<std::uint64_t>(components_.size()));
-  std::vector<StateReader> componentData;
-  for (const auto& component : components_) {
-    const std::string name = comp.readString();
-    const std::string kind = comp.readString();
-    requireEqual(comp, "component " + quoted(name), name, component->name());
-    requireEqual(comp, "kind " + quoted(kind) + " of component " + quoted(name), kind,
-                 std::string(component->kind()));
-    componentData.push_back(comp.section("DATA", "components." + name));
-  }
-  comp.requireEnd();
+  std::vector<StateReader> componentData = readComponentSections(comp, components_);
   (void)file.section("END ", "end");
   file.requireEnd();
+  // Components check their data while loading it and roll back together on failure.
+  restoreComponents(components_, componentData, source);
 
-  // Components check their own data while loading it; if one refuses, every
-  // component gets its previous state back, so a failed restore changes nothing.
-  std::vector<std::string> previousStates;
-  for (const auto& component : components_) {
-    StateWriter backup;
-    component->saveState(backup);
-    previousStates.push_back(backup.bytes());
-  }
-  try {
-    for (std::size_t k = 0; k < components_.size(); ++k) {
-      components_[k]->loadState(componentData[k]);
-      componentData[k].requireEnd();
-    }
-  } catch (...) {
-    for (std::size_t k = 0; k < components_.size(); ++k) {
-      StateReader backup(previousStates[k], source, "components." + components_[k]->name());
-      components_[k]->loadState(backup);
-    }
-    throw;
-  }
-
-  // Everything read and checked: replace the state.
+  // Phase 2: everything read and checked: replace the state.
   particles_ = std::move(particles);
   neighbours_ = std::move(neighbours);
   planes_ = std::move(planes);
-  for (std::size_t m = 0; m < meshes_.size(); ++m) {
-    MeshBody& mesh = meshes_[m];
-    const MeshState& state = meshStates[m];
-    mesh.position_ = state.position;
-    mesh.orientation_ = state.orientation;
-    mesh.linearVelocity_ = state.linear;
-    mesh.angularVelocity_ = state.angular;
-    mesh.force_ = state.force;
-    mesh.torque_ = state.torque;
-    mesh.markPosition_ = state.mark_position;
-    mesh.markOrientation_ = state.mark_orientation;
-    mesh.updateWorldGeometry();
-    mesh_near_[m] = state.near;
-  }
+  for (std::size_t m = 0; m < meshes_.size(); ++m) meshes_[m].restoreState(meshStates[m]);
+  mesh_near_ = std::move(meshNear);
   current_bounds_ = bounds;
   settings_.frame = frame;
   frame_moving_ = !frame.isInertial();
   mesh_colliding_ = std::move(colliding);
   clumps_ = std::move(clumps);
   next_clump_id_ = nextClumpId;
-  step_count_ = stepCount;
-  next_id_ = nextId;
-  removed_at_bounds_ = removed;
-  rebuild_pending_ = rebuildPending;
-  pending_new_slot_of_old_ = std::move(pending);
+  step_count_ = clock.step_count;
+  next_id_ = clock.next_id;
+  removed_at_bounds_ = clock.removed;
+  rebuild_pending_ = clock.rebuild_pending;
+  pending_new_slot_of_old_ = clock.pending;
   partition_.plan(neighbours_.offsets(), settings_.threads);
 }
 
@@ -638,7 +366,8 @@ CheckpointParticles readCheckpointParticles(const std::filesystem::path& path) {
   StateReader clock = findSection(file, "CLOK", "clock");
   out.time = static_cast<double>(clock.read<std::uint64_t>()) * dt;
   StateReader partSection = findSection(file, "PART", "particles");
-  const ParticleArrays p = readParticles(partSection);
+  ParticleArrays p;
+  p.restore(partSection);
   requireIndices(partSection, p.material, out.material_names.size(), "particle material index");
   out.particles.resize(p.size());
   for (std::size_t i = 0; i < p.size(); ++i) {

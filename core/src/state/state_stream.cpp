@@ -1,5 +1,7 @@
 #include "demlink/core/state/state_stream.hpp"
 
+#include <limits>
+
 #include "demlink/core/input_error.hpp"
 
 namespace demlink::core {
@@ -106,6 +108,31 @@ void StateReader::skipSection() {
 
 void StateReader::requireEnd() const {
   if (!atEnd()) fail(std::to_string(remaining()) + " bytes", "unexpected data at the end of the section (corrupt file)");
+}
+
+void readMatchingCount(StateReader& in, const std::string& what, std::size_t inScene) {
+  const auto count = in.read<std::uint64_t>();
+  requireEqual(in, what + " count " + std::to_string(count), count, static_cast<std::uint64_t>(inScene));
+}
+
+void requireIndices(const StateReader& in, const std::vector<std::uint32_t>& indices, std::size_t limit,
+                    const std::string& what, bool removedAllowed) {
+  constexpr std::uint32_t kRemoved = std::numeric_limits<std::uint32_t>::max();
+  for (std::uint32_t index : indices) {
+    if (index >= limit && !(removedAllowed && index == kRemoved)) {
+      in.fail(std::to_string(index), what + " out of range (limit " + std::to_string(limit) + ")");
+    }
+  }
+}
+
+void requireOffsets(const StateReader& in, const std::vector<std::uint32_t>& offsets, std::size_t entries,
+                    const std::string& what) {
+  if (offsets.empty() || offsets.front() != 0 || offsets.back() != entries) {
+    in.fail(what, "row offsets inconsistent with " + std::to_string(entries) + " entries");
+  }
+  for (std::size_t k = 1; k < offsets.size(); ++k) {
+    if (offsets[k] < offsets[k - 1]) in.fail(what, "row offsets decrease");
+  }
 }
 
 }  // namespace demlink::core

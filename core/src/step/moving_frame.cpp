@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/state/state_stream.hpp"
 #include "demlink/core/step/integrator.hpp"
 #include "demlink/core/step/parallel.hpp"
 
@@ -82,6 +83,22 @@ void FrameMotion::validate(const std::string& fieldPrefix) const {
   finite("angular_velocity", angular_velocity);
   finite("angular_acceleration", angular_acceleration);
   finite("origin", origin);
+}
+
+void FrameMotion::save(StateWriter& out) const {
+  out.write(linear_acceleration);
+  out.write(angular_velocity);
+  out.write(angular_acceleration);
+  out.write(origin);
+}
+
+void FrameMotion::restore(StateReader& in) {
+  FrameMotion staged;
+  staged.linear_acceleration = in.read<Vec3>();
+  staged.angular_velocity = in.read<Vec3>();
+  staged.angular_acceleration = in.read<Vec3>();
+  staged.origin = in.read<Vec3>();
+  *this = staged;
 }
 
 void frameKick(ParticleArrays& p, const Vec3& gravity, const FrameMotion& frame, double h, ThreadPool* pool) {

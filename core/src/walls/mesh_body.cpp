@@ -11,6 +11,7 @@
 #include <cmath>
 
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/state/state_stream.hpp"
 #include "demlink/core/walls/stl_reader.hpp"
 
 namespace demlink::core {
@@ -78,29 +79,29 @@ TriangleMesh rectangleMesh(const Vec3& centre, double halfX, double halfY, std::
 MeshBody::MeshBody(std::string name, std::vector<Vec3> localVertices,
                    std::vector<std::array<std::uint32_t, 3>> triangles, std::uint32_t materialIndex)
     : name_(std::move(name)),
-      localVertices_(std::move(localVertices)),
+      local_vertices_(std::move(localVertices)),
       triangles_(std::move(triangles)),
-      materialIndex_(materialIndex) {
+      material_index_(materialIndex) {
   const std::string prefix = name_.empty() ? std::string("mesh") : name_;
   if (triangles_.empty()) throw InputError(prefix + ".triangles", "0", "mesh has no triangles");
-  for (std::size_t i = 0; i < localVertices_.size(); ++i) {
-    requireFiniteVec(prefix + ".vertices[" + std::to_string(i) + "]", localVertices_[i]);
-    boundingRadius_ = std::max(boundingRadius_, localVertices_[i].norm());
+  for (std::size_t i = 0; i < local_vertices_.size(); ++i) {
+    requireFiniteVec(prefix + ".vertices[" + std::to_string(i) + "]", local_vertices_[i]);
+    bounding_radius_ = std::max(bounding_radius_, local_vertices_[i].norm());
   }
-  localNormals_.reserve(triangles_.size());
+  local_normals_.reserve(triangles_.size());
   for (std::size_t t = 0; t < triangles_.size(); ++t) {
     for (const std::uint32_t idx : triangles_[t]) {
-      if (idx >= localVertices_.size()) {
+      if (idx >= local_vertices_.size()) {
         throw InputError(
             prefix + ".triangles[" + std::to_string(t) + "]", std::to_string(idx),
-            "vertex index out of range (" + std::to_string(localVertices_.size()) + " vertices)");
+            "vertex index out of range (" + std::to_string(local_vertices_.size()) + " vertices)");
       }
     }
     const auto& tri = triangles_[t];
-    const Vec3 n = (localVertices_[tri[1]] - localVertices_[tri[0]])
-                       .cross(localVertices_[tri[2]] - localVertices_[tri[0]]);
+    const Vec3 n = (local_vertices_[tri[1]] - local_vertices_[tri[0]])
+                       .cross(local_vertices_[tri[2]] - local_vertices_[tri[0]]);
     const double len = n.norm();
-    localNormals_.push_back(len > 0.0 ? Vec3(n / len) : Vec3::Zero());
+    local_normals_.push_back(len > 0.0 ? Vec3(n / len) : Vec3::Zero());
   }
   updateWorldGeometry();
   markNeighbourBuild();
@@ -112,7 +113,7 @@ MeshBody MeshBody::fromStl(std::string name, const std::string& path,
   StlMesh stl = readStl(path);
   for (Vec3& v : stl.vertices) v -= referencePointInFile;
   MeshBody body(std::move(name), std::move(stl.vertices), std::move(stl.triangles), materialIndex);
-  body.loadWarnings_ = std::move(stl.warnings);
+  body.load_warnings_ = std::move(stl.warnings);
   body.setPose(referencePointInFile, Quat::Identity());
   body.markNeighbourBuild();
   return body;
@@ -128,58 +129,58 @@ void MeshBody::setPose(const Vec3& position, const Quat& orientation) {
                          ", y=" + formatValue(q.y()) + ", z=" + formatValue(q.z()) + ")",
                      "quaternion must be finite with non-zero norm");
   }
-  position_ = position;
-  orientation_ = Quat(orientation.coeffs() / norm);
+  state_.position = position;
+  state_.orientation = Quat(orientation.coeffs() / norm);
   updateWorldGeometry();
 }
 
 void MeshBody::setVelocity(const Vec3& linear, const Vec3& angular) {
   requireFiniteVec("velocity.linear", linear);
   requireFiniteVec("velocity.angular", angular);
-  linearVelocity_ = linear;
-  angularVelocity_ = angular;
+  state_.linear_velocity = linear;
+  state_.angular_velocity = angular;
 }
 
 void MeshBody::advance(double dt) {
   requireFinite("dt", dt);
-  position_ += linearVelocity_ * dt;
-  const double rate = angularVelocity_.norm();
+  state_.position += state_.linear_velocity * dt;
+  const double rate = state_.angular_velocity.norm();
   const double angle = rate * dt;
   if (angle != 0.0) {
-    const Vec3 axisSin = std::sin(0.5 * angle) * (angularVelocity_ / rate);
+    const Vec3 axisSin = std::sin(0.5 * angle) * (state_.angular_velocity / rate);
     const Quat dq(std::cos(0.5 * angle), axisSin.x(), axisSin.y(), axisSin.z());
-    orientation_ = (dq * orientation_).normalized();
+    state_.orientation = (dq * state_.orientation).normalized();
   }
   updateWorldGeometry();
 }
 
 void MeshBody::updateWorldGeometry() {
-  const Mat3 rot = orientation_.toRotationMatrix();
-  worldVertices_.resize(localVertices_.size());
-  for (std::size_t i = 0; i < localVertices_.size(); ++i) {
-    worldVertices_[i] = position_ + rot * localVertices_[i];
+  const Mat3 rot = state_.orientation.toRotationMatrix();
+  world_vertices_.resize(local_vertices_.size());
+  for (std::size_t i = 0; i < local_vertices_.size(); ++i) {
+    world_vertices_[i] = state_.position + rot * local_vertices_[i];
   }
-  worldNormals_.resize(localNormals_.size());
-  for (std::size_t t = 0; t < localNormals_.size(); ++t) worldNormals_[t] = rot * localNormals_[t];
+  world_normals_.resize(local_normals_.size());
+  for (std::size_t t = 0; t < local_normals_.size(); ++t) world_normals_[t] = rot * local_normals_[t];
 }
 
 Vec3 MeshBody::velocityAt(const Vec3& worldPoint) const {
-  return linearVelocity_ + angularVelocity_.cross(worldPoint - position_);
+  return state_.linear_velocity + state_.angular_velocity.cross(worldPoint - state_.position);
 }
 
 void MeshBody::addContactForce(const Vec3& forceOnMesh, const Vec3& worldPoint) {
-  force_ += forceOnMesh;
-  torque_ += (worldPoint - position_).cross(forceOnMesh);
+  state_.force += forceOnMesh;
+  state_.torque += (worldPoint - state_.position).cross(forceOnMesh);
 }
 
 void MeshBody::addWrench(const Vec3& force, const Vec3& torqueAboutReference) {
-  force_ += force;
-  torque_ += torqueAboutReference;
+  state_.force += force;
+  state_.torque += torqueAboutReference;
 }
 
 void MeshBody::clearWrench() {
-  force_.setZero();
-  torque_.setZero();
+  state_.force.setZero();
+  state_.torque.setZero();
 }
 
 void MeshBody::setCollisionWindow(double from, double until) {
@@ -188,21 +189,58 @@ void MeshBody::setCollisionWindow(double from, double until) {
   if (until < from) {
     throw InputError("active_until", formatValue(until), "must not be earlier than active_from = " + formatValue(from));
   }
-  collideFrom_ = from;
-  collideUntil_ = until;
+  collide_from_ = from;
+  collide_until_ = until;
 }
 
 void MeshBody::markNeighbourBuild() {
-  markPosition_ = position_;
-  markOrientation_ = orientation_;
+  state_.mark_position = state_.position;
+  state_.mark_orientation = state_.orientation;
 }
 
 double MeshBody::maxDisplacementSinceMark() const {
   // Relative rotation q q0^-1 has |vec| = sin(theta/2) (for a unit quaternion).
-  const Quat rel = orientation_ * markOrientation_.conjugate();
+  const Quat rel = state_.orientation * state_.mark_orientation.conjugate();
   const double relNorm = rel.norm();
   const double sinHalf = relNorm > 0.0 ? std::min(1.0, rel.vec().norm() / relNorm) : 0.0;
-  return (position_ - markPosition_).norm() + 2.0 * boundingRadius_ * sinHalf;
+  return (state_.position - state_.mark_position).norm() + 2.0 * bounding_radius_ * sinHalf;
+}
+
+void MeshBody::save(StateWriter& out) const {
+  out.writeString(name_);
+  out.write<std::uint64_t>(triangles_.size());
+  out.write(state_.position);
+  out.write(state_.orientation);
+  out.write(state_.linear_velocity);
+  out.write(state_.angular_velocity);
+  out.write(state_.force);
+  out.write(state_.torque);
+  out.write(state_.mark_position);
+  out.write(state_.mark_orientation);
+}
+
+MeshBody::State MeshBody::readState(StateReader& in) const {
+  const std::string name = in.readString();
+  requireEqual(in, "mesh name \"" + name + "\"", name, name_);
+  const auto triangles = in.read<std::uint64_t>();
+  requireEqual(in, "triangle count " + std::to_string(triangles) + " of mesh \"" + name + "\"", triangles,
+               static_cast<std::uint64_t>(triangles_.size()));
+  State state;
+  state.position = in.read<Vec3>();
+  state.orientation = in.read<Quat>();
+  state.linear_velocity = in.read<Vec3>();
+  state.angular_velocity = in.read<Vec3>();
+  state.force = in.read<Vec3>();
+  state.torque = in.read<Vec3>();
+  state.mark_position = in.read<Vec3>();
+  state.mark_orientation = in.read<Quat>();
+  if (!(std::abs(state.orientation.norm() - 1.0) < 1.0e-9)) in.fail("orientation", "not a unit quaternion");
+  return state;
+}
+
+void MeshBody::restoreState(const State& state) {
+  state_ = state;
+  updateWorldGeometry();
 }
 
 }  // namespace demlink::core

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <utility>
 
+#include "demlink/core/state/state_stream.hpp"
 #include "demlink/core/walls/triangle_geometry.hpp"
 
 namespace demlink::core {
@@ -69,6 +71,29 @@ void MeshNearList::build(const ParticleArrays& particles, const MeshBody& mesh, 
     }
     offsets.push_back(static_cast<std::uint32_t>(triangles.size()));
   }
+}
+
+void MeshNearList::save(StateWriter& out) const {
+  out.writeVector(slots);
+  out.writeVector(offsets);
+  out.writeVector(triangles);
+  out.writeVector(history);
+}
+
+void MeshNearList::restore(StateReader& in, std::size_t slotCount, std::size_t triangleCount) {
+  MeshNearList staged;
+  staged.slots = in.readVector<std::uint32_t>();
+  staged.offsets = in.readVector<std::uint32_t>();
+  staged.triangles = in.readVector<std::uint32_t>();
+  staged.history = in.readVector<Vec3>();
+  requireIndices(in, staged.slots, slotCount, "mesh near-list slot");
+  requireIndices(in, staged.triangles, triangleCount, "mesh near-list triangle");
+  requireOffsets(in, staged.offsets, staged.triangles.size(), "mesh near-list offsets");
+  if (staged.offsets.size() != staged.slots.size() + 1) {
+    in.fail(std::to_string(staged.offsets.size()), "mesh near-list offsets do not match its slots");
+  }
+  requireSameLength(in, staged.history, staged.triangles, "mesh histories and candidates differ in length");
+  *this = std::move(staged);
 }
 
 }  // namespace demlink::core

@@ -1,5 +1,9 @@
 #include "demlink/core/walls/plane_wall.hpp"
 
+#include <utility>
+
+#include "demlink/core/state/state_stream.hpp"
+
 namespace demlink::core {
 
 void PlaneWall::buildNearList(const ParticleArrays& particles, double skin,
@@ -20,6 +24,29 @@ void PlaneWall::buildNearList(const ParticleArrays& particles, double skin,
       near_history.push_back(historyBySlot[i]);
     }
   }
+}
+
+void PlaneWall::save(StateWriter& out) const {
+  out.writeString(spec.name);
+  out.writeVector(near_slots);
+  out.writeVector(near_history);
+  out.write(force);
+  out.write(torque);
+}
+
+void PlaneWall::restore(StateReader& in, std::size_t slotCount) {
+  const std::string name = in.readString();
+  requireEqual(in, "plane name \"" + name + "\"", name, spec.name);
+  std::vector<std::uint32_t> slots = in.readVector<std::uint32_t>();
+  std::vector<Vec3> history = in.readVector<Vec3>();
+  const auto wrenchForce = in.read<Vec3>();
+  const auto wrenchTorque = in.read<Vec3>();
+  requireIndices(in, slots, slotCount, "plane near-list slot");
+  requireSameLength(in, history, slots, "plane histories and slots differ in length");
+  near_slots = std::move(slots);
+  near_history = std::move(history);
+  force = wrenchForce;
+  torque = wrenchTorque;
 }
 
 }  // namespace demlink::core

@@ -8,7 +8,9 @@
 /// Every helper reports through StateReader::fail, so the error names the file and
 /// the component's section.
 #include <cstdint>
+#include <memory>
 #include <string>
+#include <vector>
 
 #include "demlink/core/components/random.hpp"
 #include "demlink/core/state/state_stream.hpp"
@@ -34,6 +36,20 @@ Vec3 readFiniteVector(StateReader& in, const std::string& what);
 void writeRemovalTally(StateWriter& out, const RemovalTally& tally);
 /// Count, then a finite mass >= 0 [kg].
 RemovalTally readRemovalTally(StateReader& in, const std::string& what);
+
+/// Checkpoint payload of section COMP: the component count, then per component its
+/// name, kind and a DATA sub-section written by WorldComponent::saveState.
+void saveComponents(StateWriter& out, const std::vector<std::unique_ptr<WorldComponent>>& components);
+/// Reads the framing saveComponents wrote and checks count, names and kinds against
+/// `components` (the scene's). Returns each component's DATA section, not yet loaded,
+/// so the caller can check the rest of the file first.
+[[nodiscard]] std::vector<StateReader> readComponentSections(
+    StateReader& in, const std::vector<std::unique_ptr<WorldComponent>>& components);
+/// Loads every component from its DATA section (which must be read to its end).
+/// If one refuses its data, every component gets back the state it had and the
+/// error is rethrown, so a failed restore changes no component.
+void restoreComponents(const std::vector<std::unique_ptr<WorldComponent>>& components,
+                       std::vector<StateReader>& data, const std::string& source);
 
 /// The sub-section `tag` of a component's state, named "<component section>.<name>"
 /// in errors.

@@ -22,6 +22,9 @@
 
 namespace demlink::core {
 
+class StateWriter;
+class StateReader;
+
 /// Largest rotation angle of one RK4 substep of the orientation drift [rad].
 inline constexpr double kMaxSubstepAngle = 0.05;
 /// Most RK4 substeps of one drift (reached only at |w| dt > 50 rad: a blown-up state).
@@ -55,7 +58,20 @@ struct ClumpBody {
   [[nodiscard]] Vec3 angularVelocityAt(const Quat& q) const;
   /// Translational + rotational kinetic energy [J].
   [[nodiscard]] double kineticEnergy() const;
+
+  /// Checkpoint payload of one body: every field above, in declaration order.
+  void save(StateWriter& out) const;
+  /// Reads what save() wrote; the template index must name one of `templates`, the
+  /// member count match that template and the member slots be below `slotCount`.
+  /// Throws InputError via in.fail(); the body is unchanged then.
+  void restore(StateReader& in, const std::vector<ClumpTemplate>& templates, std::size_t slotCount);
 };
+
+/// Checkpoint payload of the live clumps (in section CLMP): count, then each body.
+void saveClumps(StateWriter& out, const std::vector<ClumpBody>& clumps);
+/// Reads what saveClumps wrote (see ClumpBody::restore for the checks).
+[[nodiscard]] std::vector<ClumpBody> restoreClumps(StateReader& in, const std::vector<ClumpTemplate>& templates,
+                                                   std::size_t slotCount);
 
 /// v += (F/m + g) h; L += T h.
 void kickClump(ClumpBody& body, const Vec3& gravity, double h);

@@ -16,6 +16,9 @@
 
 namespace demlink::core {
 
+class StateWriter;
+class StateReader;
+
 /// Effective radius and mass of a listed pair, fixed for the pair's lifetime in
 /// the list (particle radii and masses do not change), so the force loop does not
 /// divide for them at every step.
@@ -46,11 +49,22 @@ class NeighbourList {
   [[nodiscard]] std::span<Vec3> history() { return history_; }
   [[nodiscard]] std::span<const Vec3> history() const { return history_; }
   [[nodiscard]] std::size_t pairCount() const { return partners_.size(); }
+  /// Rows (particle slots) of the last build.
+  [[nodiscard]] std::size_t rowCount() const { return offsets_.empty() ? 0 : offsets_.size() - 1; }
   [[nodiscard]] std::uint64_t buildCount() const { return builds_; }
   [[nodiscard]] const CellGrid& grid() const { return grid_; }
 
+  /// Checkpoint payload (section NBRL): skin, build count (decides the next
+  /// re-sort), offsets, partners, tangential histories, reduced pair data and the
+  /// positions of the last build (decide the next rebuild). The cell grid is not
+  /// saved: every build makes it anew.
+  void save(StateWriter& out) const;
+  /// Replaces the list with what save() wrote. The saved skin must equal this
+  /// list's; offsets, partner indices and array lengths must be consistent
+  /// (throws InputError via in.fail() otherwise).
+  void restore(StateReader& in);
+
  private:
-  friend class World;  // checkpoint.cpp saves and restores the private state
   double skin_;
   std::uint64_t builds_ = 0;
   CellGrid grid_;

@@ -14,6 +14,9 @@
 
 namespace demlink::core {
 
+class StateWriter;
+class StateReader;
+
 /// Marks a removed slot in a slot mapping (newSlotOfOld).
 inline constexpr std::uint32_t kRemovedSlot = std::numeric_limits<std::uint32_t>::max();
 
@@ -55,6 +58,15 @@ struct ParticleArrays {
   void permute(std::span<const std::uint32_t> oldSlotOfNew);
 
   void reserve(std::size_t n);
+
+  /// Checkpoint payload (section PART): row count, column count, then one `COL `
+  /// sub-section per column (name, element size, values), in forEachColumn order.
+  void save(StateWriter& out) const;
+  /// Replaces every column with what save() wrote. Every column must be present
+  /// with its element size and the common row count, and none unknown; throws
+  /// InputError via in.fail() otherwise. Material indices are not checked here
+  /// (the caller knows how many materials there are).
+  void restore(StateReader& in);
 
   /// Calls visit(name, column) for every column, in a fixed order. permute(),
   /// reserve() and the checkpoint go through it, so a column added here is

@@ -3,9 +3,9 @@
 /// built from the same scene and restored from a checkpoint continues bit for
 /// bit as if the run had never stopped (docs/state.md).
 ///
-/// World::saveCheckpoint / World::restoreCheckpoint (core/src/state/checkpoint.cpp, the
-/// one place that knows the World's state) write and read the sections below;
-/// this header adds the file-level helpers and the particle-only reader used to
+/// World::saveCheckpoint / World::restoreCheckpoint (core/src/state/checkpoint.cpp)
+/// write and read the sections below in this order, each payload written and read
+/// by its object (docs/state.md); this header adds the file-level helpers and the particle-only reader used to
 /// load a saved particle set into a different scene.
 ///
 /// File layout (native byte order, checked on reading):
@@ -13,7 +13,8 @@
 ///   sections, each: 4-byte tag, u64 length, payload (state_stream.hpp):
 ///     SETT settings   MATL materials   CLOK step count, next id, tallies, pending slot map
 ///     PART particle columns   NBRL neighbour list   PLAN planes   MESH meshes
-///     COMP component states   END  (marks a complete file)
+///     ROOM bounds and room motion   CLMP clumps   COMP component states
+///     END  (marks a complete file)
 #include <cstdint>
 #include <filesystem>
 #include <string>

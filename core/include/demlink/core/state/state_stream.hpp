@@ -54,6 +54,13 @@ class StateWriter {
   [[nodiscard]] std::size_t beginSection(std::string_view tag);
   /// Fills in the length of the section started at `handle`.
   void endSection(std::size_t handle);
+  /// Writes a section tagged `tag` whose payload is whatever `writePayload()` writes.
+  template <class WritePayload>
+  void section(std::string_view tag, WritePayload&& writePayload) {
+    const std::size_t handle = beginSection(tag);
+    writePayload();
+    endSection(handle);
+  }
 
   [[nodiscard]] const std::string& bytes() const { return buffer_; }
 
@@ -114,6 +121,30 @@ class StateReader {
   std::string source_;
   std::string section_;
 };
+
+/// Checks shared by the objects that restore themselves; each throws through
+/// in.fail(), naming the file and the section being read.
+
+/// `inFile` (read from the checkpoint) must equal `inScene` (the world it is restored into).
+template <class T>
+void requireEqual(const StateReader& in, const std::string& what, const T& inFile, const T& inScene) {
+  if (!(inFile == inScene)) {
+    in.fail(what, "the checkpoint differs from the scene (restore into a world built from the same scene)");
+  }
+}
+/// Reads a u64 count that must equal `inScene` (error field "<what> count <n>").
+void readMatchingCount(StateReader& in, const std::string& what, std::size_t inScene);
+/// Every index is below `limit`, or the removed-slot marker (UINT32_MAX) when `removedAllowed`.
+void requireIndices(const StateReader& in, const std::vector<std::uint32_t>& indices, std::size_t limit,
+                    const std::string& what, bool removedAllowed = false);
+/// Row offsets start at 0, never decrease and end at `entries`.
+void requireOffsets(const StateReader& in, const std::vector<std::uint32_t>& offsets, std::size_t entries,
+                    const std::string& what);
+/// Two parallel arrays have the same length.
+template <class A, class B>
+void requireSameLength(const StateReader& in, const A& a, const B& b, const std::string& what) {
+  if (a.size() != b.size()) in.fail(std::to_string(a.size()) + " vs " + std::to_string(b.size()), what);
+}
 
 template <class T>
 struct StateCodec<T, std::enable_if_t<std::is_arithmetic_v<T>>> {

@@ -35,6 +35,9 @@
 
 namespace demlink::core {
 
+class StateWriter;
+class StateReader;
+
 /// Motion of the room relative to an inertial frame, expressed in room coordinates.
 /// linear_acceleration and angular_acceleration are constant until changed by
 /// World::setFrameMotion (e.g. once per co-simulation interval); angular_velocity
@@ -50,6 +53,12 @@ struct FrameMotion {
   [[nodiscard]] bool isInertial() const;
   /// Throws InputError naming `fieldPrefix + ".<field>[k]"` for a non-finite component.
   void validate(const std::string& fieldPrefix) const;
+
+  /// Checkpoint payload (in section ROOM): the four vectors in declaration order
+  /// (angular_velocity as advanced so far).
+  void save(StateWriter& out) const;
+  /// Replaces the motion with what save() wrote (unchanged if the data ends early).
+  void restore(StateReader& in);
 };
 
 /// Half kick in the room: v and omega_p advance by h under contact forces, gravity

@@ -27,6 +27,9 @@
 
 namespace demlink::core {
 
+class StateWriter;
+class StateReader;
+
 /// Plain triangle mesh: vertices plus index triples (counter-clockwise = outward normal).
 struct TriangleMesh {
   std::vector<Vec3> vertices;
@@ -91,10 +94,8 @@ class MeshBody {
   /// from == until: never (a non-colliding body). Throws InputError ("active_from"
   /// / "active_until") for NaN or until < from.
   void setCollisionWindow(double from, double until);
-  [[nodiscard]] bool collidesAt(double time) const { return time >= collideFrom_ && time < collideUntil_; }
-  [[nodiscard]] bool everCollides() const { return collideFrom_ < collideUntil_; }
-  [[nodiscard]] double collideFrom() const { return collideFrom_; }
-  [[nodiscard]] double collideUntil() const { return collideUntil_; }
+  [[nodiscard]] bool collidesAt(double time) const { return time >= collide_from_ && time < collide_until_; }
+  [[nodiscard]] bool everCollides() const { return collide_from_ < collide_until_; }
 
   /// Remembers the current pose as the reference for maxDisplacementSinceMark().
   void markNeighbourBuild();
@@ -103,48 +104,63 @@ class MeshBody {
   [[nodiscard]] double maxDisplacementSinceMark() const;
 
   [[nodiscard]] const std::string& name() const { return name_; }
-  [[nodiscard]] const std::vector<Vec3>& localVertices() const { return localVertices_; }
+  [[nodiscard]] const std::vector<Vec3>& localVertices() const { return local_vertices_; }
   [[nodiscard]] const std::vector<std::array<std::uint32_t, 3>>& triangles() const {
     return triangles_;
   }
-  [[nodiscard]] const Vec3& position() const { return position_; }
-  [[nodiscard]] const Quat& orientation() const { return orientation_; }
-  [[nodiscard]] const Vec3& linearVelocity() const { return linearVelocity_; }
-  [[nodiscard]] const Vec3& angularVelocity() const { return angularVelocity_; }
+  [[nodiscard]] const Vec3& position() const { return state_.position; }
+  [[nodiscard]] const Quat& orientation() const { return state_.orientation; }
+  [[nodiscard]] const Vec3& linearVelocity() const { return state_.linear_velocity; }
+  [[nodiscard]] const Vec3& angularVelocity() const { return state_.angular_velocity; }
   /// World-frame vertices, valid after the last setPose/advance/updateWorldGeometry.
-  [[nodiscard]] const std::vector<Vec3>& worldVertices() const { return worldVertices_; }
+  [[nodiscard]] const std::vector<Vec3>& worldVertices() const { return world_vertices_; }
   /// World-frame unit normals (b-a)x(c-a)/|...| per triangle (zero for a zero-area triangle).
-  [[nodiscard]] const std::vector<Vec3>& triangleNormals() const { return worldNormals_; }
-  [[nodiscard]] const Vec3& force() const { return force_; }
-  [[nodiscard]] const Vec3& torque() const { return torque_; }
-  [[nodiscard]] std::uint32_t materialIndex() const { return materialIndex_; }
-  void setMaterialIndex(std::uint32_t index) { materialIndex_ = index; }
+  [[nodiscard]] const std::vector<Vec3>& triangleNormals() const { return world_normals_; }
+  [[nodiscard]] const Vec3& force() const { return state_.force; }
+  [[nodiscard]] const Vec3& torque() const { return state_.torque; }
+  [[nodiscard]] std::uint32_t materialIndex() const { return material_index_; }
   /// Largest distance of a vertex from the reference point [m].
-  [[nodiscard]] double boundingRadius() const { return boundingRadius_; }
+  [[nodiscard]] double boundingRadius() const { return bounding_radius_; }
   /// Warnings from loading (e.g. degenerate STL triangles dropped); empty otherwise.
-  [[nodiscard]] const std::vector<std::string>& loadWarnings() const { return loadWarnings_; }
+  [[nodiscard]] const std::vector<std::string>& loadWarnings() const { return load_warnings_; }
+
+  /// What of a mesh body evolves during a run: pose, twist, wrench and the pose at
+  /// the last neighbour build (displacement mark). Geometry, material and collision
+  /// window come from the scene.
+  struct State {
+    Vec3 position = Vec3::Zero();
+    Quat orientation = Quat::Identity();
+    Vec3 linear_velocity = Vec3::Zero();
+    Vec3 angular_velocity = Vec3::Zero();
+    Vec3 force = Vec3::Zero();
+    Vec3 torque = Vec3::Zero();
+    Vec3 mark_position = Vec3::Zero();
+    Quat mark_orientation = Quat::Identity();
+  };
+  /// Checkpoint payload (one mesh of section MESH, before its near list): name,
+  /// triangle count, then the State fields in declaration order.
+  void save(StateWriter& out) const;
+  /// Reads what save() wrote and checks it against this body (same name and
+  /// triangle count, unit orientation); throws InputError via in.fail(). Does not
+  /// change the body, so a world can read every section before replacing anything
+  /// (and without copying the geometry).
+  [[nodiscard]] State readState(StateReader& in) const;
+  /// Takes over a State from readState() and updates the world geometry.
+  void restoreState(const State& state);
 
  private:
-  friend class World;  // checkpoint.cpp saves and restores the private state
   std::string name_;
-  std::vector<Vec3> localVertices_;
+  std::vector<Vec3> local_vertices_;
   std::vector<std::array<std::uint32_t, 3>> triangles_;
-  std::vector<Vec3> localNormals_;
-  std::vector<Vec3> worldVertices_;
-  std::vector<Vec3> worldNormals_;
-  std::vector<std::string> loadWarnings_;
-  Vec3 position_ = Vec3::Zero();
-  Quat orientation_ = Quat::Identity();
-  Vec3 linearVelocity_ = Vec3::Zero();
-  Vec3 angularVelocity_ = Vec3::Zero();
-  Vec3 force_ = Vec3::Zero();
-  Vec3 torque_ = Vec3::Zero();
-  Vec3 markPosition_ = Vec3::Zero();
-  Quat markOrientation_ = Quat::Identity();
-  double boundingRadius_ = 0.0;
-  double collideFrom_ = -std::numeric_limits<double>::infinity();  ///< [s]
-  double collideUntil_ = std::numeric_limits<double>::infinity();  ///< [s]
-  std::uint32_t materialIndex_ = 0;
+  std::vector<Vec3> local_normals_;
+  std::vector<Vec3> world_vertices_;
+  std::vector<Vec3> world_normals_;
+  std::vector<std::string> load_warnings_;
+  State state_;
+  double bounding_radius_ = 0.0;
+  double collide_from_ = -std::numeric_limits<double>::infinity();  ///< [s]
+  double collide_until_ = std::numeric_limits<double>::infinity();  ///< [s]
+  std::uint32_t material_index_ = 0;
 };
 
 }  // namespace demlink::core

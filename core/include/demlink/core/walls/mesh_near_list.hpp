@@ -16,6 +16,9 @@
 
 namespace demlink::core {
 
+class StateWriter;
+class StateReader;
+
 struct MeshNearList {
   std::vector<std::uint32_t> slots;      ///< particles with at least one candidate
   std::vector<std::uint32_t> offsets{0}; ///< candidates of slots[k]: [offsets[k], offsets[k+1])
@@ -26,6 +29,14 @@ struct MeshNearList {
   /// particle positions) to find particles near each triangle.
   void build(const ParticleArrays& particles, const MeshBody& mesh, const CellGrid& grid, double skin,
              std::span<const std::uint32_t> newSlotOfOld);
+
+  /// Checkpoint payload (after its mesh in section MESH): slots, offsets, candidate
+  /// triangles, histories.
+  void save(StateWriter& out) const;
+  /// Replaces the list with what save() wrote. Slots must be below `slotCount`
+  /// (rows of the last neighbour build), triangles below `triangleCount`, offsets
+  /// consistent; throws InputError via in.fail() otherwise (the list is unchanged).
+  void restore(StateReader& in, std::size_t slotCount, std::size_t triangleCount);
 };
 
 }  // namespace demlink::core

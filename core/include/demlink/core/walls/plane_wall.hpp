@@ -13,6 +13,9 @@
 
 namespace demlink::core {
 
+class StateWriter;
+class StateReader;
+
 struct PlaneSpec {
   std::string name;
   Vec3 point = Vec3::Zero();         ///< any point on the plane [m]
@@ -29,6 +32,13 @@ struct PlaneWall {
 
   /// Rebuilds the near list, carrying histories over (see NeighbourList::build).
   void buildNearList(const ParticleArrays& particles, double skin, std::span<const std::uint32_t> newSlotOfOld);
+
+  /// Checkpoint payload (one plane of section PLAN): name, near list, histories, wrench.
+  void save(StateWriter& out) const;
+  /// Reads what save() wrote into a plane of the same scene (same name); near-list
+  /// slots must be below `slotCount` (rows of the last neighbour build). Throws
+  /// InputError via in.fail(); the plane is unchanged then.
+  void restore(StateReader& in, std::size_t slotCount);
 };
 
 }  // namespace demlink::core
