@@ -6,9 +6,9 @@
 ///   demlink-bench-cosim            (both, with the defaults: well under two minutes)
 ///
 /// roundtrip: the server runs in this process exactly as demlink-server wires it
-/// (CoSimulationHost + HostSessionHandler + TcpServer on 127.0.0.1, port 0, its own
-/// thread); the world is empty (a SimulationBox and one material, no particles), every
-/// client is a thread with its own connection and one component exchanged every step.
+/// (CoSimulationHost + TcpServer on 127.0.0.1, port 0, its own thread); the world is empty
+/// (a SimulationBox and one material, no particles), every client is a thread with its
+/// own connection and one component exchanged every step.
 /// Each client times every Session::exchange() (package out -> answer in) with
 /// steady_clock; the distribution over all clients after a warm-up is printed. With N > 1
 /// clients a round trip includes waiting for the slowest of them, since the server only
@@ -53,7 +53,6 @@
 #include "demlink/core/world.hpp"
 #include "demlink/server/cosim/co_simulation_host.hpp"
 #include "demlink/server/net/asio.hpp"
-#include "demlink/server/net/host_session_handler.hpp"
 #include "demlink/server/net/tcp_server.hpp"
 #include "demlink/server/run/particle_csv.hpp"
 #include "demlink/server/scene/scene_loader.hpp"
@@ -119,7 +118,7 @@ double medianOf(std::vector<double> values) {
 
 // --- the in-process server -------------------------------------------------------------
 
-/// HostSessionHandler plus counters: time spent inside the host for DataPackages and the
+/// The host behind counters: time spent inside it for DataPackages and the
 /// server thread's CPU time from the first package to the last answer.
 class TimedHandler final : public server::SessionHandler {
  public:
@@ -169,7 +168,7 @@ class TimedHandler final : public server::SessionHandler {
   [[nodiscard]] double busyCpuSeconds() const { return last_cpu_ - first_cpu_; }
 
  private:
-  server::HostSessionHandler inner_;
+  server::CoSimulationHost& inner_;
   std::uint64_t packages_ = 0;
   double host_seconds_ = 0.0;
   double host_cpu_ = 0.0;

@@ -21,7 +21,6 @@
 
 #include "demlink/client/client.hpp"
 #include "demlink/server/cosim/co_simulation_host.hpp"
-#include "demlink/server/net/host_session_handler.hpp"
 #include "demlink/server/net/tcp_server.hpp"
 #include "demlink/server/scene/scene_loader.hpp"
 #include "demlink/v1/recording.pb.h"
@@ -33,11 +32,11 @@ namespace demlink::integration {
 /// below the ctest timeout, so a protocol bug fails the test instead of hanging it.
 inline constexpr std::chrono::milliseconds kClientTimeout{10000};
 
-/// CoSimulationHost + HostSessionHandler + TcpServer on 127.0.0.1, port 0, served by one thread.
+/// CoSimulationHost + TcpServer on 127.0.0.1, port 0, served by one thread.
 class InProcessServer {
  public:
   explicit InProcessServer(server::CoSimulationOptions options)
-      : host_(std::move(options)), handler_(host_), tcp_(handler_, server::TcpServerOptions{}) {
+      : host_(std::move(options)), tcp_(host_, server::TcpServerOptions{}) {
     thread_ = std::thread([this] { tcp_.run(); });
   }
   ~InProcessServer() { stop(); }
@@ -56,7 +55,6 @@ class InProcessServer {
 
  private:
   server::CoSimulationHost host_;
-  server::HostSessionHandler handler_;
   server::TcpServer tcp_;
   std::thread thread_;
 };

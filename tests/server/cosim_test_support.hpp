@@ -12,6 +12,7 @@
 
 #include "demlink/core/state/checkpoint.hpp"
 #include "demlink/server/cosim/co_simulation_host.hpp"
+#include "demlink/server/scene/proto_convert.hpp"
 #include "scene_test_support.hpp"
 #include "test_support.hpp"
 
@@ -33,22 +34,12 @@ inline v1::RigidBodyInput bodyInput(const core::Vec3& position, const core::Quat
                                     const core::Vec3& velocity = core::Vec3::Zero(),
                                     const core::Vec3& angular = core::Vec3::Zero()) {
   v1::RigidBodyInput in;
-  auto set = [](v1::Vector3& v, const core::Vec3& x) {
-    v.set_x(x.x());
-    v.set_y(x.y());
-    v.set_z(x.z());
-  };
-  set(*in.mutable_position(), position);
-  in.mutable_orientation()->set_w(orientation.w());
-  in.mutable_orientation()->set_x(orientation.x());
-  in.mutable_orientation()->set_y(orientation.y());
-  in.mutable_orientation()->set_z(orientation.z());
-  set(*in.mutable_linear_velocity(), velocity);
-  set(*in.mutable_angular_velocity(), angular);
+  setVec3(*in.mutable_position(), position);
+  setQuat(*in.mutable_orientation(), orientation);
+  setVec3(*in.mutable_linear_velocity(), velocity);
+  setVec3(*in.mutable_angular_velocity(), angular);
   return in;
 }
-
-inline core::Vec3 vec(const v1::Vector3& v) { return {v.x(), v.y(), v.z()}; }
 
 class CosimHarness {
  public:

@@ -27,7 +27,6 @@
 #include "demlink/server/cosim/co_simulation_host.hpp"
 #include "demlink/server/cosim/session_replay.hpp"
 #include "command_line_main.hpp"
-#include "demlink/server/net/host_session_handler.hpp"
 #include "demlink/server/net/tcp_server.hpp"
 #include "demlink/server/scene/scene_loader.hpp"
 
@@ -186,7 +185,6 @@ int run(int argc, char** argv) {
   }
 
   demlink::server::CoSimulationHost host(options);
-  demlink::server::HostSessionHandler handler(host);
   demlink::server::TcpServerOptions net;
   net.listen_address = line.listen;
   net.port = line.port;
@@ -194,7 +192,7 @@ int run(int argc, char** argv) {
   net.max_frame_bytes = line.max_frame_bytes;
   net.stop_on_signals = true;
   if (line.once) net.stop_when = [&host] { return host.simulationsFinished() >= 1; };
-  demlink::server::TcpServer server(handler, net);
+  demlink::server::TcpServer server(host, net);
 
   const asio::ip::address bound = asio::ip::make_address(server.address());
   if (!bound.is_loopback() && net.access_token.empty()) {

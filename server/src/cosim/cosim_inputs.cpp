@@ -5,6 +5,7 @@
 #include <string>
 
 #include "demlink/core/input_error.hpp"
+#include "demlink/server/scene/proto_convert.hpp"
 
 namespace demlink::server {
 namespace {
@@ -58,8 +59,6 @@ v1::Error invalid(const CosimComponent& component, const std::string& field, con
                    field, true);
 }
 
-core::Vec3 toVec3(const v1::Vector3& v) { return {v.x(), v.y(), v.z()}; }
-
 }  // namespace
 
 std::optional<v1::Error> checkInput(const CosimComponent& component, const v1::DataPackage& package) {
@@ -106,10 +105,9 @@ std::optional<v1::Error> checkInput(const CosimComponent& component, const v1::D
 }
 
 core::RigidPose poseOf(const v1::RigidBodyInput& input) {
-  const v1::Quaternion& q = input.orientation();
   // Not normalised here: core::targetPose normalises once, so a client and an in-process
   // driver that pass the same quaternion get bit-identical motion.
-  return {toVec3(input.position()), core::Quat(q.w(), q.x(), q.y(), q.z())};
+  return {toVec3(input.position()), toQuat(input.orientation())};
 }
 
 core::RigidTwist twistOf(const v1::RigidBodyInput& input) {

@@ -14,15 +14,10 @@
 #include "demlink/core/components/particle_sink.hpp"
 #include "demlink/core/components/particle_source.hpp"
 #include "demlink/core/components/region_sensor.hpp"
+#include "demlink/server/scene/proto_convert.hpp"
 
 namespace demlink::server {
 namespace {
-
-void setVector(v1::Vector3& out, const core::Vec3& v) {
-  out.set_x(v.x());
-  out.set_y(v.y());
-  out.set_z(v.z());
-}
 
 void setCount(v1::CountAndMass& out, std::uint64_t count, double mass) {
   out.set_count(count);
@@ -60,18 +55,14 @@ v1::DataPackage CosimOutputs::outputOf(std::size_t index, const CosimComponent& 
     }
     case v1::ComponentDeclaration::kRigidBody: {
       v1::RigidBodyOutput& body = *out.mutable_rigid_body();
-      setVector(*body.mutable_mean_force(), wrench.mean_force);
-      setVector(*body.mutable_mean_torque(), wrench.mean_torque);
-      setVector(*body.mutable_force(), wrench.force);
-      setVector(*body.mutable_torque(), wrench.torque);
+      setVec3(*body.mutable_mean_force(), wrench.mean_force);
+      setVec3(*body.mutable_mean_torque(), wrench.mean_torque);
+      setVec3(*body.mutable_force(), wrench.force);
+      setVec3(*body.mutable_torque(), wrench.torque);
       if (component.mesh) {
         const core::MeshBody& mesh = world.meshes()[*component.mesh];
-        setVector(*body.mutable_position(), mesh.position());
-        v1::Quaternion& q = *body.mutable_orientation();
-        q.set_w(mesh.orientation().w());
-        q.set_x(mesh.orientation().x());
-        q.set_y(mesh.orientation().y());
-        q.set_z(mesh.orientation().z());
+        setVec3(*body.mutable_position(), mesh.position());
+        setQuat(*body.mutable_orientation(), mesh.orientation());
       }
       break;
     }
@@ -105,8 +96,8 @@ v1::DataPackage CosimOutputs::outputOf(std::size_t index, const CosimComponent& 
       v1::RegionSensorOutput& o = *out.mutable_region_sensor();
       o.set_count(reading.count);
       o.set_mass(reading.mass);
-      setVector(*o.mutable_centre_of_mass(), reading.centre_of_mass);
-      setVector(*o.mutable_mean_velocity(), reading.mean_velocity);
+      setVec3(*o.mutable_centre_of_mass(), reading.centre_of_mass);
+      setVec3(*o.mutable_mean_velocity(), reading.mean_velocity);
       break;
     }
     case v1::ComponentDeclaration::kFlowSensor: {

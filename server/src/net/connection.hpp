@@ -15,7 +15,7 @@
 #include <memory>
 #include <string>
 
-#include "demlink/server/cosim/co_simulation_host.hpp"
+#include "demlink/server/net/session_handler.hpp"
 #include "demlink/wire/frame_codec.hpp"
 
 namespace demlink::server {

@@ -1,6 +1,6 @@
 /// Scene compiler: protobuf declarations -> core::World + RunOptions.
 ///
-/// Three passes over the declarations, so that errors come out in a useful order
+/// Four passes over the declarations, so that errors come out in a useful order
 /// and the scene's order does not matter for references:
 ///   1. structure: every component has a unique non-empty name and a kind, and
 ///      there is exactly one simulation_box (its settings build the World);
@@ -14,8 +14,6 @@
 #include <algorithm>
 
 #include <map>
-#include <string_view>
-#include <system_error>
 #include <thread>
 #include <utility>
 #include <vector>
@@ -23,6 +21,7 @@
 #include "demlink/core/input_error.hpp"
 #include "demlink/server/scene/particle_file_reader.hpp"
 #include "demlink/server/scene/particle_lattice.hpp"
+#include "demlink/server/scene/proto_convert.hpp"
 #include "demlink/server/scene/translate_materials.hpp"
 #include "demlink/server/scene/translate_sensors.hpp"
 #include "demlink/server/scene/translate_sources.hpp"
@@ -41,17 +40,6 @@ using MaterialNames = std::map<std::string, std::uint32_t>;
 std::string componentPath(int index) { return "components[" + std::to_string(index) + "]"; }
 
 std::string quoted(const std::string& text) { return "\"" + text + "\""; }
-
-core::Vec3 toVec3(const v1::Vector3& v) { return {v.x(), v.y(), v.z()}; }
-
-void requireFiniteVector(const std::string& field, const core::Vec3& v) {
-  for (int k = 0; k < 3; ++k) core::requireFinite(field + "[" + std::to_string(k) + "]", v[k]);
-}
-
-std::filesystem::path resolvePath(const std::string& path, const std::filesystem::path& sceneDirectory) {
-  const std::filesystem::path p(path);
-  return p.is_absolute() || sceneDirectory.empty() ? p : sceneDirectory / p;
-}
 
 std::uint32_t resolveMaterial(const MaterialNames& materials, const std::string& name, const std::string& field) {
   if (name.empty()) throw InputError(field, "\"\"", "a material name is required");
@@ -207,7 +195,7 @@ void addParticleFile(const v1::ParticleFile& file, const MaterialNames& material
                      const std::filesystem::path& sceneDirectory, const std::string& prefix, core::World& world) {
   const std::uint32_t material = resolveMaterial(materials, file.material(), prefix + ".material");
   if (file.path().empty()) throw InputError(prefix + ".path", "\"\"", "a particle file path is required");
-  const std::string path = resolvePath(file.path(), sceneDirectory).string();
+  const std::string path = resolveScenePath(file.path(), sceneDirectory).string();
   for (const ParticleRecord& record : readParticleFile(path)) {
     core::ParticleSpec sphere;
     sphere.position = record.position;
@@ -217,55 +205,9 @@ void addParticleFile(const v1::ParticleFile& file, const MaterialNames& material
   }
 }
 
-}  // namespace
-
-MeshBodyDeclaration translateMeshBody(const v1::MeshBody& mesh, const std::string& name,
-                                      std::uint32_t materialIndex, const std::filesystem::path& sceneDirectory,
-                                      const std::string& fieldPrefix) {
-  MeshBodyDeclaration out;
-  out.name = name;
-  out.material = materialIndex;
-  if (mesh.stl_file().empty()) throw InputError(fieldPrefix + ".stl_file", "\"\"", "an STL file path is required");
-  out.stl_file = resolvePath(mesh.stl_file(), sceneDirectory);
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(out.stl_file, ec)) {
-    throw InputError(fieldPrefix + ".stl_file", quoted(mesh.stl_file()),
-                     "file not found (looked for " + out.stl_file.string() + ")");
-  }
-  out.position = toVec3(mesh.position());
-  out.linear_velocity = toVec3(mesh.linear_velocity());
-  out.angular_velocity = toVec3(mesh.angular_velocity());
-  out.reference_point = toVec3(mesh.reference_point());
-  requireFiniteVector(fieldPrefix + ".position", out.position);
-  requireFiniteVector(fieldPrefix + ".linear_velocity", out.linear_velocity);
-  requireFiniteVector(fieldPrefix + ".angular_velocity", out.angular_velocity);
-  requireFiniteVector(fieldPrefix + ".reference_point", out.reference_point);
-  if (mesh.has_orientation()) {
-    const v1::Quaternion& q = mesh.orientation();
-    const core::Quat orientation(q.w(), q.x(), q.y(), q.z());
-    for (int k = 0; k < 4; ++k) core::requireFinite(fieldPrefix + ".orientation", orientation.coeffs()[k]);
-    const double norm = orientation.norm();
-    if (!(norm > 0.0)) throw InputError(fieldPrefix + ".orientation", "(0, 0, 0, 0)", "must be a non-zero quaternion");
-    out.orientation = orientation.normalized();
-  }
-  return out;
-}
-
-namespace {
-
-/// Loads the STL, places it at the declared pose and hands it to the engine.
+/// Builds the declared body and hands it to the engine.
 void addMeshBody(const MeshBodyDeclaration& declaration, const std::string& prefix, core::World& world) {
-  core::MeshBody body = [&] {
-    try {
-      return core::MeshBody::fromStl(declaration.name, declaration.stl_file.string(), declaration.reference_point,
-                                     declaration.material);
-    } catch (const InputError& e) {
-      throw InputError(prefix + ".stl_file", e.value(), e.what());
-    }
-  }();
-  body.setPose(declaration.position, declaration.orientation);
-  body.setVelocity(declaration.linear_velocity, declaration.angular_velocity);
-  world.addMesh(std::move(body), prefix);
+  world.addMesh(buildMeshBody(declaration, prefix), prefix);
 }
 
 }  // namespace
@@ -279,6 +221,9 @@ TranslatedScene translateScene(const v1::Scene& scene, const std::filesystem::pa
   const MaterialNames materials = addMaterials(scene, out.world);
   addMaterialPairs(scene, materials, out.world);
   addClumpTemplates(scene, out.world);
+  const MaterialResolver resolve = [&](const std::string& name, const std::string& field) {
+    return resolveMaterial(materials, name, field);
+  };
   for (int i = 0; i < scene.components_size(); ++i) {
     const v1::ComponentDeclaration& component = scene.components(i);
     const std::string path = componentPath(i);
@@ -299,27 +244,19 @@ TranslatedScene translateScene(const v1::Scene& scene, const std::filesystem::pa
         const std::string prefix = path + ".mesh_body";
         const v1::MeshBody& mesh = component.mesh_body();
         const std::uint32_t material = resolveMaterial(materials, mesh.material(), prefix + ".material");
-        const MeshBodyDeclaration declaration =
-            translateMeshBody(mesh, component.name(), material, sceneDirectory, prefix);
-        addMeshBody(declaration, prefix, out.world);
+        addMeshBody(translateMeshBody(mesh, component.name(), material, sceneDirectory, prefix), prefix, out.world);
         break;
       }
       case v1::ComponentDeclaration::kFacetBody: {
         const std::string prefix = path + ".facet_body";
-        const auto resolve = [&](const std::string& name, const std::string& field) {
-          return resolveMaterial(materials, name, field);
-        };
-        out.world.addMesh(translateFacetBody(component.facet_body(), component.name(), resolve, sceneDirectory, prefix),
-                          prefix);
+        addMeshBody(translateFacetBody(component.facet_body(), component.name(), resolve, sceneDirectory, prefix),
+                    prefix, out.world);
         break;
       }
       case v1::ComponentDeclaration::kRigidBody: {
         const std::string prefix = path + ".rigid_body";
-        const auto resolve = [&](const std::string& name, const std::string& field) {
-          return resolveMaterial(materials, name, field);
-        };
-        out.world.addMesh(translateRigidBody(component.rigid_body(), component.name(), resolve, sceneDirectory, prefix),
-                          prefix);
+        addMeshBody(translateRigidBody(component.rigid_body(), component.name(), resolve, sceneDirectory, prefix),
+                    prefix, out.world);
         break;
       }
       case v1::ComponentDeclaration::kSingleParticle: {

@@ -1,4 +1,4 @@
-/// FacetBody -> core::MeshBody (contract in translate_facets.hpp).
+/// FacetBody -> MeshBodyDeclaration (contract in translate_facets.hpp).
 ///
 /// Roles map onto the engine's one rigid-mesh type: FIXED is a mesh with zero
 /// twist, MOVING one with a prescribed twist, NON_COLLIDING one whose collision
@@ -9,32 +9,14 @@
 /// code, and a triangle list equals the same geometry read from an STL file.
 #include "demlink/server/scene/translate_facets.hpp"
 
-#include <bit>
-#include <cmath>
 #include <limits>
-#include <map>
 
 #include "demlink/core/input_error.hpp"
-#include "demlink/server/scene/scene_translator.hpp"
 
 namespace demlink::server {
 namespace {
 
 using core::InputError;
-using core::Vec3;
-
-Vec3 toVec3(const v1::Vector3& v) { return {v.x(), v.y(), v.z()}; }
-
-void requireFiniteVector(const std::string& field, const Vec3& v) {
-  for (int k = 0; k < 3; ++k) core::requireFinite(field + "[" + std::to_string(k) + "]", v[k]);
-}
-
-core::Quat toQuat(const v1::Quaternion& q, const std::string& field) {
-  const core::Quat quat(q.w(), q.x(), q.y(), q.z());
-  for (int k = 0; k < 4; ++k) core::requireFinite(field, quat.coeffs()[k]);
-  if (!(quat.norm() > 0.0)) throw InputError(field, "(0, 0, 0, 0)", "must be a non-zero quaternion");
-  return quat.normalized();
-}
 
 enum class Role { Fixed, Moving, NonColliding };
 
@@ -50,75 +32,48 @@ Role toRole(const v1::FacetBody& facet, const std::string& prefix) {
   }
 }
 
+/// The geometry and the pose it is placed at.
+void readGeometry(const v1::FacetBody& facet, const std::filesystem::path& sceneDirectory, const std::string& prefix,
+                  MeshBodyDeclaration& out) {
+  switch (facet.geometry_case()) {
+    case v1::FacetBody::kBox: {
+      for (const auto& [given, field] : {std::pair{facet.has_reference_point(), "reference_point"},
+                                         std::pair{facet.has_position(), "position"},
+                                         std::pair{facet.has_orientation(), "orientation"}}) {
+        if (given) {
+          throw InputError(prefix + "." + field, "(given)", "a box is placed by box.centre and box.orientation");
+        }
+      }
+      BoxGeometry box = boxGeometry(facet.box(), prefix + ".box");
+      out.mesh = std::move(box.mesh);
+      out.position = box.centre;
+      out.orientation = box.orientation;
+      return;
+    }
+    case v1::FacetBody::kStlFile:
+      out.stl_file = stlFileOf(facet.stl_file(), sceneDirectory, prefix + ".stl_file");
+      readPlacement(facet, prefix, OmittedPosition::ReferencePoint, out);
+      return;
+    case v1::FacetBody::kTriangles:
+      out.mesh = mergeTriangleList(facet.triangles(), prefix + ".triangles");
+      readPlacement(facet, prefix, OmittedPosition::ReferencePoint, out);
+      return;
+    case v1::FacetBody::GEOMETRY_NOT_SET: break;
+  }
+  throw InputError(prefix, "(no geometry)", "one of box, stl_file or triangles is required");
+}
+
 }  // namespace
 
-/// The box's mesh relative to its centre; the top face (+z, box frame) left out if open.
-core::TriangleMesh facetBoxMesh(const v1::FacetBox& box, const std::string& prefix) {
-  if (!box.has_size()) throw InputError(prefix + ".size", "(missing)", "a box needs its edge lengths");
-  const Vec3 size = toVec3(box.size());
-  for (int k = 0; k < 3; ++k) core::requirePositive(prefix + ".size[" + std::to_string(k) + "]", size[k]);
-  core::TriangleMesh mesh = core::axisAlignedBoxMesh(-0.5 * size, 0.5 * size);
-  if (box.open_top()) {
-    std::erase_if(mesh.triangles, [&](const std::array<std::uint32_t, 3>& t) {
-      return mesh.vertices[t[0]].z() > 0.0 && mesh.vertices[t[1]].z() > 0.0 && mesh.vertices[t[2]].z() > 0.0;
-    });
-  }
-  return mesh;
-}
-
-core::TriangleMesh mergeTriangleList(const v1::FacetTriangles& list, const std::string& fieldPrefix) {
-  const std::string prefix = fieldPrefix + ".triangles";
-  if (list.triangles_size() == 0) throw InputError(prefix, "[]", "at least one triangle is required");
-  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity());
-  Vec3 hi = -lo;
-  for (int t = 0; t < list.triangles_size(); ++t) {
-    const v1::FacetTriangle& tri = list.triangles(t);
-    const std::string path = prefix + "[" + std::to_string(t) + "]";
-    const std::array<std::pair<const char*, const v1::Vector3*>, 3> corners{
-        {{"a", &tri.a()}, {"b", &tri.b()}, {"c", &tri.c()}}};
-    for (const auto& [label, corner] : corners) {
-      const Vec3 v = toVec3(*corner);
-      requireFiniteVector(path + "." + label, v);
-      lo = lo.cwiseMin(v);
-      hi = hi.cwiseMax(v);
-    }
-  }
-  const double minArea = 1.0e-12 * (hi - lo).squaredNorm();
-  core::TriangleMesh mesh;
-  // Key: the corner's bit pattern (exact coincidence, as in the STL reader).
-  std::map<std::array<std::uint64_t, 3>, std::uint32_t> index;
-  const auto vertexOf = [&](const Vec3& v) {
-    const std::array<std::uint64_t, 3> key{std::bit_cast<std::uint64_t>(v.x() + 0.0),
-                                           std::bit_cast<std::uint64_t>(v.y() + 0.0),
-                                           std::bit_cast<std::uint64_t>(v.z() + 0.0)};
-    const auto [it, inserted] = index.emplace(key, static_cast<std::uint32_t>(mesh.vertices.size()));
-    if (inserted) mesh.vertices.push_back(v);
-    return it->second;
-  };
-  for (int t = 0; t < list.triangles_size(); ++t) {
-    const v1::FacetTriangle& tri = list.triangles(t);
-    const Vec3 a = toVec3(tri.a());
-    const Vec3 b = toVec3(tri.b());
-    const Vec3 c = toVec3(tri.c());
-    const double area = 0.5 * (b - a).cross(c - a).norm();
-    const std::array<std::uint32_t, 3> ids{vertexOf(a), vertexOf(b), vertexOf(c)};
-    if (ids[0] == ids[1] || ids[1] == ids[2] || ids[0] == ids[2] || !(area > minArea)) {
-      throw InputError(prefix + "[" + std::to_string(t) + "]", "area " + core::formatValue(area) + " m^2",
-                       "degenerate triangle (repeated corner or zero area): it has no normal");
-    }
-    mesh.triangles.push_back(ids);
-  }
-  return mesh;
-}
-
-core::MeshBody translateFacetBody(const v1::FacetBody& facet, const std::string& name,
-                                  const MaterialResolver& resolveMaterial,
-                                  const std::filesystem::path& sceneDirectory, const std::string& fieldPrefix) {
+MeshBodyDeclaration translateFacetBody(const v1::FacetBody& facet, const std::string& name,
+                                       const MaterialResolver& resolveMaterial,
+                                       const std::filesystem::path& sceneDirectory, const std::string& fieldPrefix) {
   const std::string& prefix = fieldPrefix;
   const Role role = toRole(facet, prefix);
-  std::uint32_t material = 0;
+  MeshBodyDeclaration out;
+  out.name = name;
   if (role != Role::NonColliding || !facet.material().empty()) {
-    material = resolveMaterial(facet.material(), prefix + ".material");
+    out.material = resolveMaterial(facet.material(), prefix + ".material");
   }
   if (role == Role::Fixed) {
     if (facet.has_linear_velocity()) {
@@ -138,84 +93,15 @@ core::MeshBody translateFacetBody(const v1::FacetBody& facet, const std::string&
                        "a NON_COLLIDING body never collides; use FIXED or MOVING with a collision window");
     }
   }
-
-  core::MeshBody body = [&]() -> core::MeshBody {
-    switch (facet.geometry_case()) {
-      case v1::FacetBody::kBox: {
-        for (const auto& [given, field] : {std::pair{facet.has_reference_point(), "reference_point"},
-                                           std::pair{facet.has_position(), "position"},
-                                           std::pair{facet.has_orientation(), "orientation"}}) {
-          if (given) {
-            throw InputError(prefix + "." + field, "(given)",
-                             "a box is placed by box.centre and box.orientation");
-          }
-        }
-        const v1::FacetBox& box = facet.box();
-        core::TriangleMesh mesh = facetBoxMesh(box, prefix + ".box");
-        const Vec3 centre = toVec3(box.centre());
-        requireFiniteVector(prefix + ".box.centre", centre);
-        const core::Quat orientation =
-            box.has_orientation() ? toQuat(box.orientation(), prefix + ".box.orientation") : core::Quat::Identity();
-        core::MeshBody out(name, std::move(mesh.vertices), std::move(mesh.triangles), material);
-        out.setPose(centre, orientation);
-        return out;
-      }
-      case v1::FacetBody::kStlFile: {
-        // Same checks and loading as a mesh_body (the field names coincide).
-        v1::MeshBody asMesh;
-        asMesh.set_stl_file(facet.stl_file());
-        *asMesh.mutable_reference_point() = facet.reference_point();
-        *asMesh.mutable_position() = facet.has_position() ? facet.position() : facet.reference_point();
-        if (facet.has_orientation()) *asMesh.mutable_orientation() = facet.orientation();
-        const MeshBodyDeclaration d = translateMeshBody(asMesh, name, material, sceneDirectory, prefix);
-        core::MeshBody out = [&] {
-          try {
-            return core::MeshBody::fromStl(name, d.stl_file.string(), d.reference_point, material);
-          } catch (const InputError& e) {
-            throw InputError(prefix + ".stl_file", e.value(), e.what());
-          }
-        }();
-        out.setPose(d.position, d.orientation);
-        return out;
-      }
-      case v1::FacetBody::kTriangles: {
-        core::TriangleMesh mesh = mergeTriangleList(facet.triangles(), prefix + ".triangles");
-        const Vec3 reference = toVec3(facet.reference_point());
-        requireFiniteVector(prefix + ".reference_point", reference);
-        const Vec3 position = facet.has_position() ? toVec3(facet.position()) : reference;
-        requireFiniteVector(prefix + ".position", position);
-        const core::Quat orientation =
-            facet.has_orientation() ? toQuat(facet.orientation(), prefix + ".orientation") : core::Quat::Identity();
-        for (Vec3& v : mesh.vertices) v -= reference;
-        core::MeshBody out(name, std::move(mesh.vertices), std::move(mesh.triangles), material);
-        out.setPose(position, orientation);
-        return out;
-      }
-      case v1::FacetBody::GEOMETRY_NOT_SET: break;
-    }
-    throw InputError(prefix, "(no geometry)", "one of box, stl_file or triangles is required");
-  }();
-
-  if (role != Role::Fixed) {
-    const Vec3 linear = toVec3(facet.linear_velocity());
-    const Vec3 angular = toVec3(facet.angular_velocity());
-    requireFiniteVector(prefix + ".linear_velocity", linear);
-    requireFiniteVector(prefix + ".angular_velocity", angular);
-    body.setVelocity(linear, angular);
-  }
+  readGeometry(facet, sceneDirectory, prefix, out);
+  if (role != Role::Fixed) readTwist(facet, prefix, out);
   if (role == Role::NonColliding) {
-    const double never = std::numeric_limits<double>::infinity();
-    body.setCollisionWindow(never, never);
+    out.active_from = out.active_until = std::numeric_limits<double>::infinity();
   } else {
-    const double from = facet.has_active_from() ? facet.active_from() : -std::numeric_limits<double>::infinity();
-    const double until = facet.has_active_until() ? facet.active_until() : std::numeric_limits<double>::infinity();
-    try {
-      body.setCollisionWindow(from, until);
-    } catch (const InputError& e) {
-      throw InputError(prefix + "." + e.field(), e.value(), e.what());
-    }
+    if (facet.has_active_from()) out.active_from = facet.active_from();
+    if (facet.has_active_until()) out.active_until = facet.active_until();
   }
-  return body;
+  return out;
 }
 
 }  // namespace demlink::server

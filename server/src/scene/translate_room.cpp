@@ -4,14 +4,9 @@
 #include "demlink/server/scene/translate_room.hpp"
 
 #include "demlink/core/input_error.hpp"
+#include "demlink/server/scene/proto_convert.hpp"
 
 namespace demlink::server {
-namespace {
-
-core::Vec3 toVec3(const v1::Vector3& v) { return {v.x(), v.y(), v.z()}; }
-
-}  // namespace
-
 void translateRoom(const v1::SimulationBox& box, const std::string& prefix, core::SimulationSettings& settings) {
   if (box.has_bounds()) {
     const v1::SimulationBox::Bounds& bounds = box.bounds();

@@ -15,6 +15,7 @@
 #include "demlink/core/components/particle_sink.hpp"
 #include "demlink/core/components/particle_tracker.hpp"
 #include "demlink/core/components/region_sensor.hpp"
+#include "demlink/server/scene/proto_convert.hpp"
 
 namespace demlink::server {
 namespace {
@@ -22,21 +23,6 @@ namespace {
 using core::InputError;
 
 std::string quoted(const std::string& text) { return "\"" + text + "\""; }
-
-core::Vec3 toVec3(const v1::Vector3& v) { return {v.x(), v.y(), v.z()}; }
-
-core::Vec3 finiteVector(const v1::Vector3& v, const std::string& field) {
-  const core::Vec3 out = toVec3(v);
-  for (int k = 0; k < 3; ++k) core::requireFinite(field + "[" + std::to_string(k) + "]", out[k]);
-  return out;
-}
-
-core::Quat toRotation(const v1::Quaternion& q, const std::string& field) {
-  const core::Quat rotation(q.w(), q.x(), q.y(), q.z());
-  for (int k = 0; k < 4; ++k) core::requireFinite(field, rotation.coeffs()[k]);
-  if (!(rotation.norm() > 0.0)) throw InputError(field, "(0, 0, 0, 0)", "must be a non-zero quaternion");
-  return rotation.normalized();
-}
 
 /// Index of the mesh body declared under `name`; throws naming `field` if none.
 std::size_t meshIndex(const core::World& world, const std::string& name, const std::string& field) {
@@ -53,7 +39,7 @@ std::size_t meshIndex(const core::World& world, const std::string& name, const s
 template <class Region>
 core::RegionPlacement placementOf(const Region& region, const core::World& world, const std::string& prefix) {
   core::RegionPlacement placement;
-  placement.velocity = finiteVector(region.velocity(), prefix + ".velocity");
+  placement.velocity = toFiniteVec3(region.velocity(), prefix + ".velocity");
   if (!region.attached_to().empty()) {
     placement.attached_mesh = meshIndex(world, region.attached_to(), prefix + ".attached_to");
   }
@@ -74,14 +60,14 @@ TranslatedVolume toVolume(const v1::Volume& volume, bool present, const core::Wo
       const v1::BoxRegion& box = volume.box();
       const std::string field = prefix + ".box";
       if (!box.has_size()) throw InputError(field + ".size", "(missing)", "the box's side lengths are required");
-      placement.centre = finiteVector(box.centre(), field + ".centre");
-      if (box.has_orientation()) placement.orientation = toRotation(box.orientation(), field + ".orientation");
+      placement.centre = toFiniteVec3(box.centre(), field + ".centre");
+      if (box.has_orientation()) placement.orientation = toUnitQuat(box.orientation(), field + ".orientation");
       return {core::VolumeShape::box(toVec3(box.size()), field), placement};
     }
     case v1::Volume::kSphere: {
       const v1::SphereRegion& sphere = volume.sphere();
       const std::string field = prefix + ".sphere";
-      placement.centre = finiteVector(sphere.centre(), field + ".centre");
+      placement.centre = toFiniteVec3(sphere.centre(), field + ".centre");
       return {core::VolumeShape::sphere(sphere.radius(), field), placement};
     }
     case v1::Volume::SHAPE_NOT_SET: break;
@@ -103,7 +89,7 @@ TranslatedSurface toSurface(const v1::Surface& surface, bool present, const core
       const v1::RectangleSurface& rectangle = surface.rectangle();
       const std::string field = prefix + ".rectangle";
       if (!rectangle.has_normal()) throw InputError(field + ".normal", "(missing)", "a surface needs a normal");
-      placement.centre = finiteVector(rectangle.centre(), field + ".centre");
+      placement.centre = toFiniteVec3(rectangle.centre(), field + ".centre");
       placement.orientation =
           core::surfaceOrientation(toVec3(rectangle.normal()), toVec3(rectangle.length_axis()), field);
       return {core::SurfaceShape::rectangle(rectangle.length(), rectangle.width(), field), placement};
@@ -112,7 +98,7 @@ TranslatedSurface toSurface(const v1::Surface& surface, bool present, const core
       const v1::DiscSurface& disc = surface.disc();
       const std::string field = prefix + ".disc";
       if (!disc.has_normal()) throw InputError(field + ".normal", "(missing)", "a surface needs a normal");
-      placement.centre = finiteVector(disc.centre(), field + ".centre");
+      placement.centre = toFiniteVec3(disc.centre(), field + ".centre");
       placement.orientation = core::surfaceOrientation(toVec3(disc.normal()), core::Vec3::Zero(), field);
       return {core::SurfaceShape::disc(disc.radius(), field), placement};
     }

@@ -7,24 +7,12 @@
 
 #include "demlink/core/input_error.hpp"
 #include "demlink/core/components/particle_source.hpp"
+#include "demlink/server/scene/proto_convert.hpp"
 
 namespace demlink::server {
 namespace {
 
 using core::InputError;
-
-core::Vec3 toVec3(const v1::Vector3& v) { return {v.x(), v.y(), v.z()}; }
-
-void requireFiniteVector(const std::string& field, const core::Vec3& v) {
-  for (int k = 0; k < 3; ++k) core::requireFinite(field + "[" + std::to_string(k) + "]", v[k]);
-}
-
-core::Quat toQuat(const v1::Quaternion& q, const std::string& field) {
-  const core::Quat out(q.w(), q.x(), q.y(), q.z());
-  for (int k = 0; k < 4; ++k) core::requireFinite(field, out.coeffs()[k]);
-  if (!(out.norm() > 0.0)) throw InputError(field, "(0, 0, 0, 0)", "must be a non-zero quaternion");
-  return out.normalized();
-}
 
 core::SourceRegion translateBox(const v1::SourceBox& box, const std::string& prefix) {
   core::SourceRegion region;
@@ -37,10 +25,8 @@ core::SourceRegion translateBox(const v1::SourceBox& box, const std::string& pre
   if (corners) {
     if (!box.has_lower()) throw InputError(prefix + ".lower", "(missing)", "required with upper");
     if (!box.has_upper()) throw InputError(prefix + ".upper", "(missing)", "required with lower");
-    const core::Vec3 lower = toVec3(box.lower());
-    const core::Vec3 upper = toVec3(box.upper());
-    requireFiniteVector(prefix + ".lower", lower);
-    requireFiniteVector(prefix + ".upper", upper);
+    const core::Vec3 lower = toFiniteVec3(box.lower(), prefix + ".lower");
+    const core::Vec3 upper = toFiniteVec3(box.upper(), prefix + ".upper");
     for (int k = 0; k < 3; ++k) {
       if (!(upper[k] > lower[k])) {
         throw InputError(prefix + ".upper[" + std::to_string(k) + "]", core::formatValue(upper[k]),
@@ -57,7 +43,7 @@ core::SourceRegion translateBox(const v1::SourceBox& box, const std::string& pre
     region.centre = toVec3(box.centre());
     region.half_extents = toVec3(box.half_extents());
   }
-  if (box.has_orientation()) region.orientation = toQuat(box.orientation(), prefix + ".orientation");
+  if (box.has_orientation()) region.orientation = toUnitQuat(box.orientation(), prefix + ".orientation");
   return region;
 }
 
@@ -68,8 +54,7 @@ core::SourceRegion translateDisc(const v1::SourceDisc& disc, const std::string& 
   region.radius = disc.radius();
   region.thickness = disc.thickness();
   if (disc.has_normal()) {
-    const core::Vec3 normal = toVec3(disc.normal());
-    requireFiniteVector(prefix + ".normal", normal);
+    const core::Vec3 normal = toFiniteVec3(disc.normal(), prefix + ".normal");
     if (!(normal.norm() > 0.0)) throw InputError(prefix + ".normal", "(0, 0, 0)", "must be a non-zero vector");
     region.orientation = core::Quat::FromTwoVectors(core::Vec3::UnitZ(), normal.normalized());
   }

@@ -8,29 +8,17 @@
 /// uniqueness (a repeated id means a corrupt or concatenated file).
 #include "demlink/server/scene/translate_state.hpp"
 
-#include <system_error>
 #include <vector>
 
 #include "demlink/core/state/checkpoint.hpp"
 #include "demlink/core/input_error.hpp"
 #include "demlink/server/run/particle_csv.hpp"
+#include "demlink/server/scene/proto_convert.hpp"
 
 namespace demlink::server {
 namespace {
 
 using core::InputError;
-
-std::filesystem::path resolveExisting(const std::string& path, const std::filesystem::path& sceneDirectory,
-                                      const std::string& field) {
-  if (path.empty()) throw InputError(field, "\"\"", "a file path is required");
-  std::filesystem::path resolved(path);
-  if (!resolved.is_absolute() && !sceneDirectory.empty()) resolved = sceneDirectory / resolved;
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(resolved, ec)) {
-    throw InputError(field, "\"" + path + "\"", "file not found (looked for " + resolved.string() + ")");
-  }
-  return resolved;
-}
 
 std::uint32_t sceneMaterial(const core::World& world, const std::string& name, const std::string& field) {
   if (const auto index = world.findMaterial(name)) return *index;
@@ -76,13 +64,15 @@ std::size_t addFromCheckpoint(const std::filesystem::path& path, const std::stri
 std::size_t addParticleSystem(const v1::ParticleSystem& system, const std::filesystem::path& sceneDirectory,
                               const std::string& fieldPrefix, core::World& world) {
   switch (system.source_case()) {
-    case v1::ParticleSystem::kCsvFile:
-      return addFromCsv(resolveExisting(system.csv_file(), sceneDirectory, fieldPrefix + ".csv_file"), fieldPrefix,
-                        world);
-    case v1::ParticleSystem::kCheckpointFile:
-      return addFromCheckpoint(
-          resolveExisting(system.checkpoint_file(), sceneDirectory, fieldPrefix + ".checkpoint_file"), fieldPrefix,
-          world);
+    case v1::ParticleSystem::kCsvFile: {
+      const std::string field = fieldPrefix + ".csv_file";
+      return addFromCsv(resolveExistingSceneFile(system.csv_file(), sceneDirectory, field), fieldPrefix, world);
+    }
+    case v1::ParticleSystem::kCheckpointFile: {
+      const std::string field = fieldPrefix + ".checkpoint_file";
+      return addFromCheckpoint(resolveExistingSceneFile(system.checkpoint_file(), sceneDirectory, field), fieldPrefix,
+                               world);
+    }
     case v1::ParticleSystem::SOURCE_NOT_SET: break;
   }
   throw InputError(fieldPrefix, "(no source)", "give csv_file or checkpoint_file");

@@ -46,8 +46,8 @@ TEST(CosimMotion, LaggedLandsExactlyOnEverySentPose) {
     ASSERT_TRUE(answer);
     ASSERT_EQ(answer->step(), 4 * (k + 1));
     const v1::RigidBodyOutput& out = answer->rigid_body();
-    EXPECT_EQ(vec(out.position()), p) << "interval " << k;  // bitwise: the pose is set, not integrated
-    const core::Quat landed(out.orientation().w(), out.orientation().x(), out.orientation().y(), out.orientation().z());
+    EXPECT_EQ(toVec3(out.position()), p) << "interval " << k;  // bitwise: the pose is set, not integrated
+    const core::Quat landed = toQuat(out.orientation());
     EXPECT_LT(landed.angularDistance(q), 1e-12);
     const core::CoupledMotion* coupling = h.host().simulation()->coupling(plate - 1);
     ASSERT_NE(coupling, nullptr);
@@ -90,8 +90,8 @@ TEST(CosimMotion, PredictedFollowsASmoothTrajectoryWithoutDrift) {
     h.sampleBody(1, plate, n * k, bodyInput(p, q, v, omega));
     const v1::RigidBodyOutput out = h.lastData(1, plate)->rigid_body();
     const auto [pNext, qNext] = exact(t + T);
-    const double error = (vec(out.position()) - pNext).norm();
-    const core::Quat landed(out.orientation().w(), out.orientation().x(), out.orientation().y(), out.orientation().z());
+    const double error = (toVec3(out.position()) - pNext).norm();
+    const core::Quat landed = toQuat(out.orientation());
     angleMax = std::max(angleMax, landed.angularDistance(qNext));
     if (k < 100) firstMax = std::max(firstMax, error);
     if (k >= intervals - 100) lastMax = std::max(lastMax, error);
@@ -123,14 +123,14 @@ TEST(CosimMotion, WrenchOfARestingSphereIsItsWeightAboutTheReferencePoint) {
   ASSERT_EQ(world.particles().size(), 1u);
   const double weight = world.particles().mass[0] * 9.81;
   const v1::RigidBodyOutput out = h.lastData(1, plate)->rigid_body();
-  const core::Vec3 mean = vec(out.mean_force());
+  const core::Vec3 mean = toVec3(out.mean_force());
   EXPECT_NEAR(mean.z(), -weight, 0.01 * weight);  // ON the plate BY the sphere: downwards
   EXPECT_NEAR(mean.x(), 0.0, 0.01 * weight);
   EXPECT_NEAR(mean.y(), 0.0, 0.01 * weight);
-  EXPECT_NEAR(vec(out.force()).z(), -weight, 0.01 * weight);
+  EXPECT_NEAR(toVec3(out.force()).z(), -weight, 0.01 * weight);
   // Torque about the reference point (0, 0, -0.005): r x F with r = (x0, y0, 0.005).
   const core::Vec3 expected = core::Vec3(x0, y0, 0.005).cross(core::Vec3(0, 0, -weight));
-  const core::Vec3 torque = vec(out.mean_torque());
+  const core::Vec3 torque = toVec3(out.mean_torque());
   EXPECT_NEAR(torque.x(), expected.x(), 0.01 * std::abs(expected.x()));
   EXPECT_NEAR(torque.y(), expected.y(), 0.01 * std::abs(expected.y()));
   EXPECT_NEAR(torque.z(), 0.0, 0.01 * expected.norm());

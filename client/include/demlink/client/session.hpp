@@ -97,7 +97,6 @@ class Session {
   const v1::Finished& waitFinished();
   [[nodiscard]] bool finished() const { return finished_flag_; }
   [[nodiscard]] const v1::Finished& finishedInfo() const { return finished_; }
-  [[nodiscard]] bool byeSent() const { return bye_sent_; }
 
  private:
   void requireNotCompiled(const char* what) const;

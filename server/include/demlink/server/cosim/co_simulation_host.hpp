@@ -2,8 +2,9 @@
 /// The co-simulation, independent of the transport (DESIGN.md, "Co-simulation protocol").
 ///
 /// The network layer (server/src/net) decodes frames into ClientMessages, checks Hello
-/// (protocol version, access token) and hands everything else here; what comes back is the
-/// list of messages to send. Being transport-free, the whole protocol (compiler, scheduler,
+/// (protocol version, access token) and hands everything else here through the interface it
+/// owns (net/session_handler.hpp), which the host implements; what comes back is the list of
+/// messages to send. Being transport-free, the whole protocol (compiler, scheduler,
 /// motion coupling, outputs, faults) is testable in-process, and a recorded session can be
 /// replayed without a network (recorder).
 ///
@@ -14,7 +15,6 @@
 /// and answers each component whose interval ended there. It ends when every connection
 /// said Bye, the end step is reached, a fault happens, or shutdown(); then outputs are
 /// flushed and the host is ready for the next simulation (new connections).
-#include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "demlink/server/net/session_handler.hpp"
 #include "demlink/v1/protocol.pb.h"
 #include "demlink/v1/scene.pb.h"
 
@@ -30,16 +31,6 @@ class World;
 }
 
 namespace demlink::server {
-
-using ConnectionId = std::uint64_t;
-using SteadyClock = std::chrono::steady_clock;
-
-/// One message for the transport to send.
-struct Outgoing {
-  ConnectionId to = 0;
-  v1::ServerMessage message;
-  bool close_after = false;  ///< close the connection once this message is sent
-};
 
 struct CoSimulationOptions {
   v1::Scene base_scene;                         ///< components from a scene file (may be empty)
@@ -51,26 +42,27 @@ struct CoSimulationOptions {
   std::string server_name = "demlink-server";
 };
 
-class CoSimulationHost {
+class CoSimulationHost final : public SessionHandler {
  public:
   explicit CoSimulationHost(CoSimulationOptions options);
-  ~CoSimulationHost();
+  ~CoSimulationHost() override;
   CoSimulationHost(const CoSimulationHost&) = delete;
   CoSimulationHost& operator=(const CoSimulationHost&) = delete;
 
   /// A connection passed Hello (version and token already checked): Welcome, or an
   /// Error when it cannot join (e.g. a simulation is already running).
-  std::vector<Outgoing> connected(ConnectionId id, const v1::Hello& hello, SteadyClock::time_point now);
+  std::vector<Outgoing> connected(ConnectionId id, const v1::Hello& hello, SteadyClock::time_point now) override;
   /// Declare, DataPackage or Bye from a welcomed connection (a second Hello is OUT_OF_ORDER).
-  std::vector<Outgoing> received(ConnectionId from, const v1::ClientMessage& message, SteadyClock::time_point now);
+  std::vector<Outgoing> received(ConnectionId from, const v1::ClientMessage& message,
+                                 SteadyClock::time_point now) override;
   /// The connection is gone (EOF, reset, bad frame): ends its simulation if it took part.
-  std::vector<Outgoing> disconnected(ConnectionId id, const std::string& why, SteadyClock::time_point now);
+  std::vector<Outgoing> disconnected(ConnectionId id, const std::string& why, SteadyClock::time_point now) override;
   /// Timers: quiet period over -> compile; a due client silent past the timeout -> TIMEOUT.
-  std::vector<Outgoing> poll(SteadyClock::time_point now);
+  std::vector<Outgoing> poll(SteadyClock::time_point now) override;
   /// When poll() next has something to do; nullopt: nothing scheduled.
-  [[nodiscard]] std::optional<SteadyClock::time_point> nextDeadline() const;
+  [[nodiscard]] std::optional<SteadyClock::time_point> nextDeadline() const override;
   /// SIGINT/SIGTERM: flush outputs, write a checkpoint, tell every client (SERVER_SHUTDOWN).
-  std::vector<Outgoing> shutdown(const std::string& reason, SteadyClock::time_point now);
+  std::vector<Outgoing> shutdown(const std::string& reason, SteadyClock::time_point now) override;
   /// Compiles the pending declarations now, as poll() does when the quiet period is over
   /// (the session replay calls it at a recorded COMPILE_NOW marker). Nothing if none pending.
   std::vector<Outgoing> compileNow(SteadyClock::time_point now);

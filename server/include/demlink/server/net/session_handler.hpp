@@ -1,9 +1,10 @@
 #pragma once
-/// What the network layer drives: the protocol behind the sockets.
+/// What the network layer drives: the protocol behind the sockets, and the types both sides
+/// share (connection ids, the clock, the messages to send).
 ///
-/// TcpServer talks to this interface instead of CoSimulationHost directly so that the
-/// transport is testable with a scripted fake (tests/net) and the host with no sockets
-/// at all; the calls mirror CoSimulationHost one to one (HostSessionHandler forwards them).
+/// The transport owns this interface and knows nothing else of the co-simulation: the
+/// co-simulation host implements it, the transport is testable with a scripted fake
+/// (tests/net) and the host with no sockets at all.
 ///
 /// Contract the transport keeps:
 /// - connected() only after a valid Hello (protocol version and access token checked).
@@ -14,13 +15,27 @@
 ///   tolerate it for ids it already forgot.
 /// - all calls come from one thread (the server's io_context), never concurrently.
 /// - an Outgoing for an id that is already closed is dropped.
+#include <chrono>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "demlink/server/cosim/co_simulation_host.hpp"
+#include "demlink/v1/protocol.pb.h"
 
 namespace demlink::server {
+
+/// A connection, numbered by the transport from 1 in accept order.
+using ConnectionId = std::uint64_t;
+/// The clock of every deadline (quiet period, client timeout).
+using SteadyClock = std::chrono::steady_clock;
+
+/// One message for the transport to send.
+struct Outgoing {
+  ConnectionId to = 0;
+  v1::ServerMessage message;
+  bool close_after = false;  ///< close the connection once this message is sent
+};
 
 class SessionHandler {
  public:

@@ -15,8 +15,8 @@
 #include <string>
 
 #include "demlink/core/world.hpp"
-#include "demlink/server/scene/mesh_body_declaration.hpp"
 #include "demlink/server/run/run_options.hpp"
+#include "demlink/server/scene/translate_mesh_body.hpp"
 #include "demlink/v1/scene.pb.h"
 
 namespace demlink::server {
@@ -36,13 +36,5 @@ enum class SceneUse { Headless, CoSimulation };
 /// STL cannot be read: "<component>.mesh_body.stl_file").
 [[nodiscard]] TranslatedScene translateScene(const v1::Scene& scene, const std::filesystem::path& sceneDirectory,
                                              SceneUse use = SceneUse::Headless);
-
-/// Translates one MeshBody declaration (material resolved to `materialIndex`).
-/// Throws core::InputError naming `fieldPrefix + ".<field>"` for an empty
-/// stl_file, a missing file, non-finite vectors or a zero quaternion.
-[[nodiscard]] MeshBodyDeclaration translateMeshBody(const v1::MeshBody& mesh, const std::string& name,
-                                                    std::uint32_t materialIndex,
-                                                    const std::filesystem::path& sceneDirectory,
-                                                    const std::string& fieldPrefix);
 
 }  // namespace demlink::server
