@@ -8,7 +8,7 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libasio-dev libprotobuf-dev protobuf-compiler
   libeigen3-dev libspdlog-dev libfmt-dev
-  # every program's command line (cli/): header-only CLI11
+  # every program's command line (server/cli/): header-only CLI11
   libcli11-dev
   googletest libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-protobuf

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# One program's command-line conventions (cli/include/demlink/cli/command_line.hpp):
+# One program's command-line conventions (server/cli/include/demlink/cli/command_line.hpp):
 # --help exits 0 and prints the usage; --version exits 0 and prints
 # "<name> <project version> (git <revision>)"; an unknown option exits 2 with "error: ".
 #   check_help_version.sh PROGRAM NAME VERSION
