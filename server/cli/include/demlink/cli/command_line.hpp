@@ -102,6 +102,18 @@ CLI::Option* addNumber(CLI::App& app, const std::string& name, Target& target, R
 /// std::nullopt when it should go on.
 inline std::optional<int> parse(CLI::App& app, int argc, const char* const* argv) {
   app.set_version_flag("--version", versionLine(app.get_name()), "print the version and git revision, then exit");
+  // An option the program does not know is named first: CLI11 would report a missing
+  // positional argument before it, which hides the real mistake.
+  for (int k = 1; k < argc; ++k) {
+    const std::string word = argv[k];
+    if (word == "--") break;
+    if (word.size() < 2 || word[0] != '-' || (word[1] >= '0' && word[1] <= '9') || word[1] == '.') continue;
+    const std::string name = word.substr(0, word.find('='));
+    if (app.get_option_no_throw(name) == nullptr) {
+      std::cerr << "error: " << name << ": unknown option\n(" << app.get_name() << " --help lists the options)\n";
+      return 2;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
