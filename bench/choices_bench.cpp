@@ -11,11 +11,12 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
+#include <cstdint>
+#include <optional>
 #include <random>
 #include <string>
-#include <string_view>
 
+#include "demlink/cli/command_line.hpp"
 #include "demlink/core/world.hpp"
 
 namespace {
@@ -116,15 +117,12 @@ Cost bedCost(ContactModel law, IntegratorKind integrator, double dt, double dura
 int main(int argc, char** argv) {
   double duration = 0.2;
   std::uint32_t threads = 1;
-  for (int i = 1; i + 1 < argc; i += 2) {
-    const std::string_view flag = argv[i];
-    if (flag == "--time") duration = std::atof(argv[i + 1]);
-    else if (flag == "--threads") threads = static_cast<std::uint32_t>(std::atoi(argv[i + 1]));
-    else {
-      std::fprintf(stderr, "usage: demlink-bench-choices [--time T] [--threads T]\n");
-      return 2;
-    }
-  }
+  CLI::App app("Speed and accuracy of each contact law x integrator x time step on a bed of 2025 spheres.",
+               "demlink-bench-choices");
+  demlink::cli::addNumber(app, "--time", duration, {0.0, true}, "simulated time of each bed run [s] (default 0.2)")
+      ->type_name("T");
+  demlink::cli::addWholeNumber<std::uint32_t>(app, "--threads", threads, 1, 1024, "engine threads (default 1)");
+  if (const std::optional<int> exitCode = demlink::cli::parse(app, argc, argv)) return *exitCode;
   std::printf("bed: 2025 spheres, %.3g s simulated, %u thread(s)\n\n", duration, threads);
   std::printf("| contact law | integrator | dt / limit | dt [s] | wall s per simulated s | M particle-steps/s | e error (e=0.5) | energy error (e=1) |\n");
   std::printf("|---|---|---|---|---|---|---|---|\n");

@@ -1,4 +1,4 @@
-/// demlink-bench-cosim: what the co-simulation coupling costs (issue 4 targets; plan in
+/// demlink-bench-cosim: what the co-simulation coupling costs (its two target figures; plan in
 /// bench/cosim_bench.md, figures in docs/benchmarks.md "Co-simulation").
 ///
 ///   demlink-bench-cosim roundtrip [--clients N] [--exchanges M] [--warmup W] [--kind body|sensor]
@@ -45,6 +45,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "demlink/cli/command_line.hpp"
 #include "demlink/client/connection.hpp"
 #include "demlink/client/rigid_body.hpp"
 #include "demlink/client/sensor_components.hpp"
@@ -61,6 +62,7 @@
 namespace {
 
 namespace fs = std::filesystem;
+namespace cli = demlink::cli;
 namespace v1 = demlink::v1;
 namespace client = demlink::client;
 namespace server = demlink::server;
@@ -656,31 +658,28 @@ void overhead(const OverheadOptions& o) {
 
 // --- command line ----------------------------------------------------------------------
 
-[[noreturn]] void usage(const std::string& error) {
-  if (!error.empty()) std::fprintf(stderr, "error: %s\n", error.c_str());
-  std::fputs("usage: demlink-bench-cosim [roundtrip|overhead] [options]\n"
-             "  roundtrip  --clients N (default: 1, 4, 16)  --exchanges M (per client)  --warmup W (1000)\n"
-             "             --kind body|sensor (default body)\n"
-             "  overhead   --particles P (10000)  --interval S (0.001)  --duration S (0.25)  --pairs K (5)\n"
-             "             --settle S (0.15: simulated settling of the bed before the timed runs)\n"
-             "  no mode: roundtrip then overhead with the defaults\n",
-             stderr);
-  std::exit(error.empty() ? 0 : 2);
-}
-
-double number(std::string_view option, const char* text) {
-  char* end = nullptr;
-  const double v = std::strtod(text, &end);
-  if (end == text || *end != '\0' || !std::isfinite(v) || v <= 0.0) {
-    usage(std::string(option) + " = " + text + ": must be a positive number");
-  }
-  return v;
-}
-
-std::size_t count(std::string_view option, const char* text) {
-  const double v = number(option, text);
-  if (v != std::floor(v) || v > 1e9) usage(std::string(option) + " = " + text + ": must be a positive integer");
-  return static_cast<std::size_t>(v);
+/// Parses the command line (demlink/cli/command_line.hpp); an exit code when the program
+/// should stop now (--help, --version: 0; bad input: 2).
+std::optional<int> parse(int argc, char** argv, std::string& mode, RoundtripOptions& rt, OverheadOptions& ov) {
+  CLI::App app("Co-simulation round trip and coupling overhead. No mode: roundtrip, then overhead.",
+               "demlink-bench-cosim");
+  app.add_option("mode", mode, "roundtrip, overhead or all (default all)")
+      ->check(CLI::IsMember({"all", "roundtrip", "overhead"}));
+  constexpr std::size_t kMany = 1'000'000'000;
+  cli::addWholeNumber<std::size_t>(app, "--clients", rt.clients, 1, kMany, "roundtrip: clients (default: 1, 4, 16)");
+  cli::addWholeNumber<std::size_t>(app, "--exchanges", rt.exchanges, 1, kMany, "roundtrip: exchanges per client");
+  cli::addWholeNumber<std::size_t>(app, "--warmup", rt.warmup, 0, kMany, "roundtrip: warm-up exchanges (default 1000)");
+  cli::addValue(app, "--kind", "roundtrip: body or sensor (default body)", [&rt](const std::string& text) {
+    if (text != "body" && text != "sensor") cli::refuse("--kind", text, "expected body or sensor");
+    rt.sensor = text == "sensor";
+  });
+  cli::addWholeNumber<std::size_t>(app, "--particles", ov.particles, 1, kMany, "overhead: particles (default 10000)");
+  cli::addNumber(app, "--interval", ov.interval, {0.0, true}, "overhead: communication interval [s] (default 0.001)");
+  cli::addNumber(app, "--duration", ov.duration, {0.0, true}, "overhead: simulated time per run [s] (default 0.25)");
+  cli::addNumber(app, "--settle", ov.settle, {0.0, true},
+                 "overhead: simulated settling of the bed before the timed runs [s] (default 0.15)");
+  cli::addWholeNumber<std::size_t>(app, "--pairs", ov.pairs, 1, kMany, "overhead: timed pairs (default 5)");
+  return cli::parse(app, argc, argv);
 }
 
 }  // namespace
@@ -690,37 +689,7 @@ int main(int argc, char** argv) {
   std::string mode = "all";
   RoundtripOptions rt;
   OverheadOptions ov;
-  int k = 1;
-  if (argc > 1 && argv[1][0] != '-') mode = argv[k++];
-  if (mode != "all" && mode != "roundtrip" && mode != "overhead") usage("unknown mode " + mode);
-  for (; k < argc; ++k) {
-    const std::string_view arg = argv[k];
-    if (arg == "-h" || arg == "--help") usage("");
-    if (k + 1 >= argc) usage(std::string(arg) + ": missing value or unknown option");
-    const char* value = argv[++k];
-    if (arg == "--clients") {
-      rt.clients = count(arg, value);
-    } else if (arg == "--exchanges") {
-      rt.exchanges = count(arg, value);
-    } else if (arg == "--warmup") {
-      rt.warmup = std::string_view(value) == "0" ? 0 : count(arg, value);
-    } else if (arg == "--kind") {
-      if (std::string_view(value) != "body" && std::string_view(value) != "sensor") usage("--kind: body or sensor");
-      rt.sensor = std::string_view(value) == "sensor";
-    } else if (arg == "--particles") {
-      ov.particles = count(arg, value);
-    } else if (arg == "--interval") {
-      ov.interval = number(arg, value);
-    } else if (arg == "--duration") {
-      ov.duration = number(arg, value);
-    } else if (arg == "--settle") {
-      ov.settle = number(arg, value);
-    } else if (arg == "--pairs") {
-      ov.pairs = count(arg, value);
-    } else {
-      usage("unknown option " + std::string(arg));
-    }
-  }
+  if (const std::optional<int> exitCode = parse(argc, argv, mode, rt, ov)) return *exitCode;
   try {
     std::printf("demlink-bench-cosim: %u hardware threads\n", std::thread::hardware_concurrency());
     if (mode == "all" || mode == "roundtrip") roundtrip(rt, rt.clients == 0);

@@ -1,11 +1,12 @@
-/// demlink-bench-deposition: the "deposition-N" scene of
-/// ../shared/peers/deposition (in.liggghts), run through the DEMLink core so it
-/// can be compared side by side with LIGGGHTS (bench/run_deposition_compare.sh).
+/// demlink-bench-deposition: the "deposition-N" scene of bench/deposition/
+/// (in.deposition, the LIGGGHTS input), run through the DEMLink core so it can be
+/// compared side by side with LIGGGHTS (bench/run_deposition_compare.sh).
 ///
-///   demlink-bench-deposition init_N.txt [--steps S] [--thermo K]
+///   demlink-bench-deposition init_N.txt [--steps S] [--thermo K] [--threads T] [--dt DT]
+///                            [--skin M] [--vmax V]
 ///
-/// Scene (identical to in.liggghts): spheres read from init_N.txt (id x y z r,
-/// written by gen_init.py), one material (rho 2500, E 5e6, nu 0.3, e 0.5,
+/// Scene (identical to in.deposition): spheres read from init_N.txt (id x y z r,
+/// written by bench/deposition/make_particles.py), one material (rho 2500, E 5e6, nu 0.3, e 0.5,
 /// mu 0.5, no rolling friction), Hertz-Mindlin, velocity Verlet, dt 1e-5 s,
 /// gravity -9.81 z, skin 1 mm (LIGGGHTS `neighbor 0.001 bin`), planes z = 0,
 /// x = 0, x = 0.1, y = 0, y = 0.1 of the same material.
@@ -15,18 +16,20 @@
 /// the box, a blow-up check); a summary at the end. Single-threaded unless
 /// --threads T is given.
 #include <algorithm>
-#include <charconv>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
 #include <fstream>
+#include <limits>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "demlink/cli/command_line.hpp"
 #include "demlink/core/input_error.hpp"
 #include "demlink/core/world.hpp"
 
@@ -34,8 +37,9 @@ namespace {
 
 using demlink::core::Vec3;
 using demlink::core::World;
+namespace cli = demlink::cli;
 
-constexpr double kBox = 0.1;  // [m] side of the square box (gen_init.py's L)
+constexpr double kBox = 0.1;  // [m] side of the square box (make_particles.py's box side)
 
 struct Options {
   std::string init_file;
@@ -47,63 +51,26 @@ struct Options {
   std::uint32_t threads = 1;
 };
 
-[[noreturn]] void usage(const char* argv0, const std::string& error) {
-  if (!error.empty()) std::fprintf(stderr, "error: %s\n", error.c_str());
-  std::fprintf(stderr,
-               "usage: %s init_N.txt [--steps S] [--thermo K] [--threads T] [--dt DT] [--skin M] [--vmax V]\n"
-               "  init_N.txt  id x y z r per line (gen_init.py); '#' lines are comments\n"
-               "  --steps S   time steps to run (default 50000)\n"
-               "  --thermo K  thermo line every K steps (default 5000; 0 = only first and last)\n"
-               "  --threads T engine threads (SimulationSettings::threads; default 1)\n"
-               "  --dt DT     time step [s] (default 1e-5, as in.liggghts)\n"
-               "  --skin M    neighbour skin [m] (default 1e-3, as `neighbor 0.001`)\n"
-               "  --vmax V    max_impact_velocity for the time-step check [m/s] (default 6)\n",
-               argv0);
-  std::exit(2);
-}
-
-template <class T>
-T parseNumber(const char* argv0, std::string_view flag, std::string_view text) {
-  T value{};
-  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (ec != std::errc() || end != text.data() + text.size()) {
-    usage(argv0, std::string(flag) + ": not a number: '" + std::string(text) + "'");
-  }
-  return value;
-}
-
-Options parseOptions(int argc, char** argv) {
-  Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string_view arg = argv[i];
-    auto value = [&]() -> std::string_view {
-      if (i + 1 >= argc) usage(argv[0], std::string(arg) + " needs a value");
-      return argv[++i];
-    };
-    if (arg == "--steps") {
-      o.steps = parseNumber<std::uint64_t>(argv[0], arg, value());
-    } else if (arg == "--thermo") {
-      o.thermo = parseNumber<std::uint64_t>(argv[0], arg, value());
-    } else if (arg == "--threads") {
-      o.threads = parseNumber<std::uint32_t>(argv[0], arg, value());
-    } else if (arg == "--dt") {
-      o.time_step = parseNumber<double>(argv[0], arg, value());
-    } else if (arg == "--skin") {
-      o.skin = parseNumber<double>(argv[0], arg, value());
-    } else if (arg == "--vmax") {
-      o.max_impact_velocity = parseNumber<double>(argv[0], arg, value());
-    } else if (arg == "-h" || arg == "--help") {
-      usage(argv[0], "");
-    } else if (!arg.empty() && arg[0] == '-') {
-      usage(argv[0], "unknown option " + std::string(arg));
-    } else if (o.init_file.empty()) {
-      o.init_file = arg;
-    } else {
-      usage(argv[0], "more than one input file");
-    }
-  }
-  if (o.init_file.empty()) usage(argv[0], "no input file");
-  return o;
+/// Parses the command line (demlink/cli/command_line.hpp); an exit code when the program
+/// should stop now (--help, --version: 0; bad input: 2).
+std::optional<int> parseOptions(int argc, char** argv, Options& o) {
+  CLI::App app("The deposition benchmark scene on DEMLink's engine, side by side with LIGGGHTS.",
+               "demlink-bench-deposition");
+  app.add_option("init_file", o.init_file, "particles, 'id x y z r' per line (bench/deposition/make_particles.py); "
+                                           "'#' lines are comments")
+      ->required()
+      ->type_name("init_N.txt");
+  cli::addWholeNumber<std::uint64_t>(app, "--steps", o.steps, 0, std::numeric_limits<std::uint64_t>::max(),
+                                     "time steps to run (default 50000)");
+  cli::addWholeNumber<std::uint64_t>(app, "--thermo", o.thermo, 0, std::numeric_limits<std::uint64_t>::max(),
+                                     "thermo line every K steps (default 5000; 0 = only first and last)");
+  cli::addWholeNumber<std::uint32_t>(app, "--threads", o.threads, 1, 1024,
+                                     "engine threads (SimulationSettings::threads; default 1)");
+  cli::addNumber(app, "--dt", o.time_step, {0.0, true}, "time step [s] (default 1e-5, as the LIGGGHTS input)");
+  cli::addNumber(app, "--skin", o.skin, {0.0}, "neighbour skin [m] (default 1e-3, as `neighbor 0.001`)");
+  cli::addNumber(app, "--vmax", o.max_impact_velocity, {0.0, true},
+                 "max_impact_velocity for the time-step check [m/s] (default 6)");
+  return cli::parse(app, argc, argv);
 }
 
 struct InitParticle {
@@ -297,7 +264,8 @@ int run(const Options& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const Options options = parseOptions(argc, argv);
+  Options options;
+  if (const std::optional<int> exitCode = parseOptions(argc, argv, options)) return *exitCode;
   try {
     return run(options);
   } catch (const demlink::core::InputError& e) {

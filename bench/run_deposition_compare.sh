@@ -1,20 +1,18 @@
 #!/usr/bin/env bash
 # Side-by-side deposition benchmark: DEMLink (demlink-bench-deposition) vs LIGGGHTS
-# on the peers' "deposition-N" scene (../shared/peers/deposition, see docs/benchmarks.md).
+# on the "deposition-N" scene of bench/deposition/ (see its README.md and docs/benchmarks.md).
 #
 # Usage: bench/run_deposition_compare.sh N [steps] [--runs K] [--thermo T] [--np P] [--threads T] [--rebuild]
-#   N          number of particles (gen_init.py N)
+#   N          number of particles (bench/deposition/make_particles.py N)
 #   steps      time steps (default 50000 = 0.5 s)
 #   --runs K   repeat each code K times (alternating) and report medians (default 1)
 #   --thermo T thermo interval in steps (default steps/10)
 #   --np P     P threads for DEMLink (--threads P) and P MPI ranks for LIGGGHTS
 #              (mpirun -np P, -var px P); default 1 (both serial)
 #   --threads T  DEMLink threads only (default: P), e.g. DEMLink on 2 threads
-#              against serial LIGGGHTS, the issue's speed target
+#              against serial LIGGGHTS, our speed target
 #   --rebuild  rebuild our release binary even if it exists
 # Environment:
-#   DEMLINK_PEERS      directory holding gen_init.py and in.liggghts
-#                      (default: <repo>/../shared/peers/deposition)
 #   DEMLINK_BENCH_WORK work directory (default: <repo>/bench/work, git-ignored)
 #   LIGGGHTS           LIGGGHTS executable (default: liggghts)
 # Logs of every run are kept in the work directory (ours_N_S_k.log, liggghts_N_S_k.log,
@@ -24,7 +22,7 @@ set -euo pipefail
 script_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 repo=$(cd "$script_dir/.." && pwd)
 
-usage() { sed -n '4,18p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2; exit 2; }
+usage() { sed -n '4,17p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2; exit 2; }
 
 n=""; steps=50000; runs=1; thermo=""; np=1; ours_threads=""; rebuild=0
 positional=()
@@ -49,14 +47,11 @@ ours_threads=${ours_threads:-$np}
 [[ "$ours_threads" =~ ^[0-9]+$ ]] && ((ours_threads >= 1)) || usage
 [[ -n "$thermo" ]] || thermo=$(( steps >= 10 ? steps / 10 : 1 ))
 
-peers=${DEMLINK_PEERS:-$repo/../shared/peers/deposition}
+scene=$repo/bench/deposition
 work=${DEMLINK_BENCH_WORK:-$repo/bench/work}
 liggghts=${LIGGGHTS:-liggghts}
 bench="$repo/build/release/bench/demlink-bench-deposition"
 
-for f in gen_init.py in.liggghts; do
-  [[ -f "$peers/$f" ]] || { echo "missing $peers/$f (set DEMLINK_PEERS)" >&2; exit 1; }
-done
 [[ -x /usr/bin/time ]] || { echo "/usr/bin/time not found (Debian package 'time')" >&2; exit 1; }
 command -v "$liggghts" >/dev/null || { echo "$liggghts not found (Debian package 'liggghts')" >&2; exit 1; }
 liggghts_launch=()
@@ -78,10 +73,10 @@ revision=$(git -C "$repo" describe --always --dirty 2>/dev/null || echo unknown)
 
 mkdir -p "$work"
 cd "$work"
-cp "$peers/in.liggghts" in.liggghts
+cp "$scene/in.deposition" in.deposition
 if [[ ! -f "init_$n.txt" || ! -f "init_$n.data" ]]; then
-  echo "== gen_init.py $n"
-  python3 "$peers/gen_init.py" "$n"
+  echo "== make_particles.py $n"
+  python3 "$scene/make_particles.py" "$n"
 fi
 
 prefix="${n}_${steps}_"
@@ -95,7 +90,7 @@ for ((k = 1; k <= runs; ++k)); do
   echo "== run $k/$runs: LIGGGHTS (N=$n, steps=$steps, ranks=$np; load average $(cut -d" " -f1-3 /proc/loadavg))"
   /usr/bin/time -v -o "liggghts_$tag.time" \
     ${liggghts_launch[@]+"${liggghts_launch[@]}"} \
-    "$liggghts" -in in.liggghts -var N "$n" -var steps "$steps" -var tout "$thermo" -var px "$np" \
+    "$liggghts" -in in.deposition -var N "$n" -var steps "$steps" -var tout "$thermo" -var px "$np" \
     -log "liggghts_$tag.lammpslog" > "liggghts_$tag.log" 2>&1 ||
     { echo "LIGGGHTS run failed, see $work/liggghts_$tag.log" >&2; tail -5 "liggghts_$tag.log" >&2; exit 1; }
 done

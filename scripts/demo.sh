@@ -5,11 +5,12 @@
 # truck: C ABI) over loopback, with progress lines, VTK for ParaView, CSV, PNG plots and a
 # summary (mass dug, delivered, peak cylinder force, mass balance) in one folder.
 #   scripts/demo.sh [OUT_DIR] [CYCLES]      (defaults: out/cosim_demo, 2)
-# The headless deposition scene of issue 2 is one command once built:
-#   build/release/server/demlink-run examples/scenes/deposition_small.json --output out/deposition
+# It also builds demlink-run (one more link over the same libraries), so the README's next
+# command, a headless scene, runs right after:
+#   build/release/server/demlink-run examples/scenes/deposition_small.json --output out/dep
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install_deps.sh
-# Only what the demo runs (scripts/run_tests.sh builds the rest).
-scripts/build.sh release demlink_server demlink-truck demlink_excavator
+# What the demo runs, and demlink-run (scripts/run_tests.sh builds the rest).
+scripts/build.sh release demlink_server demlink-truck demlink_excavator demlink_run
 exec scripts/demo_cosim.sh "$@"

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Hopper discharge vs the Beverloo correlation (issue 3).
+"""Hopper discharge vs the Beverloo correlation (docs/hopper_discharge.md).
 
 A square silo (side 0.1 m, four plane walls) with a flat floor: a plate with a
 circular orifice of diameter D (an STL facet body). A particle source fills it

@@ -8,6 +8,8 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libasio-dev libprotobuf-dev protobuf-compiler
   libeigen3-dev libspdlog-dev libfmt-dev
+  # every program's command line (server/cli/): header-only CLI11
+  libcli11-dev
   googletest libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-protobuf
   # scripts/plot_cosim.py (PNG plots, headless Agg backend)

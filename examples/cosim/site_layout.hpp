@@ -1,5 +1,5 @@
 #pragma once
-/// The excavator-and-truck site (issue 5), shared by the system models, the server's scene
+/// The excavator-and-truck site, shared by the system models, the server's scene
 /// file (examples/cosim/site_scene.json must agree) and the tests. World frame: z up,
 /// ground level z = 0, SI units. Header-only constants, no dependencies, so both the C++
 /// client (excavator) and the C ABI client (truck) can include it.

@@ -1,5 +1,5 @@
-/// demlink-excavator: the excavator of the excavator-and-truck site (issue 5) as a
-/// co-simulation client on the C++ client library.
+/// demlink-excavator: the excavator of the excavator-and-truck site as a co-simulation
+/// client on the C++ client library.
 ///
 /// It declares the bucket (a RigidBody whose mesh it generates, PREDICTED motion) and a
 /// RegionSensor riding in the bucket, then runs the system model one communication
@@ -21,10 +21,12 @@
 #include <fstream>
 #include <iostream>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "bucket_mesh.hpp"
+#include "demlink/cli/command_line.hpp"
 #include "demlink/client/connection.hpp"
 #include "demlink/client/rigid_body.hpp"
 #include "demlink/client/sensor_components.hpp"
@@ -36,6 +38,7 @@
 namespace ex = demlink::examples::excavator;
 namespace site = demlink::examples::site;
 namespace dc = demlink::client;
+namespace cli = demlink::cli;
 
 namespace {
 
@@ -50,74 +53,26 @@ struct Options {
   double log_interval_s = 0.5;  // simulated time between log lines; 0: every sample
 };
 
-void usage() {
-  std::cout << "usage: demlink-excavator [--host H] [--port N] [--cycles N] [--output DIR] [--timeout S]\n"
-               "                         [--log-interval S]\n"
-               "  --host H      server address (default " << site::kDefaultHost << ")\n"
-               "  --port N      server port (default " << site::kDefaultPort << ")\n"
-               "  --cycles N    dig-dump cycles (default 2)\n"
-               "  --output DIR  where bucket.stl, excavator.csv and excavator_summary.txt go (default out/excavator)\n"
-               "  --timeout S   bound of every wait for the server (default 300 s; the compile generates the pit)\n"
-               "  --log-interval S  simulated time between log lines (default 0.5 s; 0: every sample)\n";
-}
-
-/// Parses the command line; exits with 2 and a message naming the option on bad input.
-Options parse(int argc, char** argv) {
-  Options o;
-  auto fail = [](const std::string& option, const std::string& value, const std::string& why) {
-    std::cerr << "error: " << option << " = " << value << ": " << why << "\n";
-    std::exit(2);
-  };
-  // The whole value must be the number ("2.5" is not a cycle count, "1x" not a port).
-  auto whole = [&](const std::string& option, const std::string& value, auto convert) {
-    std::size_t used = 0;
-    const auto v = convert.parse(value, &used);
-    if (used != value.size()) fail(option, value, std::string("not ") + convert.what);
-    return v;
-  };
-  struct {
-    const char* what = "a whole number";
-    long parse(const std::string& t, std::size_t* used) const { return std::stol(t, used); }
-  } toLong;
-  struct {
-    const char* what = "a number";
-    double parse(const std::string& t, std::size_t* used) const { return std::stod(t, used); }
-  } toDouble;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--help" || arg == "-h") {
-      usage();
-      std::exit(0);
-    }
-    if (i + 1 >= argc) fail(arg, "", "missing value (or unknown option; see --help)");
-    const std::string value = argv[++i];
-    try {
-      if (arg == "--host") {
-        o.host = value;
-      } else if (arg == "--port") {
-        const long p = whole(arg, value, toLong);
-        if (p < 1 || p > 65535) fail(arg, value, "must be 1..65535");
-        o.port = static_cast<unsigned>(p);
-      } else if (arg == "--cycles") {
-        const long cycles = whole(arg, value, toLong);
-        if (cycles < 1 || cycles > 100) fail(arg, value, "must be 1..100");
-        o.cycles = static_cast<int>(cycles);
-      } else if (arg == "--output") {
-        o.output = value;
-      } else if (arg == "--timeout") {
-        o.timeout_s = whole(arg, value, toDouble);
-        if (!(o.timeout_s > 0.0 && o.timeout_s < 1e6)) fail(arg, value, "must be > 0 s");
-      } else if (arg == "--log-interval") {
-        o.log_interval_s = whole(arg, value, toDouble);
-        if (!(o.log_interval_s >= 0.0 && o.log_interval_s < 1e6)) fail(arg, value, "must be >= 0 s");
-      } else {
-        fail(arg, value, "unknown option (see --help)");
-      }
-    } catch (const std::logic_error&) {
-      fail(arg, value, "not a number");
-    }
-  }
-  return o;
+/// Parses the command line (demlink/cli/command_line.hpp); an exit code when the program
+/// should stop now (--help, --version: 0; bad input: 2, naming the option and the value).
+std::optional<int> parse(int argc, char** argv, Options& o) {
+  CLI::App app("The excavator of the excavator-and-truck site: a co-simulation client on the C++ client library.",
+               "demlink-excavator");
+  cli::addText(app, "--host", o.host, "server address (default " + std::string(site::kDefaultHost) + ")")
+      ->type_name("H");
+  cli::addWholeNumber(app, "--port", o.port, 1u, 65535u,
+                      "server port (default " + std::to_string(site::kDefaultPort) + ")");
+  cli::addWholeNumber(app, "--cycles", o.cycles, 1, 100, "dig-dump cycles (default 2)");
+  cli::addText(app, "--output", o.output,
+               "where bucket.stl, excavator.csv and excavator_summary.txt go (default out/excavator)")
+      ->type_name("DIR");
+  cli::addNumber(app, "--timeout", o.timeout_s, {0.0, true, 1e6},
+                 "bound of every wait for the server (default 300 s; the compile generates the pit)")
+      ->type_name("S");
+  cli::addNumber(app, "--log-interval", o.log_interval_s, {0.0, false, 1e6},
+                 "simulated time between log lines (default 0.5 s; 0: every sample)")
+      ->type_name("S");
+  return cli::parse(app, argc, argv);
 }
 
 dc::Vec3 toClient(const ex::Vec3& v) { return {v.x(), v.y(), v.z()}; }
@@ -288,7 +243,8 @@ int run(const Options& opt) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const Options options = parse(argc, argv);
+  Options options;
+  if (const std::optional<int> exitCode = parse(argc, argv, options)) return *exitCode;
   try {
     return run(options);
   } catch (const dc::ServerError& e) {

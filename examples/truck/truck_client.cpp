@@ -1,5 +1,5 @@
-/// demlink-truck: the truck of the excavator-and-truck co-simulation (issue 5), a system
-/// model coupled through the C ABI only (demlink_c.h, generic packages as in the coupling
+/// demlink-truck: the truck of the excavator-and-truck co-simulation, a system model
+/// coupled through the C ABI only (demlink_c.h, generic packages as in the coupling
 /// paper: dl_set_data / dl_send_package / dl_recv_package).
 ///
 /// Why the C ABI and generic packages: this is the path a Modelica tool takes, and the
@@ -21,6 +21,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -28,6 +29,7 @@
 #include <sys/stat.h>
 
 #include "../cosim/site_layout.hpp"
+#include "demlink/cli/command_line.hpp"
 #include "demlink/demlink_c.h"
 #include "dump_body_mesh.hpp"
 #include "truck_model.hpp"
@@ -35,6 +37,7 @@
 namespace {
 
 namespace site = demlink::examples::site;
+namespace cli = demlink::cli;
 using demlink::examples::truck::DumpBodyShape;
 using demlink::examples::truck::TruckInputs;
 using demlink::examples::truck::TruckModel;
@@ -70,37 +73,6 @@ struct Options {
   std::string material = "gravel";
 };
 
-[[noreturn]] void usage(const char* why) {
-  std::fprintf(stderr,
-               "demlink-truck: %s\n"
-               "usage: demlink-truck [--host H] [--port N] [--scenario excavator|source] [--expected N1,N2,...]\n"
-               "                     [--output DIR] [--load-target KG] [--source-rate KG_PER_S] [--drive-time S]\n"
-               "                     [--drive-at S] [--dumps N] [--acceleration M_S2] [--yaw-rate RAD_S] [--body-mass KG]\n"
-               "                     [--steady-time S] [--max-time S] [--material NAME] [--timeout S]\n"
-               "                     [--log-interval S]\n",
-               why);
-  std::exit(2);
-}
-
-double number(const std::string& flag, const char* text, double lo) {
-  char* end = nullptr;
-  errno = 0;
-  const double v = std::strtod(text, &end);
-  if (end == text || *end != '\0' || errno != 0 || !std::isfinite(v) || v < lo) {
-    usage((flag + " = " + text + ": not a number >= " + std::to_string(lo)).c_str());
-  }
-  return v;
-}
-
-/// A whole number in [lo, hi]; anything else (2.5, 1e20, "x") exits with a message naming it.
-int integer(const std::string& flag, const char* text, int lo, int hi) {
-  const double v = number(flag, text, static_cast<double>(lo));
-  if (v > hi || v != std::floor(v)) {
-    usage((flag + " = " + text + ": not a whole number in " + std::to_string(lo) + ".." + std::to_string(hi)).c_str());
-  }
-  return static_cast<int>(v);
-}
-
 std::vector<std::string> splitNames(const std::string& list) {
   std::vector<std::string> out;
   std::size_t start = 0;
@@ -114,41 +86,55 @@ std::vector<std::string> splitNames(const std::string& list) {
   return out;
 }
 
-Options parse(int argc, char** argv) {
-  Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string flag = argv[i];
-    if (flag == "--help" || flag == "-h") usage("help");
-    if (i + 1 >= argc) usage((flag + ": missing value").c_str());
-    const char* v = argv[++i];
-    if (flag == "--host") o.host = v;
-    else if (flag == "--port") o.port = integer(flag, v, 1, 65535);
-    else if (flag == "--scenario") {
-      if (std::strcmp(v, "source") == 0) o.source = true;
-      else if (std::strcmp(v, "excavator") == 0) o.source = false;
-      else usage((flag + " = " + v + ": expected excavator or source").c_str());
-    } else if (flag == "--expected") {
-      o.expected = splitNames(v);
-      o.expected_given = true;
-    } else if (flag == "--output") o.output = v;
-    else if (flag == "--load-target") o.load_target = number(flag, v, 1e-9);
-    else if (flag == "--source-rate") o.source_rate = number(flag, v, 1e-9);
-    else if (flag == "--drive-time") o.drive_time = number(flag, v, 0.0);
-    else if (flag == "--drive-at") o.drive_at = number(flag, v, 0.0);
-    else if (flag == "--dumps") o.dumps = integer(flag, v, 1, 1000);
-    else if (flag == "--acceleration") o.acceleration = number(flag, v, 0.0);
-    else if (flag == "--yaw-rate") o.yaw_rate = number(flag, v, -10.0);
-    else if (flag == "--body-mass") o.body_mass = number(flag, v, 1.0);
-    else if (flag == "--steady-time") o.steady_time = number(flag, v, 0.0);
-    else if (flag == "--max-time") o.max_time = number(flag, v, 0.0);
-    else if (flag == "--material") o.material = v;
-    else if (flag == "--timeout") o.timeout = number(flag, v, 1e-3);
-    else if (flag == "--log-interval") o.log_interval = number(flag, v, 0.0);
-    else usage(("unknown option " + flag).c_str());
-  }
+/// Parses the command line (demlink/cli/command_line.hpp); an exit code when the program
+/// should stop now (--help, --version: 0; bad input: 2, naming the option and the value).
+std::optional<int> parse(int argc, char** argv, Options& o) {
+  CLI::App app("The truck of the excavator-and-truck co-simulation: a system model coupled through the C ABI.",
+               "demlink-truck");
+  cli::addText(app, "--host", o.host, "server address (default 127.0.0.1)")->type_name("H");
+  cli::addWholeNumber(app, "--port", o.port, 1, 65535, "server port (default 47000)");
+  cli::addValue(app, "--scenario", "excavator (load from demlink-excavator, default) or source (a particle source)",
+                [&o](const std::string& text) {
+                  if (text != "excavator" && text != "source") cli::refuse("--scenario", text, "expected excavator or source");
+                  o.source = text == "source";
+                })
+      ->type_name("excavator|source");
+  cli::addValue(app, "--expected", "the other clients' component names (default: bucket,bucket_fill)",
+                [&o](const std::string& text) {
+                  o.expected = splitNames(text);
+                  o.expected_given = true;
+                })
+      ->type_name("N1,N2,...");
+  cli::addText(app, "--output", o.output, "output directory (default out/truck)")->type_name("DIR");
+  cli::addNumber(app, "--load-target", o.load_target, {0.0, true}, "source scenario: mass the source inserts [kg] (default 1000)")
+      ->type_name("KG");
+  cli::addNumber(app, "--source-rate", o.source_rate, {0.0, true}, "source scenario: insertion rate [kg/s] (default 500)")
+      ->type_name("KG_PER_S");
+  cli::addNumber(app, "--drive-time", o.drive_time, {0.0}, "driving time, accelerating half, turning half [s] (default 3)")
+      ->type_name("S");
+  cli::addNumber(app, "--drive-at", o.drive_at, {0.0},
+                 "excavator scenario: start driving at this time [s] (default 0: after --dumps dumps)")
+      ->type_name("S");
+  cli::addWholeNumber(app, "--dumps", o.dumps, 1, 1000,
+                      "excavator scenario: drive once this many dumps have settled (default 2)");
+  cli::addNumber(app, "--acceleration", o.acceleration, {0.0}, "[m/s^2] (default 1.5)")->type_name("M_S2");
+  cli::addNumber(app, "--yaw-rate", o.yaw_rate, {-10.0}, "[rad/s], left turn > 0 (default 0.5)")->type_name("RAD_S");
+  cli::addNumber(app, "--body-mass", o.body_mass, {1.0}, "dump body mass [kg] (default 2000)")->type_name("KG");
+  cli::addNumber(app, "--steady-time", o.steady_time, {0.0}, "load unchanged this long = settled [s] (default 0.4)")
+      ->type_name("S");
+  cli::addNumber(app, "--max-time", o.max_time, {0.0},
+                 "start driving at the latest here [s] (default 0: source 30 s, excavator 600 s)")
+      ->type_name("S");
+  cli::addText(app, "--material", o.material, "material of the source's particles (default gravel)")->type_name("NAME");
+  cli::addNumber(app, "--timeout", o.timeout, {1e-3}, "bound of every wait for the server [s] (default 300)")
+      ->type_name("S");
+  cli::addNumber(app, "--log-interval", o.log_interval, {0.0},
+                 "simulated time between log lines [s] (default 0.5; 0: every sample)")
+      ->type_name("S");
+  if (const std::optional<int> exitCode = cli::parse(app, argc, argv)) return exitCode;
   if (!o.expected_given && !o.source) o.expected = {"bucket", "bucket_fill"};  // demlink-excavator's components
   if (o.max_time <= 0.0) o.max_time = o.source ? 30.0 : 600.0;
-  return o;
+  return std::nullopt;
 }
 
 /// Creates DIR and its parents (like mkdir -p).
@@ -505,7 +491,8 @@ int run(const Options& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const Options options = parse(argc, argv);
+  Options options;
+  if (const std::optional<int> exitCode = parse(argc, argv, options)) return *exitCode;
   try {
     return run(options);
   } catch (const std::exception& e) {

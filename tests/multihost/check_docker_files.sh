@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Static checks of docker/ (no container engine runs here, so the images are never built
 # by CI; this is what can be checked without one):
-# - each Dockerfile starts FROM debian:12 and its RUN lines call scripts/install_deps.sh
+# - each Dockerfile starts FROM debian:12 (its build stage) and its RUN lines call scripts/install_deps.sh
 #   and scripts/build.sh, the two steps scripts/run_tests.sh (CI) calls too;
 # - every scripts/... or /src/... path in a Dockerfile exists in the repository (scripts
 #   executable); /src/build/release/X must be where this build puts X (SERVER_EXE);
@@ -34,7 +34,7 @@ for name in Dockerfile.server Dockerfile.clients; do
     continue
   fi
   lines=$(logical_lines "$file")
-  [[ "$(grep -m1 -E '^FROM ' <<<"$lines")" == "FROM debian:12" ]] || fail "$name: first FROM is not debian:12"
+  grep -m1 -E '^FROM ' <<<"$lines" | grep -qE '^FROM debian:12( AS [a-z]+)?$' || fail "$name: first FROM is not debian:12"
   run_lines=$(grep -E '^RUN ' <<<"$lines" || true)
   for step in scripts/install_deps.sh scripts/build.sh; do
     grep -qF "$step" <<<"$run_lines" || fail "$name: no RUN line calls $step"

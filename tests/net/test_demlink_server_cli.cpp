@@ -45,7 +45,7 @@ TEST(DemlinkServerCli, BadOptionsExitTwoNamingOptionAndValue) {
       {{"--timeout", "-1"}, "--timeout = -1"},
       {{"--quiet-period", "nan"}, "--quiet-period = nan"},
       {{"--max-frame-bytes", "0"}, "--max-frame-bytes = 0"},
-      {{"--port"}, "--port = (missing)"},
+      {{"--port"}, "--port: 1 required N missing"},  // CLI11's wording
       {{"--bogus"}, "--bogus: unknown option"},
   };
   for (const auto& [arguments, expected] : cases) {

@@ -1,4 +1,4 @@
-// Checkpoints of the state that issue-3 features add to the world: clump bodies
+// Checkpoints of the state that the scene components add to the world: clump bodies
 // (pose, momentum, member slots), the moving room (Omega advanced every step),
 // growing bounds and facet-body collision windows. A run continued from a
 // checkpoint in a freshly built world must equal the run that never stopped, bit
