@@ -27,6 +27,18 @@ runtime_stage() {
     awk '/^FROM /{stage = ""} {stage = stage $0 "\n"} END {printf "%s", stage}'
 }
 
+# Sets `package` to the Debian package owning library file $1; dpkg -S takes seconds, so
+# each path is asked once (no subshell, so the cache persists).
+declare -A owners=()
+owner_of() {
+  if [[ -z "${owners[$1]+set}" ]]; then
+    local owner
+    owner=$(dpkg -S "$(realpath "$1")" 2>/dev/null || dpkg -S "$1" 2>/dev/null || dpkg -S "/usr$1" 2>/dev/null || true)
+    owners[$1]=$(head -n1 <<<"$owner" | cut -d: -f1)
+  fi
+  package=${owners[$1]}
+}
+
 for name in Dockerfile.server Dockerfile.clients; do
   stage=$(runtime_stage "$repo/docker/$name")
   [[ "$(grep -m1 -E '^FROM ' <<<"$stage")" == "FROM debian:12-slim" ]] || fail "$name: the runtime stage is not FROM debian:12-slim"
@@ -53,9 +65,7 @@ for name in Dockerfile.server Dockerfile.clients; do
           fail "$name: $(basename "$program") loads $soname from the build tree, which the stage does not COPY"
         continue
       fi
-      real=$(realpath "$resolved")
-      owner=$(dpkg -S "$real" 2>/dev/null || dpkg -S "$resolved" 2>/dev/null || dpkg -S "/usr$resolved" 2>/dev/null || true)
-      package=$(head -n1 <<<"$owner" | cut -d: -f1)
+      owner_of "$resolved"
       if [[ -z "$package" ]]; then
         fail "$name: $(basename "$program") loads $resolved, which no Debian package owns"
       elif ! grep -qxF "$package" <<<"$packages"; then
