@@ -96,8 +96,10 @@ TEST(TranslateMeshBody, BuildPlacesTheGeometryAndNamesTheCollisionWindow) {
   const core::MeshBody body = buildMeshBody(d, "components[3].facet_body");
   EXPECT_EQ(body.localVertices().front(), core::Vec3(-0.5, -0.5, -0.5));
   EXPECT_EQ(body.worldVertices().front(), core::Vec3(-0.5, -0.5, 1.5));
-  EXPECT_EQ(body.collideFrom(), 1.0);
-  EXPECT_EQ(body.collideUntil(), 2.0);
+  EXPECT_FALSE(body.collidesAt(0.999));
+  EXPECT_TRUE(body.collidesAt(1.0));
+  EXPECT_TRUE(body.collidesAt(1.999));
+  EXPECT_FALSE(body.collidesAt(2.0));
 
   d.active_until = 0.5;
   EXPECT_EQ(errorOf([&] { (void)buildMeshBody(d, "components[3].facet_body"); }).field(),
