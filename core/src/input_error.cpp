@@ -4,6 +4,24 @@
 
 namespace demlink::core {
 
+InputError::InputError(std::string field, std::string value, std::string reason)
+    : std::runtime_error(field + " = " + value + ": " + reason),
+      field_(std::move(field)),
+      value_(std::move(value)),
+      reason_(std::move(reason)) {}
+
+InputError InputError::within(const std::string& path) const {
+  if (path.empty()) return *this;
+  if (field_.empty()) return InputError(path, value_, reason_);
+  const bool indexed = field_.front() == '[';
+  return InputError(path + (indexed ? "" : ".") + field_, value_, reason_);
+}
+
+InputError InputError::as(const std::string& field) const {
+  if (field == field_ || field_.empty()) return InputError(field, value_, reason_);
+  return InputError(field, value_, field_ + ": " + reason_);
+}
+
 std::string formatValue(double value) {
   char buffer[32];
   std::snprintf(buffer, sizeof buffer, "%.9g", value);

@@ -68,12 +68,9 @@ std::pair<std::string, int> renameField(const std::string& field, const std::vec
 CompileFailure failureOf(const core::InputError& error, const std::vector<DeclaredComponent>& all,
                          const std::string& fallbackComponent = {}) {
   const auto [field, index] = renameField(error.field(), all);
-  const std::string what = error.what();
-  const std::size_t head = error.field().size() + 3 + error.value().size() + 2;
-  const std::string reason = what.size() > head ? what.substr(head) : what;
   const std::string component =
       index >= 0 ? all[static_cast<std::size_t>(index)].declaration.name() : fallbackComponent;
-  return CompileFailure(makeError(v1::Error::INVALID_DECLARATION, field + " = " + error.value() + ": " + reason,
+  return CompileFailure(makeError(v1::Error::INVALID_DECLARATION, field + " = " + error.value() + ": " + error.reason(),
                                   component, field, true));
 }
 
@@ -304,10 +301,8 @@ CompiledSimulation CosimCompiler::compile(const std::filesystem::path& sceneDire
     // The engine names the box's settings "simulation_box.<field>".
     const std::string engineBox = "simulation_box";
     if (error.field().rfind(engineBox, 0) == 0) {
-      const std::string what = error.what();
-      const std::string reason = what.substr(error.field().size() + 3 + error.value().size() + 2);
       const std::string field = out.box_name + ".simulation_box" + error.field().substr(engineBox.size());
-      throw failure(out.box_name, field, error.value(), reason);
+      throw failure(out.box_name, field, error.value(), error.reason());
     }
     throw failureOf(error, declared_, out.box_name);
   }

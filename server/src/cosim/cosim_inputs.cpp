@@ -92,7 +92,7 @@ std::optional<v1::Error> checkInput(const CosimComponent& component, const v1::D
         try {
           frameOf(package.simulation_box_input().frame()).validate("simulation_box_input.frame");
         } catch (const core::InputError& error) {
-          return invalid(component, error.field(), error.value(), error.what());
+          return invalid(component, error.field(), error.value(), error.reason());
         }
       }
       return std::nullopt;

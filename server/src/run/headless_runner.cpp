@@ -67,9 +67,7 @@ void initializeWorld(core::World& world, const std::string& boxPrefix) {
   } catch (const core::InputError& error) {
     const std::string engineBox = "simulation_box";
     if (error.field().rfind(engineBox, 0) != 0 || boxPrefix == engineBox) throw;
-    const std::string what = error.what();
-    const std::string reason = what.substr(error.field().size() + 3 + error.value().size() + 2);
-    throw core::InputError(boxPrefix + error.field().substr(engineBox.size()), error.value(), reason);
+    throw core::InputError(boxPrefix + error.field().substr(engineBox.size()), error.value(), error.reason());
   }
 }
 

@@ -31,7 +31,7 @@ core::MeshBody buildMeshBody(const MeshBodyDeclaration& declaration, const std::
       return core::MeshBody::fromStl(declaration.name, declaration.stl_file.string(), declaration.reference_point,
                                      declaration.material);
     } catch (const InputError& e) {
-      throw InputError(fieldPrefix + ".stl_file", e.value(), e.what());
+      throw e.as(fieldPrefix + ".stl_file");
     }
   }();
   body.setPose(declaration.position, declaration.orientation);
@@ -39,7 +39,7 @@ core::MeshBody buildMeshBody(const MeshBodyDeclaration& declaration, const std::
   try {
     body.setCollisionWindow(declaration.active_from, declaration.active_until);
   } catch (const InputError& e) {
-    throw InputError(fieldPrefix + "." + e.field(), e.value(), e.what());
+    throw e.within(fieldPrefix);
   }
   return body;
 }

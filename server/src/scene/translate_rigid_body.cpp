@@ -39,7 +39,7 @@ void readGeometry(const v1::RigidBody& body, const std::filesystem::path& sceneD
         out.mesh.vertices = std::move(stl.vertices);
         out.mesh.triangles = std::move(stl.triangles);
       } catch (const InputError& e) {
-        throw InputError(field, e.value(), e.what());
+        throw e.as(field);
       }
       return;
     }

@@ -8,20 +8,30 @@
 namespace demlink::core {
 
 /// Thrown when an input value is invalid. field() is a dotted path such as
-/// "materials[2].youngs_modulus"; value() is the offending value as text.
+/// "youngs_modulus" or, once a translator has put the scene path in front
+/// (within()), "materials[2].youngs_modulus"; value() is the offending value as text;
+/// reason() says what is wrong. what() is "<field> = <value>: <reason>", formatted
+/// here and nowhere else: code that needs a part asks for it, never parses what().
 class InputError : public std::runtime_error {
  public:
-  InputError(std::string field, std::string value, const std::string& reason)
-      : std::runtime_error(field + " = " + value + ": " + reason),
-        field_(std::move(field)),
-        value_(std::move(value)) {}
+  InputError(std::string field, std::string value, std::string reason);
 
   [[nodiscard]] const std::string& field() const { return field_; }
   [[nodiscard]] const std::string& value() const { return value_; }
+  [[nodiscard]] const std::string& reason() const { return reason_; }
+
+  /// The same error with `path` in front of the field ("simulation_box" + "time_step"
+  /// -> "simulation_box.time_step"; "materials" + "[2].name" -> "materials[2].name";
+  /// an empty field becomes `path`).
+  [[nodiscard]] InputError within(const std::string& path) const;
+  /// The same error named by `field` instead: for a field that names a file whose content
+  /// is wrong. The old field (the place inside the file) goes into the reason, once.
+  [[nodiscard]] InputError as(const std::string& field) const;
 
  private:
   std::string field_;
   std::string value_;
+  std::string reason_;
 };
 
 /// Formats a double for error messages with enough digits to be unambiguous.
