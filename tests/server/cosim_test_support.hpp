@@ -53,12 +53,13 @@ inline core::Vec3 vec(const v1::Vector3& v) { return {v.x(), v.y(), v.z()}; }
 class CosimHarness {
  public:
   explicit CosimHarness(const std::filesystem::path& outputRoot, v1::Scene baseScene = {},
-                        std::filesystem::path recordFile = {})
-      : host_(options(outputRoot, std::move(baseScene), std::move(recordFile))) {}
+                        std::filesystem::path recordFile = {}, bool overwrite = false)
+      : host_(options(outputRoot, std::move(baseScene), std::move(recordFile), overwrite)) {}
 
   static CoSimulationOptions options(const std::filesystem::path& outputRoot, v1::Scene baseScene,
-                                     std::filesystem::path recordFile) {
+                                     std::filesystem::path recordFile, bool overwrite = false) {
     CoSimulationOptions o;
+    o.overwrite = overwrite;
     o.base_scene = std::move(baseScene);
     o.output_root = outputRoot;
     o.quiet_period_s = 2.0;
