@@ -44,12 +44,13 @@ inline v1::RigidBodyInput bodyInput(const core::Vec3& position, const core::Quat
 class CosimHarness {
  public:
   explicit CosimHarness(const std::filesystem::path& outputRoot, v1::Scene baseScene = {},
-                        std::filesystem::path recordFile = {})
-      : host_(options(outputRoot, std::move(baseScene), std::move(recordFile))) {}
+                        std::filesystem::path recordFile = {}, bool overwrite = false)
+      : host_(options(outputRoot, std::move(baseScene), std::move(recordFile), overwrite)) {}
 
   static CoSimulationOptions options(const std::filesystem::path& outputRoot, v1::Scene baseScene,
-                                     std::filesystem::path recordFile) {
+                                     std::filesystem::path recordFile, bool overwrite = false) {
     CoSimulationOptions o;
+    o.overwrite = overwrite;
     o.base_scene = std::move(baseScene);
     o.output_root = outputRoot;
     o.quiet_period_s = 2.0;

@@ -20,6 +20,7 @@
 #include "demlink/server/cosim/cosim_compiler.hpp"
 #include "demlink/server/cosim/cosim_simulation.hpp"
 #include "demlink/server/cosim/session_recorder.hpp"
+#include "demlink/server/run/output_directory.hpp"
 
 namespace demlink::server {
 namespace {
@@ -159,8 +160,13 @@ struct CoSimulationHost::Impl {
       endSimulation(out, "compile failed: " + failure.error.message());
       return;
     }
-    const std::filesystem::path directory = options.output_root / fmt::format("sim_{:03}", number());
+    std::filesystem::path directory;
     try {
+      // Never an earlier simulation's folder, unless told to overwrite (output_directory.hpp).
+      compiled.scene->run.overwrite = options.overwrite;
+      const std::uint64_t folder =
+          options.overwrite ? number() : claimSimulationDirectory(options.output_root, number());
+      directory = simulationDirectory(options.output_root, folder);
       sim = std::make_unique<CosimSimulation>(std::move(compiled), directory);
     } catch (const std::exception& error) {
       const v1::Error e = makeError(v1::Error::INTERNAL, std::string("cannot start the simulation: ") + error.what(),

@@ -35,7 +35,12 @@ namespace demlink::server {
 struct CoSimulationOptions {
   v1::Scene base_scene;                         ///< components from a scene file (may be empty)
   std::filesystem::path scene_directory = ".";  ///< anchors relative paths (scene file, stl_file)
-  std::filesystem::path output_root = "out/cosim";  ///< simulation N writes into output_root/sim_NNN
+  /// Simulation N writes into output_root/sim_NNN: the first such folder at or after N that
+  /// does not exist yet, so a restarted server never writes into an earlier run's folder.
+  std::filesystem::path output_root = "out/cosim";
+  /// Simulation N writes into output_root/sim_NNN even if it exists (numbering starts at
+  /// 001 with each server start; files of the same name are overwritten).
+  bool overwrite = false;
   double quiet_period_s = 2.0;     ///< compile this long after the last Declare when nothing is expected
   double client_timeout_s = 30.0;  ///< a due component's package may take this long [s]
   std::filesystem::path record_file;  ///< non-empty: append every received message (docs/protocol.md)
