@@ -44,9 +44,6 @@ struct CoSimulationOptions {
   double quiet_period_s = 2.0;     ///< compile this long after the last Declare when nothing is expected
   double client_timeout_s = 30.0;  ///< a due component's package may take this long [s]
   std::filesystem::path record_file;  ///< non-empty: append every received message (docs/protocol.md)
-  /// demlink-server --overwrite: a simulation may write into an output folder that already
-  /// holds a run's outputs (the policy that reads it comes with the output-folder checks).
-  bool overwrite = false;
   std::string server_name = "demlink-server";
 };
 

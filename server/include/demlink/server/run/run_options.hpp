@@ -22,9 +22,6 @@ struct RunOptions {
   bool overwrite = false;
   /// The scene file, for the run log; empty if the scene did not come from a file.
   std::string scene_file;
-  /// demlink-run --overwrite: the run may write into an output directory that already holds
-  /// a run's outputs (the policy that reads it comes with the output-folder checks).
-  bool overwrite = false;
   /// Scene path of the SimulationBox (e.g. "components[0].simulation_box"), so
   /// errors found at run time name the field in the scene.
   std::string field_prefix = "simulation_box";
