@@ -225,7 +225,7 @@ CompiledSimulation CosimCompiler::compile(const std::filesystem::path& sceneDire
 
   CompiledSimulation out;
   try {
-    out.scene = std::make_unique<TranslatedScene>(translateScene(scene, sceneDirectory, SceneUse::CoSimulation));
+    out.scene = std::make_unique<TranslatedScene>(translateScene(scene, sceneDirectory, SceneUse::Cosim));
   } catch (const core::InputError& error) {
     throw failureOf(error, declared_);
   }

@@ -18,7 +18,7 @@
 
 #include "demlink/core/walls/coupled_motion.hpp"
 #include "demlink/core/components/world_component.hpp"
-#include "demlink/server/cosim/co_simulation_host.hpp"
+#include "demlink/server/cosim/cosim_host.hpp"
 #include "demlink/server/run/run_driver.hpp"
 #include "demlink/server/scene/scene_translator.hpp"
 #include "demlink/v1/protocol.pb.h"

@@ -32,7 +32,7 @@ class World;
 
 namespace demlink::server {
 
-struct CoSimulationOptions {
+struct CosimOptions {
   v1::Scene base_scene;                         ///< components from a scene file (may be empty)
   std::filesystem::path scene_directory = ".";  ///< anchors relative paths (scene file, stl_file)
   /// Simulation N writes into output_root/sim_NNN: the first such folder at or after N that
@@ -47,12 +47,12 @@ struct CoSimulationOptions {
   std::string server_name = "demlink-server";
 };
 
-class CoSimulationHost final : public SessionHandler {
+class CosimHost final : public SessionHandler {
  public:
-  explicit CoSimulationHost(CoSimulationOptions options);
-  ~CoSimulationHost() override;
-  CoSimulationHost(const CoSimulationHost&) = delete;
-  CoSimulationHost& operator=(const CoSimulationHost&) = delete;
+  explicit CosimHost(CosimOptions options);
+  ~CosimHost() override;
+  CosimHost(const CosimHost&) = delete;
+  CosimHost& operator=(const CosimHost&) = delete;
 
   /// A connection passed Hello (version and token already checked): Welcome, or an
   /// Error when it cannot join (e.g. a simulation is already running).
