@@ -92,12 +92,14 @@ void requireEqual(const StateReader& in, const std::string& what, const T& inFil
   }
 }
 
-void writeSettings(StateWriter& out, const SimulationSettings& s) {
+/// Gravity and the skin are the values in force (WorldState), as the format has
+/// always recorded them.
+void writeSettings(StateWriter& out, const SimulationSettings& s, const WorldState& state) {
   out.write(s.time_step);
-  out.write(s.gravity);
+  out.write(state.gravity);
   out.write(static_cast<std::uint32_t>(s.contact_model));
   out.write(static_cast<std::uint32_t>(s.integrator));
-  out.write(s.neighbour_skin);
+  out.write(state.neighbour_skin);
   out.write(s.max_impact_velocity);
   out.write(s.linear_normal_stiffness);
   out.write(static_cast<std::uint8_t>(s.bounds.has_value()));
@@ -109,12 +111,12 @@ void writeSettings(StateWriter& out, const SimulationSettings& s) {
 
 /// Settings that change the trajectory must match; the thread count may differ
 /// (results are then equal to round-off only, as for any change of thread count).
-void checkSettings(StateReader in, const SimulationSettings& s) {
+void checkSettings(StateReader in, const SimulationSettings& s, const WorldState& state) {
   requireEqual(in, "time_step", in.read<double>(), s.time_step);
-  requireEqual(in, "gravity", in.read<Vec3>(), s.gravity);
+  requireEqual(in, "gravity", in.read<Vec3>(), state.gravity);
   requireEqual(in, "contact_model", in.read<std::uint32_t>(), static_cast<std::uint32_t>(s.contact_model));
   requireEqual(in, "integrator", in.read<std::uint32_t>(), static_cast<std::uint32_t>(s.integrator));
-  requireEqual(in, "neighbour_skin", in.read<double>(), s.neighbour_skin);
+  requireEqual(in, "neighbour_skin", in.read<double>(), state.neighbour_skin);
   requireEqual(in, "max_impact_velocity", in.read<double>(), s.max_impact_velocity);
   requireEqual(in, "linear_normal_stiffness", in.read<double>(), s.linear_normal_stiffness);
   requireEqual(in, "bounds", in.read<std::uint8_t>(), static_cast<std::uint8_t>(s.bounds.has_value()));
@@ -257,7 +259,7 @@ void World::saveCheckpoint(std::ostream& out) const {
   StateWriter w;
   writeHeader(w);
   std::size_t s = w.beginSection("SETT");
-  writeSettings(w, settings_);
+  writeSettings(w, settings_, state_);
   w.endSection(s);
 
   s = w.beginSection("MATL");
@@ -266,10 +268,10 @@ void World::saveCheckpoint(std::ostream& out) const {
   w.endSection(s);
 
   s = w.beginSection("CLOK");
-  w.write(step_count_);
-  w.write(next_id_);
-  w.write(removed_at_bounds_.count);
-  w.write(removed_at_bounds_.mass);
+  w.write(state_.step_count);
+  w.write(state_.next_particle_id);
+  w.write(state_.removed_at_bounds.count);
+  w.write(state_.removed_at_bounds.mass);
   w.write(static_cast<std::uint8_t>(rebuild_pending_));
   w.writeVector(pending_new_slot_of_old_);
   w.endSection(s);
@@ -322,18 +324,18 @@ void World::saveCheckpoint(std::ostream& out) const {
   w.endSection(s);
 
   s = w.beginSection("ROOM");
-  w.write(current_bounds_.lower);
-  w.write(current_bounds_.upper);
-  w.write(settings_.frame.linear_acceleration);
-  w.write(settings_.frame.angular_velocity);  // advanced by alpha dt every step
-  w.write(settings_.frame.angular_acceleration);
-  w.write(settings_.frame.origin);
+  w.write(state_.bounds.lower);
+  w.write(state_.bounds.upper);
+  w.write(state_.frame.linear_acceleration);
+  w.write(state_.frame.angular_velocity);  // advanced by alpha dt every step
+  w.write(state_.frame.angular_acceleration);
+  w.write(state_.frame.origin);
   w.writeVector(mesh_colliding_);
   w.endSection(s);
 
   s = w.beginSection("CLMP");
   w.write<std::uint64_t>(clump_templates_.size());
-  w.write(next_clump_id_);
+  w.write(state_.next_clump_id);
   w.write<std::uint64_t>(clumps_.size());
   for (const ClumpBody& body : clumps_) {
     w.write(body.id);
@@ -378,7 +380,7 @@ void World::restoreCheckpoint(std::string_view bytes, const std::string& source)
   if (!initialized_) initialize();
   StateReader file(bytes, source, "header");
   readHeader(file);
-  checkSettings(file.section("SETT", "settings"), settings_);
+  checkSettings(file.section("SETT", "settings"), settings_, state_);
   checkMaterials(file.section("MATL", "materials"), materials_);
 
   StateReader clock = file.section("CLOK", "clock");
@@ -585,15 +587,15 @@ void World::restoreCheckpoint(std::string_view bytes, const std::string& source)
     mesh.updateWorldGeometry();
     mesh_near_[m] = state.near;
   }
-  current_bounds_ = bounds;
-  settings_.frame = frame;
-  frame_moving_ = !frame.isInertial();
+  state_.bounds = bounds;
+  state_.setFrame(frame);
+  selectStepStages();  // the restored frame may move where the scene's did not
   mesh_colliding_ = std::move(colliding);
   clumps_ = std::move(clumps);
-  next_clump_id_ = nextClumpId;
-  step_count_ = stepCount;
-  next_id_ = nextId;
-  removed_at_bounds_ = removed;
+  state_.next_clump_id = nextClumpId;
+  state_.step_count = stepCount;
+  state_.next_particle_id = nextId;
+  state_.removed_at_bounds = removed;
   rebuild_pending_ = rebuildPending;
   pending_new_slot_of_old_ = std::move(pending);
   partition_.plan(neighbours_.offsets(), settings_.threads);
