@@ -74,7 +74,7 @@ void logCompileReport(const core::World& world, std::uint64_t endStep, std::uint
   } else {
     spdlog::info("time step: {:.4g} s = {:.1f} % of the limit", settings.time_step, percent);
   }
-  spdlog::info("neighbour skin: {:.4g} m; gravity ({}, {}, {}) m/s^2", settings.neighbour_skin, settings.gravity.x(),
+  spdlog::info("neighbour skin: {:.4g} m; gravity ({}, {}, {}) m/s^2", world.neighbourSkin(), settings.gravity.x(),
                settings.gravity.y(), settings.gravity.z());
   const std::uint64_t frames = (endStep + frameEvery - 1) / frameEvery + 1;
   spdlog::info("run: {} steps to t = {:.6g} s, a frame every {} steps ({} frames) -> {}", endStep,
