@@ -5,13 +5,9 @@
 /// visitContactLaw, through which World picks its force-stage instantiation
 /// once at initialisation (the force loop itself never branches on the law).
 ///
-/// Adding a law: its own file (like hertz_mindlin_law.hpp), its ContactModel
-/// value, and one entry in ContactLaws. A law type provides
-///   kModel, kName, History                       identity and per-contact history
-///   stiffness(p, rStar, overlap)                 used by contactForce<Law> per contact
-///   dimensionlessAcceleration(x, v, c)           its normal ODE, for restitution calibration
-///   setPairCoefficients(p, c, a, b, reference)   damping and stiffness of a material pair
-///   contactDuration(p, rStar, mStar, speed)      for the critical time step
+/// Adding a law: its own file (like hertz_mindlin_law.hpp) with a type that
+/// satisfies ContactLawType, its ContactModel value, and one entry in ContactLaws.
+#include <concepts>
 #include <cstddef>
 #include <optional>
 #include <span>
@@ -25,7 +21,20 @@
 
 namespace demlink::core {
 
-template <class... Laws>
+/// What a contact law type provides.
+template <class Law>
+concept ContactLawType = requires(ContactPairParams& p, const Material& m, const LinearStiffnessReference& ref,
+                                  double x) {
+  { Law::kModel } -> std::convertible_to<ContactModel>;
+  { Law::kName } -> std::convertible_to<std::string_view>;
+  typename Law::History;  // per-contact history the near lists keep for it
+  { Law::stiffness(p, x, x) } -> std::same_as<ContactStiffness>;          // (p, rStar, overlap), per contact
+  { Law::dimensionlessAcceleration(x, x, x) } -> std::same_as<double>;    // (x, v, c), restitution ODE
+  { Law::setPairCoefficients(p, x, m, m, ref) } -> std::same_as<void>;   // (p, c, a, b, reference)
+  { Law::contactDuration(p, x, x, x) } -> std::same_as<double>;           // (p, rStar, mStar, speed) [s]
+};
+
+template <ContactLawType... Laws>
 struct ContactLawList {};
 
 /// Every contact law, in ContactModel order.
