@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <numeric>
 
+#include "demlink/core/contact/contact_law_registry.hpp"
 #include "demlink/core/contact/contact_stage.hpp"
 #include "demlink/core/input_error.hpp"
 #include "demlink/core/step/integrator.hpp"
@@ -236,14 +237,9 @@ void World::initialize() {
   if (settings_.threads > 1) pool_ = std::make_unique<ThreadPool>(settings_.threads);
 
   rolling_active_ = pair_table_.anyRollingFriction();
-  const bool hertz = settings_.contact_model == ContactModel::HertzMindlin;
-  if (hertz) {
-    compute_forces_ = rolling_active_ ? &World::computeForces<HertzMindlinLaw, true>
-                                      : &World::computeForces<HertzMindlinLaw, false>;
-  } else {
-    compute_forces_ = rolling_active_ ? &World::computeForces<LinearSpringDashpotLaw, true>
-                                      : &World::computeForces<LinearSpringDashpotLaw, false>;
-  }
+  compute_forces_ = visitContactLaw(settings_.contact_model, [this]<class Law>() {
+    return rolling_active_ ? &World::computeForces<Law, true> : &World::computeForces<Law, false>;
+  });
   requireNoClumpsInRotatingFrame(state_.frame, "simulation_box.frame");
   initialized_ = true;
   for (const auto& component : components_) component->initialize(*this);
