@@ -6,7 +6,7 @@
 ///   demlink-bench-cosim            (both, with the defaults: well under two minutes)
 ///
 /// roundtrip: the server runs in this process exactly as demlink-server wires it
-/// (CoSimulationHost + TcpServer on 127.0.0.1, port 0, its own thread); the world is empty
+/// (CosimHost + TcpServer on 127.0.0.1, port 0, its own thread); the world is empty
 /// (a SimulationBox and one material, no particles), every client is a thread with its
 /// own connection and one component exchanged every step.
 /// Each client times every Session::exchange() (package out -> answer in) with
@@ -52,7 +52,7 @@
 #include "demlink/client/session.hpp"
 #include "demlink/core/walls/coupled_motion.hpp"
 #include "demlink/core/world.hpp"
-#include "demlink/server/cosim/co_simulation_host.hpp"
+#include "demlink/server/cosim/cosim_host.hpp"
 #include "demlink/server/net/asio.hpp"
 #include "demlink/server/net/tcp_server.hpp"
 #include "demlink/server/run/particle_csv.hpp"
@@ -124,7 +124,7 @@ double medianOf(std::vector<double> values) {
 /// server thread's CPU time from the first package to the last answer.
 class TimedHandler final : public server::SessionHandler {
  public:
-  explicit TimedHandler(server::CoSimulationHost& host) : inner_(host) {}
+  explicit TimedHandler(server::CosimHost& host) : inner_(host) {}
 
   std::vector<server::Outgoing> connected(server::ConnectionId id, const v1::Hello& hello,
                                           server::SteadyClock::time_point now) override {
@@ -170,7 +170,7 @@ class TimedHandler final : public server::SessionHandler {
   [[nodiscard]] double busyCpuSeconds() const { return last_cpu_ - first_cpu_; }
 
  private:
-  server::CoSimulationHost& inner_;
+  server::CosimHost& inner_;
   std::uint64_t packages_ = 0;
   double host_seconds_ = 0.0;
   double host_cpu_ = 0.0;
@@ -213,15 +213,15 @@ class InProcessServer {
   }
 
  private:
-  static server::CoSimulationOptions hostOptions(const v1::Scene& baseScene, const fs::path& outputRoot) {
-    server::CoSimulationOptions options;
+  static server::CosimOptions hostOptions(const v1::Scene& baseScene, const fs::path& outputRoot) {
+    server::CosimOptions options;
     options.base_scene = baseScene;
     options.output_root = outputRoot;
     options.quiet_period_s = 30.0;  // every scene here says expected_count
     options.client_timeout_s = 30.0;
     return options;
   }
-  static server::TcpServerOptions netOptions(server::CoSimulationHost& host) {
+  static server::TcpServerOptions netOptions(server::CosimHost& host) {
     server::TcpServerOptions options;
     options.listen_address = "127.0.0.1";
     options.port = 0;
@@ -229,7 +229,7 @@ class InProcessServer {
     return options;
   }
 
-  server::CoSimulationHost host_;
+  server::CosimHost host_;
   TimedHandler handler_;
   server::TcpServer server_;
   std::atomic<bool> done_{false};
@@ -475,7 +475,7 @@ std::string bodyJson(std::size_t particles, double interval) {
 BedScene makeBed(const OverheadOptions& o, const fs::path& scratch) {
   server::TranslatedScene probe = server::translateScene(
       bedScene(latticeJson(o.particles), 1.0e-7, 4, true, bodyJson(o.particles, o.interval)), ".",
-      server::SceneUse::CoSimulation);
+      server::SceneUse::Cosim);
   probe.world.initialize();
   const double limit = probe.world.timeStepReport().limit;
   const auto perInterval = static_cast<std::uint64_t>(std::ceil(o.interval / limit * (1.0 + 1.0e-12)));
@@ -485,7 +485,7 @@ BedScene makeBed(const OverheadOptions& o, const fs::path& scratch) {
   bed.exchanges = static_cast<std::uint64_t>(std::llround(o.duration / o.interval));
 
   server::TranslatedScene settle = server::translateScene(bedScene(latticeJson(o.particles), bed.time_step, 3, false, ""),
-                                                          ".", server::SceneUse::CoSimulation);
+                                                          ".", server::SceneUse::Cosim);
   settle.world.initialize();
   const auto settleSteps = static_cast<std::uint64_t>(std::llround(o.settle / bed.time_step));
   const Clock::time_point begin = Clock::now();
@@ -517,7 +517,7 @@ struct InProcessResult {
 /// The same scene, the same poses, stepped in this thread: the physics alone.
 InProcessResult runInProcess(const OverheadOptions& o, const BedScene& bed) {
   v1::Scene scene = bedScene(bed.particles_json, bed.time_step, 4, true, bodyJson(o.particles, o.interval));
-  server::TranslatedScene t = server::translateScene(scene, ".", server::SceneUse::CoSimulation);
+  server::TranslatedScene t = server::translateScene(scene, ".", server::SceneUse::Cosim);
   core::World& world = t.world;
   world.initialize();
   std::size_t mesh = world.meshes().size();
@@ -550,7 +550,7 @@ InProcessResult runInProcess(const OverheadOptions& o, const BedScene& bed) {
 
 struct CoupledResult {
   double seconds = 0.0;       ///< client: first exchange to last answer [s]
-  double host_seconds = 0.0;  ///< inside CoSimulationHost for packages (stepping included) [s]
+  double host_seconds = 0.0;  ///< inside CosimHost for packages (stepping included) [s]
   double host_cpu = 0.0;      ///< the same in server thread CPU [s]
   double busy_cpu = 0.0;      ///< server thread CPU from the first package to the last [s]
   double client_cpu = 0.0;    ///< client thread CPU over its loop [s]

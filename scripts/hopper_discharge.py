@@ -23,6 +23,7 @@ import csv
 import json
 import math
 import os
+import shutil
 import subprocess
 import sys
 
@@ -89,6 +90,8 @@ def out_dir(d_mm):
 
 def run(diameters, binary):
     for d_mm in diameters:
+        # demlink-run refuses a non-empty output folder; this folder is the script's own.
+        shutil.rmtree(out_dir(d_mm), ignore_errors=True)
         subprocess.run([binary, os.path.join(SCENES, f"hopper_discharge_D{d_mm}.json"), "--output", out_dir(d_mm)],
                        check=True)
 

@@ -3,10 +3,11 @@
 #include <algorithm>
 #include <numeric>
 
+#include "demlink/core/contact/contact_law_registry.hpp"
 #include "demlink/core/contact/contact_stage.hpp"
 #include "demlink/core/input_error.hpp"
 #include "demlink/core/step/integrator.hpp"
-#include "demlink/core/step/moving_frame.hpp"
+#include "demlink/core/step/frame_motion.hpp"
 #include "demlink/core/step/parallel.hpp"
 
 namespace demlink::core {
@@ -18,36 +19,34 @@ void requireFiniteVector(const std::string& field, const Vec3& v) {
 
 }  // namespace
 
-World::World(SimulationSettings settings) : settings_(std::move(settings)) {
+World::World(SimulationSettings settings) : settings_(std::move(settings)), state_(settings_) {
   settings_.validate("simulation_box");
-  if (settings_.bounds) current_bounds_ = *settings_.bounds;
-  frame_moving_ = !settings_.frame.isInertial();
 }
 
 void World::setFrameMotion(const FrameMotion& motion) {
   motion.validate("frame");
-  requireNoClumpsInRotatingRoom(motion, "frame");
-  settings_.frame = motion;
-  frame_moving_ = !motion.isInertial();
+  requireNoClumpsInRotatingFrame(motion, "frame");
+  state_.setFrame(motion);
+  if (initialized_) selectStepStages();
 }
 
-void World::requireNoClumpsInRotatingRoom(const FrameMotion& motion, const std::string& fieldPrefix) const {
+void World::requireNoClumpsInRotatingFrame(const FrameMotion& motion, const std::string& fieldPrefix) const {
   if (clump_templates_.empty()) return;
   if (!motion.angular_velocity.isZero(0.0) || !motion.angular_acceleration.isZero(0.0)) {
     throw InputError(fieldPrefix + ".angular_velocity", "non-zero",
-                     "clumps in a rotating room are not supported yet (their rigid-body kick has no fictitious "
-                     "torques); use spheres, or a room that only translates");
+                     "clumps in a rotating frame are not supported yet (their rigid-body kick has no fictitious "
+                     "torques); use spheres, or a frame that only translates");
   }
 }
 
 void World::setGravity(const Vec3& gravity) {
   requireFiniteVector("gravity", gravity);
-  settings_.gravity = gravity;
+  state_.gravity = gravity;
 }
 
 std::optional<DomainBounds> World::currentBounds() const {
   if (!settings_.bounds) return std::nullopt;
-  return current_bounds_;
+  return state_.bounds;
 }
 
 std::uint32_t World::addMaterial(const Material& material) {
@@ -91,7 +90,7 @@ std::uint64_t World::addParticle(const ParticleSpec& spec, const std::string& fi
   if (spec.material >= materials_.size()) {
     throw InputError(fieldPrefix + ".material", std::to_string(spec.material), "no such material");
   }
-  const std::uint64_t id = next_id_++;
+  const std::uint64_t id = state_.next_particle_id++;
   particles_.append(spec, materials_[spec.material].density, id);
   rebuild_pending_ = true;
   return id;
@@ -108,6 +107,7 @@ std::size_t World::addPlane(PlaneSpec plane, const std::string& fieldPrefix) {
   plane.normal /= length;
   planes_.push_back(PlaneWall{std::move(plane), {}, {}, Vec3::Zero(), Vec3::Zero()});
   rebuild_pending_ = true;
+  if (initialized_) selectStepStages();
   return planes_.size() - 1;
 }
 
@@ -116,6 +116,7 @@ std::uint32_t World::addClumpTemplate(ClumpTemplate shape, const std::string& fi
     throw InputError(fieldPrefix + ".name", shape.name(), "clump template name already used");
   }
   clump_templates_.push_back(std::move(shape));
+  if (initialized_) selectStepStages();
   return static_cast<std::uint32_t>(clump_templates_.size() - 1);
 }
 
@@ -143,7 +144,7 @@ std::uint64_t World::addClump(const ClumpSpec& spec, const std::string& fieldPre
   const ClumpTemplate& shape = clump_templates_[spec.template_index];
   const double density = materials_[spec.material].density;  // [kg/m^3]
   ClumpBody body;
-  body.id = next_clump_id_++;
+  body.id = state_.next_clump_id++;
   body.template_index = spec.template_index;
   body.mass = density * shape.volume();
   body.inertia = density * shape.principalMomentsPerDensity();
@@ -158,7 +159,7 @@ std::uint64_t World::addClump(const ClumpSpec& spec, const std::string& fieldPre
     ParticleSpec member;
     member.radius = sphere.radius;
     member.material = spec.material;
-    particles_.append(member, density, next_id_++);
+    particles_.append(member, density, state_.next_particle_id++);
     const std::size_t slot = particles_.size() - 1;
     particles_.clump_id[slot] = body.id;
     particles_.mass[slot] = share;
@@ -180,6 +181,7 @@ std::size_t World::addMesh(MeshBody mesh, const std::string& fieldPrefix) {
   mesh_near_.emplace_back();
   mesh_colliding_.push_back(0);
   rebuild_pending_ = true;
+  if (initialized_) selectStepStages();
   return meshes_.size() - 1;
 }
 
@@ -229,23 +231,19 @@ void World::initialize() {
     for (double r : minRadius) {
       if (r > 0.0) smallest = smallest > 0.0 ? std::min(smallest, r) : r;
     }
-    settings_.neighbour_skin = smallest > 0.0 ? 0.5 * smallest : 1.0e-3;
+    state_.neighbour_skin = smallest > 0.0 ? 0.5 * smallest : 1.0e-3;
   }
-  neighbours_ = NeighbourList(settings_.neighbour_skin);
+  neighbours_ = NeighbourList(state_.neighbour_skin);
   if (settings_.threads > 1) pool_ = std::make_unique<ThreadPool>(settings_.threads);
 
   rolling_active_ = pair_table_.anyRollingFriction();
-  const bool hertz = settings_.contact_model == ContactModel::HertzMindlin;
-  if (hertz) {
-    compute_forces_ = rolling_active_ ? &World::computeForces<HertzMindlinLaw, true>
-                                      : &World::computeForces<HertzMindlinLaw, false>;
-  } else {
-    compute_forces_ = rolling_active_ ? &World::computeForces<LinearSpringDashpotLaw, true>
-                                      : &World::computeForces<LinearSpringDashpotLaw, false>;
-  }
-  requireNoClumpsInRotatingRoom(settings_.frame, "simulation_box.frame");
+  compute_forces_ = visitContactLaw(settings_.contact_model, [this]<class Law>() {
+    return rolling_active_ ? &World::computeForces<Law, true> : &World::computeForces<Law, false>;
+  });
+  requireNoClumpsInRotatingFrame(state_.frame, "simulation_box.frame");
   initialized_ = true;
   for (const auto& component : components_) component->initialize(*this);
+  selectStepStages();
   updateMeshCollision(time());
   rebuildNeighbours();
   (this->*compute_forces_)();
@@ -254,49 +252,106 @@ void World::initialize() {
 
 void World::step() {
   if (!initialized_) initialize();
-  const double dt = settings_.time_step;
-  bool meshMovedFar = false;
+  StepContext context{settings_.time_step, state_.step_count, pool_.get()};
+  for (const Stage stage : step_stages_) runStage(stage, context);
+}
+
+SceneFeatures World::sceneFeatures() const {
+  SceneFeatures f;
+  f.meshes = !meshes_.empty();
+  f.planes = !planes_.empty();
+  f.insert_remove_components = !insert_remove_components_.empty();
+  f.observe_components = !observe_components_.empty();
+  f.fixed_bounds = settings_.bounds && !settings_.bounds->growing;
+  f.growing_bounds = settings_.bounds && settings_.bounds->growing;
+  f.velocity_verlet = settings_.integrator == IntegratorKind::VelocityVerlet;
+  f.frame_moving = state_.frame_moving;
+  f.clumps = !clump_templates_.empty();
+  f.rolling = rolling_active_;
+  return f;
+}
+
+void World::selectStepStages() {
+  step_stages_.clear();
+  for (const Stage stage : selectStages(sceneFeatures())) {
+    if (!stageInfo(stage).pass) step_stages_.push_back(stage);
+  }
+}
+
+void World::runStage(Stage stage, StepContext& context) {
+  switch (stage) {
+    case Stage::kMeshMotion: return moveMeshes(context);
+    case Stage::kInsertRemove: return runComponents(kStageInsertRemove);
+    case Stage::kBoundsRemoval:
+    case Stage::kGrowingBounds: return removeOutsideBounds();
+    case Stage::kVelocityVerlet: return firstKickAndDrift(context);
+    case Stage::kExplicitEuler: return explicitEulerUpdate(context);
+    case Stage::kMovingFrame: return advanceFrame(context);
+    case Stage::kClumpRigidBodies: {
+      // The kick stage moved the members as spheres; their bodies overwrite them.
+      const bool verlet = settings_.integrator == IntegratorKind::VelocityVerlet;
+      return integrateClumps(verlet ? 0.5 * context.dt : context.dt, context.dt, !verlet);
+    }
+    case Stage::kNeighbourList: return updateNeighbours(context);
+    case Stage::kForces: return (this->*compute_forces_)();
+    case Stage::kClumpForceSum: return gatherClumpForces();
+    case Stage::kSecondHalfKick: return secondHalfKick(context);
+    case Stage::kClumpHalfKick: return integrateClumps(0.5 * context.dt, 0.0, false);
+    case Stage::kAdvanceClock: ++state_.step_count; return;
+    case Stage::kObserve: return runComponents(kStageObserve);
+    case Stage::kParticleContacts:
+    case Stage::kPlaneContacts:
+    case Stage::kMeshContacts:
+    case Stage::kRollingResistance: return;  // passes inside kForces, never selected as calls
+  }
+}
+
+void World::moveMeshes(StepContext& context) {
+  const double dt = context.dt;
   // Forces of this step are evaluated at the end of the step.
-  if (updateMeshCollision(static_cast<double>(step_count_ + 1) * dt)) rebuild_pending_ = true;
+  if (updateMeshCollision(static_cast<double>(context.step + 1) * dt)) rebuild_pending_ = true;
   for (std::size_t m = 0; m < meshes_.size(); ++m) {
     MeshBody& mesh = meshes_[m];
     if (!mesh.linearVelocity().isZero(0.0) || !mesh.angularVelocity().isZero(0.0)) mesh.advance(dt);
     const bool farEnough = mesh.maxDisplacementSinceMark() > 0.5 * neighbours_.skin();
-    meshMovedFar = meshMovedFar || (mesh_colliding_[m] != 0 && farEnough);
+    context.mesh_moved_far = context.mesh_moved_far || (mesh_colliding_[m] != 0 && farEnough);
   }
-  runComponents(kStageInsertRemove);
-  if (settings_.bounds) removeOutsideBounds();
-  const bool verlet = settings_.integrator == IntegratorKind::VelocityVerlet;
-  if (frame_moving_) {
-    if (verlet) {
-      frameKickAndDrift(particles_, settings_.gravity, settings_.frame, 0.5 * dt, dt, pool_.get());
-    } else {
-      frameExplicitEulerStep(particles_, settings_.gravity, settings_.frame, dt, pool_.get());
-    }
-  } else if (verlet) {
-    kickAndDrift(particles_, settings_.gravity, 0.5 * dt, dt, pool_.get());
+}
+
+void World::firstKickAndDrift(const StepContext& context) {
+  const double dt = context.dt;
+  if (state_.frame_moving) {
+    frameKickAndDrift(particles_, state_.gravity, state_.frame, 0.5 * dt, dt, context.pool);
   } else {
-    explicitEulerStep(particles_, settings_.gravity, dt, pool_.get());
+    kickAndDrift(particles_, state_.gravity, 0.5 * dt, dt, context.pool);
   }
-  // A constant angular acceleration turns the room ever faster: Omega(t_n+1) for the second half kick.
-  if (frame_moving_) settings_.frame.angular_velocity += settings_.frame.angular_acceleration * dt;
-  // Clump members were moved as spheres above; the bodies overwrite them.
-  if (!clumps_.empty()) integrateClumps(verlet ? 0.5 * dt : dt, dt, !verlet);
-  if (rebuild_pending_ || meshMovedFar || neighbours_.needsRebuild(particles_.position, pool_.get())) {
+}
+
+void World::explicitEulerUpdate(const StepContext& context) {
+  if (state_.frame_moving) {
+    frameExplicitEulerStep(particles_, state_.gravity, state_.frame, context.dt, context.pool);
+  } else {
+    explicitEulerStep(particles_, state_.gravity, context.dt, context.pool);
+  }
+}
+
+void World::advanceFrame(const StepContext& context) {
+  // A constant angular acceleration turns the frame ever faster: Omega(t_n+1) for the second half kick.
+  state_.frame.angular_velocity += state_.frame.angular_acceleration * context.dt;
+}
+
+void World::updateNeighbours(const StepContext& context) {
+  if (rebuild_pending_ || context.mesh_moved_far || neighbours_.needsRebuild(particles_.position, context.pool)) {
     rebuildNeighbours();
   }
-  (this->*compute_forces_)();
-  gatherClumpForces();
-  if (verlet) {
-    if (frame_moving_) {
-      frameKick(particles_, settings_.gravity, settings_.frame, 0.5 * dt, pool_.get());
-    } else {
-      kick(particles_, settings_.gravity, 0.5 * dt, pool_.get());
-    }
-    if (!clumps_.empty()) integrateClumps(0.5 * dt, 0.0, false);
+}
+
+void World::secondHalfKick(const StepContext& context) {
+  if (state_.frame_moving) {
+    frameKick(particles_, state_.gravity, state_.frame, 0.5 * context.dt, context.pool);
+  } else {
+    kick(particles_, state_.gravity, 0.5 * context.dt, context.pool);
   }
-  ++step_count_;
-  runComponents(kStageObserve);
 }
 
 template <class Law, bool kRolling>
@@ -304,8 +359,9 @@ void World::computeForces() {
   const double dt = settings_.time_step;
   ParticleArrays& p = particles_;
   PairLoopPartition& parts = partition_;
-  // Three passes: clear; pair rows (part 0 into the arrays, other parts into
-  // their own buffers); add the buffers in fixed part order.
+  // Clear; pair rows (part 0 into the arrays, other parts into their own
+  // buffers); add the buffers in fixed part order; then planes and meshes, in
+  // order (the passes of stage forces in stage_table.hpp).
   ThreadPool* pool = pool_.get();
   parallelChunks(pool, p.size(), [&](std::size_t begin, std::size_t end) {
     std::fill(p.force.begin() + static_cast<std::ptrdiff_t>(begin), p.force.begin() + static_cast<std::ptrdiff_t>(end),
@@ -354,8 +410,8 @@ void World::computeForces() {
 void World::integrateClumps(double kickStep, double driftStep, bool driftFirst) {
   for (ClumpBody& body : clumps_) {
     if (driftFirst) driftClump(body, driftStep);
-    // A room that only translates is a gravity shift (rotating rooms are refused with clumps).
-    kickClump(body, settings_.gravity - settings_.frame.linear_acceleration, kickStep);
+    // A frame that only translates is a gravity shift (rotating frames are refused with clumps).
+    kickClump(body, state_.gravity - state_.frame.linear_acceleration, kickStep);
     if (!driftFirst && driftStep > 0.0) driftClump(body, driftStep);
     placeClumpMembers(body, clump_templates_[body.template_index], particles_, driftStep > 0.0);
   }
@@ -393,8 +449,8 @@ void World::removeOutsideBounds() {
   const DomainBounds& b = *settings_.bounds;
   if (b.growing) {
     // One pass: remove beyond the limit, and grow the box around the spheres kept.
-    Vec3 lower = current_bounds_.lower;
-    Vec3 upper = current_bounds_.upper;
+    Vec3 lower = state_.bounds.lower;
+    Vec3 upper = state_.bounds.upper;
     removeParticlesIf(
         [&](std::size_t i) {
           const Vec3& x = particles_.position[i];
@@ -406,9 +462,9 @@ void World::removeOutsideBounds() {
           upper = upper.cwiseMax(x + Vec3::Constant(r));
           return false;
         },
-        removed_at_bounds_);
-    current_bounds_.lower = lower.cwiseMax(b.limit_lower);
-    current_bounds_.upper = upper.cwiseMin(b.limit_upper);
+        state_.removed_at_bounds);
+    state_.bounds.lower = lower.cwiseMax(b.limit_lower);
+    state_.bounds.upper = upper.cwiseMin(b.limit_upper);
     return;
   }
   removeParticlesIf(
@@ -416,7 +472,7 @@ void World::removeOutsideBounds() {
         const Vec3& x = particles_.position[i];
         return !((x.array() >= b.lower.array()).all() && (x.array() <= b.upper.array()).all());
       },
-      removed_at_bounds_);
+      state_.removed_at_bounds);
 }
 
 bool World::updateMeshCollision(double time) {
@@ -440,7 +496,10 @@ WorldComponent& World::addComponent(std::unique_ptr<WorldComponent> component) {
   components_.push_back(std::move(component));
   if (added.stages() & kStageInsertRemove) insert_remove_components_.push_back(&added);
   if (added.stages() & kStageObserve) observe_components_.push_back(&added);
-  if (initialized_) added.initialize(*this);
+  if (initialized_) {
+    added.initialize(*this);
+    selectStepStages();
+  }
   return added;
 }
 
@@ -495,20 +554,22 @@ void World::rebuildNeighbours() {
 }
 
 std::vector<std::string> World::activeStages() const {
-  std::vector<std::string> stages;
-  if (settings_.bounds) stages.emplace_back(settings_.bounds->growing ? "growing_bounds" : "bounds_removal");
-  if (frame_moving_) stages.emplace_back("moving_frame");
-  stages.emplace_back(std::string(toString(settings_.integrator)));
-  stages.emplace_back("neighbour_list");
-  stages.emplace_back(std::string("particle_contacts:") + std::string(toString(settings_.contact_model)));
-  if (!planes_.empty()) stages.emplace_back("plane_contacts");
-  if (!meshes_.empty()) stages.emplace_back("mesh_motion_and_contacts");
-  const auto regions = std::count_if(meshes_.begin(), meshes_.end(), [](const MeshBody& m) { return !m.everCollides(); });
-  if (regions > 0) stages.emplace_back("non_colliding_meshes:" + std::to_string(regions));
-  if (rolling_active_) stages.emplace_back("rolling_resistance");
-  if (!clump_templates_.empty()) stages.emplace_back("clump_rigid_bodies");
-  for (const auto& component : components_) stages.push_back(std::string(component->kind()) + ":" + component->name());
-  return stages;
+  const auto componentsIn = [](const std::vector<WorldComponent*>& list, std::vector<std::string>& names) {
+    for (const WorldComponent* c : list) names.push_back(std::string(c->kind()) + ":" + c->name());
+  };
+  std::vector<std::string> names;
+  for (const Stage stage : selectStages(sceneFeatures())) {
+    if (stage == Stage::kInsertRemove) {
+      componentsIn(insert_remove_components_, names);
+    } else if (stage == Stage::kObserve) {
+      componentsIn(observe_components_, names);
+    } else if (stage == Stage::kParticleContacts) {
+      names.push_back("particle_contacts:" + std::string(toString(settings_.contact_model)));
+    } else {
+      names.emplace_back(stageInfo(stage).name);
+    }
+  }
+  return names;
 }
 
 double World::kineticEnergy() const {

@@ -1,4 +1,4 @@
-/// libFuzzer target: the CoSimulationHost (compiler, scheduler, faults) fed arbitrary
+/// libFuzzer target: the CosimHost (compiler, scheduler, faults) fed arbitrary
 /// ClientMessages from three fake connections, in process, with a fake clock.
 ///
 /// Input: a sequence of [selector byte][frame]. selector % 3 picks the connection slot,
@@ -19,7 +19,7 @@
 #include <string>
 #include <string_view>
 
-#include "demlink/server/cosim/co_simulation_host.hpp"
+#include "demlink/server/cosim/cosim_host.hpp"
 #include "demlink/server/scene/scene_loader.hpp"
 #include "fuzz_seeds.hpp"
 
@@ -62,7 +62,7 @@ void boundWork(demlink::v1::ClientMessage& message) {
 
 class Session {
  public:
-  explicit Session(demlink::server::CoSimulationHost& host) : host_(host) {}
+  explicit Session(demlink::server::CosimHost& host) : host_(host) {}
 
   void deliver(int slot, std::string_view payload) {
     demlink::v1::ClientMessage message;
@@ -112,7 +112,7 @@ class Session {
     for (const int slot : closing) disconnect(slot, "closed after the host's message");  // the transport's contract
   }
 
-  demlink::server::CoSimulationHost& host_;
+  demlink::server::CosimHost& host_;
   ConnectionId ids_[3] = {0, 0, 0};
   ConnectionId next_id_ = 1;
   std::set<ConnectionId> known_;
@@ -155,11 +155,11 @@ extern "C" int LLVMFuzzerInitialize(int* /*argc*/, char*** /*argv*/) {
 }
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  demlink::server::CoSimulationOptions options;
+  demlink::server::CosimOptions options;
   options.output_root = outputRoot();
   options.quiet_period_s = 0.5;
   options.client_timeout_s = 5.0;
-  demlink::server::CoSimulationHost host(options);
+  demlink::server::CosimHost host(options);
   Session session(host);
   // The decoder (with a small cap) cuts the frames exactly as the transport would.
   const std::string_view bytes(reinterpret_cast<const char*>(data), size);

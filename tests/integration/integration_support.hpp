@@ -1,5 +1,5 @@
 #pragma once
-/// Pieces the end-to-end tests share: the real co-simulation server (CoSimulationHost
+/// Pieces the end-to-end tests share: the real co-simulation server (CosimHost
 /// behind a TcpServer on an ephemeral loopback port) running on its own thread inside the
 /// test process, client components built from plain JSON declarations, and a reader of the
 /// host's session record.
@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "demlink/client/client.hpp"
-#include "demlink/server/cosim/co_simulation_host.hpp"
+#include "demlink/server/cosim/cosim_host.hpp"
 #include "demlink/server/net/tcp_server.hpp"
 #include "demlink/server/scene/scene_loader.hpp"
 #include "demlink/v1/recording.pb.h"
@@ -32,10 +32,10 @@ namespace demlink::integration {
 /// below the ctest timeout, so a protocol bug fails the test instead of hanging it.
 inline constexpr std::chrono::milliseconds kClientTimeout{10000};
 
-/// CoSimulationHost + TcpServer on 127.0.0.1, port 0, served by one thread.
+/// CosimHost + TcpServer on 127.0.0.1, port 0, served by one thread.
 class InProcessServer {
  public:
-  explicit InProcessServer(server::CoSimulationOptions options)
+  explicit InProcessServer(server::CosimOptions options)
       : host_(std::move(options)), tcp_(host_, server::TcpServerOptions{}) {
     thread_ = std::thread([this] { tcp_.run(); });
   }
@@ -51,17 +51,17 @@ class InProcessServer {
     thread_.join();
   }
   /// Only after stop(): the host is not thread-safe while the server thread runs.
-  [[nodiscard]] server::CoSimulationHost& host() { return host_; }
+  [[nodiscard]] server::CosimHost& host() { return host_; }
 
  private:
-  server::CoSimulationHost host_;
+  server::CosimHost host_;
   server::TcpServer tcp_;
   std::thread thread_;
 };
 
 /// Host options for a test: output under `root`, short quiet period.
-inline server::CoSimulationOptions hostOptions(const std::filesystem::path& root) {
-  server::CoSimulationOptions o;
+inline server::CosimOptions hostOptions(const std::filesystem::path& root) {
+  server::CosimOptions o;
   o.output_root = root;
   o.quiet_period_s = 0.5;
   o.client_timeout_s = 10.0;

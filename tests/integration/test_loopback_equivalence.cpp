@@ -177,7 +177,7 @@ TEST(LoopbackCoupling, ThreeClientsOverTcpMatchInProcessCouplingBitForBit) {
   ASSERT_EQ(order.size(), byName.size());
   v1::Scene scene;
   for (const auto& [id, name] : order) *scene.add_components() = byName.at(name);
-  server::TranslatedScene translated = server::translateScene(scene, {}, server::SceneUse::CoSimulation);
+  server::TranslatedScene translated = server::translateScene(scene, {}, server::SceneUse::Cosim);
   core::World& world = translated.world;
   world.initialize();
   ASSERT_EQ(world.meshes().size(), 1u);

@@ -47,7 +47,7 @@ TEST(MultiRateOverTcp, AnswersAndInputsAreExactlyAtEachComponentsMultiples) {
   const std::filesystem::path root =
       std::filesystem::temp_directory_path() / ("demlink_e2e_multirate_" + std::to_string(::getpid()));
   std::filesystem::remove_all(root);
-  server::CoSimulationOptions options = hostOptions(root);
+  server::CosimOptions options = hostOptions(root);
   options.record_file = root / "session.rec";
   std::filesystem::create_directories(root);
   InProcessServer server(options);

@@ -1,5 +1,5 @@
 #pragma once
-/// Drives a CoSimulationHost in-process for the co-simulation tests: builds Hello /
+/// Drives a CosimHost in-process for the co-simulation tests: builds Hello /
 /// Declare / DataPackage / Bye messages, keeps a fake clock, and files every outgoing
 /// message into a per-connection inbox, so a test reads like a client script.
 #include <gtest/gtest.h>
@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "demlink/core/state/checkpoint.hpp"
-#include "demlink/server/cosim/co_simulation_host.hpp"
+#include "demlink/server/cosim/cosim_host.hpp"
 #include "demlink/server/scene/proto_convert.hpp"
 #include "scene_test_support.hpp"
 #include "test_support.hpp"
@@ -44,12 +44,13 @@ inline v1::RigidBodyInput bodyInput(const core::Vec3& position, const core::Quat
 class CosimHarness {
  public:
   explicit CosimHarness(const std::filesystem::path& outputRoot, v1::Scene baseScene = {},
-                        std::filesystem::path recordFile = {})
-      : host_(options(outputRoot, std::move(baseScene), std::move(recordFile))) {}
+                        std::filesystem::path recordFile = {}, bool overwrite = false)
+      : host_(options(outputRoot, std::move(baseScene), std::move(recordFile), overwrite)) {}
 
-  static CoSimulationOptions options(const std::filesystem::path& outputRoot, v1::Scene baseScene,
-                                     std::filesystem::path recordFile) {
-    CoSimulationOptions o;
+  static CosimOptions options(const std::filesystem::path& outputRoot, v1::Scene baseScene,
+                                     std::filesystem::path recordFile, bool overwrite = false) {
+    CosimOptions o;
+    o.overwrite = overwrite;
     o.base_scene = std::move(baseScene);
     o.output_root = outputRoot;
     o.quiet_period_s = 2.0;
@@ -58,7 +59,7 @@ class CosimHarness {
     return o;
   }
 
-  CoSimulationHost& host() { return host_; }
+  CosimHost& host() { return host_; }
   SteadyClock::time_point now() const { return now_; }
   void advanceClock(double seconds) {
     now_ += std::chrono::duration_cast<SteadyClock::duration>(std::chrono::duration<double>(seconds));
@@ -158,7 +159,7 @@ class CosimHarness {
   void clearInbox(ConnectionId id) { inbox_[id].clear(); }
 
  private:
-  CoSimulationHost host_;
+  CosimHost host_;
   SteadyClock::time_point now_{};
   std::map<ConnectionId, std::vector<v1::ServerMessage>> inbox_;
   std::map<ConnectionId, bool> closed_;

@@ -5,11 +5,11 @@
 /// floating-point accumulation of time decides whether a sample is taken.
 #include "demlink/core/components/sampled_component.hpp"
 
-#include <cmath>
 #include <set>
 
 #include "demlink/core/components/component_state.hpp"
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/step/interval_steps.hpp"
 #include "demlink/core/world.hpp"
 
 namespace demlink::core {
@@ -24,16 +24,12 @@ void SampledComponent::resolveSchedule(const World& world) {
     every_ = schedule_.every_steps;
     return;
   }
-  const double dt = world.settings().time_step;
-  const double steps = std::round(schedule_.interval / dt);
-  if (!(steps >= 1.0)) {
-    throw InputError(field_prefix_ + ".sample_interval", formatValue(schedule_.interval),
-                     "rounds to zero time steps (dt = " + formatValue(dt) + " s)");
-  }
-  if (!(steps < 1.0e15)) {
-    throw InputError(field_prefix_ + ".sample_interval", formatValue(schedule_.interval), "too many time steps");
-  }
-  every_ = static_cast<std::uint64_t>(steps);
+  IntervalRule rule;
+  rule.zero = ZeroInterval::Refused;
+  IntervalSteps steps =
+      intervalSteps(field_prefix_ + ".sample_interval", schedule_.interval, world.settings().time_step, rule);
+  every_ = steps.steps;
+  schedule_warning_ = std::move(steps.warning);
 }
 
 bool SampledComponent::sampleDue(const World& world) const {
@@ -77,6 +73,15 @@ void SampledComponent::loadState(StateReader& in) {
 void SampledComponent::writeCsvTo(const std::filesystem::path& path) {
   csv_ = std::make_unique<CsvTable>(path, columns());
   if (!latest_.empty()) csv_->writeRow(latest_);
+}
+
+std::vector<std::string> sampleScheduleWarnings(const World& world) {
+  std::vector<std::string> warnings;
+  for (const auto& component : world.components()) {
+    const auto* sampled = dynamic_cast<const SampledComponent*>(component.get());
+    if (sampled != nullptr && !sampled->scheduleWarning().empty()) warnings.push_back(sampled->scheduleWarning());
+  }
+  return warnings;
 }
 
 std::vector<std::filesystem::path> writeSamplesToCsv(World& world, const std::filesystem::path& directory) {

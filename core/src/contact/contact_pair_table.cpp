@@ -3,10 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <numbers>
 
+#include "demlink/core/contact/contact_law_registry.hpp"
 #include "demlink/core/input_error.hpp"
-#include "demlink/core/contact/restitution_calibration.hpp"
 
 namespace demlink::core {
 
@@ -25,25 +24,6 @@ void PairOverride::validate(const std::string& fieldPrefix) const {
   if (rolling_friction) requireNonNegative(fieldPrefix + ".rolling_friction", *rolling_friction);
 }
 
-namespace {
-
-/// Linear k_n matching Hertz's maximum overlap for two reference spheres:
-/// delta_max = (15 m* v^2 / (16 E* sqrt(R*)))^(2/5), and k_n = m* v^2 / delta_max^2.
-double matchedLinearStiffness(const Material& a, const Material& b, double eStar,
-                              const LinearStiffnessReference& ref) {
-  if (ref.normal_stiffness > 0.0) return ref.normal_stiffness;
-  const double volume = 4.0 / 3.0 * std::numbers::pi * std::pow(ref.radius, 3);
-  const double ma = a.density * volume;
-  const double mb = b.density * volume;
-  const double mStar = ma * mb / (ma + mb);
-  const double rStar = 0.5 * ref.radius;
-  const double v = ref.impact_velocity;
-  const double deltaMax = std::pow(15.0 * mStar * v * v / (16.0 * eStar * std::sqrt(rStar)), 0.4);
-  return mStar * v * v / (deltaMax * deltaMax);
-}
-
-}  // namespace
-
 ContactPairTable::ContactPairTable(const std::vector<Material>& materials, ContactModel model,
                                    const LinearStiffnessReference& linearReference,
                                    const std::vector<PairOverrideEntry>& overrides)
@@ -53,7 +33,7 @@ ContactPairTable::ContactPairTable(const std::vector<Material>& materials, Conta
   for (const PairOverrideEntry& entry : overrides) {
     overrideOf[std::minmax(entry.material_a, entry.material_b)] = &entry.values;
   }
-  const NormalLaw law = model == ContactModel::HertzMindlin ? NormalLaw::Hertz : NormalLaw::Linear;
+  const ContactLawEntry& law = contactLaw(model);
   std::map<double, double> dampingOfRestitution;  // calibration is ~ms each; reuse across pairs
   for (std::uint32_t i = 0; i < count_; ++i) {
     for (std::uint32_t j = i; j < count_; ++j) {
@@ -73,32 +53,15 @@ ContactPairTable::ContactPairTable(const std::vector<Material>& materials, Conta
         p.rolling_friction = o.rolling_friction.value_or(p.rolling_friction);
       }
       auto [it, inserted] = dampingOfRestitution.try_emplace(p.restitution, 0.0);
-      if (inserted) it->second = dampingForRestitution(law, p.restitution);
-      const double c = it->second;
-      // Tangential/normal stiffness ratio 4 G*/E* (Mindlin; 2(1-nu)/(2-nu) for like materials).
-      const double stiffnessRatio = 4.0 * p.effective_shear / p.effective_youngs;
-      if (model == ContactModel::HertzMindlin) {
-        // Paper eq. 6: gamma_n = 2 sqrt(5/6) |beta| sqrt(S_n m*). The dimensionless ODE
-        // coefficient is c = sqrt(5) |beta|, hence 2 sqrt(5/6) |beta| = c sqrt(2/3).
-        p.normal_damping = c * std::sqrt(2.0 / 3.0);
-        p.beta = -c / std::sqrt(5.0);
-      } else {
-        // gamma_n = 2 zeta sqrt(k_n m*), with c = 2 zeta.
-        p.normal_damping = c;
-        p.beta = -0.5 * c;
-        p.linear_normal_stiffness = matchedLinearStiffness(a, b, p.effective_youngs, linearReference);
-        p.linear_tangential_stiffness = stiffnessRatio * p.linear_normal_stiffness;
-      }
-      p.tangential_damping = p.normal_damping * std::sqrt(stiffnessRatio);
+      if (inserted) it->second = law.damping_for_restitution(p.restitution);
+      law.set_pair_coefficients(p, it->second, a, b, linearReference);
+      // gamma_t = 2 zeta sqrt(S_t m*) = normal_damping sqrt(S_t / S_n) sqrt(S_n m*).
+      p.tangential_damping = p.normal_damping * std::sqrt(tangentialStiffnessRatio(p));
       any_rolling_ = any_rolling_ || p.rolling_friction > 0.0;
       pairs_[i * count_ + j] = p;
       pairs_[j * count_ + i] = p;
     }
   }
-}
-
-std::string_view toString(ContactModel model) {
-  return model == ContactModel::HertzMindlin ? "hertz_mindlin" : "linear_spring_dashpot";
 }
 
 std::string_view toString(IntegratorKind integrator) {

@@ -4,15 +4,9 @@
 #include <limits>
 #include <numbers>
 
+#include "demlink/core/contact/contact_law_registry.hpp"
+
 namespace demlink::core {
-namespace {
-
-double contactDuration(ContactModel model, const ContactPairParams& p, double rStar, double mStar, double v) {
-  if (model == ContactModel::LinearSpringDashpot) return std::numbers::pi * std::sqrt(mStar / p.linear_normal_stiffness);
-  return 2.87 * std::pow(mStar * mStar / (rStar * p.effective_youngs * p.effective_youngs * v), 0.2);
-}
-
-}  // namespace
 
 double rayleighTimeStep(const Material& m, double radius) {
   return std::numbers::pi * radius * std::sqrt(m.density / m.shearModulus()) / (0.1631 * m.poisson_ratio + 0.8766);
@@ -21,6 +15,7 @@ double rayleighTimeStep(const Material& m, double radius) {
 TimeStepReport criticalTimeStep(const std::vector<Material>& materials, const ContactPairTable& table,
                                 ContactModel model, const std::vector<double>& minRadiusOfMaterial,
                                 double maxImpactVelocity) {
+  const ContactLawEntry& law = contactLaw(model);
   TimeStepReport report;
   report.rayleigh_time_step = std::numeric_limits<double>::infinity();
   report.contact_duration = std::numeric_limits<double>::infinity();
@@ -43,7 +38,7 @@ TimeStepReport criticalTimeStep(const std::vector<Material>& materials, const Co
         rStar = ra * rb / (ra + rb);
         mStar = ma * mb / (ma + mb);
       }
-      report.contact_duration = std::min(report.contact_duration, contactDuration(model, p, rStar, mStar, maxImpactVelocity));
+      report.contact_duration = std::min(report.contact_duration, law.contact_duration(p, rStar, mStar, maxImpactVelocity));
     }
   }
   const double byRayleigh = kRayleighSafetyFraction * report.rayleigh_time_step;

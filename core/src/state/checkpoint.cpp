@@ -75,12 +75,14 @@ StateReader findSection(StateReader& file, std::string_view tag, const std::stri
   return file.section(tag, name);
 }
 
-void writeSettings(StateWriter& out, const SimulationSettings& s) {
+/// Gravity and the skin are the values in force (WorldState), as the format has
+/// always recorded them.
+void writeSettings(StateWriter& out, const SimulationSettings& s, const WorldState& state) {
   out.write(s.time_step);
-  out.write(s.gravity);
+  out.write(state.gravity);
   out.write(static_cast<std::uint32_t>(s.contact_model));
   out.write(static_cast<std::uint32_t>(s.integrator));
-  out.write(s.neighbour_skin);
+  out.write(state.neighbour_skin);
   out.write(s.max_impact_velocity);
   out.write(s.linear_normal_stiffness);
   out.write(static_cast<std::uint8_t>(s.bounds.has_value()));
@@ -92,12 +94,12 @@ void writeSettings(StateWriter& out, const SimulationSettings& s) {
 
 /// Settings that change the trajectory must match; the thread count may differ
 /// (results are then equal to round-off only, as for any change of thread count).
-void checkSettings(StateReader in, const SimulationSettings& s) {
+void checkSettings(StateReader in, const SimulationSettings& s, const WorldState& state) {
   requireEqual(in, "time_step", in.read<double>(), s.time_step);
-  requireEqual(in, "gravity", in.read<Vec3>(), s.gravity);
+  requireEqual(in, "gravity", in.read<Vec3>(), state.gravity);
   requireEqual(in, "contact_model", in.read<std::uint32_t>(), static_cast<std::uint32_t>(s.contact_model));
   requireEqual(in, "integrator", in.read<std::uint32_t>(), static_cast<std::uint32_t>(s.integrator));
-  requireEqual(in, "neighbour_skin", in.read<double>(), s.neighbour_skin);
+  requireEqual(in, "neighbour_skin", in.read<double>(), state.neighbour_skin);
   requireEqual(in, "max_impact_velocity", in.read<double>(), s.max_impact_velocity);
   requireEqual(in, "linear_normal_stiffness", in.read<double>(), s.linear_normal_stiffness);
   requireEqual(in, "bounds", in.read<std::uint8_t>(), static_cast<std::uint8_t>(s.bounds.has_value()));
@@ -195,16 +197,16 @@ void checkRowsAgainstParticles(const StateReader& clockSection, const StateReade
 void World::saveCheckpoint(std::ostream& out) const {
   StateWriter w;
   writeHeader(w);
-  w.section("SETT", [&] { writeSettings(w, settings_); });
+  w.section("SETT", [&] { writeSettings(w, settings_, state_); });
   w.section("MATL", [&] {
     w.write<std::uint64_t>(materials_.size());
     for (const Material& m : materials_) writeMaterial(w, m);
   });
   w.section("CLOK", [&] {
-    w.write(step_count_);
-    w.write(next_id_);
-    w.write(removed_at_bounds_.count);
-    w.write(removed_at_bounds_.mass);
+    w.write(state_.step_count);
+    w.write(state_.next_particle_id);
+    w.write(state_.removed_at_bounds.count);
+    w.write(state_.removed_at_bounds.mass);
     w.write(static_cast<std::uint8_t>(rebuild_pending_));
     w.writeVector(pending_new_slot_of_old_);
   });
@@ -222,14 +224,14 @@ void World::saveCheckpoint(std::ostream& out) const {
     }
   });
   w.section("ROOM", [&] {
-    w.write(current_bounds_.lower);
-    w.write(current_bounds_.upper);
-    settings_.frame.save(w);
+    w.write(state_.bounds.lower);
+    w.write(state_.bounds.upper);
+    state_.frame.save(w);
     w.writeVector(mesh_colliding_);
   });
   w.section("CLMP", [&] {
     w.write<std::uint64_t>(clump_templates_.size());
-    w.write(next_clump_id_);
+    w.write(state_.next_clump_id);
     saveClumps(w, clumps_);
   });
   w.section("COMP", [&] { saveComponents(w, components_); });
@@ -251,7 +253,7 @@ void World::restoreCheckpoint(std::string_view bytes, const std::string& source)
   // Phase 1: every section into staging objects, each checked by its reader.
   StateReader file(bytes, source, "header");
   readHeader(file);
-  checkSettings(file.section("SETT", "settings"), settings_);
+  checkSettings(file.section("SETT", "settings"), settings_, state_);
   checkMaterials(file.section("MATL", "materials"), materials_);
   StateReader clockSection = file.section("CLOK", "clock");
   const Clock clock = readClock(clockSection);
@@ -313,15 +315,15 @@ void World::restoreCheckpoint(std::string_view bytes, const std::string& source)
   planes_ = std::move(planes);
   for (std::size_t m = 0; m < meshes_.size(); ++m) meshes_[m].restoreState(meshStates[m]);
   mesh_near_ = std::move(meshNear);
-  current_bounds_ = bounds;
-  settings_.frame = frame;
-  frame_moving_ = !frame.isInertial();
+  state_.bounds = bounds;
+  state_.setFrame(frame);
+  selectStepStages();  // the restored frame may move where the scene's did not
   mesh_colliding_ = std::move(colliding);
   clumps_ = std::move(clumps);
-  next_clump_id_ = nextClumpId;
-  step_count_ = clock.step_count;
-  next_id_ = clock.next_id;
-  removed_at_bounds_ = clock.removed;
+  state_.next_clump_id = nextClumpId;
+  state_.step_count = clock.step_count;
+  state_.next_particle_id = clock.next_id;
+  state_.removed_at_bounds = clock.removed;
   rebuild_pending_ = clock.rebuild_pending;
   pending_new_slot_of_old_ = clock.pending;
   partition_.plan(neighbours_.offsets(), settings_.threads);

@@ -21,7 +21,7 @@
 #include <string>
 
 #include "demlink/core/input_error.hpp"
-#include "demlink/server/cosim/co_simulation_host.hpp"
+#include "demlink/server/cosim/cosim_host.hpp"
 #include "demlink/server/cosim/session_replay.hpp"
 #include "command_line_main.hpp"
 #include "demlink/cli/command_line.hpp"
@@ -83,8 +83,8 @@ void addOptions(CLI::App& app, CommandLine& line) {
   app.add_flag("--once", line.once, "exit after the first simulation ends");
 }
 
-demlink::server::CoSimulationOptions hostOptions(const CommandLine& line) {
-  demlink::server::CoSimulationOptions options;
+demlink::server::CosimOptions hostOptions(const CommandLine& line) {
+  demlink::server::CosimOptions options;
   if (line.scene) {
     options.base_scene = demlink::server::loadSceneFile(*line.scene);
     const std::filesystem::path directory = std::filesystem::path(*line.scene).parent_path();
@@ -113,7 +113,7 @@ int run(int argc, char** argv) {
       line.token = fromEnvironment;
     }
   }
-  const demlink::server::CoSimulationOptions options = hostOptions(line);
+  const demlink::server::CosimOptions options = hostOptions(line);
 
   if (line.replay) {
     const demlink::server::ReplayResult result = demlink::server::replaySession(*line.replay, options);
@@ -127,7 +127,7 @@ int run(int argc, char** argv) {
     return 0;
   }
 
-  demlink::server::CoSimulationHost host(options);
+  demlink::server::CosimHost host(options);
   demlink::server::TcpServerOptions net;
   net.listen_address = line.listen;
   net.port = line.port;

@@ -2,10 +2,11 @@
 ///
 /// Order of the compile: find the SimulationBox; give sensors and sinks declared by a
 /// client without a sample interval their communication interval (the translator needs
-/// one); translate; check every communication interval against the time step (a whole
-/// number of steps, rounded with a warning or refused in strict mode); initialise the
-/// world, which checks the time step against the critical limit; resolve each component's
-/// engine object; write the report. Every engine error comes back as InputError with a
+/// one); translate; convert every communication interval to whole steps
+/// (core::intervalSteps: rounded with a warning, or refused in strict mode); initialise
+/// the world, which checks the time step against the critical limit; resolve each
+/// component's engine object; convert the end time and output intervals by the headless
+/// rule (planRun); write the report. Every engine error comes back as InputError with a
 /// "components[i]..." path and is renamed to "<name>...".
 #include "demlink/server/cosim/cosim_compiler.hpp"
 
@@ -15,7 +16,9 @@
 #include <cmath>
 #include <map>
 
+#include "demlink/core/components/sampled_component.hpp"
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/step/interval_steps.hpp"
 #include "demlink/server/scene/translate_rigid_body.hpp"
 
 namespace demlink::server {
@@ -219,7 +222,7 @@ CompiledSimulation CosimCompiler::compile(const std::filesystem::path& sceneDire
 
   CompiledSimulation out;
   try {
-    out.scene = std::make_unique<TranslatedScene>(translateScene(scene, sceneDirectory, SceneUse::CoSimulation));
+    out.scene = std::make_unique<TranslatedScene>(translateScene(scene, sceneDirectory, SceneUse::Cosim));
   } catch (const core::InputError& error) {
     throw failureOf(error, declared_);
   }
@@ -265,31 +268,19 @@ CompiledSimulation CosimCompiler::compile(const std::filesystem::path& sceneDire
         throw failure(c.name, field, core::formatValue(interval),
                       "a " + c.kind + " has no inputs or outputs to exchange; use 0");
       } else {
-        const double exact = interval / dt;
-        const auto steps = static_cast<std::uint64_t>(std::llround(std::min(exact, 1.0e15)));
-        if (steps == 0) {
-          throw failure(c.name, field, core::formatValue(interval),
-                        "shorter than half a time step (" + core::formatValue(dt) + " s)");
+        core::IntervalRule rule;
+        rule.strict = coupling.strict_intervals();
+        rule.max_steps = kMaxStepsPerInterval;
+        rule.max_steps_why = "per exchange (the server steps an interval in one go): use a shorter interval or a "
+                             "larger time step";
+        core::IntervalSteps steps;
+        try {
+          steps = core::intervalSteps(field, interval, dt, rule);
+        } catch (const core::InputError& error) {
+          throw failureOf(error, declared_, c.name);
         }
-        if (std::abs(static_cast<double>(steps) * dt - interval) > 1.0e-6 * dt) {
-          if (coupling.strict_intervals()) {
-            throw failure(c.name, field, core::formatValue(interval),
-                          "not a whole multiple of the time step " + core::formatValue(dt) +
-                              " s (strict_intervals); nearest: " + std::to_string(steps) + " steps = " +
-                              core::formatValue(static_cast<double>(steps) * dt) + " s");
-          }
-          out.report.add_warnings(fmt::format("{} = {} s is not a multiple of the time step {} s; rounded to {} "
-                                              "steps = {} s",
-                                              field, core::formatValue(interval), core::formatValue(dt), steps,
-                                              core::formatValue(static_cast<double>(steps) * dt)));
-        }
-        if (steps > kMaxStepsPerInterval) {
-          throw failure(c.name, field, core::formatValue(interval),
-                        fmt::format("{:.3g} time steps of {} s; at most {} per exchange (the server steps an "
-                                    "interval in one go): use a shorter interval or a larger time step",
-                                    exact, core::formatValue(dt), kMaxStepsPerInterval));
-        }
-        c.interval_steps = steps;
+        if (!steps.warning.empty()) out.report.add_warnings(steps.warning);
+        c.interval_steps = steps.steps;
       }
     }
     out.components.push_back(std::move(c));
@@ -307,13 +298,18 @@ CompiledSimulation CosimCompiler::compile(const std::filesystem::path& sceneDire
     throw failureOf(error, declared_, out.box_name);
   }
 
-  const double endTime = out.scene->run.end_time;
-  if (endTime > 0.0) {
-    out.end_step = static_cast<std::uint64_t>(std::llround(std::min(endTime / dt, 1.0e15)));
-    if (out.end_step == 0) {
-      throw failure(out.box_name, out.box_name + ".simulation_box.end_time", core::formatValue(endTime),
-                    "shorter than half a time step; use 0 to run until every client said Bye");
-    }
+  // The same seconds -> steps rule as a headless run (run_driver.hpp); end_time 0: until
+  // every client said Bye.
+  try {
+    out.plan = planRun(out.scene->run, dt, false);
+  } catch (const core::InputError& error) {
+    throw failureOf(error, declared_, out.box_name);
+  }
+  out.end_step = out.plan.end_step;
+  // Warnings name the component as errors do ("box.simulation_box.output.vtk_interval").
+  for (const std::string& warning : out.plan.warnings) out.report.add_warnings(renameField(warning, declared_).first);
+  for (const std::string& warning : core::sampleScheduleWarnings(world)) {
+    out.report.add_warnings(renameField(warning, declared_).first);
   }
   for (const std::string& stage : world.activeStages()) out.report.add_active_stages(stage);
   out.report.set_time_step(dt);

@@ -1,22 +1,15 @@
 /// One running co-simulation (contract in cosim_simulation.hpp).
 ///
-/// The step loop is the headless runner's (frames every vtk_interval, checkpoints every
-/// checkpoint_interval, both converted to whole steps) with two additions: after every
-/// world step each rigid body's coupling adds the step's wrench to its impulses, and at a
-/// stop the couplings whose interval ends there snap their mesh onto the target before
-/// the outputs are read.
+/// The outputs are the headless runner's (RunDriver: frames, checkpoints, run log, final
+/// files, on the steps planned by the compiler) with two additions to the step: after
+/// every world step each rigid body's coupling adds the step's wrench to its impulses,
+/// and at a stop the couplings whose interval ends there snap their mesh onto the target
+/// before the outputs are read.
 #include "demlink/server/cosim/cosim_simulation.hpp"
 
-#include <spdlog/fmt/fmt.h>
-#include <spdlog/spdlog.h>
-
-#include <cmath>
 #include <fstream>
 
-#include "demlink/core/state/checkpoint.hpp"
-#include "demlink/core/components/sampled_component.hpp"
 #include "demlink/server/cosim/cosim_inputs.hpp"
-#include "demlink/server/run/particle_csv.hpp"
 
 namespace demlink::server {
 namespace {
@@ -24,11 +17,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
-
-std::uint64_t stepsOf(double seconds, double dt) {
-  if (!(seconds > 0.0)) return 0;
-  return std::max<std::uint64_t>(1, static_cast<std::uint64_t>(std::llround(std::min(seconds / dt, 1.0e15))));
-}
 
 }  // namespace
 
@@ -42,22 +30,13 @@ CosimSimulation::CosimSimulation(CompiledSimulation compiled, const std::filesys
       couplings_.emplace(i, core::CoupledMotion(*c.mesh, c.motion));
     }
   }
-  const RunOptions& run = compiled_.scene->run;
-  frame_every_ = stepsOf(run.vtk_interval, compiled_.time_step);
-  checkpoint_every_ = stepsOf(run.checkpoint_interval, compiled_.time_step);
-  frames_ = std::make_unique<FrameSeries>(directory_, compiled_.box_name + ".simulation_box.output.directory");
+  driver_ = std::make_unique<RunDriver>(w, compiled_.scene->run, compiled_.plan, directory_,
+                                        compiled_.box_name + ".simulation_box.output.directory");
   {
     std::ofstream report(directory_ / "compile_report.txt");
     report << compiled_.report.text();
   }
-  RunOptions logged = run;
-  logged.output_directory = directory_.string();
-  run_log_ = std::make_unique<RunLog>(directory_ / "run_log.csv");
-  run_log_->writeConfiguration(w, logged, compiled_.end_step);
-  core::writeSamplesToCsv(w, directory_);
-  start_ = Clock::now();
-  frames_->writePlanes(w);
-  frames_->writeFrame(w, 0.0);
+  driver_->start(w);
 }
 
 CosimSimulation::~CosimSimulation() = default;
@@ -133,17 +112,8 @@ void CosimSimulation::retire(ConnectionId owner) {
 void CosimSimulation::stepWorld() {
   core::World& w = world();
   w.step();
-  timing_.particle_steps += w.particles().size();
   for (auto& [index, coupling] : couplings_) coupling.afterStep(w);
-  const std::uint64_t step = w.stepCount();
-  if (frame_every_ > 0 && step % frame_every_ == 0) {
-    frames_->writeFrame(w, secondsSince(start_));
-    last_frame_step_ = step;
-  }
-  if (checkpoint_every_ > 0 && step % checkpoint_every_ == 0) {
-    core::writeCheckpointFile(w, directory_ / fmt::format("checkpoint_{:06}.bin", step / checkpoint_every_));
-    ++timing_.checkpoints;
-  }
+  driver_->afterStep(w);
 }
 
 CosimSimulation::Advance CosimSimulation::advance() {
@@ -180,28 +150,6 @@ CosimSimulation::Advance CosimSimulation::advance() {
   return out;
 }
 
-void CosimSimulation::finish(const std::string& reason) {
-  if (finished_) return;
-  finished_ = true;
-  core::World& w = world();
-  const RunOptions& run = compiled_.scene->run;
-  try {
-    if (last_frame_step_ != w.stepCount()) frames_->writeFrame(w, secondsSince(start_));
-    if (run.final_checkpoint) {
-      core::writeCheckpointFile(w, directory_ / "checkpoint_final.bin");
-      ++timing_.checkpoints;
-    }
-    if (run.final_particles_csv) writeParticleCsv(w, directory_ / "particles_final.csv");
-  } catch (const std::exception& error) {
-    run_log_->add("timing", "status", std::string("output failed: ") + error.what());
-    throw;
-  }
-  timing_.total_seconds = secondsSince(start_);
-  timing_.steps = w.stepCount();
-  timing_.neighbour_builds = w.neighbourList().buildCount();
-  timing_.frames = frames_->frameCount();
-  run_log_->add("timing", "finish_reason", reason);
-  run_log_->writeTiming(w, timing_);
-}
+void CosimSimulation::finish(const std::string& reason) { driver_->finish(world(), reason); }
 
 }  // namespace demlink::server

@@ -9,7 +9,7 @@
 
 namespace demlink::server {
 
-SessionRecorder::SessionRecorder(const std::filesystem::path& path, const CoSimulationOptions& options)
+SessionRecorder::SessionRecorder(const std::filesystem::path& path, const CosimOptions& options)
     : path_(path), start_(std::chrono::steady_clock::now()) {
   if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
   out_.open(path, std::ios::binary | std::ios::trunc);

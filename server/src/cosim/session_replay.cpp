@@ -12,7 +12,7 @@
 
 namespace demlink::server {
 
-ReplayResult replaySession(const std::filesystem::path& file, CoSimulationOptions options) {
+ReplayResult replaySession(const std::filesystem::path& file, CosimOptions options) {
   std::ifstream in(file, std::ios::binary);
   if (!in) throw std::runtime_error("cannot read the session record " + file.string());
   std::ostringstream bytes;
@@ -21,7 +21,7 @@ ReplayResult replaySession(const std::filesystem::path& file, CoSimulationOption
   decoder.feed(bytes.str());
 
   options.record_file.clear();
-  std::unique_ptr<CoSimulationHost> host;
+  std::unique_ptr<CosimHost> host;
   ReplayResult result;
   const SteadyClock::time_point origin{};
   std::uint64_t index = 0;
@@ -49,7 +49,7 @@ ReplayResult replaySession(const std::filesystem::path& file, CoSimulationOption
       }
       options.base_scene = event.base_scene();
       options.scene_directory = event.scene_directory();
-      host = std::make_unique<CoSimulationHost>(options);
+      host = std::make_unique<CosimHost>(options);
       ++index;
       continue;
     }

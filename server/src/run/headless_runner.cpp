@@ -1,9 +1,8 @@
 /// Headless run loop (contract in headless_runner.hpp).
 ///
-/// Time is an integer step count: the end and the frame interval are converted
-/// to steps once (rounded to the nearest step, with a warning when that changes
-/// the requested time by more than 1e-6 dt), so frames land on exact steps and
-/// no floating-point accumulation decides whether a frame is written.
+/// Time is an integer step count: planRun converts the end time and the output
+/// intervals once (core::intervalSteps: rounded, with a warning when off the step
+/// grid); the RunDriver writes every output, so this file only steps and reports.
 /// Progress is measured over the last report interval (steps/s and
 /// particle-steps/s), and the estimated time left assumes that rate persists.
 #include "demlink/server/run/headless_runner.hpp"
@@ -21,8 +20,7 @@
 #include "demlink/core/components/particle_source.hpp"
 #include "demlink/core/components/sampled_component.hpp"
 #include "demlink/server/run/frame_series.hpp"
-#include "demlink/server/run/particle_csv.hpp"
-#include "demlink/server/run/run_log.hpp"
+#include "demlink/server/run/run_driver.hpp"
 
 namespace demlink::server {
 namespace {
@@ -39,23 +37,6 @@ std::string formatDuration(double seconds) {
   const auto total = static_cast<long long>(std::llround(seconds));
   if (total < 3600) return fmt::format("{} min {:02} s", total / 60, total % 60);
   return fmt::format("{} h {:02} min", total / 3600, (total % 3600) / 60);
-}
-
-/// Number of time steps covering `duration` [s]; throws InputError naming `field`.
-std::uint64_t stepsFor(double duration, double dt, const std::string& field) {
-  const double exact = duration / dt;
-  if (!(exact < 1.0e15)) throw core::InputError(field, core::formatValue(duration), "too many time steps");
-  const auto steps = static_cast<std::uint64_t>(std::llround(exact));
-  if (steps == 0) {
-    throw core::InputError(field, core::formatValue(duration),
-                           "shorter than one time step (" + core::formatValue(dt) + " s)");
-  }
-  if (std::abs(static_cast<double>(steps) * dt - duration) > 1.0e-6 * dt) {
-    spdlog::warn("{} = {} s is not a multiple of the time step {} s; using {} steps = {} s", field,
-                 core::formatValue(duration), core::formatValue(dt), steps,
-                 core::formatValue(static_cast<double>(steps) * dt));
-  }
-  return steps;
 }
 
 /// world.initialize(), with the engine's "simulation_box.<field>" errors renamed
@@ -91,7 +72,7 @@ void logCompileReport(const core::World& world, std::uint64_t endStep, std::uint
   } else {
     spdlog::info("time step: {:.4g} s = {:.1f} % of the limit", settings.time_step, percent);
   }
-  spdlog::info("neighbour skin: {:.4g} m; gravity ({}, {}, {}) m/s^2", settings.neighbour_skin, settings.gravity.x(),
+  spdlog::info("neighbour skin: {:.4g} m; gravity ({}, {}, {}) m/s^2", world.neighbourSkin(), settings.gravity.x(),
                settings.gravity.y(), settings.gravity.z());
   const std::uint64_t frames = (endStep + frameEvery - 1) / frameEvery + 1;
   spdlog::info("run: {} steps to t = {:.6g} s, a frame every {} steps ({} frames) -> {}", endStep,
@@ -135,8 +116,6 @@ RunSummary runHeadless(TranslatedScene& scene) {
   core::World& world = scene.world;
   const RunOptions& run = scene.run;
   const std::string& box = run.field_prefix;
-  core::requirePositive(box + ".end_time", run.end_time);
-  core::requireNonNegative(box + ".output.vtk_interval", run.vtk_interval);
   core::requirePositive(box + ".output.progress_interval_s", run.progress_interval);
   if (run.output_directory.empty()) {
     throw core::InputError(box + ".output.directory", "\"\"", "no output directory given");
@@ -149,82 +128,47 @@ RunSummary runHeadless(TranslatedScene& scene) {
     spdlog::info("restored {} at t = {:.6g} s ({} particles)", run.restore_file, world.time(),
                  world.particles().size());
   }
-  RunTiming timing;
-  timing.initialise_seconds = secondsSince(initStart);
-  const double dt = world.settings().time_step;
-  const std::uint64_t endStep = stepsFor(run.end_time, dt, box + ".end_time");
+  const double initialiseSeconds = secondsSince(initStart);
+  const RunPlan plan = planRun(run, world.settings().time_step, true);
+  for (const std::string& warning : plan.warnings) spdlog::warn("{}", warning);
+  for (const std::string& warning : core::sampleScheduleWarnings(world)) spdlog::warn("{}", warning);
+  const std::uint64_t endStep = plan.end_step;
   if (world.stepCount() >= endStep) {
     throw core::InputError(box + ".end_time", core::formatValue(run.end_time),
                            "the restored checkpoint is already at t = " + core::formatValue(world.time()) +
                                " s; nothing left to run");
   }
-  const std::uint64_t frameEvery =
-      run.vtk_interval > 0.0 ? stepsFor(run.vtk_interval, dt, box + ".output.vtk_interval") : endStep;
-  const std::uint64_t checkpointEvery =
-      run.checkpoint_interval > 0.0 ? stepsFor(run.checkpoint_interval, dt, box + ".output.checkpoint_interval") : 0;
-  FrameSeries output(run.output_directory, box + ".output.directory");
-  logCompileReport(world, endStep, frameEvery, output.directory().string());
-  for (const std::filesystem::path& csv : core::writeSamplesToCsv(world, output.directory())) {
-    spdlog::info("sensor output: {}", csv.string());
-  }
-  RunLog runLog(output.directory() / "run_log.csv");
-  runLog.writeConfiguration(world, run, endStep);
+  RunDriver driver(world, run, plan, run.output_directory, box + ".output.directory");
+  driver.setInitialiseSeconds(initialiseSeconds);
+  logCompileReport(world, endStep, plan.frame_every > 0 ? plan.frame_every : endStep,
+                   driver.directory().string());
+  for (const std::filesystem::path& csv : driver.sensorFiles()) spdlog::info("sensor output: {}", csv.string());
 
-  const Clock::time_point start = Clock::now();
-  const std::uint64_t firstStep = world.stepCount();
-  const std::uint64_t firstBuild = world.neighbourList().buildCount();
-  auto timed = [&](auto&& write) {
-    const Clock::time_point begin = Clock::now();
-    write();
-    timing.output_seconds += secondsSince(begin);
-  };
   try {
-    timed([&] {
-      output.writePlanes(world);
-      output.writeFrame(world, 0.0);
-    });
-    ProgressMeter progress(run.progress_interval, endStep, firstStep);
+    driver.start(world);
+    ProgressMeter progress(run.progress_interval, endStep, world.stepCount());
     while (world.stepCount() < endStep) {
       world.step();
-      timing.particle_steps += world.particles().size();
-      const std::uint64_t step = world.stepCount();
-      if (step % frameEvery == 0 || step == endStep) timed([&] { output.writeFrame(world, secondsSince(start)); });
-      if (checkpointEvery > 0 && step % checkpointEvery == 0) {
-        timed([&] {
-          core::writeCheckpointFile(world,
-                                    output.directory() / fmt::format("checkpoint_{:06}.bin", step / checkpointEvery));
-        });
-        ++timing.checkpoints;
-      }
+      driver.afterStep(world);
       progress.update(world);
     }
-    timed([&] {
-      if (run.final_checkpoint) {
-        core::writeCheckpointFile(world, output.directory() / "checkpoint_final.bin");
-        ++timing.checkpoints;
-      }
-      if (run.final_particles_csv) writeParticleCsv(world, output.directory() / "particles_final.csv");
-    });
+    driver.finish(world);
   } catch (const std::exception& error) {
-    runLog.add("timing", "status", std::string("aborted: ") + error.what());
+    driver.abort(error.what());
     throw;
   }
-  timing.total_seconds = secondsSince(start);
-  timing.steps = world.stepCount() - firstStep;
-  timing.neighbour_builds = world.neighbourList().buildCount() - firstBuild;
-  timing.frames = output.frameCount();
-  runLog.writeTiming(world, timing);
+  const RunTiming& timing = driver.timing();
   const std::uint64_t particleSteps = timing.particle_steps;
 
   RunSummary summary;
   summary.steps = timing.steps;
   summary.checkpoints = timing.checkpoints;
-  summary.frames = output.frameCount();
+  summary.frames = driver.frameCount();
   summary.final_particles = world.particles().size();
   summary.final_time = world.time();
   summary.final_kinetic_energy = world.kineticEnergy();
-  summary.wall_seconds = std::max(secondsSince(start), 1.0e-9);
-  summary.output_directory = output.directory();
+  summary.wall_seconds = std::max(timing.total_seconds, 1.0e-9);
+  summary.output_directory = driver.directory();
 
   const FrameStats last = frameStats(world);
   spdlog::info("finished: {} steps to t = {:.6g} s in {} wall ({:.0f} steps/s, {:.3g} M particle-steps/s)",

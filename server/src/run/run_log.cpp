@@ -52,7 +52,7 @@ void RunLog::writeConfiguration(const core::World& world, const RunOptions& run,
   add("config", "contact_model", core::toString(s.contact_model));
   add("config", "integrator", core::toString(s.integrator));
   add("config", "threads", std::to_string(s.threads));
-  add("config", "neighbour_skin", number(s.neighbour_skin), "m");
+  add("config", "neighbour_skin", number(world.neighbourSkin()), "m");
   add("config", "sort_every_builds", std::to_string(s.sort_every_builds));
   add("config", "max_impact_velocity", number(s.max_impact_velocity), "m/s");
   add("config", "gravity", fmt::format("{} {} {}", s.gravity.x(), s.gravity.y(), s.gravity.z()), "m/s^2");

@@ -123,7 +123,7 @@ RunOptions toRunOptions(const v1::SimulationBox& box, const std::string& prefix,
   RunOptions run;
   run.field_prefix = prefix;
   run.end_time = box.end_time();
-  if (use == SceneUse::CoSimulation) {
+  if (use == SceneUse::Cosim) {
     core::requireNonNegative(prefix + ".end_time", run.end_time);
   } else {
     core::requirePositive(prefix + ".end_time", run.end_time);

@@ -1,4 +1,4 @@
-/// The simulation room as a moving frame (moving_frame.hpp) and growing domain
+/// The simulation room as a moving frame (frame_motion.hpp) and growing domain
 /// bounds: checked against analytic trajectories seen from a rotating frame, the
 /// stick/slip threshold of a block on the floor of an accelerating room, the
 /// equivalence of a frame acceleration with a change of gravity, and the growth

@@ -59,7 +59,7 @@ TEST(CosimReplay, ReplayedSessionEndsBitIdentical) {
   ScratchDir dir;
   const std::filesystem::path live = runPusher(dir.path() / "live", dir.path() / "session.rec");
   ASSERT_TRUE(std::filesystem::exists(live / "checkpoint_final.bin"));
-  CoSimulationOptions options;
+  CosimOptions options;
   options.output_root = dir.path() / "replay";
   const ReplayResult replay = replaySession(dir.path() / "session.rec", options);
   EXPECT_EQ(replay.simulations, 1u);
@@ -79,7 +79,7 @@ TEST(CosimReplay, TruncatedRecordIsRefused) {
   std::string bytes = fileBytes(dir.path() / "session.rec");
   bytes.resize(bytes.size() - 3);
   writeText(dir.path() / "cut.rec", bytes);
-  CoSimulationOptions options;
+  CosimOptions options;
   options.output_root = dir.path() / "replay";
   EXPECT_THROW((void)replaySession(dir.path() / "cut.rec", options), std::runtime_error);
 }
@@ -88,7 +88,7 @@ TEST(CosimEquivalence, ClientDrivenBodyMatchesInProcessPrescribedMotion) {
   ScratchDir dir;
   const std::filesystem::path live = runPusher(dir.path());
   // The same declarations, translated and driven directly by the engine-level coupling.
-  TranslatedScene scene = translateScene(sceneOf(pusherScene()), {}, SceneUse::CoSimulation);
+  TranslatedScene scene = translateScene(sceneOf(pusherScene()), {}, SceneUse::Cosim);
   core::World& world = scene.world;
   world.initialize();
   ASSERT_EQ(world.meshes().size(), 1u);

@@ -272,9 +272,13 @@ TEST(DemlinkRunState, RunLogHoldsConfigurationAndTiming) {
 TEST(DemlinkRunState, AbortedRunLeavesAValidRunLog) {
   const test::ScratchDir scratch;
   const std::filesystem::path& dir = scratch.path();
-  test::writeText(dir / "tiny.json", test::tinySceneJson(0.002, 0.001));
-  // A directory where the final checkpoint should go: writing it fails at the end.
-  std::filesystem::create_directories(dir / "out" / "checkpoint_final.bin" / "blocker");
+  // A material name with a comma cannot be written to particles_final.csv: the run fails at
+  // its very end (a fresh output folder, so the failure is not the folder policy's).
+  std::string scene = test::tinySceneJson(0.002, 0.001);
+  for (std::size_t at = scene.find("\"glass\""); at != std::string::npos; at = scene.find("\"glass\"", at)) {
+    scene.replace(at, 7, "\"gl,ass\"");
+  }
+  test::writeText(dir / "tiny.json", scene);
   EXPECT_EQ(runTool({(dir / "tiny.json").string(), "--quiet", "--output", (dir / "out").string()}, dir / "a.log"), 1);
   const std::string log = test::readText(dir / "out" / "run_log.csv");
   EXPECT_NE(log.find("config,time_step,1e-05,s"), std::string::npos) << log;

@@ -1,13 +1,16 @@
 #pragma once
 /// Scene-wide settings: the speed/accuracy knobs a user chooses (time step,
-/// contact law, integrator, skin) and the world's extent. All SI.
+/// contact law, integrator, skin) and the world's extent. All SI. They are what
+/// the user chose and stay fixed once the world is built; what evolves while it
+/// runs (the frame's angular velocity, gravity set by a co-simulation, the
+/// defaulted skin, the current bounds) is in WorldState (world_state.hpp).
 #include <cstdint>
 #include <optional>
 #include <string>
 
 #include "demlink/core/contact/contact_model.hpp"
 #include "demlink/core/math_types.hpp"
-#include "demlink/core/step/moving_frame.hpp"
+#include "demlink/core/step/frame_motion.hpp"
 
 namespace demlink::core {
 
@@ -25,10 +28,11 @@ struct DomainBounds {
 
 struct SimulationSettings {
   double time_step = 1.0e-5;                      ///< [s]
-  Vec3 gravity = Vec3(0.0, 0.0, -9.81);           ///< [m/s^2]
+  Vec3 gravity = Vec3(0.0, 0.0, -9.81);           ///< initial gravity [m/s^2], frame coordinates
   ContactModel contact_model = ContactModel::HertzMindlin;
   IntegratorKind integrator = IntegratorKind::VelocityVerlet;
-  /// Verlet-list skin [m]; 0 chooses half the smallest particle radius.
+  /// Verlet-list skin [m]; 0 chooses half the smallest particle radius (the
+  /// skin in force is WorldState::neighbour_skin).
   double neighbour_skin = 0.0;
   /// Largest expected impact speed [m/s]; sets the contact-duration limit on the
   /// time step and the linear law's matched stiffness.
@@ -39,8 +43,9 @@ struct SimulationSettings {
   /// Accept a time step above the critical limit (a warning instead of an error).
   bool allow_unsafe_time_step = false;
   std::optional<DomainBounds> bounds;
-  /// Motion of the room (constant unless changed through World::setFrameMotion);
-  /// default inertial. Planes and meshes are at rest in the room unless moved.
+  /// Initial motion of the frame (the "room" of the docs); default inertial. The
+  /// world runs a copy (WorldState::frame) that World::setFrameMotion replaces.
+  /// Planes and meshes are at rest in the frame unless moved.
   FrameMotion frame;
   /// Threads for the force, integration and skin-check loops (ThreadPool). Results
   /// are deterministic for a fixed thread count; 1 runs everything serially.

@@ -1,14 +1,10 @@
 #pragma once
-/// The particle world and its step pipeline (see docs/architecture.md):
-///   1. prescribed motion of meshes
-///   2. insertion and removal: sources and sinks (components), domain bounds
-///   3. first half kick + drift (Verlet) or the explicit Euler update
-///   4. neighbour update (only when the skin is used up)
-///   5. forces: particle-particle, particle-plane, particle-mesh
-///   6. second half kick (Verlet)
-///   7. observers: sensors and trackers (components)
-/// Only the stages the scene needs run: no planes, no plane pass; no rolling
-/// friction in any material pair, a force kernel compiled without it.
+/// The particle world and its time step. The stages of a step, what each reads
+/// and writes and when a scene runs it are the table in step/stage_table.hpp
+/// (printed by stageTableMarkdown(), drawn in docs/architecture.md); the world
+/// selects the stages its scene needs once, at initialize(), and step() calls
+/// only those. What the user chose (SimulationSettings) stays fixed; what evolves
+/// is in WorldState (world_state.hpp).
 #include <cstdint>
 #include <iosfwd>
 #include <memory>
@@ -30,17 +26,12 @@
 #include "demlink/core/particles/particle_arrays.hpp"
 #include "demlink/core/walls/plane_wall.hpp"
 #include "demlink/core/simulation_settings.hpp"
+#include "demlink/core/step/stage_table.hpp"
 #include "demlink/core/step/thread_pool.hpp"
 #include "demlink/core/components/world_component.hpp"
+#include "demlink/core/world_state.hpp"
 
 namespace demlink::core {
-
-/// Particles removed (at the domain bounds, by a sink). A clump counts once, with
-/// its whole mass.
-struct RemovalTally {
-  std::uint64_t count = 0;
-  double mass = 0.0;  ///< [kg]
-};
 
 class World {
  public:
@@ -54,7 +45,6 @@ class World {
   /// Call before initialize(); each pair at most once. fieldPrefix names it in errors.
   void setPairOverride(std::uint32_t materialA, std::uint32_t materialB, const PairOverride& values,
                        const std::string& fieldPrefix = "pair_override");
-  [[nodiscard]] const std::vector<PairOverrideEntry>& pairOverrides() const { return pair_overrides_; }
   /// Adds a validated sphere; returns its stable id. fieldPrefix names it in errors.
   std::uint64_t addParticle(const ParticleSpec& spec, const std::string& fieldPrefix = "particle");
   /// Adds a validated plane (normal is normalised); returns its index.
@@ -79,12 +69,18 @@ class World {
   /// returns its index. Set its pose and velocity through mesh(index).
   std::size_t addMesh(MeshBody mesh, const std::string& fieldPrefix = "mesh");
 
-  /// Changes the motion of the room from the next step on (validated; names
-  /// "frame.<field>"). An inertial motion returns the step to the plain integrator.
+  /// Changes the motion of the frame (the "room" of the docs) from the next step
+  /// on (validated; names "frame.<field>"): a change of the world's state, the
+  /// settings keep the initial motion. An inertial motion returns the step to the
+  /// plain integrator (the stage list is selected again).
   void setFrameMotion(const FrameMotion& motion);
-  [[nodiscard]] const FrameMotion& frameMotion() const { return settings_.frame; }
-  /// Changes gravity [m/s^2] (room coordinates) from the next step on.
+  /// The frame's motion now (angular velocity as of the last step).
+  [[nodiscard]] const FrameMotion& frameMotion() const { return state_.frame; }
+  /// Changes gravity [m/s^2] (frame coordinates) from the next step on; the
+  /// settings keep the initial gravity.
   void setGravity(const Vec3& gravity);
+  /// Gravity in force [m/s^2], frame coordinates.
+  [[nodiscard]] const Vec3& gravity() const { return state_.gravity; }
   /// The domain bounds now (growing bounds: the current box, as of the last
   /// bounds pass at the start of a step); nullopt without bounds.
   [[nodiscard]] std::optional<DomainBounds> currentBounds() const;
@@ -107,10 +103,11 @@ class World {
   void removeParticlesIf(RemovePredicate remove, RemovalTally& tally);
 
   /// Mixes material pairs, checks the time step against the critical limit
-  /// (throws InputError unless allow_unsafe_time_step), selects the force kernel
-  /// and evaluates the initial forces. Call once before step().
+  /// (throws InputError unless allow_unsafe_time_step), chooses the skin, selects
+  /// the force kernel and the stages, and evaluates the initial forces. Call once
+  /// before step().
   void initialize();
-  /// Advances one time step.
+  /// Advances one time step: the selected stages, in table order.
   void step();
 
   /// Writes everything the next step depends on (settings, materials, particle
@@ -126,9 +123,14 @@ class World {
   void restoreCheckpoint(std::istream& in, const std::string& source = "checkpoint");
   void restoreCheckpoint(std::string_view bytes, const std::string& source);
 
+  /// What the user chose; unchanged by initialize(), step() and the setters.
   [[nodiscard]] const SimulationSettings& settings() const { return settings_; }
-  [[nodiscard]] std::uint64_t stepCount() const { return step_count_; }
-  [[nodiscard]] double time() const { return static_cast<double>(step_count_) * settings_.time_step; }
+  /// What evolves: clock, frame motion, gravity, skin, bounds, counters.
+  [[nodiscard]] const WorldState& state() const { return state_; }
+  [[nodiscard]] std::uint64_t stepCount() const { return state_.step_count; }
+  [[nodiscard]] double time() const { return static_cast<double>(state_.step_count) * settings_.time_step; }
+  /// Verlet-list skin in force [m] (the default is chosen at initialize()).
+  [[nodiscard]] double neighbourSkin() const { return state_.neighbour_skin; }
   [[nodiscard]] ParticleArrays& particles() { return particles_; }
   [[nodiscard]] const ParticleArrays& particles() const { return particles_; }
   [[nodiscard]] const std::vector<Material>& materials() const { return materials_; }
@@ -137,9 +139,11 @@ class World {
   [[nodiscard]] MeshBody& mesh(std::size_t index) { return meshes_.at(index); }
   [[nodiscard]] const TimeStepReport& timeStepReport() const { return time_step_report_; }
   [[nodiscard]] const ContactPairTable& pairTable() const { return pair_table_; }
-  [[nodiscard]] const RemovalTally& removedAtBounds() const { return removed_at_bounds_; }
+  [[nodiscard]] const RemovalTally& removedAtBounds() const { return state_.removed_at_bounds; }
   [[nodiscard]] const NeighbourList& neighbourList() const { return neighbours_; }
-  /// Names of the stages this scene runs, for the compile report.
+  /// Names of the stages this scene runs, in step order, for the compile report:
+  /// the selected rows of stageTable(), the law in "particle_contacts:<law>", and
+  /// each component as "<kind>:<name>" in the stages it runs in.
   [[nodiscard]] std::vector<std::string> activeStages() const;
   /// Translational + rotational kinetic energy [J].
   [[nodiscard]] double kineticEnergy() const;
@@ -148,20 +152,35 @@ class World {
   [[nodiscard]] bool initialized() const { return initialized_; }
 
  private:
+  /// Features of the scene now, which select the stages (stage_table.hpp).
+  [[nodiscard]] SceneFeatures sceneFeatures() const;
+  /// Selects the stage calls step() makes; again whenever the scene changes after initialize().
+  void selectStepStages();
+  void runStage(Stage stage, StepContext& context);
+
+  // Stages (stage_table.hpp), in step order.
+  void moveMeshes(StepContext& context);
+  void runComponents(std::uint32_t stage);
+  void removeOutsideBounds();
+  void firstKickAndDrift(const StepContext& context);
+  void explicitEulerUpdate(const StepContext& context);
+  void advanceFrame(const StepContext& context);
+  void integrateClumps(double kickStep, double driftStep, bool driftFirst);
+  void updateNeighbours(const StepContext& context);
   template <class Law, bool kRolling>
   void computeForces();
-  void removeOutsideBounds();
+  void gatherClumpForces();
+  void secondHalfKick(const StepContext& context);
+
   /// Updates mesh_colliding_ for a force evaluation at `time` [s]; true if any changed.
   bool updateMeshCollision(double time);
-  void runComponents(std::uint32_t stage);
-  void requireNoClumpsInRotatingRoom(const FrameMotion& motion, const std::string& fieldPrefix) const;
+  void requireNoClumpsInRotatingFrame(const FrameMotion& motion, const std::string& fieldPrefix) const;
   void applySlotMapping(const std::vector<std::uint32_t>& oldSlotOfNew);
   void rebuildNeighbours();
   void removeFlaggedWithClumps(RemovalTally& tally);
-  void integrateClumps(double kickStep, double driftStep, bool driftFirst);
-  void gatherClumpForces();
 
-  SimulationSettings settings_;
+  SimulationSettings settings_;  ///< what the user chose; never changed after construction
+  WorldState state_;
   std::vector<Material> materials_;
   ParticleArrays particles_;
   std::vector<PlaneWall> planes_;
@@ -179,15 +198,12 @@ class World {
   void (World::*compute_forces_)() = nullptr;
   bool rolling_active_ = false;
   bool initialized_ = false;
+  /// The stage calls of one step, in table order (passes excluded: they run inside forces).
+  std::vector<Stage> step_stages_;
   bool rebuild_pending_ = true;
   /// Slot of every particle of the last neighbour build in the current numbering
   /// (empty: unchanged). Composed across removals and sorts until the next build.
   std::vector<std::uint32_t> pending_new_slot_of_old_;
-  std::uint64_t next_id_ = 1;
-  std::uint64_t step_count_ = 0;
-  RemovalTally removed_at_bounds_;
-  DomainBounds current_bounds_;  ///< meaningful when settings_.bounds is set
-  bool frame_moving_ = false;   ///< settings_.frame is not inertial
   std::vector<std::unique_ptr<WorldComponent>> components_;
   /// (material, smallest radius) of particles that sources will insert later.
   std::vector<std::pair<std::uint32_t, double>> future_particles_;
@@ -195,7 +211,6 @@ class World {
   std::vector<WorldComponent*> observe_components_;
   std::vector<ClumpTemplate> clump_templates_;
   std::vector<ClumpBody> clumps_;
-  std::uint64_t next_clump_id_ = 1;
   std::vector<char> removal_flags_;  ///< scratch of removeParticlesIf when clumps exist
 };
 

@@ -18,7 +18,8 @@
 namespace demlink::core {
 
 /// When a component samples: every `every_steps` steps, or (when that is 0) every
-/// `interval` seconds of simulated time, rounded to the nearest whole number of steps.
+/// `interval` seconds of simulated time, converted to whole steps by intervalSteps()
+/// (step/interval_steps.hpp: rounded with a warning when off the step grid).
 struct SampleSchedule {
   double interval = 0.0;          ///< [s]
   std::uint64_t every_steps = 0;  ///< [-]
@@ -47,6 +48,8 @@ class SampledComponent : public WorldComponent {
   void writeCsvTo(const std::filesystem::path& path);
   /// The CSV file, or null when none was opened.
   [[nodiscard]] const CsvTable* csv() const { return csv_.get(); }
+  /// The warning of the seconds -> steps conversion (the interval was rounded); empty if none.
+  [[nodiscard]] const std::string& scheduleWarning() const { return schedule_warning_; }
   /// Scene path of the component's declaration, for error messages.
   [[nodiscard]] const std::string& fieldPrefix() const { return field_prefix_; }
 
@@ -57,8 +60,9 @@ class SampledComponent : public WorldComponent {
   void loadState(StateReader& in) override;
 
  protected:
-  /// Converts the schedule to steps with the world's time step. Throws InputError naming
-  /// fieldPrefix + ".sample_interval" when the interval is shorter than half a step.
+  /// Converts the schedule to steps with the world's time step (intervalSteps, 0 refused).
+  /// Throws InputError naming fieldPrefix + ".sample_interval" when the interval is shorter
+  /// than half a step or spans too many steps.
   void resolveSchedule(const World& world);
   /// True when the world's step count is a multiple of the sample period.
   [[nodiscard]] bool sampleDue(const World& world) const;
@@ -69,10 +73,14 @@ class SampledComponent : public WorldComponent {
   SampleSchedule schedule_;
   std::string field_prefix_;
   std::uint64_t every_ = 0;
+  std::string schedule_warning_;
   std::uint64_t samples_ = 0;
   std::vector<double> latest_;
   std::unique_ptr<CsvTable> csv_;
 };
+
+/// The scheduleWarning() of every sampled component of the world that has one.
+[[nodiscard]] std::vector<std::string> sampleScheduleWarnings(const World& world);
 
 /// Opens a CSV file "<kind>_<name>.csv" in `directory` for every sampled component of
 /// the world (characters other than letters, digits, '-', '_' and '.' in the name become

@@ -1,7 +1,7 @@
 #pragma once
-/// A scene component that takes part in the step pipeline: particle sources and
-/// sinks (stage 2: insert/remove), region and flow sensors and trackers (stage 7:
-/// observe). The world runs a component only in the stages it declares, and a
+/// A scene component that takes part in the time step: particle sources and
+/// sinks (stage insert_remove), region and flow sensors, trackers and sinks'
+/// tallies (stage observe); stages as in step/stage_table.hpp. The world runs a component only in the stages it declares, and a
 /// scene without components runs no component pass at all.
 ///
 /// Why a virtual interface here but compile-time contact laws: components run
@@ -18,8 +18,8 @@ class StateReader;
 
 /// Stages a component takes part in (bit set).
 enum ComponentStage : std::uint32_t {
-  kStageInsertRemove = 1u << 0,  ///< stage 2: after mesh motion, before the drift
-  kStageObserve = 1u << 1,       ///< stage 7: after the second half kick
+  kStageInsertRemove = 1u << 0,  ///< stage insert_remove: after mesh motion, before the drift
+  kStageObserve = 1u << 1,       ///< stage observe: last, at the step's end time
 };
 
 class WorldComponent {
@@ -40,9 +40,9 @@ class WorldComponent {
   /// first force evaluation; throw InputError for a reference that does not
   /// resolve (e.g. a mesh body index).
   virtual void initialize(World& /*world*/) {}
-  /// Stage 2. `world.time()` is the time at the start of the step.
+  /// Stage insert_remove. `world.time()` is the time at the start of the step.
   virtual void insertAndRemove(World& /*world*/) {}
-  /// Stage 7. `world.time()` is the time at the end of the step.
+  /// Stage observe. `world.time()` is the time at the end of the step.
   virtual void observe(const World& /*world*/) {}
 
   /// Writes whatever the component's future behaviour depends on (random

@@ -1,6 +1,9 @@
 #pragma once
 /// User-facing choices of contact law and integrator, plus the per-material-pair
-/// coefficients both laws read. Pairs are mixed once at set-up (ContactPairTable).
+/// coefficients the laws read. Pairs are mixed once at set-up (ContactPairTable).
+/// Each law lives in its own file (hertz_mindlin_law.hpp, ...); the registry
+/// (contact_law_registry.hpp) maps a ContactModel value to it.
+#include <cstddef>
 #include <cstdint>
 #include <string_view>
 
@@ -10,12 +13,16 @@ enum class ContactModel : std::uint8_t {
   HertzMindlin,         ///< Hertz normal + Mindlin tangential (default, accurate)
   LinearSpringDashpot,  ///< constant stiffness (cheaper, restitution exact by construction)
 };
+/// Number of ContactModel values; they run 0 .. kContactModelCount - 1 (checkpoints
+/// store the number, so values keep their place) and each has one registry entry.
+inline constexpr std::size_t kContactModelCount = 2;
 
 enum class IntegratorKind : std::uint8_t {
   VelocityVerlet,  ///< second order, symplectic (default)
   ExplicitEuler,   ///< the solver paper's eqs. 14-17: first order, gains energy; for comparison
 };
 
+/// The law's name in reports and run logs, e.g. "hertz_mindlin" (contact_law_registry.cpp).
 std::string_view toString(ContactModel model);
 std::string_view toString(IntegratorKind integrator);
 
@@ -36,5 +43,20 @@ struct ContactPairParams {
   double restitution = 1.0;           ///< requested e (for reports)
   double beta = 0.0;                  ///< solver-paper beta equivalent (Hertz) or -zeta (linear), for reports
 };
+
+/// Reference scales for the linear law's stiffness when the scene gives none:
+/// k_n is chosen so a head-on impact of two reference spheres at the reference
+/// speed reaches the same maximum overlap as under Hertz.
+struct LinearStiffnessReference {
+  double radius = 0.0;          ///< [m] reference particle radius (scene mean)
+  double impact_velocity = 1.0; ///< [m/s]
+  double normal_stiffness = 0.0;///< [N/m] if > 0, used as given for every pair
+};
+
+/// Tangential/normal stiffness ratio 4 G*/E* of a pair (Mindlin; 2(1-nu)/(2-nu) for
+/// like materials). Both laws keep it; it also scales the tangential damping.
+inline double tangentialStiffnessRatio(const ContactPairParams& p) {
+  return 4.0 * p.effective_shear / p.effective_youngs;
+}
 
 }  // namespace demlink::core

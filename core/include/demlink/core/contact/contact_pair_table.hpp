@@ -11,15 +11,6 @@
 
 namespace demlink::core {
 
-/// Reference scales for the linear law's stiffness when the scene gives none:
-/// k_n is chosen so a head-on impact of two reference spheres at the reference
-/// speed reaches the same maximum overlap as under Hertz.
-struct LinearStiffnessReference {
-  double radius = 0.0;          ///< [m] reference particle radius (scene mean)
-  double impact_velocity = 1.0; ///< [m/s]
-  double normal_stiffness = 0.0;///< [N/m] if > 0, used as given for every pair
-};
-
 /// Contact coefficients of one material pair given explicitly (scene component
 /// material_pair) instead of the arithmetic mean of the two materials. Unset
 /// values keep the mean. The damping is calibrated for the overriding e.

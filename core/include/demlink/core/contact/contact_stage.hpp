@@ -3,8 +3,13 @@
 /// particle-plane (over each plane's near list) and particle-mesh (over each
 /// mesh's near list). Templated on the contact law
 /// and on whether rolling resistance is active, so the compiled loop contains
-/// exactly what the scene uses; the world picks one instantiation at set-up.
-#include "demlink/core/contact/contact_law.hpp"
+/// exactly what the scene uses; the world picks one instantiation at set-up
+/// (contact_law_registry.hpp). Each loop checks that the per-contact history its
+/// storage keeps is the one the law declares.
+#include <ranges>
+#include <type_traits>
+
+#include "demlink/core/contact/contact_kernel.hpp"
 #include "demlink/core/contact/contact_pair_table.hpp"
 #include "demlink/core/walls/mesh_body.hpp"
 #include "demlink/core/walls/mesh_contact.hpp"
@@ -15,6 +20,11 @@
 
 namespace demlink::core {
 
+/// True when `Storage` (a near list's history column) holds Law::History per entry.
+template <class Law, class Storage>
+inline constexpr bool kHistoryStorageFits =
+    std::is_same_v<typename Law::History, std::ranges::range_value_t<std::remove_cvref_t<Storage>>>;
+
 /// Particle-particle contacts of rows [rowBegin, rowEnd) of the half list.
 /// Forces and torques of slot s are added to force[s - base], torque[s - base]
 /// (see PairLoopPartition for why every touched slot is >= base).
@@ -24,6 +34,7 @@ void particleContactRows(ParticleArrays& p, NeighbourList& list, const ContactPa
   const std::span<const std::uint32_t> offsets = list.offsets();
   const std::span<const std::uint32_t> partners = list.partners();
   const std::span<Vec3> history = list.history();
+  static_assert(kHistoryStorageFits<Law, decltype(list.history())>, "neighbour list history is not Law::History");
   const std::span<const ReducedPair> reduced = list.reduced();
   for (std::size_t i = rowBegin; i < rowEnd; ++i) {
     const Vec3 xi = p.position[i];
@@ -78,7 +89,8 @@ void particleContactRows(ParticleArrays& p, NeighbourList& list, const ContactPa
 /// contact point. Returns the force on the particle; adds force and torque to it.
 template <class Law, bool kRolling>
 DEMLINK_FORCE_INLINE Vec3 particleWallContact(ParticleArrays& p, std::size_t slot, const ContactPairParams& params,
-                                const Vec3& normal, double overlap, const Vec3& wallVelocity, double dt, Vec3& history) {
+                                const Vec3& normal, double overlap, const Vec3& wallVelocity, double dt,
+                                typename Law::History& history) {
   // A rigid wall does not deform: the contact point is on its surface.
   const double arm = p.radius[slot] - overlap;
   const Vec3 vRel = p.velocity[slot] - arm * p.angular_velocity[slot].cross(normal) - wallVelocity;
@@ -100,6 +112,7 @@ DEMLINK_FORCE_INLINE Vec3 particleWallContact(ParticleArrays& p, std::size_t slo
 
 template <class Law, bool kRolling>
 void planeContactForces(ParticleArrays& p, PlaneWall& wall, const ContactPairTable& table, double dt) {
+  static_assert(kHistoryStorageFits<Law, decltype(wall.near_history)>, "plane near history is not Law::History");
   const Vec3 normal = wall.spec.normal;
   for (std::size_t k = 0; k < wall.near_slots.size(); ++k) {
     const std::uint32_t slot = wall.near_slots[k];
@@ -126,6 +139,7 @@ void planeContactForces(ParticleArrays& p, PlaneWall& wall, const ContactPairTab
 template <class Law, bool kRolling>
 void meshContactForces(ParticleArrays& p, MeshBody& mesh, MeshNearList& near, const ContactPairTable& table,
                        double dt, std::vector<MeshContactPoint>& contacts) {
+  static_assert(kHistoryStorageFits<Law, decltype(near.history)>, "mesh near history is not Law::History");
   const std::span<const Vec3> vertices = mesh.worldVertices();
   const std::span<const std::array<std::uint32_t, 3>> triangles = mesh.triangles();
   for (std::size_t k = 0; k < near.slots.size(); ++k) {
@@ -153,7 +167,7 @@ void meshContactForces(ParticleArrays& p, MeshBody& mesh, MeshNearList& near, co
     }
     const ContactPairParams& params = table(p.material[slot], mesh.materialIndex());
     for (const MeshContactPoint& c : contacts) {
-      Vec3& history = near.history[entryOf(c.triangle)];
+      typename Law::History& history = near.history[entryOf(c.triangle)];
       // ... and handed to a new contact of the same particle.
       if (history.isZero(0.0) && releasedCount > 0) {
         const std::uint32_t from = released[--releasedCount];

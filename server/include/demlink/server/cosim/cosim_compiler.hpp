@@ -18,7 +18,8 @@
 
 #include "demlink/core/walls/coupled_motion.hpp"
 #include "demlink/core/components/world_component.hpp"
-#include "demlink/server/cosim/co_simulation_host.hpp"
+#include "demlink/server/cosim/cosim_host.hpp"
+#include "demlink/server/run/run_driver.hpp"
 #include "demlink/server/scene/scene_translator.hpp"
 #include "demlink/v1/protocol.pb.h"
 
@@ -60,7 +61,8 @@ struct CompiledSimulation {
   std::vector<CosimComponent> components;  ///< scene-file components first, then clients' in order
   std::string box_name;
   double time_step = 0.0;       ///< [s]
-  std::uint64_t end_step = 0;   ///< [-]; 0: until every client said Bye
+  std::uint64_t end_step = 0;   ///< [-]; 0: until every client said Bye (= plan.end_step)
+  RunPlan plan;                 ///< end step and output intervals in steps
   double client_timeout_s = 0;  ///< SimulationBox.coupling.client_timeout [s]; 0: the server's default
   v1::CompileReport report;
 };

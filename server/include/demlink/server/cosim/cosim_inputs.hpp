@@ -8,7 +8,7 @@
 #include <optional>
 
 #include "demlink/core/walls/coupled_motion.hpp"
-#include "demlink/core/step/moving_frame.hpp"
+#include "demlink/core/step/frame_motion.hpp"
 #include "demlink/server/cosim/cosim_compiler.hpp"
 #include "demlink/v1/protocol.pb.h"
 

@@ -6,7 +6,6 @@
 /// class only knows components and steps, so the equivalence test and the replay can see
 /// exactly what the world did. Output files are those of a headless run (FrameSeries,
 /// RunLog, sensor CSVs, checkpoints, particles_final.csv) plus compile_report.txt.
-#include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <map>
@@ -20,15 +19,15 @@
 #include "demlink/server/cosim/cosim_compiler.hpp"
 #include "demlink/server/cosim/cosim_outputs.hpp"
 #include "demlink/server/cosim/exchange_scheduler.hpp"
-#include "demlink/server/run/frame_series.hpp"
-#include "demlink/server/run/run_log.hpp"
+#include "demlink/server/run/run_driver.hpp"
 
 namespace demlink::server {
 
 class CosimSimulation {
  public:
-  /// Creates the output directory and its files, writes the first frame. Throws
-  /// core::InputError / std::runtime_error if the directory cannot be written.
+  /// Creates the output directory and its files (RunDriver, plus compile_report.txt),
+  /// writes the first frame. Throws core::InputError / std::runtime_error if the directory
+  /// cannot be written or is not empty and the scene's run options do not say overwrite.
   CosimSimulation(CompiledSimulation compiled, const std::filesystem::path& outputDirectory);
   ~CosimSimulation();
   CosimSimulation(const CosimSimulation&) = delete;
@@ -63,8 +62,9 @@ class CosimSimulation {
   /// not step when nothing is exchanged any more and there is no end step.
   Advance advance();
 
-  /// Final frame, checkpoint_final.bin, particles_final.csv and the run log's timing;
-  /// only the first call writes. Throws std::runtime_error if output cannot be written.
+  /// Final frame, checkpoint_final.bin, particles_final.csv and the run log's timing with
+  /// finish_reason (RunDriver::finish); only the first call writes. Throws
+  /// std::runtime_error if output cannot be written.
   void finish(const std::string& reason);
 
  private:
@@ -76,14 +76,7 @@ class CosimSimulation {
   CosimOutputs outputs_;
   std::map<std::size_t, core::CoupledMotion> couplings_;
   std::map<std::size_t, v1::DataPackage> inputs_;  ///< stored inputs of the current step
-  std::unique_ptr<FrameSeries> frames_;
-  std::unique_ptr<RunLog> run_log_;
-  RunTiming timing_;
-  std::uint64_t frame_every_ = 0;       ///< [steps]; 0: first and last frame only
-  std::uint64_t checkpoint_every_ = 0;  ///< [steps]; 0: none
-  std::uint64_t last_frame_step_ = 0;
-  std::chrono::steady_clock::time_point start_;
-  bool finished_ = false;
+  std::unique_ptr<RunDriver> driver_;
 };
 
 }  // namespace demlink::server

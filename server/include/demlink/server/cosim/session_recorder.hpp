@@ -9,7 +9,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "demlink/server/cosim/co_simulation_host.hpp"
+#include "demlink/server/cosim/cosim_host.hpp"
 #include "demlink/v1/recording.pb.h"
 
 namespace demlink::server {
@@ -18,7 +18,7 @@ class SessionRecorder {
  public:
   /// Creates (truncates) `path` and writes the HEADER event. Throws std::runtime_error if
   /// the file cannot be written.
-  SessionRecorder(const std::filesystem::path& path, const CoSimulationOptions& options);
+  SessionRecorder(const std::filesystem::path& path, const CosimOptions& options);
 
   /// Appends one event (elapsed_s filled in) and flushes it.
   void record(v1::SessionEvent event);

@@ -2,14 +2,14 @@
 /// Re-runs a recorded co-simulation session (session_recorder.hpp) from the file alone: no
 /// network, no clients. `demlink-server --replay FILE` calls it.
 ///
-/// The replay feeds every recorded event into a fresh CoSimulationHost in order; the
-/// time-driven markers call CoSimulationHost::compileNow() / expireWaitNow() instead of
+/// The replay feeds every recorded event into a fresh CosimHost in order; the
+/// time-driven markers call CosimHost::compileNow() / expireWaitNow() instead of
 /// waiting for a clock, so the replayed world takes exactly the live run's steps.
 #include <cstdint>
 #include <filesystem>
 #include <vector>
 
-#include "demlink/server/cosim/co_simulation_host.hpp"
+#include "demlink/server/cosim/cosim_host.hpp"
 
 namespace demlink::server {
 
@@ -25,6 +25,6 @@ struct ReplayResult {
 /// output_root, quiet period and timeout are taken from `options` (the timers do not run);
 /// record_file is ignored. Throws std::runtime_error for a file that cannot be read, a bad
 /// frame or an event of unknown kind (naming the event's index).
-[[nodiscard]] ReplayResult replaySession(const std::filesystem::path& file, CoSimulationOptions options);
+[[nodiscard]] ReplayResult replaySession(const std::filesystem::path& file, CosimOptions options);
 
 }  // namespace demlink::server

@@ -17,11 +17,11 @@ struct RunOptions {
   /// Checkpoint to continue from (demlink-run --restore), written by a run of the
   /// same scene; empty: start from the scene's initial state.
   std::string restore_file;
+  /// Write into a non-empty output folder (demlink-run --overwrite); false: such a folder is
+  /// refused, so one run never overwrites another's results (output_directory.hpp).
+  bool overwrite = false;
   /// The scene file, for the run log; empty if the scene did not come from a file.
   std::string scene_file;
-  /// demlink-run --overwrite: the run may write into an output directory that already holds
-  /// a run's outputs (the policy that reads it comes with the output-folder checks).
-  bool overwrite = false;
   /// Scene path of the SimulationBox (e.g. "components[0].simulation_box"), so
   /// errors found at run time name the field in the scene.
   std::string field_prefix = "simulation_box";

@@ -29,7 +29,7 @@ struct TranslatedScene {
 
 /// What the scene is translated for. A co-simulation may run without an end time
 /// (end_time 0: until every client said Bye); a headless run needs one.
-enum class SceneUse { Headless, CoSimulation };
+enum class SceneUse { Headless, Cosim };
 
 /// Validates and translates a scene. `sceneDirectory` anchors relative paths.
 /// Throws core::InputError naming the offending field (for a mesh_body whose

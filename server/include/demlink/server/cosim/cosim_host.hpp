@@ -32,25 +32,27 @@ class World;
 
 namespace demlink::server {
 
-struct CoSimulationOptions {
+struct CosimOptions {
   v1::Scene base_scene;                         ///< components from a scene file (may be empty)
   std::filesystem::path scene_directory = ".";  ///< anchors relative paths (scene file, stl_file)
-  std::filesystem::path output_root = "out/cosim";  ///< simulation N writes into output_root/sim_NNN
+  /// Simulation N writes into output_root/sim_NNN: the first such folder at or after N that
+  /// does not exist yet, so a restarted server never writes into an earlier run's folder.
+  std::filesystem::path output_root = "out/cosim";
+  /// Simulation N writes into output_root/sim_NNN even if it exists (numbering starts at
+  /// 001 with each server start; files of the same name are overwritten).
+  bool overwrite = false;
   double quiet_period_s = 2.0;     ///< compile this long after the last Declare when nothing is expected
   double client_timeout_s = 30.0;  ///< a due component's package may take this long [s]
   std::filesystem::path record_file;  ///< non-empty: append every received message (docs/protocol.md)
-  /// demlink-server --overwrite: a simulation may write into an output folder that already
-  /// holds a run's outputs (the policy that reads it comes with the output-folder checks).
-  bool overwrite = false;
   std::string server_name = "demlink-server";
 };
 
-class CoSimulationHost final : public SessionHandler {
+class CosimHost final : public SessionHandler {
  public:
-  explicit CoSimulationHost(CoSimulationOptions options);
-  ~CoSimulationHost() override;
-  CoSimulationHost(const CoSimulationHost&) = delete;
-  CoSimulationHost& operator=(const CoSimulationHost&) = delete;
+  explicit CosimHost(CosimOptions options);
+  ~CosimHost() override;
+  CosimHost(const CosimHost&) = delete;
+  CosimHost& operator=(const CosimHost&) = delete;
 
   /// A connection passed Hello (version and token already checked): Welcome, or an
   /// Error when it cannot join (e.g. a simulation is already running).

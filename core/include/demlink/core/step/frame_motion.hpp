@@ -1,17 +1,18 @@
 #pragma once
-/// The simulation room as a non-inertial frame: the room (with its planes and
-/// meshes) may accelerate and rotate, and particles are integrated in the room's
-/// coordinates (the coupling paper's "accelerated, rotating simulation rooms": a
-/// truck bed that brakes and turns).
+/// The simulation frame: the reference frame particles are integrated in. It may
+/// accelerate and rotate with everything at rest in it (planes, meshes), which
+/// is the coupling paper's "accelerated, rotating simulation rooms" (a truck bed
+/// that brakes and turns). The docs and the scene schema's users call this frame
+/// "the room"; in code it is always "the frame" (FrameMotion, scene field `frame`).
 ///
-/// Equations (all vectors in room coordinates; r = x - origin, v and omega_p the
-/// particle's velocity and spin RELATIVE to the room):
+/// Equations (all vectors in frame coordinates; r = x - origin, v and omega_p the
+/// particle's velocity and spin RELATIVE to the frame):
 ///   dv/dt       = F/m + g - a_f - alpha x r - Omega x (Omega x r) - 2 Omega x v
 ///   domega_p/dt = T/I - alpha - Omega x omega_p
-/// with a_f the acceleration of the room's origin, Omega its angular velocity and
+/// with a_f the acceleration of the frame's origin, Omega its angular velocity and
 /// alpha = dOmega/dt. The last term is the exact Euler equation of a sphere
-/// (isotropic inertia) seen from the rotating room: the absolute spin
-/// omega_p + Omega obeys I d/dt|inertial = T. Gravity g is given in room
+/// (isotropic inertia) seen from the rotating frame: the absolute spin
+/// omega_p + Omega obeys I d/dt|inertial = T. Gravity g is given in frame
 /// coordinates and stays constant there (World::setGravity changes it).
 ///
 /// Integration (why): the Coriolis term -2 Omega x v and the spin transport
@@ -24,8 +25,8 @@
 /// Coriolis part at all. See docs/room_and_facets.md for measured accuracy.
 ///
 /// Cost: the world calls these routines only when the frame is not inertial; an
-/// inertial room runs the plain integrator (one branch per step, outside the loop).
-/// A room that only translates (Omega = alpha = 0) is exactly a gravity shift: the
+/// inertial frame runs the plain integrator (one branch per step, outside the loop).
+/// A frame that only translates (Omega = alpha = 0) is exactly a gravity shift: the
 /// routines then run the plain kick with g - a_f (bit-identical, no extra work).
 #include <string>
 
@@ -38,37 +39,38 @@ namespace demlink::core {
 class StateWriter;
 class StateReader;
 
-/// Motion of the room relative to an inertial frame, expressed in room coordinates.
+/// Motion of the frame relative to an inertial frame, expressed in frame coordinates.
 /// linear_acceleration and angular_acceleration are constant until changed by
 /// World::setFrameMotion (e.g. once per co-simulation interval); angular_velocity
-/// is the value when set and the world advances it by angular_acceleration * dt
-/// every step (exact for a constant alpha; each half kick uses the Omega of its time).
+/// is the value when set, and the world's running copy (WorldState::frame, not the
+/// settings) advances it by angular_acceleration * dt every step (exact for a
+/// constant alpha; each half kick uses the Omega of its time).
 struct FrameMotion {
   Vec3 linear_acceleration = Vec3::Zero();   ///< acceleration of `origin` [m/s^2]
   Vec3 angular_velocity = Vec3::Zero();      ///< Omega [rad/s]
   Vec3 angular_acceleration = Vec3::Zero();  ///< alpha = dOmega/dt [rad/s^2]
-  Vec3 origin = Vec3::Zero();                ///< point of the room the rotation is about [m]
+  Vec3 origin = Vec3::Zero();                ///< point of the frame the rotation is about [m]
 
   /// True when all three motion vectors are exactly zero (no fictitious force).
   [[nodiscard]] bool isInertial() const;
   /// Throws InputError naming `fieldPrefix + ".<field>[k]"` for a non-finite component.
   void validate(const std::string& fieldPrefix) const;
 
-  /// Checkpoint payload (in section ROOM): the four vectors in declaration order
+  /// Checkpoint payload (in the checkpoint section ROOM): the four vectors in declaration order
   /// (angular_velocity as advanced so far).
   void save(StateWriter& out) const;
   /// Replaces the motion with what save() wrote (unchanged if the data ends early).
   void restore(StateReader& in);
 };
 
-/// Half kick in the room: v and omega_p advance by h under contact forces, gravity
+/// Half kick in the frame: v and omega_p advance by h under contact forces, gravity
 /// and the fictitious terms (positions unchanged).
 void frameKick(ParticleArrays& p, const Vec3& gravity, const FrameMotion& frame, double h,
                ThreadPool* pool = nullptr);
 /// frameKick(h) then x += v dt, in one pass.
 void frameKickAndDrift(ParticleArrays& p, const Vec3& gravity, const FrameMotion& frame, double h, double dt,
                        ThreadPool* pool = nullptr);
-/// Explicit Euler in the room: accelerations (fictitious ones included) from the
+/// Explicit Euler in the frame: accelerations (fictitious ones included) from the
 /// OLD position and velocity; x += v_old dt; v += a_old dt.
 void frameExplicitEulerStep(ParticleArrays& p, const Vec3& gravity, const FrameMotion& frame, double dt,
                             ThreadPool* pool = nullptr);

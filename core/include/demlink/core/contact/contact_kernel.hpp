@@ -1,7 +1,10 @@
 #pragma once
-/// Contact force laws, as compile-time policy types. One kernel serves
-/// particle-particle, particle-plane and particle-mesh contacts, so the force law
-/// exists exactly once.
+/// The contact kernel shared by every contact law: one function serves
+/// particle-particle, particle-plane and particle-mesh contacts, so the force
+/// law exists exactly once. A law (hertz_mindlin_law.hpp,
+/// linear_spring_dashpot_law.hpp) is a compile-time type that supplies the
+/// stiffness at an overlap; damping, the tangential spring, the Coulomb cap and
+/// rolling resistance are common and live here.
 ///
 /// Conventions for a contact between body A and body B:
 ///   n       unit normal from A towards B; the normal force on B is +F_n n.
@@ -11,16 +14,13 @@
 ///           B relative to A, kept in the current tangent plane.
 /// The returned vector is the force ON B; A receives its negative.
 ///
-/// Hertz-Mindlin (solver paper eqs. 5-8, corrected):
-///   S_n = 2 E* sqrt(R* delta),   F_ne = 4/3 E* sqrt(R*) delta^(3/2) = 2/3 S_n delta
-///   S_t = 8 G* sqrt(R* delta)    (the paper writes sqrt(R* delta_t); it is the normal overlap)
-///   F_nd = gamma_n * (approach speed),  gamma_n = 2 sqrt(5/6) |beta| sqrt(S_n m*)
-///          (the paper omits the square root on S_n m*)
+///   F_nd = gamma_n * (approach speed),  gamma_n = normal_damping * sqrt(S_n m*)
 ///   F_t  = -S_t xi - gamma_t v_t, capped at mu F_n with the SLIDING friction mu
-///          (the paper's eq. 8 tests against the rolling coefficient mu_0: a typo).
+///          (the solver paper's eq. 8 tests against the rolling coefficient mu_0: a typo).
 /// The normal force is clamped at zero: it never pulls (see docs/physics.md).
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #include "demlink/core/contact/contact_model.hpp"
 #include "demlink/core/math_types.hpp"
@@ -39,27 +39,12 @@ struct ContactStiffness {
   double tangential_stiffness;  ///< S_t [N/m]
 };
 
-struct HertzMindlinLaw {
-  static constexpr ContactModel kModel = ContactModel::HertzMindlin;
-  static ContactStiffness stiffness(const ContactPairParams& p, double rStar, double overlap) {
-    const double root = std::sqrt(rStar * overlap);
-    const double sn = 2.0 * p.effective_youngs * root;
-    return {(2.0 / 3.0) * sn * overlap, sn, 8.0 * p.effective_shear * root};
-  }
-};
-
-struct LinearSpringDashpotLaw {
-  static constexpr ContactModel kModel = ContactModel::LinearSpringDashpot;
-  static ContactStiffness stiffness(const ContactPairParams& p, double /*rStar*/, double overlap) {
-    return {p.linear_normal_stiffness * overlap, p.linear_normal_stiffness, p.linear_tangential_stiffness};
-  }
-};
-
 /// Force on B for one contact; updates the tangential history xi in place and
 /// writes the (non-negative) normal force magnitude to normalForce.
 template <class Law>
 DEMLINK_FORCE_INLINE Vec3 contactForce(const ContactPairParams& p, const Vec3& n, double overlap, const Vec3& vRel,
-                         double rStar, double mStar, double dt, Vec3& xi, double& normalForce) {
+                         double rStar, double mStar, double dt, typename Law::History& xi, double& normalForce) {
+  static_assert(std::is_same_v<typename Law::History, Vec3>, "the shared kernel keeps a tangential spring Vec3");
   const ContactStiffness k = Law::stiffness(p, rStar, overlap);
   const double vn = vRel.dot(n);  // < 0 while approaching
   const Vec3 vt = vRel - vn * n;

@@ -1,4 +1,4 @@
-/// The transport-free co-simulation host (contract in co_simulation_host.hpp; semantics in
+/// The transport-free co-simulation host (contract in cosim_host.hpp; semantics in
 /// docs/cosim.md).
 ///
 /// States: no simulation (waiting for connections), collecting (connections declare; the
@@ -10,7 +10,7 @@
 /// the simulation it belongs to (fatal Error to it, PEER_DISCONNECTED naming it to the
 /// others); the server itself stays up. A Declare that is merely refused (unknown kind,
 /// duplicate name, second simulation box) is not fatal: the client may declare again.
-#include "demlink/server/cosim/co_simulation_host.hpp"
+#include "demlink/server/cosim/cosim_host.hpp"
 
 #include <spdlog/fmt/fmt.h>
 #include <spdlog/spdlog.h>
@@ -20,6 +20,7 @@
 #include "demlink/server/cosim/cosim_compiler.hpp"
 #include "demlink/server/cosim/cosim_simulation.hpp"
 #include "demlink/server/cosim/session_recorder.hpp"
+#include "demlink/server/run/output_directory.hpp"
 
 namespace demlink::server {
 namespace {
@@ -36,12 +37,12 @@ SteadyClock::duration seconds(double s) {
 
 }  // namespace
 
-struct CoSimulationHost::Impl {
-  explicit Impl(CoSimulationOptions o) : options(std::move(o)), compiler(options.base_scene) {
+struct CosimHost::Impl {
+  explicit Impl(CosimOptions o) : options(std::move(o)), compiler(options.base_scene) {
     if (!options.record_file.empty()) recorder = std::make_unique<SessionRecorder>(options.record_file, options);
   }
 
-  CoSimulationOptions options;
+  CosimOptions options;
   CosimCompiler compiler;
   std::map<ConnectionId, Connection> connections;
   std::unique_ptr<CosimSimulation> sim;
@@ -159,8 +160,13 @@ struct CoSimulationHost::Impl {
       endSimulation(out, "compile failed: " + failure.error.message());
       return;
     }
-    const std::filesystem::path directory = options.output_root / fmt::format("sim_{:03}", number());
+    std::filesystem::path directory;
     try {
+      // Never an earlier simulation's folder, unless told to overwrite (output_directory.hpp).
+      compiled.scene->run.overwrite = options.overwrite;
+      const std::uint64_t folder =
+          options.overwrite ? number() : claimSimulationDirectory(options.output_root, number());
+      directory = simulationDirectory(options.output_root, folder);
       sim = std::make_unique<CosimSimulation>(std::move(compiled), directory);
     } catch (const std::exception& error) {
       const v1::Error e = makeError(v1::Error::INTERNAL, std::string("cannot start the simulation: ") + error.what(),
@@ -387,11 +393,11 @@ struct CoSimulationHost::Impl {
   }
 };
 
-CoSimulationHost::CoSimulationHost(CoSimulationOptions options) : impl_(std::make_unique<Impl>(std::move(options))) {}
+CosimHost::CosimHost(CosimOptions options) : impl_(std::make_unique<Impl>(std::move(options))) {}
 
-CoSimulationHost::~CoSimulationHost() = default;
+CosimHost::~CosimHost() = default;
 
-std::vector<Outgoing> CoSimulationHost::connected(ConnectionId id, const v1::Hello& hello,
+std::vector<Outgoing> CosimHost::connected(ConnectionId id, const v1::Hello& hello,
                                                   SteadyClock::time_point now) {
   Impl& s = *impl_;
   v1::ClientMessage message;
@@ -424,7 +430,7 @@ std::vector<Outgoing> CoSimulationHost::connected(ConnectionId id, const v1::Hel
   });
 }
 
-std::vector<Outgoing> CoSimulationHost::received(ConnectionId from, const v1::ClientMessage& message,
+std::vector<Outgoing> CosimHost::received(ConnectionId from, const v1::ClientMessage& message,
                                                  SteadyClock::time_point now) {
   Impl& s = *impl_;
   s.record(v1::SessionEvent::RECEIVED, from, &message);
@@ -452,14 +458,14 @@ std::vector<Outgoing> CoSimulationHost::received(ConnectionId from, const v1::Cl
   });
 }
 
-std::vector<Outgoing> CoSimulationHost::disconnected(ConnectionId id, const std::string& why,
+std::vector<Outgoing> CosimHost::disconnected(ConnectionId id, const std::string& why,
                                                      SteadyClock::time_point /*now*/) {
   Impl& s = *impl_;
   s.record(v1::SessionEvent::DISCONNECTED, id, nullptr, why);
   return s.guarded([&](std::vector<Outgoing>& out) { s.onDisconnect(out, id, why); });
 }
 
-std::vector<Outgoing> CoSimulationHost::poll(SteadyClock::time_point now) {
+std::vector<Outgoing> CosimHost::poll(SteadyClock::time_point now) {
   Impl& s = *impl_;
   if (!s.sim && s.quiet_since && !s.connections.empty() && s.compiler.usesQuietPeriod() &&
       now >= *s.quiet_since + seconds(s.options.quiet_period_s)) {
@@ -471,7 +477,7 @@ std::vector<Outgoing> CoSimulationHost::poll(SteadyClock::time_point now) {
   return {};
 }
 
-std::vector<Outgoing> CoSimulationHost::compileNow(SteadyClock::time_point now) {
+std::vector<Outgoing> CosimHost::compileNow(SteadyClock::time_point now) {
   Impl& s = *impl_;
   if (s.sim || s.connections.empty()) return {};
   s.record(v1::SessionEvent::COMPILE_NOW);
@@ -482,14 +488,14 @@ std::vector<Outgoing> CoSimulationHost::compileNow(SteadyClock::time_point now) 
   });
 }
 
-std::vector<Outgoing> CoSimulationHost::expireWaitNow(SteadyClock::time_point /*now*/) {
+std::vector<Outgoing> CosimHost::expireWaitNow(SteadyClock::time_point /*now*/) {
   Impl& s = *impl_;
   if (!s.sim || s.sim->scheduler().complete()) return {};
   s.record(v1::SessionEvent::TIMEOUT);
   return s.guarded([&](std::vector<Outgoing>& out) { s.expire(out); });
 }
 
-std::optional<SteadyClock::time_point> CoSimulationHost::nextDeadline() const {
+std::optional<SteadyClock::time_point> CosimHost::nextDeadline() const {
   const Impl& s = *impl_;
   if (!s.sim && s.quiet_since && !s.connections.empty() && s.compiler.usesQuietPeriod()) {
     return *s.quiet_since + seconds(s.options.quiet_period_s);
@@ -498,7 +504,7 @@ std::optional<SteadyClock::time_point> CoSimulationHost::nextDeadline() const {
   return std::nullopt;
 }
 
-std::vector<Outgoing> CoSimulationHost::shutdown(const std::string& reason, SteadyClock::time_point /*now*/) {
+std::vector<Outgoing> CosimHost::shutdown(const std::string& reason, SteadyClock::time_point /*now*/) {
   Impl& s = *impl_;
   s.record(v1::SessionEvent::SHUTDOWN, 0, nullptr, reason);
   return s.guarded([&](std::vector<Outgoing>& out) {
@@ -513,16 +519,16 @@ std::vector<Outgoing> CoSimulationHost::shutdown(const std::string& reason, Stea
   });
 }
 
-bool CoSimulationHost::simulationRunning() const { return impl_->sim != nullptr; }
+bool CosimHost::simulationRunning() const { return impl_->sim != nullptr; }
 
-std::uint64_t CoSimulationHost::simulationsFinished() const { return impl_->finished; }
+std::uint64_t CosimHost::simulationsFinished() const { return impl_->finished; }
 
-std::filesystem::path CoSimulationHost::lastOutputDirectory() const { return impl_->last_directory; }
+std::filesystem::path CosimHost::lastOutputDirectory() const { return impl_->last_directory; }
 
-const core::World* CoSimulationHost::world() const {
+const core::World* CosimHost::world() const {
   return impl_->sim ? &impl_->sim->compiled().scene->world : nullptr;
 }
 
-const CosimSimulation* CoSimulationHost::simulation() const { return impl_->sim.get(); }
+const CosimSimulation* CosimHost::simulation() const { return impl_->sim.get(); }
 
 }  // namespace demlink::server

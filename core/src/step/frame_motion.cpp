@@ -1,7 +1,7 @@
-/// Fictitious forces of a moving room; equations and the splitting are explained
-/// in moving_frame.hpp. Everything that does not depend on the particle (the
+/// Fictitious forces of a moving frame; equations and the splitting are explained
+/// in frame_motion.hpp. Everything that does not depend on the particle (the
 /// effective gravity g - a_f, the rotation coefficients) is computed once per call.
-#include "demlink/core/step/moving_frame.hpp"
+#include "demlink/core/step/frame_motion.hpp"
 
 #include <cmath>
 
@@ -58,7 +58,7 @@ struct FrameKickTerms {
   }
 };
 
-/// Strang-split half kick of one particle (see moving_frame.hpp).
+/// Strang-split half kick of one particle (see frame_motion.hpp).
 inline void kickOne(ParticleArrays& p, std::size_t i, const FrameKickTerms& t, double halfH) {
   const Vec3 b = t.acceleration(p.force[i], p.inv_mass[i], p.position[i]);
   p.velocity[i] = t.coriolis.apply(p.velocity[i] + b * halfH) + b * halfH;
@@ -66,7 +66,7 @@ inline void kickOne(ParticleArrays& p, std::size_t i, const FrameKickTerms& t, d
   p.angular_velocity[i] = t.spin.apply(p.angular_velocity[i] + c * halfH) + c * halfH;
 }
 
-/// A room that only translates: its fictitious force is a uniform shift of gravity.
+/// A frame that only translates: its fictitious force is a uniform shift of gravity.
 bool translatesOnly(const FrameMotion& f) { return f.angular_velocity.isZero(0.0) && f.angular_acceleration.isZero(0.0); }
 
 }  // namespace

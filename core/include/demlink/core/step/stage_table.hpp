@@ -1,0 +1,93 @@
+#pragma once
+/// The stages of one time step, in order. This table is the one list of them:
+/// World::initialize() selects from it the stages a scene needs (selectStages),
+/// World::step() calls exactly those in table order with one StepContext,
+/// World::activeStages() reports their names (the compile report), and the
+/// "One time step" table of docs/architecture.md is stageTableMarkdown() (a test
+/// compares the two).
+///
+/// A row marked `pass` is not a call of its own: it is part of the stage above it
+/// (the force stage is one call chosen at initialisation, with the law and the
+/// rolling term compiled in), listed so that the report says which passes that
+/// call makes. Everything else is one call per step when selected, none otherwise.
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "demlink/core/step/thread_pool.hpp"
+
+namespace demlink::core {
+
+enum class Stage : std::uint8_t {
+  kMeshMotion,
+  kInsertRemove,
+  kBoundsRemoval,
+  kGrowingBounds,
+  kVelocityVerlet,
+  kExplicitEuler,
+  kMovingFrame,
+  kClumpRigidBodies,
+  kNeighbourList,
+  kForces,
+  kParticleContacts,
+  kPlaneContacts,
+  kMeshContacts,
+  kRollingResistance,
+  kClumpForceSum,
+  kSecondHalfKick,
+  kClumpHalfKick,
+  kAdvanceClock,
+  kObserve,
+};
+inline constexpr std::size_t kStageCount = static_cast<std::size_t>(Stage::kObserve) + 1;
+
+/// What a step's stages share.
+struct StepContext {
+  double dt = 0.0;             ///< time step [s]
+  std::uint64_t step = 0;      ///< index of the step being taken; it starts at step * dt
+  ThreadPool* pool = nullptr;  ///< null: serial
+  /// Set by mesh_motion: a colliding mesh moved more than skin/2 since the last
+  /// neighbour build (neighbour_list then rebuilds).
+  bool mesh_moved_far = false;
+};
+
+/// The features of a scene that decide which stages run.
+struct SceneFeatures {
+  bool meshes = false;
+  bool planes = false;
+  bool insert_remove_components = false;
+  bool observe_components = false;
+  bool fixed_bounds = false;
+  bool growing_bounds = false;
+  bool velocity_verlet = true;  ///< false: explicit Euler
+  bool frame_moving = false;    ///< the frame is not inertial
+  bool clumps = false;          ///< clump templates are declared
+  bool rolling = false;         ///< some material pair has rolling friction
+};
+
+struct StageInfo {
+  Stage stage;
+  /// Report name; "particle_contacts:<law>" gets the law's name in the report,
+  /// and the component stages report each component as "<kind>:<name>".
+  std::string_view name;
+  bool pass;  ///< part of the stage call above it, not a call of its own
+  std::string_view does;
+  std::string_view reads;
+  std::string_view writes;
+  std::string_view runs_when;
+  bool (*runs)(const SceneFeatures&);  ///< the code of runs_when
+};
+
+/// Every stage, in step order.
+[[nodiscard]] const std::array<StageInfo, kStageCount>& stageTable();
+[[nodiscard]] const StageInfo& stageInfo(Stage stage);
+/// The stages (passes included) a scene with `features` runs, in step order.
+[[nodiscard]] std::vector<Stage> selectStages(const SceneFeatures& features);
+/// The whole table as Markdown: | stage | does | reads | writes | runs when |
+/// (passes as "↳ `name`"), one row per line.
+[[nodiscard]] std::string stageTableMarkdown();
+
+}  // namespace demlink::core

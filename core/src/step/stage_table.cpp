@@ -1,0 +1,119 @@
+/// The rows of the step table: text for the report and the docs next to the
+/// condition that selects each stage, so the two cannot drift apart.
+#include "demlink/core/step/stage_table.hpp"
+
+namespace demlink::core {
+namespace {
+
+using F = SceneFeatures;
+
+constexpr std::array<StageInfo, kStageCount> kTable{{
+    {Stage::kMeshMotion, "mesh_motion", false,
+     "collision windows at the step's end; meshes with a twist advance by dt; notes whether a colliding mesh "
+     "moved more than skin/2 since the last neighbour build",
+     "mesh twists and collision windows, time", "mesh poses, colliding flags", "scene has meshes",
+     [](const F& f) { return f.meshes; }},
+    {Stage::kInsertRemove, "insert_remove", false,
+     "components: sources insert, sinks remove (reported as `<kind>:<name>`)",
+     "regions, positions, time at the step's start", "particles, slots, tallies",
+     "a component declares insert/remove", [](const F& f) { return f.insert_remove_components; }},
+    {Stage::kBoundsRemoval, "bounds_removal", false, "remove the particles whose centre left the fixed box",
+     "positions", "slots (compaction), removal tally", "scene has fixed bounds",
+     [](const F& f) { return f.fixed_bounds; }},
+    {Stage::kGrowingBounds, "growing_bounds", false,
+     "remove the particles whose centre left the limit box; grow the box around the others", "positions, radii",
+     "slots (compaction), removal tally, current bounds", "scene has growing bounds",
+     [](const F& f) { return f.growing_bounds; }},
+    {Stage::kVelocityVerlet, "velocity_verlet", false,
+     "first half kick v += a dt/2 and drift x += v dt (with the fictitious forces when the frame moves)",
+     "forces, velocities, gravity, frame motion", "velocities, positions", "integrator is velocity_verlet",
+     [](const F& f) { return f.velocity_verlet; }},
+    {Stage::kExplicitEuler, "explicit_euler", false,
+     "x += v dt, v += a dt with the old a (with the fictitious forces when the frame moves)",
+     "forces, velocities, gravity, frame motion", "velocities, positions", "integrator is explicit_euler",
+     [](const F& f) { return !f.velocity_verlet; }},
+    {Stage::kMovingFrame, "moving_frame", false,
+     "the frame's angular velocity advances, Omega += alpha dt (Omega at the step's end for the second half kick)",
+     "frame motion", "frame angular velocity", "frame is not inertial", [](const F& f) { return f.frame_moving; }},
+    {Stage::kClumpRigidBodies, "clump_rigid_bodies", false,
+     "clump bodies: half kick and drift (Euler: drift, then a whole kick); members placed from their body",
+     "body forces, gravity, frame linear acceleration", "body state, member positions and velocities",
+     "scene has clump templates", [](const F& f) { return f.clumps; }},
+    {Stage::kNeighbourList, "neighbour_list", false,
+     "rebuild (periodic cell sort, Verlet list, plane and mesh near lists; histories carried) when slots "
+     "changed, a colliding mesh moved far or a particle moved more than skin/2",
+     "positions, mesh poses", "neighbour and near lists, slot order", "always",
+     [](const F&) { return true; }},
+    {Stage::kForces, "forces", false,
+     "clear forces and torques, then the passes below in one call chosen at initialisation (law and rolling "
+     "fixed)",
+     "positions, velocities, contact histories", "forces, torques, contact histories", "always",
+     [](const F&) { return true; }},
+    {Stage::kParticleContacts, "particle_contacts:<law>", true,
+     "particle pairs, threaded by row parts added in fixed part order", "neighbour list, pair table",
+     "forces, torques, pair histories", "always", [](const F&) { return true; }},
+    {Stage::kPlaneContacts, "plane_contacts", true, "particles on planes", "plane near lists",
+     "forces, torques, plane wrenches", "scene has planes", [](const F& f) { return f.planes; }},
+    {Stage::kMeshContacts, "mesh_contacts", true,
+     "particles on the meshes inside their collision window (wrenches of the others cleared)", "mesh near lists",
+     "forces, torques, mesh wrenches", "scene has meshes", [](const F& f) { return f.meshes; }},
+    {Stage::kRollingResistance, "rolling_resistance", true, "rolling-resistance torque in every contact pass",
+     "pair table", "torques", "a material pair has rolling friction", [](const F& f) { return f.rolling; }},
+    {Stage::kClumpForceSum, "clump_force_sum", false, "member forces and torques summed on each clump body",
+     "member forces and torques", "body force and torque", "scene has clump templates",
+     [](const F& f) { return f.clumps; }},
+    {Stage::kSecondHalfKick, "second_half_kick", false,
+     "v += a dt/2 and the spin likewise (with the fictitious forces when the frame moves)",
+     "forces, velocities, gravity, frame motion", "velocities", "integrator is velocity_verlet",
+     [](const F& f) { return f.velocity_verlet; }},
+    {Stage::kClumpHalfKick, "clump_half_kick", false, "clump bodies' second half kick; member velocities",
+     "body forces", "body momenta, member velocities", "integrator is velocity_verlet and scene has clump templates",
+     [](const F& f) { return f.velocity_verlet && f.clumps; }},
+    {Stage::kAdvanceClock, "advance_clock", false, "step counter + 1: the world's time is the step's end",
+     "step counter", "step counter", "always", [](const F&) { return true; }},
+    {Stage::kObserve, "observe", false,
+     "components: region and flow sensors, trackers, sinks' tallies (reported as `<kind>:<name>`)",
+     "positions, velocities, meshes, time at the step's end", "readings, CSV rows", "a component declares observe",
+     [](const F& f) { return f.observe_components; }},
+}};
+
+// The table is indexed by Stage: each row must sit at its own enumerator.
+constexpr bool rowsInEnumOrder() {
+  for (std::size_t k = 0; k < kTable.size(); ++k) {
+    if (static_cast<std::size_t>(kTable[k].stage) != k) return false;
+  }
+  return true;
+}
+static_assert(rowsInEnumOrder(), "stage table rows must follow the Stage enum");
+
+}  // namespace
+
+const std::array<StageInfo, kStageCount>& stageTable() { return kTable; }
+
+const StageInfo& stageInfo(Stage stage) { return kTable[static_cast<std::size_t>(stage)]; }
+
+std::vector<Stage> selectStages(const SceneFeatures& features) {
+  std::vector<Stage> stages;
+  for (const StageInfo& row : kTable) {
+    if (row.runs(features)) stages.push_back(row.stage);
+  }
+  return stages;
+}
+
+std::string stageTableMarkdown() {
+  std::string text = "| stage | does | reads | writes | runs when |\n|---|---|---|---|---|\n";
+  for (const StageInfo& row : kTable) {
+    text += row.pass ? "| ↳ `" : "| `";
+    text += row.name;
+    text += "` |";
+    for (const std::string_view cell : {row.does, row.reads, row.writes, row.runs_when}) {
+      text += ' ';
+      text += cell;
+      text += " |";
+    }
+    text += '\n';
+  }
+  return text;
+}
+
+}  // namespace demlink::core

@@ -1,0 +1,124 @@
+/// A run's outputs (contract in run_driver.hpp).
+///
+/// Every write is timed into RunTiming::output_seconds, so the run log can split the wall
+/// time into stepping and output.
+#include "demlink/server/run/run_driver.hpp"
+
+#include <spdlog/fmt/fmt.h>
+
+#include "demlink/core/components/sampled_component.hpp"
+#include "demlink/core/state/checkpoint.hpp"
+#include "demlink/core/step/interval_steps.hpp"
+#include "demlink/server/run/output_directory.hpp"
+#include "demlink/server/run/particle_csv.hpp"
+
+namespace demlink::server {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+std::filesystem::path claimed(const std::filesystem::path& directory, bool overwrite, const std::string& field) {
+  claimOutputDirectory(directory, overwrite, field);
+  return directory;
+}
+
+/// Runs `write` and adds its wall time to `seconds`.
+template <class Write>
+void timed(double& seconds, Write&& write) {
+  const Clock::time_point begin = Clock::now();
+  write();
+  seconds += secondsSince(begin);
+}
+
+}  // namespace
+
+RunPlan planRun(const RunOptions& run, double timeStep, bool endTimeRequired) {
+  RunPlan plan;
+  const std::string& box = run.field_prefix;
+  auto convert = [&](const std::string& field, double seconds, core::ZeroInterval zero) {
+    core::IntervalRule rule;
+    rule.zero = zero;
+    core::IntervalSteps steps = core::intervalSteps(box + field, seconds, timeStep, rule);
+    if (!steps.warning.empty()) plan.warnings.push_back(std::move(steps.warning));
+    return steps.steps;
+  };
+  plan.end_step =
+      convert(".end_time", run.end_time, endTimeRequired ? core::ZeroInterval::Refused : core::ZeroInterval::Off);
+  plan.frame_every = convert(".output.vtk_interval", run.vtk_interval, core::ZeroInterval::Off);
+  plan.checkpoint_every = convert(".output.checkpoint_interval", run.checkpoint_interval, core::ZeroInterval::Off);
+  return plan;
+}
+
+RunDriver::RunDriver(core::World& world, const RunOptions& run, RunPlan plan, const std::filesystem::path& directory,
+                     const std::string& directoryField)
+    : run_(run),
+      plan_(std::move(plan)),
+      frames_(claimed(directory, run.overwrite, directoryField), directoryField),
+      log_(directory / "run_log.csv") {
+  run_.output_directory = directory.string();
+  log_.writeConfiguration(world, run_, plan_.end_step);
+  sensor_files_ = core::writeSamplesToCsv(world, directory);
+}
+
+double RunDriver::wallSeconds() const { return secondsSince(start_); }
+
+void RunDriver::start(const core::World& world) {
+  start_ = Clock::now();
+  first_step_ = world.stepCount();
+  first_build_ = world.neighbourList().buildCount();
+  timed(timing_.output_seconds, [&] {
+    frames_.writePlanes(world);
+    frames_.writeFrame(world, 0.0);
+  });
+  last_frame_step_ = world.stepCount();
+}
+
+void RunDriver::writeFrame(const core::World& world) {
+  timed(timing_.output_seconds, [&] { frames_.writeFrame(world, secondsSince(start_)); });
+  last_frame_step_ = world.stepCount();
+}
+
+void RunDriver::writeCheckpoint(const core::World& world, const std::string& name) {
+  timed(timing_.output_seconds, [&] { core::writeCheckpointFile(world, directory() / name); });
+  ++timing_.checkpoints;
+}
+
+void RunDriver::afterStep(const core::World& world) {
+  timing_.particle_steps += world.particles().size();
+  const std::uint64_t step = world.stepCount();
+  if ((plan_.frame_every > 0 && step % plan_.frame_every == 0) || step == plan_.end_step) writeFrame(world);
+  if (plan_.checkpoint_every > 0 && step % plan_.checkpoint_every == 0) {
+    writeCheckpoint(world, fmt::format("checkpoint_{:06}.bin", step / plan_.checkpoint_every));
+  }
+}
+
+void RunDriver::finish(const core::World& world, const std::string& reason) {
+  if (ended_) return;
+  try {
+    if (last_frame_step_ != world.stepCount()) writeFrame(world);
+    if (run_.final_checkpoint) writeCheckpoint(world, "checkpoint_final.bin");
+    if (run_.final_particles_csv) {
+      timed(timing_.output_seconds, [&] { writeParticleCsv(world, directory() / "particles_final.csv"); });
+    }
+  } catch (const std::exception& error) {
+    abort(error.what());
+    throw;
+  }
+  ended_ = true;
+  timing_.total_seconds = secondsSince(start_);
+  timing_.steps = world.stepCount() - first_step_;
+  timing_.neighbour_builds = world.neighbourList().buildCount() - first_build_;
+  timing_.frames = frames_.frameCount();
+  if (!reason.empty()) log_.add("timing", "finish_reason", reason);
+  log_.writeTiming(world, timing_);
+}
+
+void RunDriver::abort(const std::string& why) {
+  if (ended_) return;
+  ended_ = true;
+  log_.add("timing", "status", "aborted: " + why);
+}
+
+}  // namespace demlink::server
