@@ -19,8 +19,9 @@ void requireFiniteVector(const std::string& field, const Vec3& v) {
 
 }  // namespace
 
-World::World(SimulationSettings settings) : settings_(std::move(settings)), state_(settings_) {
-  settings_.validate("simulation_box");
+World::World(SimulationSettings settings, std::string settingsField)
+    : settings_(std::move(settings)), settings_field_(std::move(settingsField)), state_(settings_) {
+  settings_.validate(settings_field_);
 }
 
 void World::setFrameMotion(const FrameMotion& motion) {
@@ -50,7 +51,7 @@ std::optional<DomainBounds> World::currentBounds() const {
 }
 
 std::uint32_t World::addMaterial(const Material& material) {
-  const std::string prefix = "materials[" + material.name + "]";
+  const std::string& prefix = material.name;  // errors name the material by its name
   material.validate(prefix);
   if (findMaterial(material.name)) throw InputError(prefix + ".name", material.name, "material name already used");
   materials_.push_back(material);
@@ -208,7 +209,7 @@ void World::initialize() {
   const double meanRadius = sizedCount > 0 ? radiusSum / static_cast<double>(sizedCount) : 0.0;
   if (settings_.contact_model == ContactModel::LinearSpringDashpot && meanRadius <= 0.0 &&
       settings_.linear_normal_stiffness <= 0.0) {
-    throw InputError("simulation_box.linear_normal_stiffness", "0",
+    throw InputError(settings_field_ + ".linear_normal_stiffness", "0",
                      "the linear law needs a stiffness when the scene starts without particles");
   }
   pair_table_ = ContactPairTable(materials_, settings_.contact_model,
@@ -217,7 +218,7 @@ void World::initialize() {
   time_step_report_ = criticalTimeStep(materials_, pair_table_, settings_.contact_model, minRadius,
                                        settings_.max_impact_velocity);
   if (settings_.time_step > time_step_report_.limit && !settings_.allow_unsafe_time_step) {
-    throw InputError("simulation_box.time_step", formatValue(settings_.time_step),
+    throw InputError(settings_field_ + ".time_step", formatValue(settings_.time_step),
                      "exceeds the critical limit " + formatValue(time_step_report_.limit) + " s (limited by " +
                          time_step_report_.limited_by + ": Rayleigh T_R = " +
                          formatValue(time_step_report_.rayleigh_time_step) + " s x " +
@@ -240,7 +241,7 @@ void World::initialize() {
   compute_forces_ = visitContactLaw(settings_.contact_model, [this]<class Law>() {
     return rolling_active_ ? &World::computeForces<Law, true> : &World::computeForces<Law, false>;
   });
-  requireNoClumpsInRotatingFrame(state_.frame, "simulation_box.frame");
+  requireNoClumpsInRotatingFrame(state_.frame, settings_field_ + ".frame");
   initialized_ = true;
   for (const auto& component : components_) component->initialize(*this);
   selectStepStages();

@@ -48,7 +48,7 @@ TEST(InputValidation, MaterialFieldsOutOfRange) {
     if (c.field == "sliding_friction") m.sliding_friction = c.value;
     if (c.field == "rolling_friction") m.rolling_friction = c.value;
     World world(test::fineSettings(1e-6, 1.0));
-    expectInputError([&] { world.addMaterial(m); }, "materials[test]." + c.field, c.text);
+    expectInputError([&] { world.addMaterial(m); }, "test." + c.field, c.text);
   }
 }
 
@@ -82,11 +82,11 @@ TEST(InputValidation, PlaneFields) {
 
 TEST(InputValidation, TimeStepNonPositiveOrAboveCriticalLimit) {
   SimulationSettings s = test::fineSettings(0.0, 1.0);
-  expectInputError([&] { World w(s); }, "simulation_box.time_step", "0");
+  expectInputError([&] { World w(s); }, "settings.time_step", "0");
   s.time_step = -1e-6;
-  expectInputError([&] { World w(s); }, "simulation_box.time_step", "-1e-06");
+  expectInputError([&] { World w(s); }, "settings.time_step", "-1e-06");
   s.time_step = kNaN;
-  expectInputError([&] { World w(s); }, "simulation_box.time_step", "nan");
+  expectInputError([&] { World w(s); }, "settings.time_step", "nan");
 
   // r = 1 mm, E = 1e7: Rayleigh T_R ~ 1.6e-4 s, so 1e-4 s is far above 20 % of it.
   s.time_step = 1e-4;
@@ -99,7 +99,7 @@ TEST(InputValidation, TimeStepNonPositiveOrAboveCriticalLimit) {
     world.initialize();
     ADD_FAILURE() << "time step above the critical limit accepted";
   } catch (const InputError& e) {
-    EXPECT_EQ(e.field(), "simulation_box.time_step");
+    EXPECT_EQ(e.field(), "settings.time_step");
     EXPECT_NE(std::string(e.what()).find("critical limit"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find(formatValue(world.timeStepReport().limit)), std::string::npos)
         << "message must name the limit: " << e.what();
@@ -123,7 +123,7 @@ TEST(InputValidation, CriticalTimeStepMatchesRayleighFormula) {
 TEST(InputValidation, BoundsMustNotBeInverted) {
   SimulationSettings s = test::fineSettings(1e-6, 1.0);
   s.bounds = DomainBounds{Vec3::Zero(), Vec3(1.0, -1.0, 1.0)};
-  expectInputError([&] { World w(s); }, "simulation_box.bounds.upper[1]", "-1");
+  expectInputError([&] { World w(s); }, "settings.bounds.upper[1]", "-1");
 }
 
 }  // namespace

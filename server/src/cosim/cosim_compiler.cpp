@@ -289,12 +289,8 @@ CompiledSimulation CosimCompiler::compile(const std::filesystem::path& sceneDire
   try {
     world.initialize();
   } catch (const core::InputError& error) {
-    // The engine names the box's settings "simulation_box.<field>".
-    const std::string engineBox = "simulation_box";
-    if (error.field().rfind(engineBox, 0) == 0) {
-      const std::string field = out.box_name + ".simulation_box" + error.field().substr(engineBox.size());
-      throw failure(out.box_name, field, error.value(), error.reason());
-    }
+    // The world names its settings by the box's scene path (translateScene), which
+    // failureOf turns into the box's component name.
     throw failureOf(error, declared_, out.box_name);
   }
 

@@ -41,16 +41,6 @@ std::string formatDuration(double seconds) {
 
 /// world.initialize(), with the engine's "simulation_box.<field>" errors renamed
 /// to the SimulationBox's path in the scene.
-void initializeWorld(core::World& world, const std::string& boxPrefix) {
-  if (world.initialized()) return;
-  try {
-    world.initialize();
-  } catch (const core::InputError& error) {
-    const std::string engineBox = "simulation_box";
-    if (error.field().rfind(engineBox, 0) != 0 || boxPrefix == engineBox) throw;
-    throw core::InputError(boxPrefix + error.field().substr(engineBox.size()), error.value(), error.reason());
-  }
-}
 
 void logCompileReport(const core::World& world, std::uint64_t endStep, std::uint64_t frameEvery,
                       const std::string& directory) {
@@ -122,7 +112,7 @@ RunSummary runHeadless(TranslatedScene& scene) {
   }
 
   const Clock::time_point initStart = Clock::now();
-  initializeWorld(world, box);
+  if (!world.initialized()) world.initialize();  // errors already name the scene (translateScene)
   if (!run.restore_file.empty()) {
     core::restoreCheckpointFile(world, run.restore_file);
     spdlog::info("restored {} at t = {:.6g} s ({} particles)", run.restore_file, world.time(),

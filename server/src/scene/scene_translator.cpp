@@ -216,7 +216,7 @@ TranslatedScene translateScene(const v1::Scene& scene, const std::filesystem::pa
   const int boxIndex = checkStructure(scene);
   const std::string boxPrefix = componentPath(boxIndex) + ".simulation_box";
   const v1::SimulationBox& box = scene.components(boxIndex).simulation_box();
-  TranslatedScene out{core::World(toSettings(box, boxPrefix)), toRunOptions(box, boxPrefix, use)};
+  TranslatedScene out{core::World(toSettings(box, boxPrefix), boxPrefix), toRunOptions(box, boxPrefix, use)};
 
   const MaterialNames materials = addMaterials(scene, out.world);
   addMaterialPairs(scene, materials, out.world);

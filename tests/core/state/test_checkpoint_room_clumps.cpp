@@ -127,7 +127,7 @@ TEST(CheckpointRoomClumps, ClumpsInARotatingRoomAreRefused) {
     world.initialize();
     FAIL() << "expected an InputError";
   } catch (const InputError& error) {
-    EXPECT_EQ(error.field(), "simulation_box.frame.angular_velocity");
+    EXPECT_EQ(error.field(), "settings.frame.angular_velocity");
   }
 }
 

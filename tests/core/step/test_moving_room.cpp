@@ -198,7 +198,7 @@ TEST(MovingRoom, BadFrameMotionNamesTheField) {
     World bad(settings);
     FAIL() << "expected an InputError";
   } catch (const InputError& e) {
-    EXPECT_EQ(e.field(), "simulation_box.frame.angular_acceleration[2]");
+    EXPECT_EQ(e.field(), "settings.frame.angular_acceleration[2]");
   }
 }
 
@@ -247,7 +247,7 @@ TEST(GrowingBounds, LimitMustContainTheInitialBox) {
     World world(settings);
     FAIL() << "expected an InputError";
   } catch (const InputError& e) {
-    EXPECT_EQ(e.field(), "simulation_box.bounds.limit_upper[1]");
+    EXPECT_EQ(e.field(), "settings.bounds.limit_upper[1]");
   }
 }
 

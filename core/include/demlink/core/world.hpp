@@ -35,7 +35,9 @@ namespace demlink::core {
 
 class World {
  public:
-  explicit World(SimulationSettings settings);
+  /// `settingsField` is the name errors give the settings ("settings.time_step"); a
+  /// translator passes the settings' path in its scene ("components[0].simulation_box").
+  explicit World(SimulationSettings settings, std::string settingsField = "settings");
 
   /// Adds a validated material; returns its index. Names must be unique.
   std::uint32_t addMaterial(const Material& material);
@@ -180,6 +182,7 @@ class World {
   void removeFlaggedWithClumps(RemovalTally& tally);
 
   SimulationSettings settings_;  ///< what the user chose; never changed after construction
+  std::string settings_field_;    ///< how errors name the settings
   WorldState state_;
   std::vector<Material> materials_;
   ParticleArrays particles_;
