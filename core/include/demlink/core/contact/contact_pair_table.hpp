@@ -43,7 +43,6 @@ class ContactPairTable {
   [[nodiscard]] const ContactPairParams& operator()(std::uint32_t a, std::uint32_t b) const {
     return pairs_[a * count_ + b];
   }
-  [[nodiscard]] std::uint32_t materialCount() const { return count_; }
   [[nodiscard]] bool anyRollingFriction() const { return any_rolling_; }
 
  private:

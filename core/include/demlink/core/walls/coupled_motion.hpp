@@ -83,7 +83,6 @@ class CoupledMotion {
 
   [[nodiscard]] std::size_t meshIndex() const { return mesh_; }
   [[nodiscard]] MotionMode mode() const { return mode_; }
-  [[nodiscard]] bool hasTarget() const { return has_target_; }
   [[nodiscard]] const RigidPose& target() const { return target_; }
   /// Distance between the integrated and the target position at the last snap [m].
   [[nodiscard]] double lastSnapDistance() const { return snap_distance_; }
