@@ -142,7 +142,7 @@ RULES = [
     (r"^cc -std=c99 my_model\.c ", lambda r, c: r.shell(
         c.replace("my_model.c", "tests/client/modelica_sequence.c").replace("-o my_model", f"-o {r.scratch}/my_model"))),
     (r"^/usr/bin/python3 scripts/plot_cosim\.py ", lambda r, c: r.shell(r.in_demo(c))),
-    (r"^scripts/check_mass_balance\.py ", lambda r, c: r.shell(r.in_demo(c))),
+    (r"^/usr/bin/python3 scripts/cosim_summary\.py ", lambda r, c: r.shell(r.in_demo(c))),
 ]
 
 
