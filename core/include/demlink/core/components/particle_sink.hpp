@@ -3,7 +3,7 @@
 /// sphere region (which may move or ride on a mesh body) and tallies their number and
 /// mass, in total and per sample interval.
 ///
-/// Why in stage 2 (before the drift): removed particles take no part in this step's
+/// Why in the insert_remove stage (before the drift): removed particles take no part in this step's
 /// contacts, and the world compacts its arrays once for the sink and the domain bounds.
 /// The tally is what the world lost: the test MassBalance checks that the world's mass
 /// drop equals the sink's removed mass.

@@ -20,7 +20,7 @@
 ///     the template's bounding sphere about its COM, so a clump never overlaps
 ///     anything whatever its orientation; rates and the report count clumps and
 ///     clump masses.
-/// The source runs in stage 2 (after mesh motion), so an attached region follows the
+/// The source runs in the insert_remove stage (after mesh motion), so an attached region follows the
 /// mesh's pose of the current step.
 #include <cstdint>
 #include <limits>
