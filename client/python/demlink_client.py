@@ -226,12 +226,13 @@ class Client:
 
     # --- The sequence ---
 
-    def hello(self, client_name, access_token=""):
-        """Hello -> Welcome."""
+    def hello(self, client_name, access_token="", simulation=""):
+        """Hello -> Welcome. `simulation` names the simulation to join (docs/protocol.md)."""
         msg = protocol_pb2.ClientMessage()
         msg.hello.protocol_version = PROTOCOL_VERSION
         msg.hello.client_name = client_name
         msg.hello.access_token = access_token
+        msg.hello.simulation = simulation
         self.send(msg)
         self.welcome = self._expect("welcome")
         return self.welcome

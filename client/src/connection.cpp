@@ -106,6 +106,7 @@ const v1::Welcome& Connection::connect(const std::string& host, std::uint16_t po
   hello.mutable_hello()->set_protocol_version(v1::PROTOCOL_VERSION_CURRENT);
   hello.mutable_hello()->set_client_name(options_.client_name);
   hello.mutable_hello()->set_access_token(options_.access_token);
+  hello.mutable_hello()->set_simulation(options_.simulation);
   send(hello);
   v1::ServerMessage answer = receive();
   if (!answer.has_welcome()) {

@@ -2,7 +2,7 @@
 /// A scripted SessionHandler and a server running it on its own thread, for transport tests.
 ///
 /// Script: Welcome on connect (client_name "throw": throws instead); a DataPackage is echoed
-/// back; a Declare of a component named "throw" throws; Bye gets Finished and close_after;
+/// back (for component kLargeAnswerComponent with a particle view of kLargeAnswerBytes added); a Declare of a component named "throw" throws; Bye gets Finished and close_after;
 /// Hello with client_name "poll" schedules a poll 100 ms later, which sends Finished
 /// {reason "poll"}; shutdown sends Finished{reason} to everyone connected. Every call is
 /// recorded (the server thread writes, the test thread reads: hence the mutex).
@@ -23,6 +23,10 @@
 #include "test_client.hpp"
 
 namespace demlink::server::test {
+
+/// A package for this component is answered with a large view (back-pressure tests).
+inline constexpr std::uint32_t kLargeAnswerComponent = 999;
+inline constexpr std::size_t kLargeAnswerBytes = 1u << 20;
 
 class FakeSessionHandler final : public SessionHandler {
  public:
@@ -48,6 +52,9 @@ class FakeSessionHandler final : public SessionHandler {
     Outgoing out{from, {}, false};
     if (message.has_data()) {
       *out.message.mutable_data() = message.data();
+      if (message.data().component_id() == kLargeAnswerComponent) {
+        out.message.mutable_data()->mutable_particle_view()->mutable_positions()->Resize(kLargeAnswerBytes / 4, 1.0f);
+      }
     } else if (message.has_declare() && message.declare().component().name() == "throw") {
       throw std::runtime_error("scripted failure in received");
     } else if (message.has_bye()) {

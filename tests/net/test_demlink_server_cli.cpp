@@ -7,6 +7,9 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <thread>
 #include <string>
 #include <vector>
 
@@ -112,6 +115,24 @@ class ServerProcess {
   [[nodiscard]] std::uint16_t port() const { return port_; }
   [[nodiscard]] const std::string& firstLine() const { return first_line_; }
   void signal(int number) const { kill(pid_, number); }
+  [[nodiscard]] pid_t pid() const { return pid_; }
+  /// Everything the server printed after its first line, up to its exit (or the timeout).
+  std::string readOutput(std::chrono::milliseconds timeout) {
+    std::string text;
+    const TestClock::time_point deadline = TestClock::now() + timeout;
+    while (TestClock::now() < deadline) {
+      fd_set readable;
+      FD_ZERO(&readable);
+      FD_SET(out_, &readable);
+      timeval wait{0, 100000};
+      if (select(out_ + 1, &readable, nullptr, nullptr, &wait) <= 0) continue;
+      char chunk[4096];
+      const ssize_t n = read(out_, chunk, sizeof chunk);
+      if (n <= 0) break;
+      text.append(chunk, static_cast<std::size_t>(n));
+    }
+    return text;
+  }
   /// The exit code, or -1 if the process did not exit within the timeout (it is killed).
   int waitForExit() {
     int status = 0;
@@ -146,45 +167,53 @@ TEST(DemlinkServerCli, ListensOnAnEphemeralPortAndExitsZeroOnSigint) {
   EXPECT_EQ(server.waitForExit(), 0) << "SIGINT must end the server cleanly within 3 s";
 }
 
-/// The whole path with the real host: Hello, Declare, Compiled, the box's exchanges up to
-/// the end step, Finished, and --once ending the process with exit code 0.
-TEST(DemlinkServerCli, OnceRunsOneSimulationOverTcpAndExits) {
-  ServerProcess server({"--once", "--output", ::testing::TempDir() + "demlink_server_cli_once"});
-  ASSERT_GT(server.port(), 0) << server.firstLine();
-  TestClient client(server.port());
-  ASSERT_TRUE(client.hello().has_value());
-  // The box expects all four components, so compilation needs no quiet period.
-  const v1::Scene scene = parseSceneJson(R"({"components": [
-    {"name": "box", "communication_interval": 1e-4, "simulation_box": {"time_step": 1e-5, "end_time": 1e-3,
-      "coupling": {"expected_count": 4}}},
-    {"name": "glass", "material": {"density": 2500, "youngs_modulus": 5e6}},
-    {"name": "floor", "plane": {"normal": {"z": 1}, "material": "glass"}},
-    {"name": "spheres", "particle_lattice": {"material": "glass", "radius": 0.002, "spacing": 0.006,
-      "origin": {"x": 0.01, "y": 0.01, "z": 0.003}, "counts": {"nx": 2, "ny": 2, "nz": 2}}}]})",
-                                         "cli test scene");
+/// Sends each component of the scene `json` as a Declare.
+void declareAll(TestClient& client, const std::string& json) {
+  const v1::Scene scene = parseSceneJson(json, "cli test scene");
   for (const v1::ComponentDeclaration& component : scene.components()) {
     v1::ClientMessage declare;
     *declare.mutable_declare()->mutable_component() = component;
     client.send(declare);
   }
+}
+
+v1::ClientMessage package(std::uint32_t component, std::uint64_t step) {
+  v1::ClientMessage message;
+  message.mutable_data()->set_component_id(component);
+  message.mutable_data()->set_step(step);
+  return message;
+}
+
+/// The id and interval of `name` in `compiled` (every component of the simulation).
+std::pair<std::uint32_t, std::uint64_t> componentOf(const v1::Compiled& compiled, const std::string& name) {
+  for (const v1::CompiledComponent& component : compiled.all_components()) {
+    if (component.name() == name) return {component.id(), component.interval_steps()};
+  }
+  return {0, 0};
+}
+
+/// One client runs a small simulation (a box exchanged every 10 steps, 8 spheres) to its
+/// end step; `pause` between exchanges (progress lines while the server waits for it).
+void runSmallSimulation(std::uint16_t port, std::chrono::milliseconds pause = 0ms) {
+  TestClient client(port);
+  ASSERT_TRUE(client.hello().has_value());
+  // The box expects all four components, so compilation needs no quiet period.
+  declareAll(client, R"({"components": [
+    {"name": "box", "communication_interval": 1e-4, "simulation_box": {"time_step": 1e-5, "end_time": 1e-3,
+      "coupling": {"expected_count": 4}}},
+    {"name": "glass", "material": {"density": 2500, "youngs_modulus": 5e6}},
+    {"name": "floor", "plane": {"normal": {"z": 1}, "material": "glass"}},
+    {"name": "spheres", "particle_lattice": {"material": "glass", "radius": 0.002, "spacing": 0.006,
+      "origin": {"x": 0.01, "y": 0.01, "z": 0.003}, "counts": {"nx": 2, "ny": 2, "nz": 2}}}]})");
   const std::optional<v1::ServerMessage> compiled = client.receive();
   ASSERT_TRUE(compiled.has_value() && compiled->has_compiled()) << (compiled ? compiled->DebugString() : "none");
-  std::uint32_t box = 0;
-  std::uint64_t interval = 0;
-  for (const v1::CompiledComponent& component : compiled->compiled().components()) {
-    if (component.name() == "box") {
-      box = component.id();
-      interval = component.interval_steps();
-    }
-  }
+  const auto [box, interval] = componentOf(compiled->compiled(), "box");
   ASSERT_GT(interval, 0u);
   const std::uint64_t endStep = compiled->compiled().end_step();
   std::uint64_t step = 0;
   while (step < endStep) {
-    v1::ClientMessage package;
-    package.mutable_data()->set_component_id(box);
-    package.mutable_data()->set_step(step);
-    client.send(package);
+    if (pause.count() > 0) std::this_thread::sleep_for(pause);
+    client.send(package(box, step));
     const std::optional<v1::ServerMessage> answer = client.receive();
     ASSERT_TRUE(answer.has_value() && answer->has_data()) << (answer ? answer->DebugString() : "none");
     EXPECT_EQ(answer->data().step(), step + interval) << "answered at the end of the interval";
@@ -195,8 +224,129 @@ TEST(DemlinkServerCli, OnceRunsOneSimulationOverTcpAndExits) {
   ASSERT_TRUE(finished.has_value() && finished->has_finished()) << (finished ? finished->DebugString() : "none");
   EXPECT_EQ(finished->finished().step(), endStep);
   EXPECT_TRUE(client.waitForClose());
-  client.close();
+}
+
+/// The whole path with the real host: Hello, Declare, Compiled, the box's exchanges up to
+/// the end step, Finished, and --once ending the process with exit code 0.
+TEST(DemlinkServerCli, OnceRunsOneSimulationOverTcpAndExits) {
+  ServerProcess server({"--once", "--output", ::testing::TempDir() + "demlink_server_cli_once"});
+  ASSERT_GT(server.port(), 0) << server.firstLine();
+  runSmallSimulation(server.port());
   EXPECT_EQ(server.waitForExit(), 0) << "--once: the process ends after its simulation";
+}
+
+TEST(DemlinkServerCli, MaxSimulationsEndsTheServerAfterTheNth) {
+  ServerProcess server({"--max-simulations", "2", "--output", ::testing::TempDir() + "demlink_server_cli_max"});
+  ASSERT_GT(server.port(), 0) << server.firstLine();
+  runSmallSimulation(server.port());
+  {
+    TestClient second(server.port());
+    const std::optional<v1::ServerMessage> welcome = second.hello();
+    ASSERT_TRUE(welcome.has_value() && welcome->has_welcome()) << "still serving after the first";
+    EXPECT_EQ(welcome->welcome().simulation_number(), 2u);
+  }  // leaves before declaring: the second simulation has not started
+  runSmallSimulation(server.port());
+  EXPECT_EQ(server.waitForExit(), 0) << "the process ends after its second simulation";
+  const Result both = runServer({"--once", "--max-simulations", "3"});
+  EXPECT_EQ(both.exit_code, 2) << both.output;
+  EXPECT_NE(both.output.find("--once"), std::string::npos) << both.output;
+}
+
+TEST(DemlinkServerCli, ABadSceneFileStopsTheServerAtStartUp) {
+  const std::filesystem::path scene = std::filesystem::path(::testing::TempDir()) / "demlink_server_bad_scene.json";
+  std::ofstream(scene) << R"({"components": [{"name": "glass", "material": {"density": -2500}}]})";
+  const Result result = runServer({"--port", "0", "--scene", scene.string()});
+  EXPECT_EQ(result.exit_code, 2) << result.output;
+  EXPECT_NE(result.output.find("density = -2500"), std::string::npos) << result.output;
+  EXPECT_EQ(result.output.find("listening"), std::string::npos) << "refused before listening";
+
+  // No simulation_box (a client declares it): the rest is still checked, a pit included.
+  std::ofstream(scene) << R"({"components": [{"name": "gravel", "material": {}},
+    {"name": "pit", "pit_generator": {"material": "gravel", "lower": {}, "upper": {"x": 1, "y": 1, "z": 1}}}]})";
+  const Result pit = runServer({"--port", "0", "--scene", scene.string()});
+  EXPECT_EQ(pit.exit_code, 2) << pit.output;
+  EXPECT_NE(pit.output.find("pit_generator.sizes"), std::string::npos) << pit.output;
+}
+
+/// A running simulation prints progress lines naming whom it waits for.
+TEST(DemlinkServerCli, ProgressLinesNameTheComponentWaitedFor) {
+  ServerProcess server({"--once", "--progress", "0.2", "--output", ::testing::TempDir() + "demlink_server_cli_progress"});
+  ASSERT_GT(server.port(), 0) << server.firstLine();
+  runSmallSimulation(server.port(), 150ms);
+  const std::string output = server.readOutput(10000ms);
+  EXPECT_EQ(server.waitForExit(), 0);
+  EXPECT_NE(output.find("steps/s"), std::string::npos) << output;
+  EXPECT_NE(output.find("8 particles"), std::string::npos) << output;
+  EXPECT_NE(output.find("exchanges/s, waiting for \"box\" of client \"test\""), std::string::npos) << output;
+}
+
+TEST(DemlinkServerCli, AnIncompleteAssemblyTimesOutAndTheServerGoesOn) {
+  ServerProcess server({"--assembly-timeout", "0.5", "--output", ::testing::TempDir() + "demlink_server_cli_assembly"});
+  ASSERT_GT(server.port(), 0) << server.firstLine();
+  TestClient waiting(server.port());
+  ASSERT_TRUE(waiting.hello().has_value());
+  declareAll(waiting, R"({"components": [{"name": "box", "communication_interval": 1e-4,
+    "simulation_box": {"time_step": 1e-5, "coupling": {"expected_count": 100}}}]})");
+  const std::optional<v1::ServerMessage> error = waiting.receive(10000ms);
+  ASSERT_TRUE(error.has_value() && error->has_error()) << (error ? error->DebugString() : "none");
+  EXPECT_EQ(error->error().code(), v1::Error::TIMEOUT);
+  EXPECT_EQ(error->error().field(), "box.simulation_box.coupling.expected_count");
+  EXPECT_TRUE(waiting.waitForClose());
+  TestClient next(server.port());
+  const std::optional<v1::ServerMessage> welcome = next.hello();
+  ASSERT_TRUE(welcome.has_value() && welcome->has_welcome());
+  EXPECT_EQ(welcome->welcome().simulation_number(), 2u);
+}
+
+/// Peak resident memory of process `pid` [bytes] (VmHWM).
+std::size_t peakResidentBytes(pid_t pid) {
+  std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+  std::string line;
+  while (std::getline(status, line)) {
+    if (line.starts_with("VmHWM:")) return std::stoull(line.substr(6)) * 1024u;
+  }
+  return 0;
+}
+
+/// A client that sends its packages for 1500 exchanges of a 10 000-particle view (about
+/// 176 kB each) without reading: the server holds its input back once 16 MiB wait for it,
+/// the host waits for its next package and ends the simulation with TIMEOUT naming the view
+/// (the driver, whose box is not exchanged, reads it); the server's peak memory stays far
+/// below the 264 MB the unread answers would take.
+TEST(DemlinkServerCli, AClientThatStopsReadingEndsWithTimeoutAndBoundedMemory) {
+  ServerProcess server({"--timeout", "3", "--output", ::testing::TempDir() + "demlink_server_cli_backpressure"});
+  ASSERT_GT(server.port(), 0) << server.firstLine();
+  TestClient driver(server.port());
+  TestClient stalled(server.port());
+  ASSERT_TRUE(driver.hello("driver").has_value());
+  ASSERT_TRUE(stalled.hello("stalled").has_value());
+  declareAll(driver, R"({"components": [
+    {"name": "box", "simulation_box": {"time_step": 1e-5, "end_time": 1,
+      "coupling": {"expected_count": 4}}},
+    {"name": "glass", "material": {"density": 2500, "youngs_modulus": 5e6}},
+    {"name": "spheres", "particle_lattice": {"material": "glass", "radius": 0.002, "spacing": 0.006,
+      "counts": {"nx": 25, "ny": 20, "nz": 20}}}]})");
+  declareAll(stalled, R"({"components": [{"name": "view", "communication_interval": 1e-5,
+    "particle_view": {"max_count": 10000}}]})");
+  const std::optional<v1::ServerMessage> compiled = driver.receive(60000ms);
+  ASSERT_TRUE(compiled.has_value() && compiled->has_compiled()) << (compiled ? compiled->DebugString() : "none");
+  const std::size_t baseline = peakResidentBytes(server.pid());
+  const auto [view, viewInterval] = componentOf(compiled->compiled(), "view");
+  ASSERT_EQ(viewInterval, 1u);
+  std::string burst;
+  for (std::uint64_t step = 0; step < 1500; ++step) wire::appendFrame(package(view, step), burst);
+  stalled.sendRaw(burst);
+  const std::optional<v1::ServerMessage> answer = driver.receive(120000ms);
+  ASSERT_TRUE(answer.has_value() && answer->has_error()) << (answer ? answer->DebugString() : "none");
+  EXPECT_EQ(answer->error().code(), v1::Error::TIMEOUT) << answer->error().message();
+  EXPECT_EQ(answer->error().component(), "view");
+  EXPECT_NE(answer->error().message().find("\"stalled\""), std::string::npos) << answer->error().message();
+  const std::size_t growth = peakResidentBytes(server.pid()) - baseline;
+  EXPECT_LT(growth, 100u << 20) << "the server's peak RSS grew by " << growth << " bytes";
+  EXPECT_TRUE(stalled.waitForClose(10000ms)) << "the stalled client is closed after the grace";
+  TestClient next(server.port());
+  const std::optional<v1::ServerMessage> welcome = next.hello();
+  ASSERT_TRUE(welcome.has_value() && welcome->has_welcome()) << "the server keeps serving";
 }
 
 }  // namespace

@@ -55,6 +55,8 @@ class CosimHarness {
     o.output_root = outputRoot;
     o.quiet_period_s = 2.0;
     o.client_timeout_s = 30.0;
+    o.assembly_timeout_s = 60.0;
+    o.progress_interval_s = 0.0;  // progress lines are tested through demlink-server (tests/net)
     o.record_file = std::move(recordFile);
     return o;
   }
@@ -72,10 +74,11 @@ class CosimHarness {
     }
   }
 
-  void hello(ConnectionId id, const std::string& name = "client") {
+  void hello(ConnectionId id, const std::string& name = "client", const std::string& simulation = "") {
     v1::Hello h;
     h.set_protocol_version(1);
     h.set_client_name(name);
+    h.set_simulation(simulation);
     take(host_.connected(id, h, now_));
   }
   void declare(ConnectionId id, const std::string& componentJson) {

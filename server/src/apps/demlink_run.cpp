@@ -1,6 +1,7 @@
 /// demlink-run: headless mode from the command line.
 ///
 ///   demlink-run <scene.json> [--output DIR] [--end-time T] [--restore FILE] [--overwrite] [--quiet]
+///   demlink-run --check <scene.json>
 ///   demlink-run --help | --version
 ///
 /// Exit codes: 0 success; 2 bad input (scene, files, command line), printed as
@@ -9,6 +10,7 @@
 /// so they are validated exactly like values from the scene file.
 #include <spdlog/spdlog.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -30,6 +32,7 @@ struct CommandLine {
   std::optional<std::string> restore;
   bool overwrite = false;
   bool quiet = false;
+  bool check = false;
 };
 
 int run(int argc, char** argv) {
@@ -45,6 +48,9 @@ int run(int argc, char** argv) {
       ->type_name("FILE");
   app.add_flag("--overwrite", line.overwrite, "write into an output directory that already holds a run's outputs");
   app.add_flag("-q,--quiet", line.quiet, "only warnings and errors");
+  app.add_flag("--check", line.check,
+               "validate the scene (translate it, check the time step and output intervals) without running; "
+               "exit 0 if valid, 2 naming the field if not");
   if (const std::optional<int> exitCode = cli::parse(app, argc, argv)) return *exitCode;
 
   spdlog::set_pattern("[%H:%M:%S] %^%l%$: %v");
@@ -66,6 +72,12 @@ int run(int argc, char** argv) {
   translated.run.scene_file = line.scene;
   if (line.restore) translated.run.restore_file = *line.restore;
   translated.run.overwrite = line.overwrite;
+  if (line.check) {
+    demlink::server::checkHeadless(translated);
+    std::printf("%s: valid (%zu particles at the start, time step %g s)\n", line.scene.c_str(),
+                translated.world.particles().size(), translated.world.settings().time_step);
+    return 0;
+  }
   spdlog::info("scene {}", line.scene);
   demlink::server::runHeadless(translated);
   return 0;

@@ -1,8 +1,10 @@
 /// demlink-server: the co-simulation server.
 ///
 ///   demlink-server [--listen ADDR] [--port N] [--token T] [--scene FILE] [--output DIR]
-///                  [--quiet-period S] [--timeout S] [--max-frame-bytes N] [--record FILE]
-///                  [--replay FILE] [--overwrite] [--once] [--help] [--version]
+///                  [--quiet-period S] [--timeout S] [--assembly-timeout S] [--hello-timeout S]
+///                  [--max-frame-bytes N] [--max-queued-bytes N] [--max-unwelcomed N]
+///                  [--progress S] [--record FILE] [--replay FILE] [--overwrite]
+///                  [--once | --max-simulations N] [--help] [--version]
 ///
 /// Prints "demlink-server listening on ADDR:PORT" once it accepts connections (scripts and
 /// tests read the port from it with --port 0). Exit codes: 0 normal end (also SIGINT /
@@ -12,6 +14,8 @@
 #include <spdlog/spdlog.h>
 
 #include "demlink/server/net/asio.hpp"
+#include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
@@ -27,6 +31,7 @@
 #include "demlink/cli/command_line.hpp"
 #include "demlink/server/net/tcp_server.hpp"
 #include "demlink/server/scene/scene_loader.hpp"
+#include "demlink/server/scene/scene_translator.hpp"
 
 namespace {
 
@@ -41,7 +46,13 @@ struct CommandLine {
   std::string output = "out/cosim";
   double quiet_period = 2.0;  ///< [s]
   double timeout = 30.0;      ///< [s]
+  double assembly_timeout = 60.0;  ///< [s]; 0: none
+  double hello_timeout = 10.0;     ///< [s]; 0: none
+  double progress = 10.0;          ///< [s]; 0: none
   std::size_t max_frame_bytes = demlink::wire::kDefaultMaxFrameBytes;
+  std::size_t max_queued_bytes = demlink::server::TcpServerOptions{}.max_queued_bytes;
+  std::size_t max_unwelcomed = demlink::server::TcpServerOptions{}.max_unwelcomed;
+  std::uint64_t max_simulations = 0;  ///< 0: no limit
   std::optional<std::string> record;
   std::optional<std::string> replay;
   bool overwrite = false;
@@ -75,12 +86,49 @@ void addOptions(CLI::App& app, CommandLine& line) {
   // parsePayload takes at most INT_MAX bytes (protobuf's limit).
   cli::addWholeNumber<std::size_t>(app, "--max-frame-bytes", line.max_frame_bytes, 1,
                                    std::numeric_limits<int>::max(), "largest accepted message [bytes] (default 67108864)");
+  cli::addNumber(app, "--assembly-timeout", line.assembly_timeout, {0.0, false},
+                 "a simulation not compiled S seconds after its first client joined ends with TIMEOUT; 0: never "
+                 "(default 60)")
+      ->type_name("S");
+  cli::addNumber(app, "--hello-timeout", line.hello_timeout, {0.0, false},
+                 "a connection without Hello S seconds after connecting is closed; 0: never (default 10)")
+      ->type_name("S");
+  cli::addWholeNumber<std::size_t>(app, "--max-queued-bytes", line.max_queued_bytes, 1,
+                                   std::numeric_limits<std::size_t>::max() / 2,
+                                   "output queued for one client above which its input waits [bytes] (default 16777216)");
+  cli::addWholeNumber<std::size_t>(app, "--max-unwelcomed", line.max_unwelcomed, 1, 1u << 20,
+                                   "connections awaiting Hello at once; more get SERVER_BUSY (default 64)");
+  cli::addNumber(app, "--progress", line.progress, {0.0, false},
+                 "a running simulation prints a progress line every S seconds; 0: never (default 10)")
+      ->type_name("S");
   cli::addText(app, "--record", line.record, "record every received message to FILE")
       ->type_name("FILE");
   cli::addText(app, "--replay", line.replay, "re-run a recorded session from FILE (no network) and exit")
       ->type_name("FILE");
   app.add_flag("--overwrite", line.overwrite, "a simulation may write into an output folder that holds a run's outputs");
-  app.add_flag("--once", line.once, "exit after the first simulation ends");
+  CLI::Option* once = app.add_flag("--once", line.once, "exit after the first simulation ends (= --max-simulations 1)");
+  cli::addWholeNumber<std::uint64_t>(app, "--max-simulations", line.max_simulations, 1,
+                                     std::numeric_limits<std::uint64_t>::max(),
+                                     "exit after N simulations ended (default: serve until stopped)")
+      ->excludes(once);
+}
+
+/// Translates the scene file's components once at start-up, so a bad scene stops the server
+/// (exit 2, naming the field) instead of failing every simulation's compile. A scene without
+/// a simulation_box (a client declares it) is checked with a placeholder box; everything
+/// else the file references must be in the file. A pit is checked, not settled (each
+/// compile settles it).
+void checkBaseScene(const demlink::v1::Scene& scene, const std::filesystem::path& directory, const std::string& file) {
+  demlink::v1::Scene whole = scene;
+  const bool hasBox = std::any_of(scene.components().begin(), scene.components().end(),
+                                  [](const demlink::v1::ComponentDeclaration& c) { return c.has_simulation_box(); });
+  if (!hasBox) {
+    demlink::v1::ComponentDeclaration& box = *whole.add_components();
+    box.set_name("(start-up check)");
+    box.mutable_simulation_box();
+  }
+  static_cast<void>(demlink::server::translateScene(whole, directory, demlink::server::SceneUse::CosimCheck));
+  spdlog::info("scene {}: {} components checked", file, scene.components_size());
 }
 
 demlink::server::CosimOptions hostOptions(const CommandLine& line) {
@@ -89,7 +137,10 @@ demlink::server::CosimOptions hostOptions(const CommandLine& line) {
     options.base_scene = demlink::server::loadSceneFile(*line.scene);
     const std::filesystem::path directory = std::filesystem::path(*line.scene).parent_path();
     options.scene_directory = directory.empty() ? std::filesystem::path(".") : directory;
+    checkBaseScene(options.base_scene, options.scene_directory, *line.scene);
   }
+  options.assembly_timeout_s = line.assembly_timeout;
+  options.progress_interval_s = line.progress;
   options.output_root = line.output;
   options.overwrite = line.overwrite;
   options.quiet_period_s = line.quiet_period;
@@ -133,8 +184,14 @@ int run(int argc, char** argv) {
   net.port = line.port;
   net.access_token = line.token.value_or("");
   net.max_frame_bytes = line.max_frame_bytes;
+  net.max_queued_bytes = line.max_queued_bytes;
+  net.max_unwelcomed = line.max_unwelcomed;
+  net.hello_timeout = std::chrono::milliseconds(static_cast<std::int64_t>(line.hello_timeout * 1000.0));
   net.stop_on_signals = true;
-  if (line.once) net.stop_when = [&host] { return host.simulationsFinished() >= 1; };
+  const std::uint64_t maxSimulations = line.once ? 1 : line.max_simulations;
+  if (maxSimulations > 0) {
+    net.stop_when = [&host, maxSimulations] { return host.simulationsFinished() >= maxSimulations; };
+  }
   demlink::server::TcpServer server(host, net);
 
   const asio::ip::address bound = asio::ip::make_address(server.address());

@@ -203,6 +203,30 @@ bool CosimCompiler::expectedSetComplete() const {
                      });
 }
 
+CosimCompiler::Missing CosimCompiler::missing() const {
+  const v1::SimulationBox* b = box();
+  if (b == nullptr) return {"simulation_box", "no simulation_box declared yet"};
+  std::string boxName;
+  for (const DeclaredComponent& d : declared_) {
+    if (d.declaration.has_simulation_box()) boxName = d.declaration.name();
+  }
+  const std::string coupling = boxName + ".simulation_box.coupling";
+  if (b->coupling().expected_count() > 0) {
+    return {coupling + ".expected_count", fmt::format("{} of the {} expected components declared", declared_.size(),
+                                                      b->coupling().expected_count())};
+  }
+  if (!b->coupling().expected_names().empty()) {
+    std::string names;
+    for (const std::string& name : b->coupling().expected_names()) {
+      const bool declared = std::any_of(declared_.begin(), declared_.end(),
+                                        [&](const DeclaredComponent& d) { return d.declaration.name() == name; });
+      if (!declared) names += (names.empty() ? "\"" : ", \"") + name + "\"";
+    }
+    return {coupling + ".expected_names", "not declared yet: " + names};
+  }
+  return {"declare", fmt::format("{} components declared and declarations still arriving", declared_.size())};
+}
+
 CompiledSimulation CosimCompiler::compile(const std::filesystem::path& sceneDirectory) const {
   const v1::SimulationBox* simulationBox = box();
   if (simulationBox == nullptr) {
@@ -302,6 +326,17 @@ CompiledSimulation CosimCompiler::compile(const std::filesystem::path& sceneDire
     throw failureOf(error, declared_, out.box_name);
   }
   out.end_step = out.plan.end_step;
+  // End time 0 runs until every client said Bye; with nothing exchanged the world never
+  // advances, and the one running simulation would hold the server for as long as its
+  // clients stay connected.
+  const bool anyExchanged = std::any_of(out.components.begin(), out.components.end(),
+                                        [](const CosimComponent& c) { return c.interval_steps > 0; });
+  if (out.end_step == 0 && !anyExchanged) {
+    throw failure(out.box_name, out.box_name + ".simulation_box.end_time", "0",
+                  "the simulation could never advance: end_time 0 runs until every client said Bye, which needs at "
+                  "least one component a client exchanges (communication_interval > 0); give an end_time > 0 or "
+                  "exchange a component");
+  }
   // Warnings name the component as errors do ("box.simulation_box.output.vtk_interval").
   for (const std::string& warning : out.plan.warnings) out.report.add_warnings(renameField(warning, declared_).first);
   for (const std::string& warning : core::sampleScheduleWarnings(world)) {

@@ -49,6 +49,19 @@ struct CosimHost::Impl {
   std::uint64_t finished = 0;
   std::optional<SteadyClock::time_point> quiet_since;
   std::optional<SteadyClock::time_point> waiting_since;
+  /// The pending simulation's first client joined then (set while assembling only).
+  std::optional<SteadyClock::time_point> assembling_since;
+  /// Hello.simulation of the pending or running simulation's clients.
+  std::string group;
+  /// Progress line: when the next is due, and the figures at the last one.
+  struct Progress {
+    SteadyClock::time_point next;
+    SteadyClock::time_point last;
+    std::uint64_t step = 0;
+    std::uint64_t exchanges = 0;
+  };
+  std::optional<Progress> progress;
+  std::uint64_t exchanges = 0;  ///< packages accepted in the running simulation [-]
   std::unique_ptr<SessionRecorder> recorder;
   std::filesystem::path last_directory;
 
@@ -130,6 +143,10 @@ struct CosimHost::Impl {
     compiler.reset();
     quiet_since.reset();
     waiting_since.reset();
+    assembling_since.reset();
+    group.clear();
+    progress.reset();
+    exchanges = 0;
     ++finished;
   }
 
@@ -141,6 +158,13 @@ struct CosimHost::Impl {
     spdlog::warn("simulation {}: client {}: {} ({}{}{})", number(), clientName(offender), error.message(),
                  v1::Error::Code_Name(error.code()), error.field().empty() ? "" : ", field ", error.field());
     send(out, offender, error);
+    if (!sim) {
+      // Before the compile the offender only leaves: a stray or broken client cannot end
+      // an assembly that others are building.
+      sendFinished(out, offender, "left before the compile: " + error.message());
+      leaveAssembly(offender);
+      return;
+    }
     const std::string cause = "client " + clientName(offender) + ": " + error.message();
     for (const auto& [id, connection] : connections) {
       if (id == offender || connection.said_bye) continue;
@@ -212,7 +236,10 @@ struct CosimHost::Impl {
   void run(std::vector<Outgoing>& out, SteadyClock::time_point now) {
     const SteadyClock::time_point workStart = SteadyClock::now();
     advanceWhileComplete(out);
-    if (sim) waiting_since = now + (SteadyClock::now() - workStart);
+    if (sim) {
+      waiting_since = now + (SteadyClock::now() - workStart);
+      if (!progress) logProgress(now);  // starts the progress clock
+    }
   }
 
   void advanceWhileComplete(std::vector<Outgoing>& out) {
@@ -281,21 +308,29 @@ struct CosimHost::Impl {
       fault(out, from, *bad);
       return;
     }
+    ++exchanges;
     if (sim->scheduler().complete()) run(out, now);
+  }
+
+  /// A connection leaves the pending simulation: its declarations are withdrawn; the last
+  /// one to leave returns the host to waiting for a new simulation.
+  void leaveAssembly(ConnectionId id) {
+    compiler.withdraw(id);
+    connections.erase(id);
+    if (connections.empty()) {
+      compiler.reset();
+      quiet_since.reset();
+      assembling_since.reset();
+      group.clear();
+    }
   }
 
   void onBye(std::vector<Outgoing>& out, ConnectionId from, const v1::Bye& bye, SteadyClock::time_point now) {
     spdlog::info("client {} said Bye{}{}", clientName(from), bye.reason().empty() ? "" : ": ", bye.reason());
     if (!sim) {
-      compiler.withdraw(from);
       sendFinished(out, from, "said Bye before the simulation was compiled");
-      connections.erase(from);
-      if (connections.empty()) {
-        compiler.reset();
-        quiet_since.reset();
-      } else if (compiler.expectedSetComplete()) {
-        compile(out, now);
-      }
+      leaveAssembly(from);
+      if (!connections.empty() && compiler.expectedSetComplete()) compile(out, now);
       return;
     }
     Connection& connection = connections[from];
@@ -315,12 +350,7 @@ struct CosimHost::Impl {
     const Connection connection = it->second;
     if (!sim) {
       spdlog::info("client {} left before the compile ({})", clientName(id), why);
-      compiler.withdraw(id);
-      connections.erase(it);
-      if (connections.empty()) {
-        compiler.reset();
-        quiet_since.reset();
-      }
+      leaveAssembly(id);
       return;
     }
     if (connection.said_bye) {
@@ -367,6 +397,59 @@ struct CosimHost::Impl {
                      "data.step", true));
     }
     endSimulation(out, "timeout: " + cause);
+  }
+
+  /// The pending simulation did not complete within the assembly timeout: TIMEOUT naming
+  /// what is missing to every client of it, then it ends (no output directory).
+  void expireAssembly(std::vector<Outgoing>& out) {
+    if (sim || connections.empty()) return;
+    const CosimCompiler::Missing missing = compiler.missing();
+    const std::string cause = fmt::format("simulation {} was not compiled within {} s of its first client: {}",
+                                          number(), options.assembly_timeout_s, missing.what);
+    spdlog::warn("{}", cause);
+    for (const auto& [id, connection] : connections) {
+      send(out, id, makeError(v1::Error::TIMEOUT, cause, "", missing.field, true));
+    }
+    endSimulation(out, "assembly timeout: " + missing.what);
+  }
+
+  [[nodiscard]] std::optional<SteadyClock::time_point> assemblyDeadline() const {
+    if (sim || !assembling_since || options.assembly_timeout_s <= 0.0) return std::nullopt;
+    return *assembling_since + seconds(options.assembly_timeout_s);
+  }
+
+  /// One line for an operator: simulated time, rates since the last line, particles, and
+  /// whom the world waits for.
+  void logProgress(SteadyClock::time_point now) {
+    if (!sim || options.progress_interval_s <= 0.0) return;
+    const std::uint64_t step = sim->scheduler().currentStep();
+    if (!progress) {
+      progress = Progress{now + seconds(options.progress_interval_s), now, step, exchanges};
+      return;
+    }
+    const double elapsed = std::chrono::duration<double>(now - progress->last).count();
+    const double stepsPerSecond = elapsed > 0.0 ? static_cast<double>(step - progress->step) / elapsed : 0.0;
+    const double exchangesPerSecond =
+        elapsed > 0.0 ? static_cast<double>(exchanges - progress->exchanges) / elapsed : 0.0;
+    std::string waiting = "nothing";
+    const std::vector<std::size_t> missing = sim->scheduler().missing();
+    if (!missing.empty()) {
+      waiting.clear();
+      for (const std::size_t index : missing) {
+        const CosimComponent& c = sim->components()[index];
+        waiting += (waiting.empty() ? "\"" : ", \"") + c.name + "\" of client " + clientName(*c.owner);
+      }
+      if (waiting_since) {
+        waiting += fmt::format(" for {:.1f} s", std::chrono::duration<double>(now - *waiting_since).count());
+      }
+    }
+    const CompiledSimulation& c = sim->compiled();
+    spdlog::info("simulation {}: t = {:.6g} s (step {}{}), {} particles, {:.0f} steps/s, {:.1f} exchanges/s, "
+                 "waiting for {}",
+                 number(), static_cast<double>(step) * c.time_step, step,
+                 c.end_step > 0 ? fmt::format(" of {}", c.end_step) : std::string(),
+                 c.scene->world.particles().size(), stepsPerSecond, exchangesPerSecond, waiting);
+    *progress = Progress{now + seconds(options.progress_interval_s), now, step, exchanges};
   }
 
   template <class Body>
@@ -416,9 +499,23 @@ std::vector<Outgoing> CosimHost::connected(ConnectionId id, const v1::Hello& hel
              true);
       return;
     }
+    if (!s.connections.empty() && hello.simulation() != s.group) {
+      s.send(out, id,
+             makeError(v1::Error::OUT_OF_ORDER,
+                       fmt::format("simulation {} of \"{}\" is being assembled; this client asked for \"{}\": "
+                                   "connect again when it has finished",
+                                   s.number(), s.group, hello.simulation()),
+                       "", "hello.simulation", true),
+             true);
+      return;
+    }
+    if (s.connections.empty()) {
+      s.group = hello.simulation();
+      s.assembling_since = now;
+    }
     s.connections[id].name = hello.client_name();
     if (!s.quiet_since) s.quiet_since = now;
-    spdlog::info("client {} joined simulation {}", s.clientName(id), s.number());
+    spdlog::info("client {} joined simulation {} (\"{}\")", s.clientName(id), s.number(), s.group);
     Outgoing o;
     o.to = id;
     v1::Welcome& welcome = *o.message.mutable_welcome();
@@ -471,9 +568,13 @@ std::vector<Outgoing> CosimHost::poll(SteadyClock::time_point now) {
       now >= *s.quiet_since + seconds(s.options.quiet_period_s)) {
     return compileNow(now);
   }
+  if (const std::optional<SteadyClock::time_point> deadline = s.assemblyDeadline(); deadline && now >= *deadline) {
+    return expireAssemblyNow(now);
+  }
   if (s.sim && s.waiting_since && !s.sim->scheduler().complete() && now >= *s.waiting_since + seconds(s.timeout())) {
     return expireWaitNow(now);
   }
+  if (s.progress && now >= s.progress->next) s.logProgress(now);
   return {};
 }
 
@@ -488,6 +589,13 @@ std::vector<Outgoing> CosimHost::compileNow(SteadyClock::time_point now) {
   });
 }
 
+std::vector<Outgoing> CosimHost::expireAssemblyNow(SteadyClock::time_point /*now*/) {
+  Impl& s = *impl_;
+  if (s.sim || s.connections.empty()) return {};
+  s.record(v1::SessionEvent::ASSEMBLY_TIMEOUT);
+  return s.guarded([&](std::vector<Outgoing>& out) { s.expireAssembly(out); });
+}
+
 std::vector<Outgoing> CosimHost::expireWaitNow(SteadyClock::time_point /*now*/) {
   Impl& s = *impl_;
   if (!s.sim || s.sim->scheduler().complete()) return {};
@@ -497,11 +605,17 @@ std::vector<Outgoing> CosimHost::expireWaitNow(SteadyClock::time_point /*now*/) 
 
 std::optional<SteadyClock::time_point> CosimHost::nextDeadline() const {
   const Impl& s = *impl_;
+  std::optional<SteadyClock::time_point> next;
+  const auto consider = [&next](SteadyClock::time_point t) {
+    if (!next || t < *next) next = t;
+  };
   if (!s.sim && s.quiet_since && !s.connections.empty() && s.compiler.usesQuietPeriod()) {
-    return *s.quiet_since + seconds(s.options.quiet_period_s);
+    consider(*s.quiet_since + seconds(s.options.quiet_period_s));
   }
-  if (s.sim && s.waiting_since && !s.sim->scheduler().complete()) return *s.waiting_since + seconds(s.timeout());
-  return std::nullopt;
+  if (const std::optional<SteadyClock::time_point> deadline = s.assemblyDeadline()) consider(*deadline);
+  if (s.sim && s.waiting_since && !s.sim->scheduler().complete()) consider(*s.waiting_since + seconds(s.timeout()));
+  if (s.progress) consider(s.progress->next);
+  return next;
 }
 
 std::vector<Outgoing> CosimHost::shutdown(const std::string& reason, SteadyClock::time_point /*now*/) {

@@ -59,6 +59,7 @@ ReplayResult replaySession(const std::filesystem::path& file, CosimOptions optio
       case v1::SessionEvent::DISCONNECTED: collect(host->disconnected(event.connection(), event.text(), now)); break;
       case v1::SessionEvent::COMPILE_NOW: collect(host->compileNow(now)); break;
       case v1::SessionEvent::TIMEOUT: collect(host->expireWaitNow(now)); break;
+      case v1::SessionEvent::ASSEMBLY_TIMEOUT: collect(host->expireAssemblyNow(now)); break;
       case v1::SessionEvent::SHUTDOWN: collect(host->shutdown(event.text(), now)); break;
       default:
         throw std::runtime_error(file.string() + ": event " + std::to_string(index) + " has unknown kind " +

@@ -3,6 +3,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <string_view>
 #include <utility>
 
@@ -20,14 +21,14 @@ v1::ServerMessage fatalError(v1::Error::Code code, const std::string& message, c
   return out;
 }
 
-Connection::Connection(TcpServer& server, asio::ip::tcp::socket socket, ConnectionId id, std::size_t maxFrameBytes,
-                       std::chrono::milliseconds closeGrace)
+Connection::Connection(TcpServer& server, asio::ip::tcp::socket socket, ConnectionId id, const Limits& limits)
     : server_(server),
       socket_(std::move(socket)),
       grace_timer_(socket_.get_executor()),
-      close_grace_(closeGrace),
+      hello_timer_(socket_.get_executor()),
+      limits_(limits),
       id_(id),
-      decoder_(maxFrameBytes) {
+      decoder_(std::min(limits.max_hello_frame_bytes, limits.max_frame_bytes)) {
   asio::error_code error;
   const asio::ip::tcp::endpoint remote = socket_.remote_endpoint(error);
   peer_ = error ? std::string("(unknown peer)") : remote.address().to_string() + ":" + std::to_string(remote.port());
@@ -35,12 +36,33 @@ Connection::Connection(TcpServer& server, asio::ip::tcp::socket socket, Connecti
   socket_.set_option(asio::ip::tcp::no_delay(true), error);
 }
 
-void Connection::start() { readMore(); }
+void Connection::start() {
+  if (limits_.hello_timeout.count() > 0) {
+    hello_timer_.expires_after(limits_.hello_timeout);
+    hello_timer_.async_wait([self = shared_from_this()](const asio::error_code& error) {
+      if (error || self->welcomed_ || !self->open_) return;
+      const std::string what = "no Hello within " + std::to_string(self->limits_.hello_timeout.count()) +
+                               " ms of connecting";
+      spdlog::warn("connection {}: {}", self->id_, what);
+      self->send(fatalError(v1::Error::TIMEOUT, what, "hello"));
+      self->close(what);
+    });
+  }
+  readMore();
+}
+
+void Connection::setWelcomed() {
+  welcomed_ = true;
+  hello_timer_.cancel();
+  decoder_.setMaxFrameBytes(limits_.max_frame_bytes);
+}
 
 void Connection::readMore() {
-  if (read_done_ || socket_closed_) return;
+  if (reading_ || read_done_ || socket_closed_ || heldBack()) return;
+  reading_ = true;
   socket_.async_read_some(asio::buffer(read_buffer_),
                           [self = shared_from_this()](const asio::error_code& error, std::size_t bytes) {
+                            self->reading_ = false;
                             self->onRead(error, bytes);
                           });
 }
@@ -79,6 +101,15 @@ void Connection::deliverFrames() {
     close("bad frame: " + what);
   };
   while (open_) {
+    if (heldBack()) {
+      // The rest waits in the decoder until the client takes its output (writeMore).
+      if (!warned_behind_) {
+        warned_behind_ = true;
+        spdlog::warn("connection {}: {} bytes of output not taken by the client; its input waits until they are",
+                     id_, queuedBytes());
+      }
+      return;
+    }
     const std::optional<std::string> payload = decoder_.next();
     if (!payload) break;
     v1::ClientMessage message;
@@ -96,7 +127,9 @@ void Connection::deliverFrames() {
   }
   if (open_ && decoder_.error() != wire::FrameError::None) {
     refuseFrame(decoder_.error() == wire::FrameError::TooLarge ? v1::Error::FRAME_TOO_LARGE : v1::Error::BAD_FRAME,
-                decoder_.errorMessage());
+                decoder_.errorMessage() + (welcomed_ || decoder_.error() != wire::FrameError::TooLarge
+                                               ? std::string()
+                                               : " allowed before Hello"));
   }
 }
 
@@ -122,6 +155,11 @@ void Connection::writeMore() {
                         return;
                       }
                       self->writeMore();
+                      if (self->open_ && !self->heldBack()) {
+                        // Output drained below the cap: the held-back input goes on.
+                        self->deliverFrames();
+                        self->readMore();
+                      }
                       self->continueClosing();
                     });
 }
@@ -131,10 +169,12 @@ void Connection::close(const std::string& why) {
   const std::shared_ptr<Connection> self = shared_from_this();  // onGone drops the server's reference
   open_ = false;
   server_.onGone(*this, why);
-  grace_timer_.expires_after(close_grace_);
+  grace_timer_.expires_after(limits_.close_grace);
   grace_timer_.async_wait([self](const asio::error_code& error) {
     if (!error) self->closeSocket();
   });
+  hello_timer_.cancel();
+  readMore();  // a held-back connection drains its input while closing
   continueClosing();
 }
 
@@ -152,6 +192,7 @@ void Connection::closeSocket() {
   if (socket_closed_) return;
   socket_closed_ = true;
   grace_timer_.cancel();
+  hello_timer_.cancel();
   asio::error_code ignored;
   socket_.close(ignored);
 }

@@ -27,10 +27,19 @@ class TcpServer;
 
 class Connection : public std::enable_shared_from_this<Connection> {
  public:
-  Connection(TcpServer& server, asio::ip::tcp::socket socket, ConnectionId id, std::size_t maxFrameBytes,
-             std::chrono::milliseconds closeGrace);
+  /// Limits of one connection (TcpServerOptions has their meaning and defaults).
+  struct Limits {
+    std::size_t max_frame_bytes = 0;        ///< after Hello [bytes]
+    std::size_t max_hello_frame_bytes = 0;  ///< before Hello [bytes]
+    std::size_t max_queued_bytes = 0;       ///< output above which input is not read [bytes]
+    std::chrono::milliseconds hello_timeout{0};  ///< zero: none
+    std::chrono::milliseconds close_grace{0};
+  };
 
-  /// Starts reading; messages go to TcpServer::onMessage until the connection is gone.
+  Connection(TcpServer& server, asio::ip::tcp::socket socket, ConnectionId id, const Limits& limits);
+
+  /// Starts reading (and the Hello timeout); messages go to TcpServer::onMessage until the
+  /// connection is gone.
   void start();
   /// Queues one message (dropped once the connection is closing).
   void send(const v1::ServerMessage& message);
@@ -42,7 +51,8 @@ class Connection : public std::enable_shared_from_this<Connection> {
   [[nodiscard]] const std::string& peer() const { return peer_; }
   /// Passed Hello and was handed to the SessionHandler.
   [[nodiscard]] bool welcomed() const { return welcomed_; }
-  void setWelcomed() { welcomed_ = true; }
+  /// Passed Hello: the full frame cap applies and the Hello timeout stops.
+  void setWelcomed();
   [[nodiscard]] bool open() const { return open_; }
 
  private:
@@ -50,6 +60,10 @@ class Connection : public std::enable_shared_from_this<Connection> {
   void onRead(const asio::error_code& error, std::size_t bytes);
   void deliverFrames();
   void writeMore();
+  /// Output queued and in flight [bytes].
+  [[nodiscard]] std::size_t queuedBytes() const { return pending_.size() + inflight_.size(); }
+  /// Input is held back while the client does not take its output (back-pressure).
+  [[nodiscard]] bool heldBack() const { return open_ && queuedBytes() > limits_.max_queued_bytes; }
   /// Closing: FIN once the queue is empty, the socket once the client hung up too.
   void continueClosing();
   void closeSocket();
@@ -57,7 +71,8 @@ class Connection : public std::enable_shared_from_this<Connection> {
   TcpServer& server_;
   asio::ip::tcp::socket socket_;
   asio::steady_timer grace_timer_;
-  std::chrono::milliseconds close_grace_;
+  asio::steady_timer hello_timer_;
+  Limits limits_;
   ConnectionId id_;
   std::string peer_;
   wire::FrameDecoder decoder_;
@@ -65,6 +80,8 @@ class Connection : public std::enable_shared_from_this<Connection> {
   std::string pending_;   ///< frames queued while a write is in flight
   std::string inflight_;  ///< the frames being written
   bool writing_ = false;
+  bool reading_ = false;      ///< a read is outstanding
+  bool warned_behind_ = false;  ///< the first hold-back was logged
   bool welcomed_ = false;
   bool open_ = true;        ///< messages are delivered and accepted
   bool read_done_ = false;  ///< the client hung up (EOF or error)

@@ -3,6 +3,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <csignal>
 #include <exception>
 #include <utility>
@@ -84,8 +85,21 @@ void TcpServer::accept() {
       return;
     }
     const ConnectionId id = next_id_++;
-    auto connection =
-        std::make_shared<Connection>(*this, std::move(socket), id, options_.max_frame_bytes, options_.close_grace);
+    const Connection::Limits limits{options_.max_frame_bytes, options_.max_hello_frame_bytes,
+                                    options_.max_queued_bytes, options_.hello_timeout, options_.close_grace};
+    auto connection = std::make_shared<Connection>(*this, std::move(socket), id, limits);
+    const auto unwelcomed = static_cast<std::size_t>(
+        std::count_if(connections_.begin(), connections_.end(), [](const auto& entry) { return !entry.second->welcomed(); }));
+    if (unwelcomed >= options_.max_unwelcomed) {
+      // Refused before it is served: it never reaches the handler or the connection table.
+      const std::string what = "too many connections awaiting Hello (" + std::to_string(unwelcomed) +
+                               "); connect again later";
+      spdlog::warn("connection {} from {}: {}", id, connection->peer(), what);
+      connection->send(fatalError(v1::Error::SERVER_BUSY, what, "connection"));
+      connection->close(what);
+      accept();
+      return;
+    }
     spdlog::info("connection {} from {}", id, connection->peer());
     connections_.emplace(id, connection);
     connection->start();

@@ -102,6 +102,15 @@ class ProgressMeter {
 
 }  // namespace
 
+void checkHeadless(TranslatedScene& scene) {
+  const RunOptions& run = scene.run;
+  core::requirePositive(run.field_prefix + ".output.progress_interval_s", run.progress_interval);
+  if (!scene.world.initialized()) scene.world.initialize();
+  const RunPlan plan = planRun(run, scene.world.settings().time_step, true);
+  for (const std::string& warning : plan.warnings) spdlog::warn("{}", warning);
+  for (const std::string& warning : core::sampleScheduleWarnings(scene.world)) spdlog::warn("{}", warning);
+}
+
 RunSummary runHeadless(TranslatedScene& scene) {
   core::World& world = scene.world;
   const RunOptions& run = scene.run;

@@ -123,7 +123,7 @@ RunOptions toRunOptions(const v1::SimulationBox& box, const std::string& prefix,
   RunOptions run;
   run.field_prefix = prefix;
   run.end_time = box.end_time();
-  if (use == SceneUse::Cosim) {
+  if (use != SceneUse::Headless) {
     core::requireNonNegative(prefix + ".end_time", run.end_time);
   } else {
     core::requirePositive(prefix + ".end_time", run.end_time);
@@ -277,7 +277,8 @@ TranslatedScene translateScene(const v1::Scene& scene, const std::filesystem::pa
         const std::string prefix = path + ".pit_generator";
         const std::uint32_t material =
             resolveMaterial(materials, component.pit_generator().material(), prefix + ".material");
-        addPitGenerator(component.pit_generator(), component.name(), material, prefix, out.world);
+        const core::PitSpec spec = pitSpec(component.pit_generator(), material, prefix, out.world);
+        if (use != SceneUse::CosimCheck) core::generatePit(out.world, spec, component.name(), prefix);
         break;
       }
       case v1::ComponentDeclaration::kParticleSink:

@@ -164,8 +164,8 @@ void addParticleSource(const v1::ParticleSource& source, const std::string& name
   core::addParticleSource(world, name, std::move(spec), prefix);
 }
 
-core::PitReport addPitGenerator(const v1::PitGenerator& pit, const std::string& name, std::uint32_t material,
-                                const std::string& prefix, core::World& world) {
+core::PitSpec pitSpec(const v1::PitGenerator& pit, std::uint32_t material, const std::string& prefix,
+                      const core::World& world) {
   core::PitSpec spec;
   const bool corners = pit.has_lower() || pit.has_upper();
   const bool centred = pit.has_centre() || pit.has_size();
@@ -200,7 +200,9 @@ core::PitReport addPitGenerator(const v1::PitGenerator& pit, const std::string& 
   if (pit.has_overfill()) spec.overfill = pit.overfill();
   spec.kinetic_energy_threshold = pit.kinetic_energy_threshold();
   spec.max_settle_time = pit.max_settle_time();
-  return core::generatePit(world, spec, name, prefix);
+  const core::ClumpTemplate* shape = spec.clump_template ? &world.clumpTemplates()[*spec.clump_template] : nullptr;
+  spec.validate(prefix, shape != nullptr ? shape->boundingRadius() : 0.0);
+  return spec;
 }
 
 }  // namespace demlink::server

@@ -68,6 +68,35 @@ TEST(DemlinkRun, BadSceneExitsTwoNamingTheField) {
   EXPECT_FALSE(std::filesystem::exists(dir / "out" / "summary.csv"));
 }
 
+/// --check validates without running: nothing is written; a bad value, or a time step
+/// above the critical one (found only when the world initialises), exits 2 naming the field.
+TEST(DemlinkRun, CheckValidatesWithoutRunning) {
+  const test::ScratchDir scratch;
+  const std::filesystem::path& dir = scratch.path();
+  const std::string good = test::tinySceneJson(0.01, 0.0025);
+  test::writeText(dir / "good.json", good);
+  const Result valid = runTool({"--check", (dir / "good.json").string(), "--output", (dir / "out").string()}, dir);
+  EXPECT_EQ(valid.exit_code, 0) << valid.output;
+  EXPECT_NE(valid.output.find("good.json: valid"), std::string::npos) << valid.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "out")) << "--check writes nothing";
+
+  std::string bad = good;
+  bad.replace(bad.find("\"density\": 2500"), 15, "\"density\": -1");
+  test::writeText(dir / "bad.json", bad);
+  const Result invalid = runTool({"--check", (dir / "bad.json").string()}, dir);
+  EXPECT_EQ(invalid.exit_code, 2) << invalid.output;
+  EXPECT_NE(invalid.output.find("components[1].material.density = -1"), std::string::npos) << invalid.output;
+
+  std::string unsafe = good;
+  const std::size_t at = unsafe.find("\"time_step\"");
+  ASSERT_NE(at, std::string::npos) << unsafe;
+  unsafe.replace(at, unsafe.find_first_of(",}", at) - at, "\"time_step\": 0.01");
+  test::writeText(dir / "unsafe.json", unsafe);
+  const Result tooLarge = runTool({"--check", (dir / "unsafe.json").string()}, dir);
+  EXPECT_EQ(tooLarge.exit_code, 2) << tooLarge.output;
+  EXPECT_NE(tooLarge.output.find("time_step = 0.01"), std::string::npos) << tooLarge.output;
+}
+
 TEST(DemlinkRun, BadInputNeverCrashes) {
   const test::ScratchDir scratch;
   const std::filesystem::path& dir = scratch.path();

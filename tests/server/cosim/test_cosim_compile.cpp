@@ -11,7 +11,7 @@ TEST(CosimCompile, ExpectedCountCompilesOnTheLastDeclaration) {
   ScratchDir dir;
   CosimHarness h(dir.path());
   h.hello(1);
-  h.declare(1, boxJson(1e-5, 0.0, R"("coupling": {"expected_count": 3})"));
+  h.declare(1, boxJson(1e-5, 0.0, R"("coupling": {"expected_count": 3})", 2e-5));  // exchanged: the run can advance
   h.declare(1, smallBedJson()[0]);
   EXPECT_FALSE(h.host().simulationRunning());
   EXPECT_FALSE(h.compiled(1));
@@ -28,7 +28,7 @@ TEST(CosimCompile, ExpectedNamesWaitForEveryName) {
   CosimHarness h(dir.path());
   h.hello(1);
   h.hello(2);
-  h.declare(1, boxJson(1e-5, 0.0, R"("coupling": {"expected_names": ["glass", "floor"]})"));
+  h.declare(1, boxJson(1e-5, 0.0, R"("coupling": {"expected_names": ["glass", "floor"]})", 2e-5));
   h.declare(2, smallBedJson()[1]);
   EXPECT_FALSE(h.host().simulationRunning());
   h.declare(1, smallBedJson()[0]);
@@ -43,7 +43,7 @@ TEST(CosimCompile, QuietPeriodCompilesViaPoll) {
   ScratchDir dir;
   CosimHarness h(dir.path());
   h.hello(1);
-  h.declare(1, boxJson(1e-5, 0.0));
+  h.declare(1, boxJson(1e-5, 0.0, "", 2e-5));
   h.declare(1, smallBedJson()[0]);
   h.advanceClock(1.5);
   h.poll();

@@ -121,19 +121,27 @@ TEST(CosimFaults, PackageNotYetDue) {
   expectEnded(h, dir.path(), 2, 1, v1::Error::OUT_OF_ORDER, "data.step", v1::Error::PEER_DISCONNECTED);
 }
 
-TEST(CosimFaults, PackageBeforeCompiled) {
+/// Before the compile only the offender leaves: the others' assembly goes on and compiles.
+TEST(CosimFaults, PackageBeforeCompiledRemovesOnlyTheOffender) {
   ScratchDir dir;
   CosimHarness h(dir.path());
   h.hello(1, "alpha");
   h.hello(2, "beta");
-  h.declare(1, boxJson(1e-5, 0.0, R"("coupling": {"expected_count": 3})"));
+  h.declare(1, boxJson(1e-5, 0.0, R"("coupling": {"expected_count": 3})", 2e-5));
+  h.declare(2, R"({"name": "stray", "material": {}})");
   h.sample(2, 1, 0);
   ASSERT_EQ(h.errors(2).size(), 1u);
   EXPECT_EQ(h.errors(2)[0].code(), v1::Error::OUT_OF_ORDER);
   EXPECT_EQ(h.errors(2)[0].field(), "data");
-  EXPECT_TRUE(h.finished(1));
-  EXPECT_EQ(h.host().simulationsFinished(), 1u);
-  secondSimulationCompletes(h, dir.path());
+  EXPECT_TRUE(h.finished(2));
+  EXPECT_TRUE(h.closed(2));
+  EXPECT_FALSE(h.finished(1)) << "alpha's assembly is not broken by beta";
+  EXPECT_TRUE(h.errors(1).empty());
+  EXPECT_EQ(h.host().simulationsFinished(), 0u);
+  h.declare(1, smallBedJson()[0]);
+  h.declare(1, R"({"name": "view", "communication_interval": 4e-5, "particle_view": {}})");
+  ASSERT_TRUE(h.compiled(1)) << "beta's declaration was withdrawn: alpha's three complete the set";
+  EXPECT_EQ(h.compiled(1)->all_components_size(), 3);
 }
 
 TEST(CosimFaults, DeclareAfterCompiled) {

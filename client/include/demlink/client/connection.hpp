@@ -21,6 +21,9 @@ namespace demlink::client {
 struct ConnectOptions {
   std::string client_name = "demlink-client";  ///< shown in the server's logs and errors
   std::string access_token;                    ///< the server's --token, if it requires one
+  /// Hello.simulation: connections naming the same simulation are assembled together;
+  /// while one is being assembled the server refuses a client naming another.
+  std::string simulation;
   /// Bound of every blocking call (connect, send, one receive) [ms]. It must exceed the
   /// longest time the server may need to simulate one interval plus the time the slowest
   /// other client takes to send its package.

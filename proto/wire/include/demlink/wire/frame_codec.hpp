@@ -45,6 +45,8 @@ class FrameDecoder {
   /// Bytes received but not yet returned as a frame (a truncated frame at EOF) [bytes].
   [[nodiscard]] std::size_t pendingBytes() const { return buffer_.size() - offset_; }
   [[nodiscard]] std::size_t maxFrameBytes() const { return max_; }
+  /// Changes the cap for the frames not yet returned (e.g. larger once a peer is trusted).
+  void setMaxFrameBytes(std::size_t maxFrameBytes) { max_ = maxFrameBytes; }
 
  private:
   std::string buffer_;

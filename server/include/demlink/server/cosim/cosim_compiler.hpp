@@ -84,6 +84,14 @@ class CosimCompiler {
   /// Neither expected_count nor expected_names is given (or there is no SimulationBox yet):
   /// the compile waits for the quiet period.
   [[nodiscard]] bool usesQuietPeriod() const;
+  /// What the declared set still lacks, for the assembly timeout's Error: the field that
+  /// made the set incomplete (e.g. "box.simulation_box.coupling.expected_count", or
+  /// "simulation_box" when none is declared yet) and a sentence saying what is missing.
+  struct Missing {
+    std::string field;
+    std::string what;
+  };
+  [[nodiscard]] Missing missing() const;
   [[nodiscard]] const std::vector<DeclaredComponent>& declarations() const { return declared_; }
   /// Declarations that came from clients [-].
   [[nodiscard]] std::size_t remoteCount() const;

@@ -8,8 +8,10 @@
 /// motion coupling, outputs, faults) is testable in-process, and a recorded session can be
 /// replayed without a network (recorder).
 ///
-/// One simulation at a time. It collects declarations (the scene file's plus the clients'),
-/// compiles when the SimulationBox's expected set is complete or after the quiet period,
+/// One simulation at a time. It collects declarations (the scene file's plus the clients'
+/// that named the same Hello.simulation as the first one), compiles when the
+/// SimulationBox's expected set is complete or after the quiet period (or gives up after
+/// the assembly timeout),
 /// answers every connection with Compiled, then runs the sample grid: at each step where
 /// components are due it waits for exactly those, advances the world to the next due step
 /// and answers each component whose interval ended there. It ends when every connection
@@ -43,6 +45,11 @@ struct CosimOptions {
   bool overwrite = false;
   double quiet_period_s = 2.0;     ///< compile this long after the last Declare when nothing is expected
   double client_timeout_s = 30.0;  ///< a due component's package may take this long [s]
+  /// A pending simulation not compiled this long after its first client joined ends with
+  /// TIMEOUT to its clients, so a set that never completes cannot hold the server [s]; 0: never.
+  double assembly_timeout_s = 60.0;
+  /// A running simulation logs a progress line this often [s]; 0: never.
+  double progress_interval_s = 10.0;
   std::filesystem::path record_file;  ///< non-empty: append every received message (docs/protocol.md)
   std::string server_name = "demlink-server";
 };
@@ -74,6 +81,9 @@ class CosimHost final : public SessionHandler {
   /// Every component due now whose package is missing times out, as poll() does after the
   /// client timeout (the session replay calls it at a recorded TIMEOUT marker).
   std::vector<Outgoing> expireWaitNow(SteadyClock::time_point now);
+  /// The pending simulation ends with TIMEOUT to its clients, as poll() does after the
+  /// assembly timeout (the session replay calls it at a recorded ASSEMBLY_TIMEOUT marker).
+  std::vector<Outgoing> expireAssemblyNow(SteadyClock::time_point now);
   /// The output directory of the running (or, after it ended, the last) simulation; empty
   /// before the first compile.
   [[nodiscard]] std::filesystem::path lastOutputDirectory() const;

@@ -34,6 +34,18 @@ struct TcpServerOptions {
   std::uint16_t port = 0;                    ///< 0: an ephemeral port (see TcpServer::port())
   std::string access_token;                  ///< empty: Hello needs no token
   std::size_t max_frame_bytes = wire::kDefaultMaxFrameBytes;  ///< largest accepted payload [bytes]
+  /// Largest payload before Hello passed [bytes]: a Hello is a few hundred bytes, and an
+  /// unauthenticated peer must not make the server buffer max_frame_bytes.
+  std::size_t max_hello_frame_bytes = 64u << 10;
+  /// A connection that has not passed Hello this long after it was accepted gets TIMEOUT and
+  /// is closed (slow or idle peers cannot hold sockets forever); zero: no limit.
+  std::chrono::milliseconds hello_timeout{10000};
+  /// Connections awaiting Hello at once; one more gets SERVER_BUSY and is closed [-].
+  std::size_t max_unwelcomed = 64;
+  /// Output queued for one connection above which its input is no longer read [bytes]:
+  /// every answer follows a client's message, so a client that does not read stops being
+  /// served, its memory stays bounded, and the host's client timeout ends it.
+  std::size_t max_queued_bytes = 16u << 20;
   /// Checked after every handler call; true: flush everything, close and return from run()
   /// (demlink-server --once). Not called when empty.
   std::function<bool()> stop_when;

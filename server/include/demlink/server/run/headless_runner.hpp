@@ -41,4 +41,9 @@ struct RunSummary {
 /// std::runtime_error if output cannot be written.
 RunSummary runHeadless(TranslatedScene& scene);
 
+/// What runHeadless checks before its first step, without stepping or writing anything
+/// (demlink-run --check): the world initialises (time step against the critical one) and
+/// the run's intervals become steps. Throws core::InputError naming the field.
+void checkHeadless(TranslatedScene& scene);
+
 }  // namespace demlink::server

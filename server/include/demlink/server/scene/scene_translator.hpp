@@ -28,8 +28,10 @@ struct TranslatedScene {
 };
 
 /// What the scene is translated for. A co-simulation may run without an end time
-/// (end_time 0: until every client said Bye); a headless run needs one.
-enum class SceneUse { Headless, Cosim };
+/// (end_time 0: until every client said Bye); a headless run needs one. CosimCheck is
+/// the server's start-up check of its scene file: as Cosim, but a pit_generator's fields
+/// are checked without settling the pit (each compile settles it).
+enum class SceneUse { Headless, Cosim, CosimCheck };
 
 /// Validates and translates a scene. `sceneDirectory` anchors relative paths.
 /// Throws core::InputError naming the offending field (for a mesh_body whose

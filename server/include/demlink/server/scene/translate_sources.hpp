@@ -25,8 +25,9 @@ void addSingleParticle(const v1::SingleParticle& particle, std::uint32_t materia
 void addParticleSource(const v1::ParticleSource& source, const std::string& name, std::uint32_t material,
                        const std::string& fieldPrefix, core::World& world);
 
-/// Settles the pit and adds its particles to the world.
-core::PitReport addPitGenerator(const v1::PitGenerator& pit, const std::string& name, std::uint32_t material,
-                                const std::string& fieldPrefix, core::World& world);
+/// The pit's specification, its fields checked (core::generatePit settles it and adds
+/// its particles to the world).
+core::PitSpec pitSpec(const v1::PitGenerator& pit, std::uint32_t material, const std::string& fieldPrefix,
+                      const core::World& world);
 
 }  // namespace demlink::server
