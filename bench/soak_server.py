@@ -122,7 +122,6 @@ def drop_mid_run(port, rng, group):
 
 def stop_reading(port, rng, group):
     """Declares a view with the box and sends its packages without reading any answer."""
-    sock = connect_raw(port)
     hello = protocol_pb2.ClientMessage()
     hello.hello.protocol_version = 1
     hello.hello.client_name = "soak-stop-reading"
@@ -138,42 +137,35 @@ def stop_reading(port, rng, group):
             m.data.component_id = component
             m.data.step = step
             burst += encode_frame(m)
-    try:
-        sock.sendall(burst)
-        time.sleep(rng.uniform(1.0, 4.0))  # not reading
-    except OSError:
-        pass
-    drain_until_closed(sock)
-    sock.close()
+    send_then_drain(port, burst, pause_s=rng.uniform(1.0, 4.0))
     return "stopped reading"
 
 
-def garbage(port, rng, group):
+def send_then_drain(port, data, pause_s=0.0):
+    """Sends `data` on a new connection, reads nothing for `pause_s`, then reads until the
+    server closes the connection."""
     sock = connect_raw(port)
     try:
-        sock.sendall(bytes(rng.getrandbits(8) for _ in range(rng.randint(1, 4096))))
+        sock.sendall(data)
+        time.sleep(pause_s)
     except OSError:
         pass
     drain_until_closed(sock)
     sock.close()
+
+
+def garbage(port, rng, group):
+    send_then_drain(port, bytes(rng.getrandbits(8) for _ in range(rng.randint(1, 4096))))
     return "garbage"
 
 
 def huge_frame_before_hello(port, rng, group):
-    sock = connect_raw(port)
-    try:
-        sock.sendall(b"\x80\x80\x80\x1e" + b"x" * (1 << 20))  # announces 60 MiB
-    except OSError:
-        pass
-    drain_until_closed(sock)
-    sock.close()
+    send_then_drain(port, b"\x80\x80\x80\x1e" + b"x" * (1 << 20))  # announces 60 MiB
     return "huge frame before Hello"
 
 
 def silent(port, rng, group):
-    sock = connect_raw(port)
-    drain_until_closed(sock)  # the Hello timeout closes it
-    sock.close()
+    send_then_drain(port, b"")  # the Hello timeout closes it
     return "silent"
 
 
@@ -291,6 +283,15 @@ def main():
               f"max {max_rss * mb:.1f}")
         print(f"open fds:  start {start_fds}, end {end_fds}, max {max_fds}")
         print(f"last client after the soak: {last}")
+        with open(log_path) as f:
+            server_log = f.read()
+        for what, marker in (("output held back", "not taken by the client"),
+                             ("client timeouts", "timeout: no package"),
+                             ("assembly timeouts", "was not compiled within"),
+                             ("no Hello in time", "closed: no Hello within"),
+                             ("large frames before Hello", "allowed before Hello"),
+                             ("bad frames", "closed: bad frame")):
+            print(f"server log: {server_log.count(marker):6d}  {what}")
         failed = []
         if end_rss > start_rss + args.rss_slack_mb * (1 << 20):
             failed.append(f"RSS grew by {(end_rss - start_rss) * mb:.1f} MiB")
