@@ -341,6 +341,12 @@ struct CosimHost::Impl {
       endSimulation(out, "all clients said Bye");
       return;
     }
+    if (sim->compiled().end_step == 0 && !sim->scheduler().anyActive()) {
+      // Nothing exchanged any more and no end time: the world could never advance again,
+      // and the clients left would hold the server for as long as they stay connected.
+      endSimulation(out, "no component is exchanged any more and there is no end time");
+      return;
+    }
     if (sim->scheduler().complete()) run(out, now);
   }
 

@@ -129,6 +129,23 @@ TEST(CosimAssembly, ARunThatCouldNeverAdvanceIsRefusedAtCompile) {
   EXPECT_TRUE(welcomed(h, 2));
 }
 
+/// The last client that exchanges anything says Bye while one that only declared stays:
+/// with no end time the world could never advance again, so the simulation ends.
+TEST(CosimAssembly, ARunThatCanNoLongerAdvanceEndsWhenTheLastExchangingClientLeaves) {
+  ScratchDir dir;
+  CosimHarness h(dir.path());
+  h.hello(1, "alpha");
+  h.hello(2, "beta");
+  h.declare(1, boxJson(1e-5, 0.0, R"("coupling": {"expected_count": 2})", 2e-5));
+  h.declare(2, smallBedJson()[0]);  // declared, not exchanged
+  ASSERT_TRUE(h.compiled(2));
+  h.bye(1);
+  EXPECT_FALSE(h.host().simulationRunning());
+  ASSERT_TRUE(h.finished(2));
+  EXPECT_EQ(h.finished(2)->reason(), "no component is exchanged any more and there is no end time");
+  EXPECT_TRUE(h.closed(2));
+}
+
 TEST(CosimAssembly, TheAssemblyTimeoutIsReplayed) {
   ScratchDir dir;
   const std::filesystem::path record = dir.path() / "session.dlrec";
