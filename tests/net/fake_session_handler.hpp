@@ -192,4 +192,28 @@ class RunningServer {
   std::thread thread_;
 };
 
+/// The client receives a fatal Error with `code` (naming `field` when one is given), then
+/// the server closes the connection.
+inline void expectRefused(TestClient& client, v1::Error::Code code, const std::string& messagePart = "",
+                          const std::string& field = "") {
+  const std::optional<v1::ServerMessage> answer = client.receive(5000ms);
+  ASSERT_TRUE(answer.has_value()) << "no answer";
+  ASSERT_TRUE(answer->has_error()) << answer->DebugString();
+  EXPECT_EQ(answer->error().code(), code) << answer->DebugString();
+  if (!field.empty()) {
+    EXPECT_EQ(answer->error().field(), field);
+  }
+  EXPECT_TRUE(answer->error().fatal());
+  EXPECT_NE(answer->error().message().find(messagePart), std::string::npos) << answer->error().message();
+  EXPECT_TRUE(client.waitForClose(5000ms)) << "the server must close the connection after a fatal error";
+}
+
+/// A new connection still completes Hello (the server survived).
+inline void expectStillServing(const RunningServer& server) {
+  TestClient client(server.port());
+  const std::optional<v1::ServerMessage> welcome = client.hello();
+  ASSERT_TRUE(welcome.has_value());
+  EXPECT_TRUE(welcome->has_welcome()) << welcome->DebugString();
+}
+
 }  // namespace demlink::server::test

@@ -20,25 +20,6 @@ v1::ClientMessage dataMessage(std::uint32_t component, std::uint64_t step) {
   return message;
 }
 
-/// The client receives a fatal Error with `code`, then the server closes the connection.
-void expectRefused(TestClient& client, v1::Error::Code code, const std::string& messagePart = "") {
-  const std::optional<v1::ServerMessage> answer = client.receive();
-  ASSERT_TRUE(answer.has_value()) << "no answer";
-  ASSERT_TRUE(answer->has_error()) << answer->DebugString();
-  EXPECT_EQ(answer->error().code(), code) << answer->DebugString();
-  EXPECT_TRUE(answer->error().fatal());
-  EXPECT_NE(answer->error().message().find(messagePart), std::string::npos) << answer->error().message();
-  EXPECT_TRUE(client.waitForClose()) << "the server must close the connection after a fatal error";
-}
-
-/// A new connection still completes Hello (the server survived).
-void expectStillServing(const RunningServer& server) {
-  TestClient client(server.port());
-  const std::optional<v1::ServerMessage> welcome = client.hello();
-  ASSERT_TRUE(welcome.has_value());
-  EXPECT_TRUE(welcome->has_welcome()) << welcome->DebugString();
-}
-
 TEST(TcpServer, HelloIsWelcomedAndPackagesAreEchoed) {
   RunningServer server;
   TestClient client(server.port());

@@ -28,32 +28,13 @@ std::size_t peakResidentBytes() {
 /// Restarts the peak at the current resident size (Linux: "5" > clear_refs).
 void resetPeakResident() { std::ofstream("/proc/self/clear_refs") << "5"; }
 
-/// The next message is a fatal Error with `code` naming `field`, then the server closes.
-void expectFatal(TestClient& client, v1::Error::Code code, const std::string& field, const std::string& messagePart) {
-  const std::optional<v1::ServerMessage> answer = client.receive(5000ms);
-  ASSERT_TRUE(answer.has_value()) << "no answer";
-  ASSERT_TRUE(answer->has_error()) << answer->DebugString();
-  EXPECT_EQ(answer->error().code(), code) << answer->DebugString();
-  EXPECT_EQ(answer->error().field(), field);
-  EXPECT_TRUE(answer->error().fatal());
-  EXPECT_NE(answer->error().message().find(messagePart), std::string::npos) << answer->error().message();
-  EXPECT_TRUE(client.waitForClose(5000ms));
-}
-
-void expectServing(const RunningServer& server) {
-  TestClient client(server.port());
-  const std::optional<v1::ServerMessage> welcome = client.hello();
-  ASSERT_TRUE(welcome.has_value());
-  EXPECT_TRUE(welcome->has_welcome()) << welcome->DebugString();
-}
-
 TEST(TcpServerLimits, LargeFramesAreRefusedBeforeHelloAndAcceptedAfter) {
   RunningServer server;
   {
     TestClient stranger(server.port());
     stranger.sendRaw("\x80\x80\x40");  // 2^20 bytes announced before Hello
-    expectFatal(stranger, v1::Error::FRAME_TOO_LARGE, "frame",
-                "frame of 1048576 bytes exceeds the cap of 65536 bytes allowed before Hello");
+    expectRefused(stranger, v1::Error::FRAME_TOO_LARGE,
+                  "frame of 1048576 bytes exceeds the cap of 65536 bytes allowed before Hello", "frame");
   }
   TestClient client(server.port());
   ASSERT_TRUE(client.hello().has_value());
@@ -87,7 +68,7 @@ TEST(TcpServerLimits, UnauthenticatedLargeFramesDoNotGrowTheServer) {
   for (std::thread& stranger : strangers) stranger.join();
   const std::size_t growth = peakResidentBytes() - before;
   EXPECT_LT(growth, 64u << 20) << "peak RSS grew by " << growth << " bytes";
-  expectServing(server);
+  expectStillServing(server);
 }
 
 TEST(TcpServerLimits, ConnectionsWithoutHelloAreClosedAfterTheHelloTimeout) {
@@ -99,15 +80,15 @@ TEST(TcpServerLimits, ConnectionsWithoutHelloAreClosedAfterTheHelloTimeout) {
   slow.sendRaw("\x1b\x0a");  // the first two bytes of a Hello frame, then nothing
   TestClient welcomed(server.port());
   ASSERT_TRUE(welcomed.hello().has_value());
-  expectFatal(silent, v1::Error::TIMEOUT, "hello", "no Hello within 300 ms");
-  expectFatal(slow, v1::Error::TIMEOUT, "hello", "no Hello within 300 ms");
+  expectRefused(silent, v1::Error::TIMEOUT, "no Hello within 300 ms", "hello");
+  expectRefused(slow, v1::Error::TIMEOUT, "no Hello within 300 ms", "hello");
   EXPECT_EQ(server.handler().count("disconnected"), 0u) << "the welcomed connection stays";
   v1::ClientMessage package;
   package.mutable_data()->set_component_id(3);
   welcomed.send(package);
   const std::optional<v1::ServerMessage> echo = welcomed.receive();
   ASSERT_TRUE(echo.has_value() && echo->has_data());
-  expectServing(server);
+  expectStillServing(server);
 }
 
 TEST(TcpServerLimits, ConnectionsAwaitingHelloAreCapped) {
@@ -117,9 +98,9 @@ TEST(TcpServerLimits, ConnectionsAwaitingHelloAreCapped) {
   std::vector<std::unique_ptr<TestClient>> waiting;
   for (int k = 0; k < 3; ++k) waiting.push_back(std::make_unique<TestClient>(server.port()));
   TestClient extra(server.port());
-  expectFatal(extra, v1::Error::SERVER_BUSY, "connection", "too many connections awaiting Hello (3)");
+  expectRefused(extra, v1::Error::SERVER_BUSY, "too many connections awaiting Hello (3)", "connection");
   ASSERT_TRUE(waiting[0]->hello().has_value()) << "the waiting ones are still served";
-  expectServing(server);  // one slot is free again
+  expectStillServing(server);  // one slot is free again
 }
 
 /// A client sends 300 packages whose answers are 1 MiB each and reads nothing: the server
@@ -143,7 +124,7 @@ TEST(TcpServerLimits, AClientThatStopsReadingIsHeldBackWithBoundedMemory) {
   }
   reader.sendRaw(burst);
   std::this_thread::sleep_for(1500ms);  // time to answer all 300 if nothing held them back
-  expectServing(server);
+  expectStillServing(server);
   const std::size_t answered = server.handler().count("received 1");
   EXPECT_LT(answered, 60u) << "answers queued beyond the cap plus the socket buffers";
   const std::size_t growth = peakResidentBytes() - before;

@@ -118,7 +118,7 @@ void addOptions(CLI::App& app, CommandLine& line) {
 /// a simulation_box (a client declares it) is checked with a placeholder box; everything
 /// else the file references must be in the file. A pit is checked, not settled (each
 /// compile settles it).
-void checkBaseScene(const demlink::v1::Scene& scene, const std::filesystem::path& directory, const std::string& file) {
+void checkBaseScene(const demlink::v1::Scene& scene, const std::filesystem::path& directory) {
   demlink::v1::Scene whole = scene;
   const bool hasBox = std::any_of(scene.components().begin(), scene.components().end(),
                                   [](const demlink::v1::ComponentDeclaration& c) { return c.has_simulation_box(); });
@@ -127,8 +127,17 @@ void checkBaseScene(const demlink::v1::Scene& scene, const std::filesystem::path
     box.set_name("(start-up check)");
     box.mutable_simulation_box();
   }
-  static_cast<void>(demlink::server::translateScene(whole, directory, demlink::server::SceneUse::CosimCheck));
-  spdlog::info("scene {}: {} components checked", file, scene.components_size());
+  // Quiet: the first line printed stays "listening on" (scripts read the port from it), and
+  // each compile translates the scene again and prints its warnings there.
+  const spdlog::level::level_enum level = spdlog::get_level();
+  spdlog::set_level(spdlog::level::err);
+  try {
+    static_cast<void>(demlink::server::translateScene(whole, directory, demlink::server::SceneUse::CosimCheck));
+  } catch (...) {
+    spdlog::set_level(level);
+    throw;
+  }
+  spdlog::set_level(level);
 }
 
 demlink::server::CosimOptions hostOptions(const CommandLine& line) {
@@ -137,7 +146,7 @@ demlink::server::CosimOptions hostOptions(const CommandLine& line) {
     options.base_scene = demlink::server::loadSceneFile(*line.scene);
     const std::filesystem::path directory = std::filesystem::path(*line.scene).parent_path();
     options.scene_directory = directory.empty() ? std::filesystem::path(".") : directory;
-    checkBaseScene(options.base_scene, options.scene_directory, *line.scene);
+    checkBaseScene(options.base_scene, options.scene_directory);
   }
   options.assembly_timeout_s = line.assembly_timeout;
   options.progress_interval_s = line.progress;
