@@ -1,0 +1,29 @@
+/// Deformable body carried by a mesh (contract in deformable_attachment.hpp).
+#include "demlink/core/components/deformable_attachment.hpp"
+
+#include "demlink/core/deformable/deformable_body.hpp"
+#include "demlink/core/input_error.hpp"
+#include "demlink/core/world.hpp"
+
+namespace demlink::core {
+
+DeformableAttachment::DeformableAttachment(std::string name, std::size_t bodyIndex, std::size_t meshIndex)
+    : WorldComponent(std::move(name)), body_(bodyIndex), mesh_(meshIndex) {}
+
+void DeformableAttachment::initialize(World& world) {
+  if (mesh_ >= world.meshes().size()) {
+    throw InputError(name() + ".attached_to", std::to_string(mesh_), "no mesh body of that index");
+  }
+  if (body_ >= world.deformableBodies().size()) {
+    throw InputError(name() + ".attached_to", std::to_string(body_), "no deformable body of that index");
+  }
+  initial_orientation_ = world.meshes()[mesh_].orientation();
+}
+
+void DeformableAttachment::insertAndRemove(World& world) {
+  const MeshBody& mesh = world.meshes()[mesh_];
+  world.deformableBody(body_).setDrivenPose(mesh.position(), mesh.orientation() * initial_orientation_.conjugate(),
+                                            mesh.linearVelocity(), mesh.angularVelocity());
+}
+
+}  // namespace demlink::core
