@@ -25,6 +25,9 @@
 
 namespace demlink::core {
 
+class StateWriter;
+class StateReader;
+
 class DeformableSurface {
  public:
   DeformableSurface() = default;
@@ -40,6 +43,9 @@ class DeformableSurface {
   [[nodiscard]] const std::vector<Vec3>& positions() const { return positions_; }
   [[nodiscard]] const std::vector<Vec3>& velocities() const { return velocities_; }
   [[nodiscard]] const std::vector<std::array<std::uint32_t, 3>>& triangles() const { return triangles_; }
+  /// The positions under the name MeshBody gives its vertices, so the contact loop and the
+  /// near list (contact_stage.hpp, mesh_near_list.hpp) serve both kinds of surface.
+  [[nodiscard]] const std::vector<Vec3>& worldVertices() const { return positions_; }
   /// Per triangle: 1 = takes part in contacts, 0 = lost its support.
   [[nodiscard]] const std::vector<char>& active() const { return active_; }
   void setActive(std::size_t triangle, bool active);
@@ -57,6 +63,13 @@ class DeformableSurface {
   void markNeighbourBuild();
   /// Largest displacement of a surface node since the last mark [m].
   [[nodiscard]] double maxDisplacementSinceMark() const;
+
+  /// Checkpoint payload of what the surface keeps between steps besides the nodes the
+  /// body saves: the neighbour-build mark and the active flags (the world writes it).
+  void save(StateWriter& out) const;
+  /// Reads what save() wrote; sizes are checked against this surface (InputError via
+  /// the reader), and nothing changes unless the whole payload is valid.
+  void restore(StateReader& in);
 
  private:
   std::vector<Vec3> positions_;

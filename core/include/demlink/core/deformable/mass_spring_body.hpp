@@ -14,6 +14,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "demlink/core/deformable/deformable_body.hpp"
@@ -120,12 +121,37 @@ class MassSpringBody final : public DeformableBody {
   [[nodiscard]] double springEnergy() const;
 
  private:
+  /// Adds the forces of the intact springs to node_force_; with `tear`, springs over a
+  /// threshold break instead (recorded at `time` [s], their triangles deactivated).
+  void addSpringForces(bool tear, double time);
+  /// The free node with the largest sum of spring stiffness and that sum [N/m] (0: none).
+  [[nodiscard]] std::pair<std::size_t, double> stiffestFreeNode() const;
+
   std::string name_;
   DeformableSurface surface_;
   std::vector<SpringSpec> springs_;
   std::vector<char> intact_;
   std::vector<BrokenSpring> broken_;
-  // Node state and constraints: see mass_spring_body.cpp.
+  // Node positions and velocities live in surface_ (every node is a surface node).
+  std::vector<Vec3> reference_;       ///< positions as built [m]
+  std::vector<Vec3> node_force_;      ///< spring + contact force of the last endStep [N]
+  double node_mass_ = 0.0;            ///< [kg], equal for every node
+  std::vector<char> constraint_;      ///< per node: kFree, kFixed or kDriven (mass_spring_body.cpp)
+  std::vector<std::uint32_t> fixed_;  ///< fixed nodes, ascending
+  std::vector<std::uint32_t> driven_; ///< driven nodes, ascending
+  std::vector<Vec3> driven_offset_;   ///< per driven node: position - driven_reference as built [m]
+  Vec3 driven_position_ = Vec3::Zero();
+  Quat driven_orientation_ = Quat::Identity();
+  Vec3 driven_velocity_ = Vec3::Zero();
+  Vec3 driven_angular_velocity_ = Vec3::Zero();
+  NodeReaction fixed_reaction_;
+  NodeReaction driven_reaction_;
+  /// Triangles each spring supports (CSR: spring s -> triangles [offsets[s], offsets[s+1])).
+  std::vector<std::uint32_t> spring_triangle_offsets_;
+  std::vector<std::uint32_t> spring_triangles_;
+  double break_force_ = std::numeric_limits<double>::infinity();
+  double break_strain_ = std::numeric_limits<double>::infinity();
+  std::uint64_t steps_ = 0;  ///< endStep calls so far (time of a tear = steps_ * dt)
 };
 
 }  // namespace demlink::core
