@@ -34,7 +34,7 @@ TEST(DeformableOverTcp, DrivenCornersCarryTheWeightThenSpringsBreakUnderOverload
   session.add<client::Material>("steel").setDensity(7800.0).setYoungsModulus(2e8);
   auto& sheet = session.add<client::MassSpringBody>("sheet");
   // 5 x 5 nodes over 0.4 x 0.4 m; the four corners are driven, the reference is the centre.
-  sheet.setBox({0.0, 0.0, 0.0}, {0.4, 0.4, 0.0}, 0.1).setMaterial("steel").setSprings(kMass, 1e4, 60.0);
+  sheet.setBox({0.0, 0.0, -0.01}, {0.4, 0.4, 0.01}, 0.1).setMaterial("steel").setSprings(kMass, 1e4, 60.0);
   sheet.message().set_shear_factor(1.0);
   sheet.message().set_break_force(2000.0);
   for (const double x : {0.0, 0.4}) {

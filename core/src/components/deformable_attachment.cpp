@@ -3,6 +3,7 @@
 
 #include "demlink/core/deformable/deformable_body.hpp"
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/walls/coupled_motion.hpp"
 #include "demlink/core/world.hpp"
 
 namespace demlink::core {
@@ -22,8 +23,11 @@ void DeformableAttachment::initialize(World& world) {
 
 void DeformableAttachment::insertAndRemove(World& world) {
   const MeshBody& mesh = world.meshes()[mesh_];
-  world.deformableBody(body_).setDrivenPose(mesh.position(), mesh.orientation() * initial_orientation_.conjugate(),
-                                            mesh.linearVelocity(), mesh.angularVelocity());
+  const RigidTwist twist{mesh.linearVelocity(), mesh.angularVelocity()};
+  // The mesh is at t + dt already; the body takes the pose at t and moves it by the twist.
+  const RigidPose start = advancePose({mesh.position(), mesh.orientation() * initial_orientation_.conjugate()}, twist,
+                                      -world.settings().time_step);
+  world.deformableBody(body_).setDrivenPose(start.position, start.orientation, twist.linear, twist.angular);
 }
 
 }  // namespace demlink::core

@@ -5,7 +5,8 @@
 /// every world step each rigid body's coupling adds the step's wrench to its impulses,
 /// and at a stop the couplings whose interval ends there snap their mesh onto the target
 /// before the outputs are read; before every world step each client-driven deformable body
-/// gets its driving pose at the end of that step (the sample advanced by its twist).
+/// gets its driving pose and twist at the start of that step (the sample advanced by its
+/// twist; the body carries the pose through the step itself).
 #include "demlink/server/cosim/cosim_simulation.hpp"
 
 #include <fstream>
@@ -121,7 +122,7 @@ void CosimSimulation::retire(ConnectionId owner) {
 void CosimSimulation::stepWorld() {
   core::World& w = world();
   for (const auto& [index, drive] : drives_) {
-    const double seconds = static_cast<double>(w.stepCount() + 1 - drive.step) * compiled_.time_step;
+    const double seconds = static_cast<double>(w.stepCount() - drive.step) * compiled_.time_step;
     const core::RigidPose pose = core::advancePose(drive.sample, drive.twist, seconds);
     w.deformableBody(*compiled_.components[index].deformable)
         .setDrivenPose(pose.position, pose.orientation, drive.twist.linear, drive.twist.angular);

@@ -185,9 +185,11 @@ RunSummary runHeadless(TranslatedScene& scene) {
     spdlog::info("bounds (growing): lower ({}, {}, {}) m, upper ({}, {}, {}) m", bounds->lower.x(), bounds->lower.y(),
                  bounds->lower.z(), bounds->upper.x(), bounds->upper.y(), bounds->upper.z());
   }
-  spdlog::info("output: {} frames in {} (particles.pvd, summary.csv{}{})", summary.frames,
+  std::string deformables;
+  for (const auto& body : world.deformableBodies()) deformables += ", deformable_" + body->name() + ".pvd";
+  spdlog::info("output: {} frames in {} (particles.pvd, summary.csv{}{}{})", summary.frames,
                summary.output_directory.string(), world.planes().empty() ? "" : ", planes.vtp",
-               world.meshes().empty() ? "" : ", meshes.pvd");
+               world.meshes().empty() ? "" : ", meshes.pvd", deformables);
   return summary;
 }
 

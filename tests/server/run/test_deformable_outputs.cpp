@@ -23,7 +23,7 @@ std::string sheetScene(double endTime, double breakForce, double checkpointInter
       "output": {"vtk_interval": 0.05, "progress_interval_s": 60, "checkpoint_interval": )" << checkpointInterval << R"(}}},
     {"name": "glass", "material": {"density": 2500, "youngs_modulus": 1e7}},
     {"name": "sheet", "mass_spring_body": {
-      "box": {"lo": {"x": 0, "y": 0, "z": 0}, "hi": {"x": 0.4, "y": 0.4, "z": 0}, "node_spacing": 0.1},
+      "box": {"lo": {"x": 0, "y": 0, "z": -0.01}, "hi": {"x": 0.4, "y": 0.4, "z": 0.01}, "node_spacing": 0.1},
       "material": "glass", "total_mass": 10, "stiffness": 1e4, "damping": 20, "shear_factor": 1,
       "break_force": )" << breakForce << R"(,
       "fixed": {"nodes": [0, 4, 20, 24]}}},

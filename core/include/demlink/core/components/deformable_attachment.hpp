@@ -1,11 +1,13 @@
 #pragma once
 /// Carries the driven nodes of a deformable body with a rigid mesh body (a scene's
 /// mass_spring_body / fem_body "attached_to" a rigid_body, facet_body or mesh_body):
-/// every step, after the meshes moved (stage insert_remove) and before the deformable
-/// bodies move their nodes (stage deformable_motion), the body's driving pose becomes
-/// the mesh's pose relative to its pose at initialisation:
-///   position = mesh reference point,  orientation = q_mesh(t) q_mesh(0)^-1,
-///   twist    = the mesh's linear and angular velocity.
+/// every step, after the meshes moved to t + dt (stage insert_remove) and before the
+/// deformable bodies move their nodes (stage deformable_motion), the body's driving pose
+/// becomes the mesh's pose at t relative to its pose at initialisation, with its twist:
+///   position = mesh reference point,  orientation = q_mesh q_mesh(0)^-1  (both at t),
+///   twist    = the mesh's linear and angular velocity;
+/// the body carries that pose by the twist to t + dt, where the mesh is (exact for the
+/// constant twist a mesh keeps over a step).
 /// The body's driven reference must be the mesh's reference point at t = 0 (the scene
 /// translator sets it), so the driven nodes keep their place on the mesh.
 #include <cstddef>
