@@ -34,9 +34,9 @@ TEST(DeformableOverTcp, DrivenCornersCarryTheWeightThenSpringsBreakUnderOverload
   session.add<client::Material>("steel").setDensity(7800.0).setYoungsModulus(2e8);
   auto& sheet = session.add<client::MassSpringBody>("sheet");
   // 5 x 5 nodes over 0.4 x 0.4 m; the four corners are driven, the reference is the centre.
-  sheet.setBox({0.0, 0.0, -0.01}, {0.4, 0.4, 0.01}, 0.1).setMaterial("steel").setSprings(kMass, 1e4, 60.0);
+  sheet.setBox({0.0, 0.0, -0.01}, {0.4, 0.4, 0.01}, 0.1).setMaterial("steel").setSprings(kMass, 1e4, 300.0);
   sheet.message().set_shear_factor(1.0);
-  sheet.message().set_break_force(2000.0);
+  sheet.message().set_break_force(1000.0);
   for (const double x : {0.0, 0.4}) {
     for (const double y : {0.0, 0.4}) sheet.addDrivenRegion({x - 0.01, y - 0.01, -0.01}, {x + 0.01, y + 0.01, 0.01});
   }
@@ -48,8 +48,8 @@ TEST(DeformableOverTcp, DrivenCornersCarryTheWeightThenSpringsBreakUnderOverload
   EXPECT_NE(session.report().text().find("deformable sheet (mass_spring): 25 nodes"), std::string::npos)
       << session.report().text();
 
-  // 2 s: the sheet sags and comes to rest (damping ratio of the sag mode ~ 0.4).
-  while (box.time() < 2.0 - 0.5 * kInterval) {
+  // 4 s: the sheet sags and comes to rest (kinetic energy below 1e-5 J by then).
+  while (box.time() < 4.0 - 0.5 * kInterval) {
     sheet.setDrivenPose(centre, {});
     ASSERT_TRUE(session.exchange());
   }
