@@ -89,6 +89,7 @@ def main():
     broken_axis = bottom.twinx()
     broken_axis.step(sorted(broken_times) + [ts[-1]], list(range(1, len(broken_times) + 1)) + [len(broken_times)],
                      where="post", color="tab:red", label="broken springs")
+    broken_axis.set_ylim(0, max(1, 1.1 * len(broken_times)))
     broken_axis.set_ylabel("broken springs [-]", color="tab:red")
     fig.suptitle("Spheres falling on a mass-spring sheet pinned at its corners")
     fig.tight_layout()
