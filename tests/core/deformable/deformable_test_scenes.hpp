@@ -10,10 +10,11 @@ namespace demlink::core::test {
 
 /// A square sheet in the plane z = height, side `side` [m] centred on the origin, nodes
 /// `spacing` apart, with shear and bending springs; nodes within `pin` of its edge fixed
-/// (pin < 0: the four corners only).
+/// (pin < 0: the four corners only); `nodeDamping` [1/s] drags every free node.
 inline MassSpringSpec sheetSpec(double side, double spacing, double height, double mass, double stiffness,
-                                double damping, double pin) {
+                                double damping, double pin, double nodeDamping = 0.0) {
   MassSpringSpec spec;
+  spec.node_damping = nodeDamping;
   spec.name = "sheet";
   spec.total_mass = mass;
   spec.stiffness = stiffness;
