@@ -38,6 +38,22 @@ TEST(DeformableWorld, StagesOfADeformableSceneNameTheBody) {
   EXPECT_EQ(world.activeStages(), expected);
 }
 
+TEST(DeformableWorld, ASceneWithoutDeformablesRunsNoneOfTheirStages) {
+  World world(gravitySettings(2.0e-5));
+  world.addMaterial(test::testMaterial(0.5));
+  world.addPlane({"floor", Vec3::Zero(), Vec3::UnitZ(), 0});
+  world.addMesh(MeshBody("plate", {Vec3::Zero(), Vec3(1, 0, 0), Vec3(0, 1, 0)}, {{0, 1, 2}}, 0));
+  ParticleSpec ball;
+  ball.radius = 0.01;
+  ball.position = Vec3(0.2, 0.2, 0.5);
+  world.addParticle(ball);
+  const std::vector<std::string> expected{"mesh_motion",  "velocity_verlet", "neighbour_list",
+                                          "forces",       "particle_contacts:hertz_mindlin",
+                                          "plane_contacts", "mesh_contacts", "second_half_kick",
+                                          "advance_clock"};
+  EXPECT_EQ(world.activeStages(), expected);
+}
+
 TEST(DeformableWorld, SphereOnASingleLayerSheetIsHeld) {
   World world(gravitySettings(2.0e-5));
   world.addMaterial(test::testMaterial(0.5));
@@ -80,6 +96,29 @@ BedOnSheet bedOnSheet() {
     }
   }
   return scene;
+}
+
+TEST(DeformableWorld, MomentumOfSphereAndFreeSheetIsConservedThroughImpact) {
+  World world(test::fineSettings(2.0e-5, 2.0));
+  world.addMaterial(test::testMaterial(0.5, 0.3));
+  MassSpringBody& sheet = addSheet(world, test::sheetSpec(0.1, 0.02, 0.0, 0.01, 2000.0, 0.5, 0.0));
+  ParticleSpec ball;
+  ball.radius = 0.01;
+  ball.position = Vec3(0.013, -0.007, 0.0105);
+  ball.velocity = Vec3(0.3, 0.1, -1.0);
+  ball.angular_velocity = Vec3(0.0, 20.0, 0.0);
+  world.addParticle(ball);
+  world.initialize();
+  const auto momentum = [&] {
+    Vec3 p = world.particles().mass[0] * world.particles().velocity[0];
+    const double nodeMass = sheet.totalMass() / static_cast<double>(sheet.nodeCount());
+    for (std::size_t k = 0; k < sheet.nodeCount(); ++k) p += nodeMass * sheet.nodeVelocity(k);
+    return p;
+  };
+  const Vec3 before = momentum();
+  for (int n = 0; n < 1500; ++n) world.step();
+  ASSERT_GT(sheet.kineticEnergy(), 1e-3 * world.kineticEnergy()) << "the sphere must have hit the sheet";
+  EXPECT_LT((momentum() - before).norm(), 1e-12 * before.norm());
 }
 
 TEST(DeformableWorld, PinsCarryTheBedAndTheSheetOnceSettled) {

@@ -10,6 +10,7 @@
 #include "deformable/deformable_test_scenes.hpp"
 #include "demlink/core/deformable/mass_spring_body.hpp"
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/walls/stl_reader.hpp"
 
 namespace demlink::core {
 namespace {
@@ -234,6 +235,28 @@ TEST(MassSpringBody, DrivenNodesFollowTheirPoseRigidly) {
   const Vec3 expected = p + Eigen::AngleAxisd(2.0 * t, Vec3::UnitZ()) * r0;
   EXPECT_LT((flag.nodePosition(0) - expected).norm(), 1e-12);
   EXPECT_LT((flag.nodeVelocity(0) - (Vec3(0.5, 0.0, 0.0) + w.cross(expected - p))).norm(), 1e-12);
+}
+
+TEST(MassSpringBody, StlSurfaceGivesOneNodePerVertexAndOneSpringPerEdge) {
+  // A tetrahedron: 4 vertices, 6 edges, 4 faces (each vertex repeated in the file).
+  const std::vector<Vec3> vertices{Vec3::Zero(), Vec3(0.1, 0.0, 0.0), Vec3(0.0, 0.1, 0.0), Vec3(0.0, 0.0, 0.1)};
+  const std::vector<std::array<std::uint32_t, 3>> faces{{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
+  const std::string path = ::testing::TempDir() + "mass_spring_tetra.stl";
+  writeStlAscii(path, vertices, faces);
+  MassSpringSpec spec;
+  spec.name = "tetra";
+  spec.total_mass = 0.4;
+  spec.stiffness = 50.0;
+  spec.stl_path = path;
+  MassSpringBody tetra(spec, "tetra");
+  EXPECT_EQ(tetra.nodeCount(), 4u);
+  EXPECT_EQ(tetra.springs().size(), 6u);
+  EXPECT_EQ(tetra.surface().triangles().size(), 4u);
+  EXPECT_DOUBLE_EQ(tetra.totalMass(), 0.4);
+  for (const SpringSpec& spring : tetra.springs()) {
+    EXPECT_DOUBLE_EQ(spring.rest_length, (tetra.nodePosition(spring.a) - tetra.nodePosition(spring.b)).norm());
+    EXPECT_EQ(spring.stiffness, 50.0);
+  }
 }
 
 void expectInputError(const MassSpringSpec& spec, const std::string& field) {
