@@ -34,8 +34,9 @@ inline MassSpringSpec sheetSpec(double side, double spacing, double height, doub
       continue;
     }
     // Edge strips x = +-h and y = +-h.
-    spec.fixed_regions.push_back({Vec3(sx * h - reach, -h - reach, height - reach), Vec3(sx * h + reach, h + reach, height + reach)});
-    spec.fixed_regions.push_back({Vec3(-h - reach, sx * h - reach, height - reach), Vec3(h + reach, sx * h + reach, height + reach)});
+    const Vec3 r = Vec3::Constant(reach);
+    spec.fixed_regions.push_back({Vec3(sx * h, -h, height) - r, Vec3(sx * h, h, height) + r});
+    spec.fixed_regions.push_back({Vec3(-h, sx * h, height) - r, Vec3(h, sx * h, height) + r});
   }
   return spec;
 }
