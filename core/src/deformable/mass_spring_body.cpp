@@ -194,13 +194,17 @@ void MassSpringBody::addSpringForces(bool tear, double time) {
     if (tear && (std::abs(magnitude) > break_force_ || strain > break_strain_)) {
       intact_[s] = 0;
       broken_.push_back({s, time, 0.5 * (x[spring.a] + x[spring.b]), std::abs(magnitude), strain});
-      for (std::uint32_t k = spring_triangle_offsets_[s]; k < spring_triangle_offsets_[s + 1]; ++k) {
-        surface_.setActive(spring_triangles_[k], false);
-      }
+      deactivateTrianglesOf(s);
       continue;
     }
     node_force_[spring.a] += magnitude * e;
     node_force_[spring.b] -= magnitude * e;
+  }
+}
+
+void MassSpringBody::deactivateTrianglesOf(std::uint32_t spring) {
+  for (std::uint32_t k = spring_triangle_offsets_[spring]; k < spring_triangle_offsets_[spring + 1]; ++k) {
+    surface_.setActive(spring_triangles_[k], false);
   }
 }
 
@@ -372,6 +376,12 @@ void MassSpringBody::restore(StateReader& in) {
   node_force_ = std::move(forces);
   intact_ = std::move(intact);
   broken_ = std::move(broken);
+  // The surface's active flags follow from the intact flags (the tearing rule).
+  for (std::size_t t = 0; t < surface_.triangles().size(); ++t) surface_.setActive(t, true);
+  for (std::uint32_t s = 0; s < springs_.size(); ++s) {
+    if (intact_[s] != 0) continue;
+    deactivateTrianglesOf(s);
+  }
   driven_position_ = position;
   driven_orientation_ = orientation;
   driven_velocity_ = velocity;

@@ -129,6 +129,8 @@ class MassSpringBody final : public DeformableBody {
   /// Adds the forces of the intact springs to node_force_; with `tear`, springs over a
   /// threshold break instead (recorded at `time` [s], their triangles deactivated).
   void addSpringForces(bool tear, double time);
+  /// The tearing rule: the triangles along a broken spring lose their support.
+  void deactivateTrianglesOf(std::uint32_t spring);
   /// The explicit scheme's stable step and what sets it (see the file comment).
   struct StableStep {
     double step = std::numeric_limits<double>::infinity();  ///< [s]
