@@ -38,6 +38,33 @@ TEST(DeformableWorld, StagesOfADeformableSceneNameTheBody) {
   EXPECT_EQ(world.activeStages(), expected);
 }
 
+TEST(DeformableWorld, AddingABodyChecksMaterialNameFrameAndTime) {
+  const MassSpringSpec spec = test::sheetSpec(0.1, 0.02, 0.0, 0.01, 2000.0, 0.5, -1.0);
+  const auto expectError = [](World& world, const MassSpringSpec& body, const std::string& field) {
+    try {
+      world.addDeformableBody(std::make_unique<MassSpringBody>(body, "sheets[1]"), "sheets[1]");
+      ADD_FAILURE() << "no error for " << field;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.field(), field) << e.what();
+    }
+  };
+  World world(gravitySettings(2.0e-5));
+  MassSpringSpec elsewhere = spec;
+  elsewhere.material = 1;
+  world.addMaterial(test::testMaterial(0.5));
+  expectError(world, elsewhere, "sheets[1].material");
+  addSheet(world, spec);
+  expectError(world, spec, "sheets[1].name");
+  FrameMotion shaking;
+  shaking.linear_acceleration = Vec3(1.0, 0.0, 0.0);
+  EXPECT_THROW(world.setFrameMotion(shaking), InputError);
+  MassSpringSpec second = spec;
+  second.name = "second";
+  world.initialize();
+  expectError(world, second, "sheets[1].name");
+  EXPECT_EQ(world.deformableBodies().size(), 1u);
+}
+
 TEST(DeformableWorld, ASceneWithoutDeformablesRunsNoneOfTheirStages) {
   World world(gravitySettings(2.0e-5));
   world.addMaterial(test::testMaterial(0.5));
