@@ -6,8 +6,9 @@
 ///              driven nodes follow the driving pose advanced by its twist over dt
 ///              (x = p + R r0, v = v_p + w x (x - p)); fixed nodes stay.
 ///   (the particles' contacts with the surface at t + dt leave the contact forces)
-///   endStep:   f = contact + springs at (x(t+dt), v(t+dt/2)); springs over a threshold
-///              break first and carry no force; free nodes v += (f/m + g) dt/2;
+///   endStep:   f = contact + springs at (x(t+dt), v(t+dt/2)) - node_damping m v(t+dt/2);
+///              springs over a threshold break first and carry no force;
+///              free nodes v += (f/m + g) dt/2;
 ///              reactions of the constrained nodes (below).
 /// Reaction of a constrained node n: R_n = m a_n - f_n - m g, the force the constraint
 /// must add so the node has its prescribed acceleration a_n (0 for fixed nodes,
@@ -100,6 +101,7 @@ void markConstrained(std::vector<char>& constraint, const std::vector<Vec3>& nod
 MassSpringBody::MassSpringBody(const MassSpringSpec& spec, const std::string& fieldPrefix) : name_(spec.name) {
   if (spec.name.empty()) throw InputError(fieldPrefix + ".name", "\"\"", "a deformable body needs a name");
   requirePositive(fieldPrefix + ".total_mass", spec.total_mass);
+  requireNonNegative(fieldPrefix + ".node_damping", spec.node_damping);
   if (std::isnan(spec.break_force) || !(spec.break_force > 0.0)) {
     throw InputError(fieldPrefix + ".break_force", formatValue(spec.break_force), "must be positive (or infinite)");
   }
@@ -119,6 +121,7 @@ MassSpringBody::MassSpringBody(const MassSpringSpec& spec, const std::string& fi
   intact_.assign(springs_.size(), 1);
   node_force_.assign(n, Vec3::Zero());
   node_mass_ = spec.total_mass / static_cast<double>(n);
+  node_damping_ = spec.node_damping;
   break_force_ = spec.break_force;
   break_strain_ = spec.break_strain;
 
@@ -191,13 +194,17 @@ void MassSpringBody::addSpringForces(bool tear, double time) {
     if (tear && (std::abs(magnitude) > break_force_ || strain > break_strain_)) {
       intact_[s] = 0;
       broken_.push_back({s, time, 0.5 * (x[spring.a] + x[spring.b]), std::abs(magnitude), strain});
-      for (std::uint32_t k = spring_triangle_offsets_[s]; k < spring_triangle_offsets_[s + 1]; ++k) {
-        surface_.setActive(spring_triangles_[k], false);
-      }
+      deactivateTrianglesOf(s);
       continue;
     }
     node_force_[spring.a] += magnitude * e;
     node_force_[spring.b] -= magnitude * e;
+  }
+}
+
+void MassSpringBody::deactivateTrianglesOf(std::uint32_t spring) {
+  for (std::uint32_t k = spring_triangle_offsets_[spring]; k < spring_triangle_offsets_[spring + 1]; ++k) {
+    surface_.setActive(spring_triangles_[k], false);
   }
 }
 
@@ -207,6 +214,11 @@ void MassSpringBody::endStep(double dt, const Vec3& gravity) {
   node_force_ = surface_.nodeForces();
   ++steps_;
   addSpringForces(true, static_cast<double>(steps_) * dt);
+  if (node_damping_ > 0.0) {
+    for (std::size_t node = 0; node < x.size(); ++node) {
+      if (constraint_[node] == kFree) node_force_[node] -= node_damping_ * node_mass_ * v[node];
+    }
+  }
   const double halfStepPerMass = 0.5 * dt / node_mass_;
   fixed_reaction_ = {};
   driven_reaction_ = {};
@@ -229,32 +241,43 @@ void MassSpringBody::endStep(double dt, const Vec3& gravity) {
   }
 }
 
-std::pair<std::size_t, double> MassSpringBody::stiffestFreeNode() const {
+MassSpringBody::StableStep MassSpringBody::stableStep() const {
   std::vector<double> stiffnessSum(reference_.size(), 0.0);
+  std::vector<double> dampingSum(reference_.size(), 0.0);
   for (std::size_t s = 0; s < springs_.size(); ++s) {
     if (intact_[s] == 0) continue;
-    stiffnessSum[springs_[s].a] += springs_[s].stiffness;
-    stiffnessSum[springs_[s].b] += springs_[s].stiffness;
+    for (const std::uint32_t node : {springs_[s].a, springs_[s].b}) {
+      stiffnessSum[node] += springs_[s].stiffness;
+      dampingSum[node] += springs_[s].damping;
+    }
   }
-  std::pair<std::size_t, double> stiffest{0, 0.0};
+  StableStep out;
+  double largestDamping = 0.0;
   for (std::size_t node = 0; node < stiffnessSum.size(); ++node) {
-    if (constraint_[node] == kFree && stiffnessSum[node] > stiffest.second) stiffest = {node, stiffnessSum[node]};
+    if (constraint_[node] != kFree) continue;
+    if (stiffnessSum[node] > out.stiffness_sum) {
+      out.stiffness_sum = stiffnessSum[node];
+      out.node = node;
+    }
+    largestDamping = std::max(largestDamping, dampingSum[node]);
   }
-  return stiffest;
+  if (!(out.stiffness_sum > 0.0)) return out;
+  // Gershgorin: the eigenvalues of M^-1 K are at most 2 sum k / m, those of M^-1 C at most 2 sum c / m.
+  const double omega = std::sqrt(2.0 * out.stiffness_sum / node_mass_);
+  out.damping_ratio = (largestDamping / node_mass_ + 0.5 * node_damping_) / omega;
+  out.step = 2.0 / omega * (std::sqrt(1.0 + out.damping_ratio * out.damping_ratio) - out.damping_ratio);
+  return out;
 }
 
-double MassSpringBody::criticalTimeStep() const {
-  // Gershgorin: omega_max^2 <= max over free nodes of sum_springs 2 k / m.
-  const double largest = stiffestFreeNode().second;
-  if (!(largest > 0.0)) return std::numeric_limits<double>::infinity();
-  return 2.0 / std::sqrt(2.0 * largest / node_mass_);
-}
+double MassSpringBody::criticalTimeStep() const { return stableStep().step; }
 
 std::string MassSpringBody::criticalTimeStepReason() const {
-  const auto [node, largest] = stiffestFreeNode();
-  if (!(largest > 0.0)) return "no free node has a spring";
-  return "stiffest node " + std::to_string(node) + ": sum of spring stiffness " + formatValue(largest) +
-         " N/m, node mass " + formatValue(node_mass_) + " kg, dt < 2 / sqrt(2 sum k / m)";
+  const StableStep stable = stableStep();
+  if (!(stable.stiffness_sum > 0.0)) return "no free node has a spring";
+  return "stiffest node " + std::to_string(stable.node) + ": sum of spring stiffness " +
+         formatValue(stable.stiffness_sum) + " N/m, node mass " + formatValue(node_mass_) +
+         " kg, damping ratio bound " + formatValue(stable.damping_ratio) +
+         "; dt < 2 / omega (sqrt(1 + zeta^2) - zeta), omega^2 = 2 sum k / m";
 }
 
 void MassSpringBody::setDrivenPose(const Vec3& position, const Quat& orientation, const Vec3& linearVelocity,
@@ -353,6 +376,12 @@ void MassSpringBody::restore(StateReader& in) {
   node_force_ = std::move(forces);
   intact_ = std::move(intact);
   broken_ = std::move(broken);
+  // The surface's active flags follow from the intact flags (the tearing rule).
+  for (std::size_t t = 0; t < surface_.triangles().size(); ++t) surface_.setActive(t, true);
+  for (std::uint32_t s = 0; s < springs_.size(); ++s) {
+    if (intact_[s] != 0) continue;
+    deactivateTrianglesOf(s);
+  }
   driven_position_ = position;
   driven_orientation_ = orientation;
   driven_velocity_ = velocity;

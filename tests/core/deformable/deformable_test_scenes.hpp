@@ -10,10 +10,11 @@ namespace demlink::core::test {
 
 /// A square sheet in the plane z = height, side `side` [m] centred on the origin, nodes
 /// `spacing` apart, with shear and bending springs; nodes within `pin` of its edge fixed
-/// (pin < 0: the four corners only).
+/// (pin < 0: the four corners only; 0: none); `nodeDamping` [1/s] drags every free node.
 inline MassSpringSpec sheetSpec(double side, double spacing, double height, double mass, double stiffness,
-                                double damping, double pin) {
+                                double damping, double pin, double nodeDamping = 0.0) {
   MassSpringSpec spec;
+  spec.node_damping = nodeDamping;
   spec.name = "sheet";
   spec.total_mass = mass;
   spec.stiffness = stiffness;
@@ -22,6 +23,7 @@ inline MassSpringSpec sheetSpec(double side, double spacing, double height, doub
   spec.bending_factor = 0.1;
   const double h = 0.5 * side;
   spec.box = MassSpringSpec::Box{Vec3(-h, -h, height - 0.25 * spacing), Vec3(h, h, height + 0.25 * spacing), spacing};
+  if (pin == 0.0) return spec;  // a free sheet
   const double reach = pin < 0.0 ? 0.1 * spacing : pin;
   for (const double sx : {-1.0, 1.0}) {
     if (pin < 0.0) {
@@ -32,8 +34,9 @@ inline MassSpringSpec sheetSpec(double side, double spacing, double height, doub
       continue;
     }
     // Edge strips x = +-h and y = +-h.
-    spec.fixed_regions.push_back({Vec3(sx * h - reach, -h - reach, height - reach), Vec3(sx * h + reach, h + reach, height + reach)});
-    spec.fixed_regions.push_back({Vec3(-h - reach, sx * h - reach, height - reach), Vec3(h + reach, sx * h + reach, height + reach)});
+    const Vec3 r = Vec3::Constant(reach);
+    spec.fixed_regions.push_back({Vec3(sx * h, -h, height) - r, Vec3(sx * h, h, height) + r});
+    spec.fixed_regions.push_back({Vec3(-h, sx * h, height) - r, Vec3(h, sx * h, height) + r});
   }
   return spec;
 }

@@ -124,8 +124,8 @@ class World {
 
   /// Writes everything the next step depends on (settings, materials, particle
   /// columns, neighbour and near lists with histories, planes, meshes, counters,
-  /// component states) to `out` (format: checkpoint.hpp, docs/state.md). Defined
-  /// in checkpoint.cpp. Throws std::runtime_error if `out` fails.
+  /// component states, deformable bodies) to `out` (format: checkpoint.hpp,
+  /// docs/state.md). Defined in checkpoint.cpp. Throws std::runtime_error if `out` fails.
   void saveCheckpoint(std::ostream& out) const;
   /// Restores a checkpoint written by a world built from the same scene (same
   /// settings, materials, planes, meshes and components), initialising this

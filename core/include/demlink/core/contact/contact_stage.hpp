@@ -1,7 +1,7 @@
 #pragma once
 /// Force stage loops: particle-particle (over the half neighbour list),
-/// particle-plane (over each plane's near list) and particle-mesh (over each
-/// mesh's near list). Templated on the contact law
+/// particle-plane (over each plane's near list) and particle-surface (over the
+/// near list of each mesh or deformable body's surface). Templated on the contact law
 /// and on whether rolling resistance is active, so the compiled loop contains
 /// exactly what the scene uses; the world picks one instantiation at set-up
 /// (contact_law_registry.hpp). Each loop checks that the per-contact history its

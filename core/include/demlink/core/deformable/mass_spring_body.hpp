@@ -7,14 +7,15 @@
 /// f_j = -f_i. Integrated with velocity Verlet like the particles (half kick, drift in
 /// beginStep; spring and contact forces, tearing, half kick in endStep). A spring breaks
 /// for good when |elastic + damping force| > break_force or strain |L - L0|/L0 > break_strain.
-/// Stable step of the explicit scheme: dt < 2/omega_max with omega_max^2 <= max over nodes of
-/// sum_springs 2 k / m_node (Gershgorin bound on the stiffness-to-mass ratio).
+/// Stable step of the explicit scheme: dt < 2/omega_max (sqrt(1 + zeta^2) - zeta) with
+/// omega_max^2 <= max over free nodes of sum_springs 2 k / m_node and zeta = (max over free
+/// nodes of sum_springs c / m_node + node_damping / 2) / omega_max (Gershgorin bounds on
+/// M^-1 K and M^-1 C; the damped central-difference limit).
 #include <array>
 #include <cstdint>
 #include <limits>
 #include <optional>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include "demlink/core/deformable/deformable_body.hpp"
@@ -41,6 +42,10 @@ struct MassSpringSpec {
   /// over two cells, each with stiffness * factor (0: none).
   double shear_factor = 0.0;
   double bending_factor = 0.0;
+  /// Drag of a surrounding medium on every free node, f = -node_damping m v [1/s]. Spring
+  /// dampers act only along the springs, so the out-of-plane motion of a flat sheet is
+  /// damped only to second order in its slope; this damps it (0: none).
+  double node_damping = 0.0;
 
   /// (a) a box [lo, hi] subdivided into a node lattice at `node_spacing` [m] (a sheet
   /// when one extent is below the spacing: a single layer).
@@ -124,8 +129,16 @@ class MassSpringBody final : public DeformableBody {
   /// Adds the forces of the intact springs to node_force_; with `tear`, springs over a
   /// threshold break instead (recorded at `time` [s], their triangles deactivated).
   void addSpringForces(bool tear, double time);
-  /// The free node with the largest sum of spring stiffness and that sum [N/m] (0: none).
-  [[nodiscard]] std::pair<std::size_t, double> stiffestFreeNode() const;
+  /// The tearing rule: the triangles along a broken spring lose their support.
+  void deactivateTrianglesOf(std::uint32_t spring);
+  /// The explicit scheme's stable step and what sets it (see the file comment).
+  struct StableStep {
+    double step = std::numeric_limits<double>::infinity();  ///< [s]
+    std::size_t node = 0;        ///< free node with the largest sum of spring stiffness
+    double stiffness_sum = 0.0;  ///< that sum [N/m] (0: no free node has a spring)
+    double damping_ratio = 0.0;  ///< zeta = (sum c / m) / omega_max, bound over the free nodes
+  };
+  [[nodiscard]] StableStep stableStep() const;
 
   std::string name_;
   DeformableSurface surface_;
@@ -149,6 +162,7 @@ class MassSpringBody final : public DeformableBody {
   /// Triangles each spring supports (CSR: spring s -> triangles [offsets[s], offsets[s+1])).
   std::vector<std::uint32_t> spring_triangle_offsets_;
   std::vector<std::uint32_t> spring_triangles_;
+  double node_damping_ = 0.0;  ///< [1/s]
   double break_force_ = std::numeric_limits<double>::infinity();
   double break_strain_ = std::numeric_limits<double>::infinity();
   std::uint64_t steps_ = 0;  ///< endStep calls so far (time of a tear = steps_ * dt)
