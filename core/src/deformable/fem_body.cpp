@@ -7,9 +7,10 @@
 ///       = b F+ + (1 - 2b) F + b F-,
 /// here with b = 1/3, i.e. A1 U+ = (F+ + F + F-)/3 + A3 U + A4 U- with
 ///   A1 = M/dt^2 + C/(2 dt) + K/3,   A3 = 2M/dt^2 - K/3,   A4 = -(M/dt^2 - C/(2 dt) + K/3).
-/// The solver paper (BMEDEM3D, its eq. 21) prints A4 = M/dt^2 + C/(2 dt) - K/3: the signs of
-/// its M and C terms are wrong (with them a free undamped body does not even stay at rest
-/// once moved: the scalar recurrence has a root above 1). Stability: for one undamped mode,
+/// The solver paper (BMEDEM3D, its eq. 21) prints A4 = M/dt^2 + C/(2 dt) - K/3: the sign of its
+/// M term is wrong (A4 = -M/dt^2 + C/(2 dt) - K/3). With the printed sign the undamped scalar
+/// recurrence has a root above 1 at any step (for small Omega, z^2 - 2z - 1 = 0, z = 1 + sqrt 2),
+/// so every motion grows; the energy test fails at its first step with it. Stability: for one undamped mode,
 /// Omega = omega dt, the characteristic equation is
 ///   (1 + b Omega^2) z^2 - (2 - (1 - 2b) Omega^2) z + (1 + b Omega^2) = 0;
 /// the product of its roots is 1 and they are complex for every Omega when b >= 1/4, so
