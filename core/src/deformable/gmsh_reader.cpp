@@ -2,6 +2,7 @@
 /// and are mapped through a hash map, so a huge tag costs no memory.
 #include "demlink/core/deformable/gmsh_reader.hpp"
 
+#include <array>
 #include <unordered_map>
 
 #include "demlink/core/deformable/text_lines.hpp"
@@ -130,20 +131,23 @@ class GmshParser {
     expectEnd("$EndNodes");
   }
 
+  /// A line of four counts, a format 4.1 section or block header; `names` names them.
+  std::array<std::uint64_t, 4> fourCounts(const std::string& names) {
+    const auto tok = in_.tokens(in_.expectLine("'" + names + "'"));
+    if (tok.size() != 4) in_.fail("expected '" + names + "'");
+    std::array<std::uint64_t, 4> out{};
+    for (std::size_t k = 0; k < 4; ++k) out[k] = in_.toCount(tok[k], "field " + std::to_string(k + 1) + " of '" + names + "'");
+    return out;
+  }
+
   void readNodes4() {
-    const auto head = in_.tokens(in_.expectLine("'numEntityBlocks numNodes minNodeTag maxNodeTag'"));
-    if (head.size() != 4) in_.fail("the $Nodes header needs 'numEntityBlocks numNodes minNodeTag maxNodeTag'");
-    const std::uint64_t blocks = in_.toCount(head[0], "numEntityBlocks");
-    const std::uint64_t count = in_.toCount(head[1], "numNodes");
+    const auto [blocks, count, minTag, maxTag] = fourCounts("numEntityBlocks numNodes minNodeTag maxNodeTag");
     in_.requireFits(blocks, 8, "$Nodes entity blocks");
     in_.requireFits(count, 8, "$Nodes");
     nodes_.reserve(static_cast<std::size_t>(count));
     std::uint64_t total = 0;
     for (std::uint64_t b = 0; b < blocks; ++b) {
-      const auto bt = in_.tokens(in_.expectLine("'entityDim entityTag parametric numNodesInBlock'"));
-      if (bt.size() != 4) in_.fail("a node block header needs 'entityDim entityTag parametric numNodesInBlock'");
-      const bool parametric = in_.toCount(bt[2], "parametric") != 0;
-      const std::uint64_t n = in_.toCount(bt[3], "numNodesInBlock");
+      const auto [dim, entity, parametric, n] = fourCounts("entityDim entityTag parametric numNodesInBlock");
       in_.requireFits(n, 8, "node block");
       total += n;
       if (total > count) in_.fail("the node blocks hold more nodes than the header's numNodes");
@@ -155,7 +159,7 @@ class GmshParser {
       }
       for (const std::uint64_t tag : blockTags) {
         const auto tok = in_.tokens(in_.expectLine("node coordinates"));
-        if (tok.size() < 3 || (!parametric && tok.size() != 3)) in_.fail("expected 'x y z'");
+        if (tok.size() < 3 || (parametric == 0 && tok.size() != 3)) in_.fail("expected 'x y z'");
         addNode(tag, coordinates(tok, 0));
       }
     }
@@ -232,18 +236,12 @@ class GmshParser {
   }
 
   void readElements4() {
-    const auto head = in_.tokens(in_.expectLine("'numEntityBlocks numElements minTag maxTag'"));
-    if (head.size() != 4) in_.fail("the $Elements header needs 'numEntityBlocks numElements minTag maxTag'");
-    const std::uint64_t blocks = in_.toCount(head[0], "numEntityBlocks");
-    const std::uint64_t count = in_.toCount(head[1], "numElements");
+    const auto [blocks, count, minTag, maxTag] = fourCounts("numEntityBlocks numElements minElementTag maxElementTag");
     in_.requireFits(blocks, 8, "$Elements entity blocks");
     in_.requireFits(count, 4, "$Elements");
     std::uint64_t total = 0;
     for (std::uint64_t b = 0; b < blocks; ++b) {
-      const auto bt = in_.tokens(in_.expectLine("'entityDim entityTag elementType numElementsInBlock'"));
-      if (bt.size() != 4) in_.fail("an element block header needs 'entityDim entityTag elementType numElementsInBlock'");
-      const std::uint64_t type = in_.toCount(bt[2], "elementType");
-      const std::uint64_t n = in_.toCount(bt[3], "numElementsInBlock");
+      const auto [dim, entity, type, n] = fourCounts("entityDim entityTag elementType numElementsInBlock");
       const std::size_t nodes = gmshNodeCount(type);
       if (nodes == 0) in_.fail("unsupported element type " + std::to_string(type));
       in_.requireFits(n, 4, "element block");

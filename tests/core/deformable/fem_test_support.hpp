@@ -44,6 +44,14 @@ struct Beam {
   double poisson_ratio = 0.3;
   double density = 1000.0;  // [kg/m^3]
 
+  /// A coarser beam: `cells` along x, one across.
+  [[nodiscard]] static Beam coarse(int cells) {
+    Beam b;
+    b.nx = cells;
+    b.ny = b.nz = 1;
+    return b;
+  }
+
   [[nodiscard]] double area() const { return width * height; }
   [[nodiscard]] double inertia() const { return width * height * height * height / 12.0; }  // about y [m^4]
   /// Euler-Bernoulli tip deflection under a tip load P [N].

@@ -110,6 +110,14 @@ TEST(FemDynamics, RayleighDampingDecayRate) {
   EXPECT_NEAR(zeta / expected, 1.0, 0.02);
 }
 
+/// The clamped `beam` written to dir/beam.msh, integrated by central differences.
+FemSpec explicitSpec(const TempDir& dir, const Beam& beam) {
+  writeGmsh(dir.file("beam.msh"), beam.mesh(), "2.2");
+  FemSpec spec = beam.spec(dir.file("beam.msh"));
+  spec.integrator = FemIntegrator::kCentralDifference;
+  return spec;
+}
+
 /// The scheme's discrete energy between levels n and n+1 (zero load):
 /// |U+ - U|_M^2 / (2 dt^2) + (U+.K U+ + U.K U + U+.K U) / 6, conserved exactly without damping.
 double schemeEnergy(const FemBody& body, const Eigen::VectorXd& next, const Eigen::VectorXd& now, double dt) {
@@ -130,12 +138,8 @@ Eigen::VectorXd displacements(const FemBody& body) {
 // increases. (With the solver paper's printed A4 the first test grows without bound.)
 TEST(FemDynamics, ThreeLevelBeyondTheExplicitLimitConservesEnergy) {
   TempDir dir("energy");
-  Beam beam;
-  beam.nx = 10;
-  beam.ny = beam.nz = 1;
-  writeGmsh(dir.file("beam.msh"), beam.mesh(), "2.2");
-  FemSpec spec = beam.spec(dir.file("beam.msh"));
-  spec.integrator = FemIntegrator::kCentralDifference;
+  const Beam beam = Beam::coarse(10);
+  FemSpec spec = explicitSpec(dir, beam);
   const double limit = FemBody(spec, 1e-6, "fem").criticalTimeStep();
   ASSERT_TRUE(std::isfinite(limit));
   const double dt = 10.0 * limit;
@@ -176,12 +180,8 @@ TEST(FemDynamics, ThreeLevelBeyondTheExplicitLimitConservesEnergy) {
 // growing without bound just above it.
 TEST(FemDynamics, CentralDifferencesStableBelowTheLimitGrowingAbove) {
   TempDir dir("explicit");
-  Beam beam;
-  beam.nx = 10;
-  beam.ny = beam.nz = 1;
-  writeGmsh(dir.file("beam.msh"), beam.mesh(), "2.2");
-  FemSpec spec = beam.spec(dir.file("beam.msh"));
-  spec.integrator = FemIntegrator::kCentralDifference;
+  const Beam beam = Beam::coarse(10);
+  FemSpec spec = explicitSpec(dir, beam);
   const double limit = FemBody(spec, 1e-6, "fem").criticalTimeStep();
   const double scale = beam.tipDeflection(1.0);
   for (const double factor : {0.98, 1.02}) {
@@ -201,9 +201,7 @@ TEST(FemDynamics, CentralDifferencesStableBelowTheLimitGrowingAbove) {
 // and triangle files beside them: the imported body moves as the assembled one.
 TEST(FemDynamics, ImportedMatrixMarketMatchesAssembly) {
   TempDir dir("import");
-  Beam beam;
-  beam.nx = 8;
-  beam.ny = beam.nz = 1;
+  const Beam beam = Beam::coarse(8);
   writeGmsh(dir.file("beam.msh"), beam.mesh(), "4.1");
   FemSpec spec = beam.spec(dir.file("beam.msh"));
   spec.rayleigh_alpha = 1e-4;
@@ -257,9 +255,7 @@ TEST(FemDynamics, ImportedMatrixMarketMatchesAssembly) {
 // save() mid-run, restore() into a fresh body: both continue bit for bit.
 TEST(FemDynamics, RestoredBodyContinuesBitIdentically) {
   TempDir dir("restore");
-  Beam beam;
-  beam.nx = 6;
-  beam.ny = beam.nz = 1;
+  const Beam beam = Beam::coarse(6);
   writeGmsh(dir.file("beam.msh"), beam.mesh(), "4.1");
   FemSpec spec = beam.spec(dir.file("beam.msh"));
   spec.driven_regions.push_back({Vec3(beam.length - 1e-9, -1.0, -1.0), Vec3(beam.length + 1e-9, 1.0, 1.0)});

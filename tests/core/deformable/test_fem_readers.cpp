@@ -195,9 +195,7 @@ TEST(FemReaders, BodyErrorsNameTheField) {
     std::ofstream bad(dir.file("bad.msh"));
     bad << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n1\n1 0 0 SECRET\n$EndNodes\n";
   }
-  fem_test::Beam beam;
-  beam.nx = 4;
-  beam.ny = beam.nz = 1;
+  const fem_test::Beam beam = fem_test::Beam::coarse(4);
   FemSpec spec = beam.spec(dir.file("bad.msh"));
   const InputError e = errorOf([&] { FemBody(spec, 1e-4, "bodies[1]"); });
   EXPECT_EQ(e.field(), "bodies[1].msh_path");

@@ -91,9 +91,7 @@ TEST(FemStatics, MassMatricesAndRigidMotion) {
 // the origin the opposite of the loads' moment.
 TEST(FemStatics, FixedReactionBalancesTheLoads) {
   TempDir dir("reaction");
-  Beam beam;
-  beam.nx = 10;
-  beam.ny = beam.nz = 1;
+  const Beam beam = Beam::coarse(10);
   const std::string path = dir.file("beam.msh");
   writeGmsh(path, beam.mesh(), "2.2");
   FemBody body(beam.spec(path), 1e-4, "fem");
@@ -131,9 +129,7 @@ TEST(FemStatics, FixedReactionBalancesTheLoads) {
 // zero reaction; the surface nodes move with the driven pose's velocity.
 TEST(FemStatics, DrivenNodesFollowTheirPose) {
   TempDir dir("driven");
-  Beam beam;
-  beam.nx = 6;
-  beam.ny = beam.nz = 1;
+  Beam beam = Beam::coarse(6);
   beam.order = 1;
   const std::string path = dir.file("beam.msh");
   writeGmsh(path, beam.mesh(), "4.1");
