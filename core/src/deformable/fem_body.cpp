@@ -157,10 +157,10 @@ struct FemBody::Impl {
     return a.segment<3>(3 * static_cast<Eigen::Index>(node));
   }
 
-  /// C a (Rayleigh or the given matrix).
-  [[nodiscard]] VectorXd damp(const VectorXd& a) const {
-    if (explicitDamping) return c * a;
-    return alpha * (k * a) + beta * (m * a);
+  /// M a - K b + C d with one product by K and one by M when C is Rayleigh.
+  [[nodiscard]] VectorXd combine(const VectorXd& a, const VectorXd& b, const VectorXd& d) const {
+    if (explicitDamping) return m * a - k * b + c * d;
+    return m * (a + beta * d) - k * (b - alpha * d);
   }
 
   void buildFromMesh(const FemSpec& spec);
@@ -489,15 +489,14 @@ void FemBody::beginStep(double dt, const Vec3& gravity) {
   VectorXd rhs;
   if (b.integrator == FemIntegrator::kThreeLevel) {
     // A3 U + A4 U- - A1 Up + (2 F + F-)/3, with Up the prescribed part of U+.
-    const VectorXd back = (b.u1 - next) / (2.0 * dt);
-    rhs = b.m * ((2.0 * b.u - b.u1 - next) / (dt * dt)) + b.damp(back) - b.k * ((b.u + b.u1 + next) / 3.0) +
+    rhs = b.combine((2.0 * b.u - b.u1 - next) / (dt * dt), (b.u + b.u1 + next) / 3.0, (b.u1 - next) / (2.0 * dt)) +
           b.gravityLoad + (2.0 * b.fc1 + b.fc0) / 3.0;
     VectorXd rf(static_cast<Eigen::Index>(b.freeDofs.size()));
     for (std::size_t i = 0; i < b.freeDofs.size(); ++i) rf[static_cast<Eigen::Index>(i)] = rhs[b.freeDofs[i]];
     const VectorXd xf = b.a1.solve(rf);
     for (std::size_t i = 0; i < b.freeDofs.size(); ++i) next[b.freeDofs[i]] = xf[static_cast<Eigen::Index>(i)];
   } else {
-    rhs = b.gravityLoad + b.fc1 - b.k * b.u - b.damp((b.u - b.u1) / dt);
+    rhs = b.gravityLoad + b.fc1 + b.combine(VectorXd::Zero(b.u.size()), b.u, (b.u1 - b.u) / dt);
     for (std::size_t i = 0; i < b.freeDofs.size(); ++i) {
       const std::uint32_t d = b.freeDofs[i];
       next[d] = 2.0 * b.u[d] - b.u1[d] + dt * dt * rhs[d] / b.lumpedFree[static_cast<Eigen::Index>(i)];

@@ -39,7 +39,7 @@ struct FemSpec {
   double poisson_ratio = 0.0;
   double density = 0.0;         ///< [kg/m^3]
   FemMass mass = FemMass::kLumped;
-  Vec3 offset = Vec3::Zero();
+  Vec3 offset = Vec3::Zero();  ///< added to every node position, for (b) as well [m]
 
   /// (b) imported matrices (Matrix Market, 3 DOF per node in node order x,y,z) with the
   /// node coordinates and surface triangles (plain text files, documented in docs/deformable.md).
