@@ -16,6 +16,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/SparseCore>
+
 #include "demlink/core/deformable/deformable_body.hpp"
 #include "demlink/core/math_types.hpp"
 
@@ -37,7 +39,7 @@ struct FemSpec {
   double poisson_ratio = 0.0;
   double density = 0.0;         ///< [kg/m^3]
   FemMass mass = FemMass::kLumped;
-  Vec3 offset = Vec3::Zero();
+  Vec3 offset = Vec3::Zero();  ///< added to every node position, for (b) as well [m]
 
   /// (b) imported matrices (Matrix Market, 3 DOF per node in node order x,y,z) with the
   /// node coordinates and surface triangles (plain text files, documented in docs/deformable.md).
@@ -47,7 +49,9 @@ struct FemSpec {
   std::string nodes_path;
   std::string triangles_path;
 
-  /// Constraints: node indices, or every node inside a box [lo, hi].
+  /// Constraints: nodes (for a .msh, Gmsh node tags; for imported matrices, 0-based indices
+  /// into the node file), or every node whose position (offset applied) is inside a box
+  /// [lo, hi]. A node both fixed and driven is fixed.
   struct Region {
     Vec3 lo = Vec3::Zero();
     Vec3 hi = Vec3::Zero();
@@ -95,6 +99,17 @@ class FemBody final : public DeformableBody {
   [[nodiscard]] const std::vector<std::vector<std::uint32_t>>& elements() const;
   /// Von Mises stress per element at its centroid [Pa] (empty for imported matrices).
   [[nodiscard]] std::vector<double> vonMisesStress() const;
+
+  /// Puts the body at rest in static equilibrium, K U = F, under `gravity` [m/s^2], the
+  /// surface's current node forces and the constraints (the driven pose as last set): a start
+  /// without the drop from the unloaded shape. Throws InputError when nothing is constrained.
+  void solveStatic(const Vec3& gravity);
+  /// Strain energy U^T K U / 2 [J].
+  [[nodiscard]] double strainEnergy() const;
+  /// The matrices the body integrates (3 DOF per node in body node order; M lumped or
+  /// consistent as built), e.g. to export them in Matrix Market format.
+  [[nodiscard]] const Eigen::SparseMatrix<double>& massMatrix() const;
+  [[nodiscard]] const Eigen::SparseMatrix<double>& stiffnessMatrix() const;
 
  private:
   struct Impl;
