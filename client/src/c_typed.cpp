@@ -2,6 +2,7 @@
 /// exchanged kind, with scalars and fixed-size arrays a Modelica external function can
 /// pass directly. The exchange calls receive the interval that ended, then send the next
 /// package (why: demlink_c.h, "Blocking and the exchange order").
+#include <array>
 #include <climits>
 #include <cmath>
 
@@ -34,6 +35,15 @@ int declareComponent(Client& c, std::unique_ptr<Component> component, double int
   session.declare();
   *handle = static_cast<int>(session.size() - 1);
   return DL_OK;
+}
+
+/// Four vectors as twelve reals x y z, x y z, ... (a wrench pair or the reactions).
+void flatten(const std::array<Vec3, 4>& parts, double* out) {
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    out[3 * i] = parts[i].x;
+    out[3 * i + 1] = parts[i].y;
+    out[3 * i + 2] = parts[i].z;
+  }
 }
 
 /// Fixed and driven boxes (lo(3) hi(3) each), the driving reference and attachment of a
@@ -309,12 +319,7 @@ int dl_rigid_body_exchange(dl_client* client, int component, const double pose[7
     return exchangeStep(
         c, body,
         [&] {
-          const Vec3 parts[4] = {body.meanForce(), body.meanTorque(), body.force(), body.torque()};
-          for (int i = 0; i < 4; ++i) {
-            wrenchOut[3 * i] = parts[i].x;
-            wrenchOut[3 * i + 1] = parts[i].y;
-            wrenchOut[3 * i + 2] = parts[i].z;
-          }
+          flatten({body.meanForce(), body.meanTorque(), body.force(), body.torque()}, wrenchOut);
         },
         [&] {
           body.setPose({pose[0], pose[1], pose[2]}, {pose[3], pose[4], pose[5], pose[6]});
@@ -337,12 +342,7 @@ int dl_deformable_body_exchange(dl_client* client, int component, const double p
     return exchangeStep(
         c, body,
         [&] {
-          const Vec3 parts[4] = {body.drivenForce(), body.drivenTorque(), body.fixedForce(), body.fixedTorque()};
-          for (int i = 0; i < 4; ++i) {
-            reactionsOut[3 * i] = parts[i].x;
-            reactionsOut[3 * i + 1] = parts[i].y;
-            reactionsOut[3 * i + 2] = parts[i].z;
-          }
+          flatten({body.drivenForce(), body.drivenTorque(), body.fixedForce(), body.fixedTorque()}, reactionsOut);
           const std::vector<Vec3> u = body.displacements();
           *count = clampCount(u.size());
           for (std::size_t i = 0; i < u.size() && i < static_cast<std::size_t>(capacity); ++i) {

@@ -5,15 +5,11 @@
 #include <utility>
 
 namespace demlink::client {
-namespace {
-
-void addRegion(v1::NodeSet& set, const Vec3& lo, const Vec3& hi) {
+void DeformableBody::addRegion(v1::NodeSet& set, const Vec3& lo, const Vec3& hi) {
   v1::NodeRegion& region = *set.add_regions();
   *region.mutable_lo() = toProto(lo);
   *region.mutable_hi() = toProto(hi);
 }
-
-}  // namespace
 
 void DeformableBody::setDrivenPose(const Vec3& position, const Quat& orientation) {
   *input_.mutable_position() = toProto(position);
@@ -60,7 +56,7 @@ std::uint64_t DeformableBody::brokenSprings() const { return outputs().deformabl
 double DeformableBody::kineticEnergy() const { return outputs().deformable_body().kinetic_energy(); }
 std::uint64_t DeformableBody::nodeCount() const { return outputs().deformable_body().node_count(); }
 
-MassSpringBody::MassSpringBody(std::string name) : DeformableBody(std::move(name)) {
+MassSpringBody::MassSpringBody(std::string name) : DeformableBodyOf(std::move(name)) {
   declaration().mutable_mass_spring_body();
 }
 MassSpringBody& MassSpringBody::setBox(const Vec3& lo, const Vec3& hi, double nodeSpacing) {
@@ -74,10 +70,6 @@ MassSpringBody& MassSpringBody::setStlFile(const std::string& pathOnServer) {
   message().set_stl_file(pathOnServer);
   return *this;
 }
-MassSpringBody& MassSpringBody::setMaterial(const std::string& material) {
-  message().set_material(material);
-  return *this;
-}
 MassSpringBody& MassSpringBody::setSprings(double totalMass, double stiffness, double damping) {
   message().set_total_mass(totalMass);
   message().set_stiffness(stiffness);
@@ -89,24 +81,8 @@ MassSpringBody& MassSpringBody::setBreakLimits(double force, double strain) {
   message().set_break_strain(strain);
   return *this;
 }
-MassSpringBody& MassSpringBody::addFixedRegion(const Vec3& lo, const Vec3& hi) {
-  addRegion(*message().mutable_fixed(), lo, hi);
-  return *this;
-}
-MassSpringBody& MassSpringBody::addDrivenRegion(const Vec3& lo, const Vec3& hi) {
-  addRegion(*message().mutable_driven(), lo, hi);
-  return *this;
-}
-MassSpringBody& MassSpringBody::setDrivenReference(const Vec3& point) {
-  *message().mutable_driven_reference() = toProto(point);
-  return *this;
-}
-MassSpringBody& MassSpringBody::setOutputNodes(const std::vector<std::uint32_t>& nodes) {
-  message().mutable_output_nodes()->mutable_nodes()->Assign(nodes.begin(), nodes.end());
-  return *this;
-}
 
-FemBody::FemBody(std::string name) : DeformableBody(std::move(name)) { declaration().mutable_fem_body(); }
+FemBody::FemBody(std::string name) : DeformableBodyOf(std::move(name)) { declaration().mutable_fem_body(); }
 FemBody& FemBody::setMesh(const std::string& mshPathOnServer, double youngsModulus, double poissonRatio,
                           double density) {
   v1::FemMesh& mesh = *message().mutable_mesh();
@@ -116,29 +92,9 @@ FemBody& FemBody::setMesh(const std::string& mshPathOnServer, double youngsModul
   mesh.set_density(density);
   return *this;
 }
-FemBody& FemBody::setMaterial(const std::string& material) {
-  message().set_material(material);
-  return *this;
-}
 FemBody& FemBody::setRayleigh(double alpha, double beta) {
   message().set_rayleigh_alpha(alpha);
   message().set_rayleigh_beta(beta);
-  return *this;
-}
-FemBody& FemBody::addFixedRegion(const Vec3& lo, const Vec3& hi) {
-  addRegion(*message().mutable_fixed(), lo, hi);
-  return *this;
-}
-FemBody& FemBody::addDrivenRegion(const Vec3& lo, const Vec3& hi) {
-  addRegion(*message().mutable_driven(), lo, hi);
-  return *this;
-}
-FemBody& FemBody::setDrivenReference(const Vec3& point) {
-  *message().mutable_driven_reference() = toProto(point);
-  return *this;
-}
-FemBody& FemBody::setOutputNodes(const std::vector<std::uint32_t>& nodes) {
-  message().mutable_output_nodes()->mutable_nodes()->Assign(nodes.begin(), nodes.end());
   return *this;
 }
 

@@ -20,6 +20,19 @@ using core::InputError;
 
 std::string indexed(const std::string& field, int k) { return field + "[" + std::to_string(k) + "]"; }
 
+/// lo and hi of a box declaration (`Given`: NodeRegion, MassSpringBox), finite, hi >= lo.
+template <class Given, class Box>
+void readCorners(const Given& given, const std::string& prefix, Box& out) {
+  out.lo = toFiniteVec3(given.lo(), prefix + ".lo");
+  out.hi = toFiniteVec3(given.hi(), prefix + ".hi");
+  for (int axis = 0; axis < 3; ++axis) {
+    if (out.hi[axis] < out.lo[axis]) {
+      throw InputError(indexed(prefix + ".hi", axis), core::formatValue(out.hi[axis]),
+                       "below lo (" + core::formatValue(out.lo[axis]) + ")");
+    }
+  }
+}
+
 template <class Region>
 std::vector<Region> regionsOf(const v1::NodeSet& set, const std::string& prefix) {
   std::vector<Region> out;
@@ -29,14 +42,7 @@ std::vector<Region> regionsOf(const v1::NodeSet& set, const std::string& prefix)
     if (!region.has_lo()) throw InputError(field + ".lo", "(missing)", "a node region needs lo and hi");
     if (!region.has_hi()) throw InputError(field + ".hi", "(missing)", "a node region needs lo and hi");
     Region r;
-    r.lo = toFiniteVec3(region.lo(), field + ".lo");
-    r.hi = toFiniteVec3(region.hi(), field + ".hi");
-    for (int axis = 0; axis < 3; ++axis) {
-      if (r.hi[axis] < r.lo[axis]) {
-        throw InputError(indexed(field + ".hi", axis), core::formatValue(r.hi[axis]),
-                         "below lo (" + core::formatValue(r.lo[axis]) + ")");
-      }
-    }
+    readCorners(region, field, r);
     out.push_back(r);
   }
   return out;
@@ -68,14 +74,7 @@ core::MassSpringSpec::Box boxOf(const v1::MassSpringBox& box, const std::string&
   if (!box.has_lo()) throw InputError(prefix + ".lo", "(missing)", "a box needs lo and hi");
   if (!box.has_hi()) throw InputError(prefix + ".hi", "(missing)", "a box needs lo and hi");
   core::MassSpringSpec::Box out;
-  out.lo = toFiniteVec3(box.lo(), prefix + ".lo");
-  out.hi = toFiniteVec3(box.hi(), prefix + ".hi");
-  for (int axis = 0; axis < 3; ++axis) {
-    if (out.hi[axis] < out.lo[axis]) {
-      throw InputError(indexed(prefix + ".hi", axis), core::formatValue(out.hi[axis]),
-                       "below lo (" + core::formatValue(out.lo[axis]) + ")");
-    }
-  }
+  readCorners(box, prefix, out);
   core::requirePositive(prefix + ".node_spacing", box.node_spacing());
   out.node_spacing = box.node_spacing();
   return out;

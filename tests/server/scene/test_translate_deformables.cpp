@@ -153,6 +153,37 @@ TEST(TranslateDeformables, TheSheetIsInTheWorldAndATrackerFollowsItsNodes) {
   EXPECT_EQ(trackerField("sheet:362"), "(accepted)");
 }
 
+TEST(TranslateDeformables, AnAttachedBodysDrivenNodesRideOnTheMeshExactly) {
+  // A MOVING facet box translating and spinning about z carries a sheet whose nodes are all
+  // driven: each node must stay where the rigid motion puts it, x(t) = p(t) + R(t) (X - p0).
+  TranslatedScene scene = translateScene(
+      sceneOf({kBox, kGlass, R"({"name": "tray", "facet_body": {"role": "MOVING", "material": "glass",
+          "box": {"centre": {"x": 0.2, "y": 0.1, "z": -0.1}, "size": {"x": 0.1, "y": 0.1, "z": 0.1}},
+          "linear_velocity": {"x": 0.3, "z": 0.5}, "angular_velocity": {"z": 2.0}}})",
+               R"({"name": "sheet", "mass_spring_body": {"material": "glass", "total_mass": 1, "stiffness": 100,
+          "box": {"lo": {"x": 0, "y": 0, "z": -0.01}, "hi": {"x": 0.4, "y": 0.2, "z": 0.01}, "node_spacing": 0.1},
+          "driven": {"regions": [{"lo": {"x": -1, "y": -1, "z": -1}, "hi": {"x": 1, "y": 1, "z": 1}}]},
+          "attached_to": "tray"}})"}),
+      {});
+  core::World& world = scene.world;
+  world.initialize();
+  const core::DeformableBody& sheet = *world.deformableBodies().at(0);
+  std::vector<core::Vec3> initial;
+  for (std::size_t n = 0; n < sheet.nodeCount(); ++n) initial.push_back(sheet.nodePosition(n));
+  const core::Vec3 p0(0.2, 0.1, -0.1);
+  for (int step = 0; step < 500; ++step) world.step();
+  const double t = world.time();
+  const core::Vec3 p = p0 + t * core::Vec3(0.3, 0.0, 0.5);
+  const core::Mat3 rotation = Eigen::AngleAxisd(2.0 * t, core::Vec3::UnitZ()).toRotationMatrix();
+  EXPECT_NEAR((world.meshes()[0].position() - p).norm(), 0.0, 1e-12);
+  for (std::size_t n = 0; n < sheet.nodeCount(); ++n) {
+    const core::Vec3 expected = p + rotation * (initial[n] - p0);
+    EXPECT_NEAR((sheet.nodePosition(n) - expected).norm(), 0.0, 1e-9) << "node " << n;
+    const core::Vec3 velocity = core::Vec3(0.3, 0.0, 0.5) + core::Vec3(0, 0, 2.0).cross(expected - p);
+    EXPECT_NEAR((sheet.nodeVelocity(n) - velocity).norm(), 0.0, 1e-9) << "node " << n;
+  }
+}
+
 TEST(TranslateDeformables, OutputNodesAreTheGivenOnesOrABoundedStrideOfTheSurface) {
   v1::DeformableOutputNodes given;
   given.add_nodes(4);

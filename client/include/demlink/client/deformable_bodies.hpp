@@ -44,45 +44,75 @@ class DeformableBody : public Component {
  protected:
   using Component::Component;
   void writeInputs(v1::DataPackage& package) const override;
+  /// Adds the box [lo, hi] to a fixed or driven node set.
+  static void addRegion(v1::NodeSet& set, const Vec3& lo, const Vec3& hi);
 
  private:
   bool pose_set_ = false;
   v1::DeformableBodyInput input_;
 };
 
-class MassSpringBody : public DeformableBody {
+/// The declaration setters both kinds share; `Derived` (MassSpringBody, FemBody) for chaining.
+template <class Derived>
+class DeformableBodyOf : public DeformableBody {
+ public:
+  Derived& setMaterial(const std::string& material) {
+    body().set_material(material);
+    return self();
+  }
+  /// Nodes in [lo, hi] are fixed / driven [m].
+  Derived& addFixedRegion(const Vec3& lo, const Vec3& hi) {
+    addRegion(*body().mutable_fixed(), lo, hi);
+    return self();
+  }
+  Derived& addDrivenRegion(const Vec3& lo, const Vec3& hi) {
+    addRegion(*body().mutable_driven(), lo, hi);
+    return self();
+  }
+  /// The point the driven pose refers to, at t = 0 [m].
+  Derived& setDrivenReference(const Vec3& point) {
+    *body().mutable_driven_reference() = toProto(point);
+    return self();
+  }
+  /// The driven nodes follow this rigid body (no pose input then).
+  Derived& attachTo(const std::string& rigidBody) {
+    body().set_attached_to(rigidBody);
+    return self();
+  }
+  /// Report these nodes' displacements (default: the surface nodes, at most 10000).
+  Derived& setOutputNodes(const std::vector<std::uint32_t>& nodes) {
+    body().mutable_output_nodes()->mutable_nodes()->Assign(nodes.begin(), nodes.end());
+    return self();
+  }
+
+ protected:
+  using DeformableBody::DeformableBody;
+
+ private:
+  Derived& self() { return static_cast<Derived&>(*this); }
+  auto& body() { return self().message(); }
+};
+
+class MassSpringBody : public DeformableBodyOf<MassSpringBody> {
  public:
   explicit MassSpringBody(std::string name);
   /// A node lattice filling [lo, hi] at `nodeSpacing` [m].
   MassSpringBody& setBox(const Vec3& lo, const Vec3& hi, double nodeSpacing);
   MassSpringBody& setStlFile(const std::string& pathOnServer);
-  MassSpringBody& setMaterial(const std::string& material);
   /// Total mass [kg], spring stiffness [N/m] and damping [N s/m].
   MassSpringBody& setSprings(double totalMass, double stiffness, double damping);
-  /// Break above |force| [N] or strain [-] (infinity: never).
+  /// Break above |force| [N] or strain [-].
   MassSpringBody& setBreakLimits(double force, double strain);
-  /// Nodes in [lo, hi] are fixed / driven [m].
-  MassSpringBody& addFixedRegion(const Vec3& lo, const Vec3& hi);
-  MassSpringBody& addDrivenRegion(const Vec3& lo, const Vec3& hi);
-  /// The point the driven pose refers to, at t = 0 [m].
-  MassSpringBody& setDrivenReference(const Vec3& point);
-  /// Report these nodes' displacements (default: the surface nodes, at most 10000).
-  MassSpringBody& setOutputNodes(const std::vector<std::uint32_t>& nodes);
   [[nodiscard]] v1::MassSpringBody& message() { return *declaration().mutable_mass_spring_body(); }
 };
 
-class FemBody : public DeformableBody {
+class FemBody : public DeformableBodyOf<FemBody> {
  public:
   explicit FemBody(std::string name);
   /// A Gmsh .msh on the server with E [Pa], nu [-], rho [kg/m^3].
   FemBody& setMesh(const std::string& mshPathOnServer, double youngsModulus, double poissonRatio, double density);
-  FemBody& setMaterial(const std::string& material);
   /// Rayleigh damping C = alpha K + beta M (alpha [s], beta [1/s]).
   FemBody& setRayleigh(double alpha, double beta);
-  FemBody& addFixedRegion(const Vec3& lo, const Vec3& hi);
-  FemBody& addDrivenRegion(const Vec3& lo, const Vec3& hi);
-  FemBody& setDrivenReference(const Vec3& point);
-  FemBody& setOutputNodes(const std::vector<std::uint32_t>& nodes);
   [[nodiscard]] v1::FemBody& message() { return *declaration().mutable_fem_body(); }
 };
 
