@@ -80,6 +80,30 @@ TEST(DeformableOutputs, FramesBrokenSpringsAndRunLog) {
   EXPECT_EQ(tracked.size(), 1u + 21u) << "header + samples at 0, 0.01, ..., 0.2 s";
 }
 
+TEST(DeformableOutputs, FemBodyFramesAreUnstructuredGridsWithStress) {
+  // The FEM tests' cantilever (110 nodes, 254 linear tetrahedra), clamped at x = 0, sagging.
+  const std::filesystem::path mesh =
+      std::filesystem::path(__FILE__).parent_path() / "../../core/deformable/data/bar_order1.msh";
+  const test::ScratchDir scratch;
+  const std::filesystem::path out = scratch.path() / "out";
+  run(R"({"components": [
+    {"name": "box", "simulation_box": {"time_step": 1e-4, "end_time": 0.02,
+      "output": {"vtk_interval": 0.01, "progress_interval_s": 60}}},
+    {"name": "steel", "material": {}},
+    {"name": "bar", "fem_body": {"material": "steel", "mesh": {"msh_file": ")" + mesh.string() + R"(",
+      "youngs_modulus": 1e7, "poisson_ratio": 0.3, "density": 1000},
+      "fixed": {"regions": [{"lo": {"x": -1, "y": -1, "z": -1}, "hi": {"x": 0.001, "y": 1, "z": 1}}]}}}
+  ]})",
+      out);
+  EXPECT_EQ(test::countOccurrences(test::readText(out / "deformable_bar.pvd"), "<DataSet "), 3u);
+  const std::string frame = test::readText(out / "deformable_bar_000002.vtu");
+  EXPECT_NE(frame.find("<VTKFile type=\"UnstructuredGrid\""), std::string::npos);
+  EXPECT_NE(frame.find("NumberOfPoints=\"110\" NumberOfCells=\"254\""), std::string::npos) << frame.substr(0, 300);
+  EXPECT_NE(frame.find("Name=\"von_mises_stress\""), std::string::npos);
+  EXPECT_FALSE(std::filesystem::exists(out / "broken_springs.csv")) << "no mass-spring body, no tears to list";
+  EXPECT_NE(test::readText(out / "run_log.csv").find("deformable,bar.kind,fem,"), std::string::npos);
+}
+
 TEST(DeformableOutputs, RestoredRunContinuesBitIdentically) {
   const test::ScratchDir scratch;
   const std::filesystem::path& dir = scratch.path();
