@@ -14,6 +14,8 @@ packages=(
   python3 python3-protobuf
   # scripts/plot_cosim.py (PNG plots, headless Agg backend)
   python3-matplotlib
+  # tests/core/deformable/data: regenerating the Gmsh test meshes (not needed to build or test)
+  gmsh
   # tests/multihost: network namespaces and veth pairs (ip netns, ip link)
   iproute2
   # scripts/run_fuzz.sh: clang with the libFuzzer/ASan runtimes (only recommended by clang,

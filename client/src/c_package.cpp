@@ -211,6 +211,14 @@ void applyInputs(Component& component, const Package& p) {
     }
     body->setPose(r.vec(0), r.quat(3));
     body->setVelocity(r.vec(7), r.vec(10));
+  } else if (auto* deformable = dynamic_cast<DeformableBody*>(&component)) {
+    if (p.reals.empty()) return;  // no pose: the driven nodes keep their last one
+    if (p.reals.size() != 7 && p.reals.size() != 13) {
+      throw ArgumentError(kind + " input: 7 reals (x y z qw qx qy qz) or 13 (with vx vy vz wx wy wz) expected, got " +
+                          std::to_string(p.reals.size()));
+    }
+    deformable->setDrivenPose(r.vec(0), r.quat(3));
+    if (p.reals.size() == 13) deformable->setDrivenVelocity(r.vec(7), r.vec(10));
   } else if (auto* box = dynamic_cast<SimulationBox*>(&component)) {
     if (r.hasReal(0)) box->setGravity(r.vec(0));
     if (p.reals.size() >= 15) box->setFrame(r.vec(3), r.vec(6), r.vec(9), r.vec(12));
@@ -269,6 +277,16 @@ void writeOutputs(const Component& component, int handle, Package& p) {
       for (const auto id : o.ids()) p.ints.push_back(static_cast<long long>(id));
       for (const float x : o.positions()) p.reals.push_back(x);
       for (const float r : o.radii()) p.reals.push_back(r);
+      break;
+    }
+    case v1::DataPackage::kDeformableBody: {
+      const auto& o = d.deformable_body();
+      p.ints.push_back(static_cast<long long>(o.broken_springs()));
+      p.ints.push_back(static_cast<long long>(o.node_count()));
+      for (const auto node : o.nodes()) p.ints.push_back(node);
+      for (const auto* v : {&o.driven_force(), &o.driven_torque(), &o.fixed_force(), &o.fixed_torque()}) pushVec(p, *v);
+      p.reals.push_back(o.kinetic_energy());
+      p.reals.insert(p.reals.end(), o.displacements().begin(), o.displacements().end());
       break;
     }
     default:

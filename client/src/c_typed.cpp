@@ -2,6 +2,7 @@
 /// exchanged kind, with scalars and fixed-size arrays a Modelica external function can
 /// pass directly. The exchange calls receive the interval that ended, then send the next
 /// package (why: demlink_c.h, "Blocking and the exchange order").
+#include <array>
 #include <climits>
 #include <cmath>
 
@@ -34,6 +35,34 @@ int declareComponent(Client& c, std::unique_ptr<Component> component, double int
   session.declare();
   *handle = static_cast<int>(session.size() - 1);
   return DL_OK;
+}
+
+/// Four vectors as twelve reals x y z, x y z, ... (a wrench pair or the reactions).
+void flatten(const std::array<Vec3, 4>& parts, double* out) {
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    out[3 * i] = parts[i].x;
+    out[3 * i + 1] = parts[i].y;
+    out[3 * i + 2] = parts[i].z;
+  }
+}
+
+/// Fixed and driven boxes (lo(3) hi(3) each), the driving reference and attachment of a
+/// deformable body's declaration.
+template <class Message>
+void constrain(Message& body, int fixedCount, const double* fixed, int drivenCount, const double* driven,
+               const double* reference, const char* attachedTo) {
+  const auto regions = [](v1::NodeSet& set, int count, const double* boxes, const char* what) {
+    if (count < 0 || (count > 0 && boxes == nullptr)) throw ArgumentError(std::string(what) + ": bad count or NULL");
+    for (int k = 0; k < count; ++k) {
+      v1::NodeRegion& region = *set.add_regions();
+      *region.mutable_lo() = toProto(vec(boxes + 6 * k, what));
+      *region.mutable_hi() = toProto(vec(boxes + 6 * k + 3, what));
+    }
+  };
+  regions(*body.mutable_fixed(), fixedCount, fixed, "fixedRegions");
+  regions(*body.mutable_driven(), drivenCount, driven, "drivenRegions");
+  if (reference != nullptr) *body.mutable_driven_reference() = toProto(vec(reference, "drivenReference"));
+  body.set_attached_to(str(attachedTo));
 }
 
 template <class T>
@@ -231,6 +260,37 @@ int dl_declare_particle_view(dl_client* client, const char* name, double interva
   });
 }
 
+int dl_declare_mass_spring_box(dl_client* client, const char* name, double interval, const char* material,
+                               const double lo[3], const double hi[3], double nodeSpacing, const double springs[3],
+                               const double breakLimits[2], int fixedCount, const double* fixedRegions,
+                               int drivenCount, const double* drivenRegions, const double drivenReference[3],
+                               const char* attachedTo, int* component) {
+  return guarded(client, [&](Client& c) -> int {
+    if (springs == nullptr) throw ArgumentError("springs is NULL");
+    auto b = std::make_unique<MassSpringBody>(str(name));
+    b->setBox(vec(lo, "lo"), vec(hi, "hi"), nodeSpacing).setMaterial(str(material));
+    b->setSprings(springs[0], springs[1], springs[2]);
+    if (breakLimits != nullptr && given(breakLimits[0])) b->message().set_break_force(breakLimits[0]);
+    if (breakLimits != nullptr && given(breakLimits[1])) b->message().set_break_strain(breakLimits[1]);
+    constrain(b->message(), fixedCount, fixedRegions, drivenCount, drivenRegions, drivenReference, attachedTo);
+    return declareComponent(c, std::move(b), interval, component);
+  });
+}
+
+int dl_declare_fem_mesh(dl_client* client, const char* name, double interval, const char* material,
+                        const char* mshFile, const double elastic[3], const double rayleigh[2], int fixedCount,
+                        const double* fixedRegions, int drivenCount, const double* drivenRegions,
+                        const double drivenReference[3], const char* attachedTo, int* component) {
+  return guarded(client, [&](Client& c) -> int {
+    if (elastic == nullptr) throw ArgumentError("elastic is NULL");
+    auto b = std::make_unique<FemBody>(str(name));
+    b->setMesh(str(mshFile), elastic[0], elastic[1], elastic[2]).setMaterial(str(material));
+    if (rayleigh != nullptr) b->setRayleigh(rayleigh[0], rayleigh[1]);
+    constrain(b->message(), fixedCount, fixedRegions, drivenCount, drivenRegions, drivenReference, attachedTo);
+    return declareComponent(c, std::move(b), interval, component);
+  });
+}
+
 int dl_simulation_box_exchange(dl_client* client, int component, const double gravity[3], double out[4],
                                int* particleCount) {
   return guarded(client, [&](Client& c) -> int {
@@ -259,16 +319,43 @@ int dl_rigid_body_exchange(dl_client* client, int component, const double pose[7
     return exchangeStep(
         c, body,
         [&] {
-          const Vec3 parts[4] = {body.meanForce(), body.meanTorque(), body.force(), body.torque()};
-          for (int i = 0; i < 4; ++i) {
-            wrenchOut[3 * i] = parts[i].x;
-            wrenchOut[3 * i + 1] = parts[i].y;
-            wrenchOut[3 * i + 2] = parts[i].z;
-          }
+          flatten({body.meanForce(), body.meanTorque(), body.force(), body.torque()}, wrenchOut);
         },
         [&] {
           body.setPose({pose[0], pose[1], pose[2]}, {pose[3], pose[4], pose[5], pose[6]});
           body.setVelocity({twist[0], twist[1], twist[2]}, {twist[3], twist[4], twist[5]});
+        });
+  });
+}
+
+int dl_deformable_body_exchange(dl_client* client, int component, const double pose[7], const double twist[6],
+                                double reactionsOut[12], int capacity, double* displacements, int* count,
+                                int* broken) {
+  return guarded(client, [&](Client& c) -> int {
+    if (reactionsOut == nullptr || count == nullptr || broken == nullptr) {
+      throw ArgumentError("reactionsOut, count or broken is NULL");
+    }
+    if (capacity < 0 || (capacity > 0 && displacements == nullptr)) {
+      throw ArgumentError("deformable body: bad capacity or NULL displacements");
+    }
+    auto& body = typed<DeformableBody>(c, component, "mass_spring_body or fem_body");
+    return exchangeStep(
+        c, body,
+        [&] {
+          flatten({body.drivenForce(), body.drivenTorque(), body.fixedForce(), body.fixedTorque()}, reactionsOut);
+          const std::vector<Vec3> u = body.displacements();
+          *count = clampCount(u.size());
+          for (std::size_t i = 0; i < u.size() && i < static_cast<std::size_t>(capacity); ++i) {
+            displacements[3 * i] = u[i].x;
+            displacements[3 * i + 1] = u[i].y;
+            displacements[3 * i + 2] = u[i].z;
+          }
+          *broken = clampCount(body.brokenSprings());
+        },
+        [&] {
+          if (pose == nullptr) return;
+          body.setDrivenPose({pose[0], pose[1], pose[2]}, {pose[3], pose[4], pose[5], pose[6]});
+          if (twist != nullptr) body.setDrivenVelocity({twist[0], twist[1], twist[2]}, {twist[3], twist[4], twist[5]});
         });
   });
 }

@@ -27,6 +27,7 @@ World::World(SimulationSettings settings, std::string settingsField)
 void World::setFrameMotion(const FrameMotion& motion) {
   motion.validate("frame");
   requireNoClumpsInRotatingFrame(motion, "frame");
+  requireNoDeformablesInMovingFrame(motion, "frame");
   state_.setFrame(motion);
   if (initialized_) selectStepStages();
 }
@@ -38,6 +39,13 @@ void World::requireNoClumpsInRotatingFrame(const FrameMotion& motion, const std:
                      "clumps in a rotating frame are not supported yet (their rigid-body kick has no fictitious "
                      "torques); use spheres, or a frame that only translates");
   }
+}
+
+void World::requireNoDeformablesInMovingFrame(const FrameMotion& motion, const std::string& fieldPrefix) const {
+  if (deformables_.empty() || motion.isInertial()) return;
+  throw InputError(fieldPrefix, "non-inertial",
+                   "deformable bodies in a moving frame are not supported yet (their nodes feel no fictitious "
+                   "forces); use an inertial frame");
 }
 
 void World::setGravity(const Vec3& gravity) {
@@ -186,6 +194,30 @@ std::size_t World::addMesh(MeshBody mesh, const std::string& fieldPrefix) {
   return meshes_.size() - 1;
 }
 
+std::size_t World::addDeformableBody(std::unique_ptr<DeformableBody> body, const std::string& fieldPrefix) {
+  if (!body) throw InputError(fieldPrefix, "null", "no deformable body given");
+  if (initialized_) {
+    throw InputError(fieldPrefix + ".name", body->name(), "deformable bodies must be added before initialize()");
+  }
+  if (body->surface().materialIndex() >= materials_.size()) {
+    throw InputError(fieldPrefix + ".material", std::to_string(body->surface().materialIndex()), "no such material");
+  }
+  for (const auto& existing : deformables_) {
+    if (existing->name() == body->name()) {
+      throw InputError(fieldPrefix + ".name", body->name(), "deformable body name already used");
+    }
+  }
+  if (state_.frame_moving) {
+    throw InputError(fieldPrefix + ".name", body->name(),
+                     "deformable bodies in a moving frame are not supported yet (their nodes feel no fictitious "
+                     "forces); use an inertial frame");
+  }
+  deformables_.push_back(std::move(body));
+  deformable_near_.emplace_back();
+  rebuild_pending_ = true;
+  return deformables_.size() - 1;
+}
+
 void World::declareFutureParticles(std::uint32_t material, double minRadius, const std::string& fieldPrefix) {
   requirePositive(fieldPrefix + ".radius", minRadius);
   if (material >= materials_.size()) {
@@ -217,6 +249,18 @@ void World::initialize() {
                                  pair_overrides_);
   time_step_report_ = criticalTimeStep(materials_, pair_table_, settings_.contact_model, minRadius,
                                        settings_.max_impact_velocity);
+  for (const auto& body : deformables_) {
+    const double limit = body->criticalTimeStep();
+    if (!(limit < time_step_report_.limit)) continue;
+    time_step_report_.limit = limit;
+    time_step_report_.limited_by = "deformable " + body->name() + ": " + body->criticalTimeStepReason();
+    if (settings_.time_step > limit && !settings_.allow_unsafe_time_step) {
+      throw InputError(settings_field_ + ".time_step", formatValue(settings_.time_step),
+                       "exceeds the critical limit " + formatValue(limit) + " s of " + std::string(body->kind()) +
+                           " body " + body->name() + " (" + body->criticalTimeStepReason() +
+                           "); lower it, stiffen less or set allow_unsafe_time_step to accept the risk");
+    }
+  }
   if (settings_.time_step > time_step_report_.limit && !settings_.allow_unsafe_time_step) {
     throw InputError(settings_field_ + ".time_step", formatValue(settings_.time_step),
                      "exceeds the critical limit " + formatValue(time_step_report_.limit) + " s (limited by " +
@@ -242,6 +286,7 @@ void World::initialize() {
     return rolling_active_ ? &World::computeForces<Law, true> : &World::computeForces<Law, false>;
   });
   requireNoClumpsInRotatingFrame(state_.frame, settings_field_ + ".frame");
+  requireNoDeformablesInMovingFrame(state_.frame, settings_field_ + ".frame");
   initialized_ = true;
   for (const auto& component : components_) component->initialize(*this);
   selectStepStages();
@@ -269,6 +314,7 @@ SceneFeatures World::sceneFeatures() const {
   f.frame_moving = state_.frame_moving;
   f.clumps = !clump_templates_.empty();
   f.rolling = rolling_active_;
+  f.deformables = !deformables_.empty();
   return f;
 }
 
@@ -293,6 +339,8 @@ void World::runStage(Stage stage, StepContext& context) {
       const bool verlet = settings_.integrator == IntegratorKind::VelocityVerlet;
       return integrateClumps(verlet ? 0.5 * context.dt : context.dt, context.dt, !verlet);
     }
+    case Stage::kDeformableMotion: return moveDeformables(context);
+    case Stage::kDeformableForces: return finishDeformables(context);
     case Stage::kNeighbourList: return updateNeighbours(context);
     case Stage::kForces: return (this->*compute_forces_)();
     case Stage::kClumpForceSum: return gatherClumpForces();
@@ -303,6 +351,7 @@ void World::runStage(Stage stage, StepContext& context) {
     case Stage::kParticleContacts:
     case Stage::kPlaneContacts:
     case Stage::kMeshContacts:
+    case Stage::kDeformableContacts:
     case Stage::kRollingResistance: return;  // passes inside kForces, never selected as calls
   }
 }
@@ -316,6 +365,23 @@ void World::moveMeshes(StepContext& context) {
     if (!mesh.linearVelocity().isZero(0.0) || !mesh.angularVelocity().isZero(0.0)) mesh.advance(dt);
     const bool farEnough = mesh.maxDisplacementSinceMark() > 0.5 * neighbours_.skin();
     context.mesh_moved_far = context.mesh_moved_far || (mesh_colliding_[m] != 0 && farEnough);
+  }
+}
+
+void World::moveDeformables(StepContext& context) {
+  for (const auto& body : deformables_) {
+    body->beginStep(context.dt, state_.gravity);
+    context.mesh_moved_far =
+        context.mesh_moved_far || body->surface().maxDisplacementSinceMark() > 0.5 * neighbours_.skin();
+  }
+}
+
+void World::finishDeformables(const StepContext& context) {
+  for (const auto& body : deformables_) {
+    const std::uint64_t brokenBefore = body->brokenCount();
+    body->endStep(context.dt, state_.gravity);
+    // A tear may have deactivated triangles: the next step's near lists leave them out.
+    if (body->brokenCount() != brokenBefore) rebuild_pending_ = true;
   }
 }
 
@@ -405,6 +471,11 @@ void World::computeForces() {
     meshes_[m].clearWrench();
     if (mesh_colliding_[m] == 0) continue;
     meshContactForces<Law, kRolling>(p, meshes_[m], mesh_near_[m], pair_table_, dt, mesh_contacts_scratch_);
+  }
+  for (std::size_t d = 0; d < deformables_.size(); ++d) {
+    DeformableSurface& surface = deformables_[d]->surface();
+    surface.clearForces();
+    meshContactForces<Law, kRolling>(p, surface, deformable_near_[d], pair_table_, dt, mesh_contacts_scratch_);
   }
 }
 
@@ -550,6 +621,12 @@ void World::rebuildNeighbours() {
     }
     meshes_[m].markNeighbourBuild();
   }
+  for (std::size_t d = 0; d < deformables_.size(); ++d) {
+    const DeformableSurface& surface = deformables_[d]->surface();
+    deformable_near_[d].build(particles_, surface.worldVertices(), surface.triangles(), surface.active(),
+                              neighbours_.grid(), neighbours_.skin(), pending_new_slot_of_old_);
+    deformables_[d]->surface().markNeighbourBuild();
+  }
   pending_new_slot_of_old_.clear();
   rebuild_pending_ = false;
 }
@@ -560,7 +637,9 @@ std::vector<std::string> World::activeStages() const {
   };
   std::vector<std::string> names;
   for (const Stage stage : selectStages(sceneFeatures())) {
-    if (stage == Stage::kInsertRemove) {
+    if (stage == Stage::kDeformableMotion || stage == Stage::kDeformableForces) {
+      for (const auto& body : deformables_) names.push_back(std::string(body->kind()) + ":" + body->name());
+    } else if (stage == Stage::kInsertRemove) {
       componentsIn(insert_remove_components_, names);
     } else if (stage == Stage::kObserve) {
       componentsIn(observe_components_, names);

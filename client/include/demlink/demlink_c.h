@@ -220,6 +220,23 @@ DL_API int dl_declare_pit_generator(dl_client* client, const char* name, const c
                                     double targetHeight, int seed, int* component);
 DL_API int dl_declare_particle_view(dl_client* client, const char* name, double interval, int maxCount,
                                     int* component);
+/* Deformable bodies (docs/deformable.md). springs = total mass [kg], stiffness [N/m],
+ * damping [N s/m]; breakLimits = force [N], strain [-] (NaN or negative: never, NULL: both
+ * never). fixedRegions / drivenRegions: count boxes of lo(3) hi(3) [m] each (NULL when the
+ * count is 0); drivenReference [m] may be NULL (origin). attachedTo: a rigid body's name
+ * whose pose drives the driven nodes ("" or NULL: the client drives them). */
+DL_API int dl_declare_mass_spring_box(dl_client* client, const char* name, double interval, const char* material,
+                                      const double lo[3], const double hi[3], double nodeSpacing,
+                                      const double springs[3], const double breakLimits[2], int fixedCount,
+                                      const double* fixedRegions, int drivenCount, const double* drivenRegions,
+                                      const double drivenReference[3], const char* attachedTo, int* component);
+/* mshFile is a Gmsh .msh on the SERVER; elastic = E [Pa], nu [-], rho [kg/m^3];
+ * rayleigh = alpha [s], beta [1/s] (NULL: none); regions as above. */
+DL_API int dl_declare_fem_mesh(dl_client* client, const char* name, double interval, const char* material,
+                               const char* mshFile, const double elastic[3], const double rayleigh[2],
+                               int fixedCount, const double* fixedRegions, int drivenCount,
+                               const double* drivenRegions, const double drivenReference[3],
+                               const char* attachedTo, int* component);
 
 /* --- Typed exchange (receive the interval that ended, then send; see the top) -------------
  * Counts are saturated at INT_MAX. Each returns DL_ERR_FINISHED once the simulation ended. */
@@ -239,6 +256,15 @@ DL_API int dl_flow_sensor_read(dl_client* client, int component, int counts[4], 
 DL_API int dl_particle_source_read(dl_client* client, int component, int counts[3], double masses[3]);
 /* interval, total. */
 DL_API int dl_particle_sink_read(dl_client* client, int component, int counts[2], double masses[2]);
+/* Deformable body (mass-spring or FEM). pose = x y z qw qx qy qz of the driving reference
+ * point, twist = vx vy vz wx wy wz (pose NULL: none sent, the driven nodes keep their last
+ * pose; twist NULL: zero). reactionsOut = driven force(3), driven torque(3), fixed force(3),
+ * fixed torque(3) [N, N m]; displacements: 3 * capacity reals of the reported nodes [m]
+ * (may be NULL when capacity is 0); *count = nodes reported; *broken = broken springs
+ * (saturated at INT_MAX). */
+DL_API int dl_deformable_body_exchange(dl_client* client, int component, const double pose[7],
+                                       const double twist[6], double reactionsOut[12], int capacity,
+                                       double* displacements, int* count, int* broken);
 /* positions: 3 * capacity reals, radii: capacity reals; *count = particles listed (at most
  * capacity are copied). */
 DL_API int dl_particle_view_read(dl_client* client, int component, int capacity, double* positions,

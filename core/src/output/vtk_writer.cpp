@@ -14,6 +14,7 @@
 #include <fstream>
 #include <stdexcept>
 #include <string_view>
+#include <type_traits>
 #include <variant>
 #include <vector>
 
@@ -30,7 +31,7 @@ struct VtkArray {
   std::string name;
   int components = 1;
   std::variant<std::vector<double>, std::vector<std::uint64_t>, std::vector<std::uint32_t>,
-               std::vector<std::int64_t>>
+               std::vector<std::int64_t>, std::vector<std::uint8_t>>
       values;
 
   [[nodiscard]] std::string_view typeName() const {
@@ -38,7 +39,8 @@ struct VtkArray {
       case 0: return "Float64";
       case 1: return "UInt64";
       case 2: return "UInt32";
-      default: return "Int64";
+      case 3: return "Int64";
+      default: return "UInt8";
     }
   }
   [[nodiscard]] std::size_t byteCount() const {
@@ -60,7 +62,10 @@ VtkArray scalarColumn(std::string name, std::span<const T> values) {
 
 void appendNumber(std::string& out, auto value) {
   char buffer[32];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+  // UInt8 values print as numbers, not characters.
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer,
+                                    std::conditional_t<std::is_same_v<decltype(value), std::uint8_t>, unsigned,
+                                                       decltype(value)>(value));
   out.append(buffer, result.ptr);
 }
 
@@ -86,16 +91,50 @@ void writeArrayXml(std::string& xml, const VtkArray& array, VtkEncoding encoding
   xml.append("\n").append(indent).append("</DataArray>\n");
 }
 
-/// A PolyData piece: points, point data and one cell section (Verts or Polys).
-struct PolyDataPiece {
-  std::size_t point_count = 0;
-  VtkArray points;
-  std::vector<VtkArray> point_data;
-  std::string_view cell_section;  ///< "Verts" or "Polys"
+/// One cell section of a PolyData piece ("Verts", "Lines" or "Polys").
+struct CellSection {
+  std::string_view name;
   std::size_t cell_count = 0;
   VtkArray connectivity;
   VtkArray offsets;
 };
+
+/// A PolyData piece: points, point data, cell data (over the sections' cells in the
+/// order Verts, Lines, Polys) and the cell sections in that order.
+struct PolyDataPiece {
+  std::size_t point_count = 0;
+  VtkArray points;
+  std::vector<VtkArray> point_data;
+  std::vector<VtkArray> cell_data;
+  std::vector<CellSection> sections;
+};
+
+/// Connectivity and offsets of cells of `corners` nodes each, every index < pointCount.
+template <std::size_t corners>
+CellSection cellsOf(std::string_view name, std::span<const std::array<std::uint32_t, corners>> cells,
+                    std::size_t pointCount, std::string_view who) {
+  std::vector<std::int64_t> connectivity;
+  std::vector<std::int64_t> offsets;
+  connectivity.reserve(corners * cells.size());
+  offsets.reserve(cells.size());
+  for (std::size_t c = 0; c < cells.size(); ++c) {
+    for (std::uint32_t v : cells[c]) {
+      if (v >= pointCount) {
+        throw std::invalid_argument(std::string(who) + ": cell " + std::to_string(c) + " uses point " +
+                                    std::to_string(v) + " of " + std::to_string(pointCount));
+      }
+      connectivity.push_back(v);
+    }
+    offsets.push_back(static_cast<std::int64_t>(connectivity.size()));
+  }
+  return {name, cells.size(), {"connectivity", 1, std::move(connectivity)}, {"offsets", 1, std::move(offsets)}};
+}
+
+VtkArray flagColumn(std::string name, std::span<const char> flags) {
+  std::vector<std::uint8_t> values(flags.size());
+  for (std::size_t k = 0; k < flags.size(); ++k) values[k] = flags[k] != 0 ? 1 : 0;
+  return {std::move(name), 1, std::move(values)};
+}
 
 void writeFile(const std::string& path, const std::string& text, const std::vector<const VtkArray*>& blocks) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
@@ -124,9 +163,12 @@ void writePolyData(const std::string& path, const PolyDataPiece& piece, VtkEncod
       .append(kByteOrder)
       .append("\" header_type=\"UInt64\">\n  <PolyData>\n");
   xml.append("    <Piece NumberOfPoints=\"").append(std::to_string(piece.point_count));
-  for (std::string_view section : {"Verts", "Polys", "Lines", "Strips"}) {
-    const std::size_t n = section == piece.cell_section ? piece.cell_count : 0;
-    xml.append("\" NumberOf").append(section).append("=\"").append(std::to_string(n));
+  for (std::string_view name : {"Verts", "Polys", "Lines", "Strips"}) {
+    std::size_t n = 0;
+    for (const CellSection& section : piece.sections) {
+      if (section.name == name) n = section.cell_count;
+    }
+    xml.append("\" NumberOf").append(name).append("=\"").append(std::to_string(n));
   }
   xml.append("\">\n");
 
@@ -135,20 +177,26 @@ void writePolyData(const std::string& path, const PolyDataPiece& piece, VtkEncod
   xml.append("      <Points>\n");
   writeArrayXml(xml, piece.points, encoding, offset, "        ");
   xml.append("      </Points>\n");
-  if (!piece.point_data.empty()) {
-    xml.append("      <PointData Scalars=\"radius\">\n");
-    for (const VtkArray& array : piece.point_data) {
+  const auto writeData = [&](std::string_view element, std::string_view attributes,
+                             const std::vector<VtkArray>& arrays) {
+    if (arrays.empty()) return;
+    xml.append("      <").append(element).append(attributes).append(">\n");
+    for (const VtkArray& array : arrays) {
       writeArrayXml(xml, array, encoding, offset, "        ");
       blocks.push_back(&array);
     }
-    xml.append("      </PointData>\n");
+    xml.append("      </").append(element).append(">\n");
+  };
+  writeData("PointData", " Scalars=\"radius\"", piece.point_data);
+  writeData("CellData", "", piece.cell_data);
+  for (const CellSection& section : piece.sections) {
+    xml.append("      <").append(section.name).append(">\n");
+    writeArrayXml(xml, section.connectivity, encoding, offset, "        ");
+    writeArrayXml(xml, section.offsets, encoding, offset, "        ");
+    xml.append("      </").append(section.name).append(">\n");
+    blocks.push_back(&section.connectivity);
+    blocks.push_back(&section.offsets);
   }
-  xml.append("      <").append(piece.cell_section).append(">\n");
-  writeArrayXml(xml, piece.connectivity, encoding, offset, "        ");
-  writeArrayXml(xml, piece.offsets, encoding, offset, "        ");
-  xml.append("      </").append(piece.cell_section).append(">\n");
-  blocks.push_back(&piece.connectivity);
-  blocks.push_back(&piece.offsets);
   xml.append("    </Piece>\n  </PolyData>\n");
 
   if (encoding == VtkEncoding::Ascii) {
@@ -187,43 +235,109 @@ void writeParticlesVtp(const std::string& path, const ParticleArrays& particles,
   piece.point_data.push_back(vectorColumn("force", particles.force));
   piece.point_data.push_back(scalarColumn<std::uint32_t>("material", particles.material));
   piece.point_data.push_back(scalarColumn<std::uint64_t>("clump_id", particles.clump_id));
-  piece.cell_section = "Verts";
-  piece.cell_count = n;
   std::vector<std::int64_t> connectivity(n);
   std::vector<std::int64_t> offsets(n);
   for (std::size_t i = 0; i < n; ++i) {
     connectivity[i] = static_cast<std::int64_t>(i);
     offsets[i] = static_cast<std::int64_t>(i + 1);
   }
-  piece.connectivity = {"connectivity", 1, std::move(connectivity)};
-  piece.offsets = {"offsets", 1, std::move(offsets)};
+  piece.sections.push_back({"Verts", n, {"connectivity", 1, std::move(connectivity)}, {"offsets", 1, std::move(offsets)}});
   writePolyData(path, piece, encoding);
 }
 
 void writeMeshVtp(const std::string& path, std::span<const Vec3> vertices,
                   std::span<const std::array<std::uint32_t, 3>> triangles, VtkEncoding encoding) {
+  PolyDataPiece piece;
+  piece.point_count = vertices.size();
+  piece.points = vectorColumn("position", vertices);
+  piece.sections.push_back(cellsOf<3>("Polys", triangles, vertices.size(), "writeMeshVtp"));
+  writePolyData(path, piece, encoding);
+}
+
+void writeDeformableVtp(const std::string& path, const DeformableFrame& frame, VtkEncoding encoding) {
+  const std::size_t n = frame.positions.size();
+  if (frame.displacements.size() != n || frame.velocities.size() != n || frame.spring_intact.size() != frame.springs.size() ||
+      frame.triangle_active.size() != frame.triangles.size()) {
+    throw std::invalid_argument("writeDeformableVtp: array sizes differ");
+  }
+  PolyDataPiece piece;
+  piece.point_count = n;
+  piece.points = vectorColumn("position", frame.positions);
+  piece.point_data.push_back(vectorColumn("displacement", frame.displacements));
+  piece.point_data.push_back(vectorColumn("velocity", frame.velocities));
+  // Cell data runs over the lines first, then the polygons (VTK's cell order).
+  std::vector<char> intact(frame.spring_intact.begin(), frame.spring_intact.end());
+  intact.insert(intact.end(), frame.triangle_active.begin(), frame.triangle_active.end());
+  piece.cell_data.push_back(flagColumn("intact", intact));
+  std::vector<std::uint8_t> kind(frame.springs.size(), 0);
+  kind.resize(frame.springs.size() + frame.triangles.size(), 1);
+  piece.cell_data.push_back({"cell_kind", 1, std::move(kind)});
+  piece.sections.push_back(cellsOf<2>("Lines", frame.springs, n, "writeDeformableVtp"));
+  piece.sections.push_back(cellsOf<3>("Polys", frame.triangles, n, "writeDeformableVtp"));
+  writePolyData(path, piece, encoding);
+}
+
+void writeTetrahedraVtu(const std::string& path, std::span<const Vec3> positions, std::span<const Vec3> displacements,
+                        std::span<const Vec3> velocities, std::span<const std::vector<std::uint32_t>> elements,
+                        std::span<const double> vonMises, VtkEncoding encoding) {
+  const std::size_t n = positions.size();
+  if (displacements.size() != n || velocities.size() != n || vonMises.size() != elements.size()) {
+    throw std::invalid_argument("writeTetrahedraVtu: array sizes differ");
+  }
   std::vector<std::int64_t> connectivity;
   std::vector<std::int64_t> offsets;
-  connectivity.reserve(3 * triangles.size());
-  offsets.reserve(triangles.size());
-  for (std::size_t t = 0; t < triangles.size(); ++t) {
-    for (std::uint32_t v : triangles[t]) {
-      if (v >= vertices.size()) {
-        throw std::invalid_argument("writeMeshVtp: triangle " + std::to_string(t) + " uses vertex " +
-                                    std::to_string(v) + " of " + std::to_string(vertices.size()));
+  std::vector<std::uint8_t> types;
+  for (std::size_t e = 0; e < elements.size(); ++e) {
+    const std::vector<std::uint32_t>& element = elements[e];
+    if (element.size() != 4 && element.size() != 10) {
+      throw std::invalid_argument("writeTetrahedraVtu: element " + std::to_string(e) + " has " +
+                                  std::to_string(element.size()) + " nodes (4 or 10)");
+    }
+    for (std::uint32_t v : element) {
+      if (v >= n) {
+        throw std::invalid_argument("writeTetrahedraVtu: element " + std::to_string(e) + " uses node " +
+                                    std::to_string(v) + " of " + std::to_string(n));
       }
       connectivity.push_back(v);
     }
     offsets.push_back(static_cast<std::int64_t>(connectivity.size()));
+    types.push_back(element.size() == 4 ? 10 : 24);  // VTK_TETRA, VTK_QUADRATIC_TETRA
   }
-  PolyDataPiece piece;
-  piece.point_count = vertices.size();
-  piece.points = vectorColumn("position", vertices);
-  piece.cell_section = "Polys";
-  piece.cell_count = triangles.size();
-  piece.connectivity = {"connectivity", 1, std::move(connectivity)};
-  piece.offsets = {"offsets", 1, std::move(offsets)};
-  writePolyData(path, piece, encoding);
+  const VtkArray points = vectorColumn("position", positions);
+  const std::vector<VtkArray> pointData{vectorColumn("displacement", displacements), vectorColumn("velocity", velocities)};
+  const VtkArray stress = scalarColumn<double>("von_mises_stress", vonMises);
+  const VtkArray cellConnectivity{"connectivity", 1, std::move(connectivity)};
+  const VtkArray cellOffsets{"offsets", 1, std::move(offsets)};
+  const VtkArray cellTypes{"types", 1, std::move(types)};
+
+  std::string xml;
+  xml.append("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"")
+      .append(kByteOrder)
+      .append("\" header_type=\"UInt64\">\n  <UnstructuredGrid>\n");
+  xml.append("    <Piece NumberOfPoints=\"").append(std::to_string(n)).append("\" NumberOfCells=\"");
+  xml.append(std::to_string(elements.size())).append("\">\n");
+  std::uint64_t offset = 0;
+  std::vector<const VtkArray*> blocks;
+  const auto add = [&](const VtkArray& array) {
+    writeArrayXml(xml, array, encoding, offset, "        ");
+    blocks.push_back(&array);
+  };
+  xml.append("      <Points>\n");
+  add(points);
+  xml.append("      </Points>\n      <PointData Vectors=\"displacement\">\n");
+  for (const VtkArray& array : pointData) add(array);
+  xml.append("      </PointData>\n      <CellData Scalars=\"von_mises_stress\">\n");
+  add(stress);
+  xml.append("      </CellData>\n      <Cells>\n");
+  add(cellConnectivity);
+  add(cellOffsets);
+  add(cellTypes);
+  xml.append("      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n");
+  if (encoding == VtkEncoding::Ascii) {
+    xml.append("</VTKFile>\n");
+    blocks.clear();
+  }
+  writeFile(path, xml, blocks);
 }
 
 void writePvd(const std::string& path, std::span<const PvdEntry> entries) {

@@ -13,19 +13,27 @@
 /// pending slot map and the counters. Derived data (pair table, critical step,
 /// force kernel, cell grid, thread partition) is recomputed from the scene.
 ///
+/// Deformable bodies (section DEFM, written only when the scene has some, so files of
+/// scenes without them are unchanged): per body its name, its own payload
+/// (DeformableBody::save), its surface's mark and active flags and its near list.
+///
 /// Reading is in two phases: read and check the whole file into staging objects,
 /// then replace the world's state, so a bad file leaves the world as it was.
+/// Deformable bodies restore themselves; each is saved first, so a failure of a
+/// later body or of the components puts every body back.
 #include "demlink/core/state/checkpoint.hpp"
 
 #include <cmath>
 #include <fstream>
 #include <istream>
+#include <optional>
 #include <ostream>
 #include <sstream>
 #include <stdexcept>
 #include <system_error>
 
 #include "demlink/core/components/component_state.hpp"
+#include "demlink/core/deformable/deformable_body.hpp"
 #include "demlink/core/input_error.hpp"
 #include "demlink/core/state/state_stream.hpp"
 #include "demlink/core/world.hpp"
@@ -235,6 +243,17 @@ void World::saveCheckpoint(std::ostream& out) const {
     saveClumps(w, clumps_);
   });
   w.section("COMP", [&] { saveComponents(w, components_); });
+  if (!deformables_.empty()) {
+    w.section("DEFM", [&] {
+      w.write<std::uint64_t>(deformables_.size());
+      for (std::size_t d = 0; d < deformables_.size(); ++d) {
+        w.writeString(deformables_[d]->name());
+        deformables_[d]->save(w);
+        deformables_[d]->surface().save(w);
+        deformable_near_[d].save(w);
+      }
+    });
+  }
   w.section("END ", [] {});
   out.write(w.bytes().data(), static_cast<std::streamsize>(w.bytes().size()));
   if (!out) throw std::runtime_error("checkpoint: writing failed");
@@ -304,10 +323,48 @@ void World::restoreCheckpoint(std::string_view bytes, const std::string& source)
 
   StateReader comp = file.section("COMP", "components");
   std::vector<StateReader> componentData = readComponentSections(comp, components_);
+  std::optional<StateReader> defm;
+  if (!deformables_.empty() || (!file.atEnd() && file.peekTag() == "DEFM")) {
+    defm.emplace(file.section("DEFM", "deformable_bodies"));
+  }
   (void)file.section("END ", "end");
   file.requireEnd();
-  // Components check their data while loading it and roll back together on failure.
-  restoreComponents(components_, componentData, source);
+  std::vector<MeshNearList> deformableNear(deformables_.size());
+  std::vector<std::string> deformableBackup;
+  if (defm) {
+    readMatchingCount(*defm, "deformable body", deformables_.size());
+    for (const auto& body : deformables_) {
+      StateWriter backup;
+      body->save(backup);
+      body->surface().save(backup);
+      deformableBackup.push_back(backup.bytes());
+    }
+    const auto putBack = [&](std::size_t count) {
+      for (std::size_t d = 0; d < count; ++d) {
+        StateReader saved(deformableBackup[d], source, "deformable_bodies");
+        deformables_[d]->restore(saved);
+        deformables_[d]->surface().restore(saved);
+      }
+    };
+    std::size_t restored = 0;
+    try {
+      for (std::size_t d = 0; d < deformables_.size(); ++d) {
+        requireEqual(*defm, "deformable body name", defm->readString(), deformables_[d]->name());
+        ++restored;  // partly restored bodies are put back too
+        deformables_[d]->restore(*defm);
+        deformables_[d]->surface().restore(*defm);
+        deformableNear[d].restore(*defm, rows, deformables_[d]->surface().triangles().size());
+      }
+      defm->requireEnd();
+      // Components check their data while loading it and roll back together on failure.
+      restoreComponents(components_, componentData, source);
+    } catch (...) {
+      putBack(restored);
+      throw;
+    }
+  } else {
+    restoreComponents(components_, componentData, source);
+  }
 
   // Phase 2: everything read and checked: replace the state.
   particles_ = std::move(particles);
@@ -315,6 +372,7 @@ void World::restoreCheckpoint(std::string_view bytes, const std::string& source)
   planes_ = std::move(planes);
   for (std::size_t m = 0; m < meshes_.size(); ++m) meshes_[m].restoreState(meshStates[m]);
   mesh_near_ = std::move(meshNear);
+  deformable_near_ = std::move(deformableNear);
   state_.bounds = bounds;
   state_.setFrame(frame);
   selectStepStages();  // the restored frame may move where the scene's did not

@@ -39,10 +39,17 @@ constexpr std::array<StageInfo, kStageCount> kTable{{
      "clump bodies: half kick and drift (Euler: drift, then a whole kick); members placed from their body",
      "body forces, gravity, frame linear acceleration", "body state, member positions and velocities",
      "scene has clump templates", [](const F& f) { return f.clumps; }},
+    {Stage::kDeformableMotion, "deformable_motion", false,
+     "deformable bodies' first half: nodes move to the step's end (mass-spring: half kick and drift; driven "
+     "nodes follow their pose), surfaces written; notes whether a surface moved more than skin/2 since the last "
+     "neighbour build (reported as `<kind>:<name>`)",
+     "node forces, gravity, driving poses", "node positions and velocities, surfaces", "scene has deformable bodies",
+     [](const F& f) { return f.deformables; }},
     {Stage::kNeighbourList, "neighbour_list", false,
-     "rebuild (periodic cell sort, Verlet list, plane and mesh near lists; histories carried) when slots "
-     "changed, a colliding mesh moved far or a particle moved more than skin/2",
-     "positions, mesh poses", "neighbour and near lists, slot order", "always",
+     "rebuild (periodic cell sort, Verlet list, plane, mesh and deformable-surface near lists; histories "
+     "carried) when slots changed, a colliding mesh or a deformable surface moved far, a surface triangle lost "
+     "its support or a particle moved more than skin/2",
+     "positions, mesh poses, deformable surfaces", "neighbour and near lists, slot order", "always",
      [](const F&) { return true; }},
     {Stage::kForces, "forces", false,
      "clear forces and torques, then the passes below in one call chosen at initialisation (law and rolling "
@@ -57,8 +64,18 @@ constexpr std::array<StageInfo, kStageCount> kTable{{
     {Stage::kMeshContacts, "mesh_contacts", true,
      "particles on the meshes inside their collision window (wrenches of the others cleared)", "mesh near lists",
      "forces, torques, mesh wrenches", "scene has meshes", [](const F& f) { return f.meshes; }},
+    {Stage::kDeformableContacts, "deformable_contacts", true,
+     "particles on the active triangles of each deformable surface (the mesh contact, with the surface's "
+     "velocity and forces spread barycentrically to its nodes)",
+     "deformable near lists, surfaces", "forces, torques, surface node forces", "scene has deformable bodies",
+     [](const F& f) { return f.deformables; }},
     {Stage::kRollingResistance, "rolling_resistance", true, "rolling-resistance torque in every contact pass",
      "pair table", "torques", "a material pair has rolling friction", [](const F& f) { return f.rolling; }},
+    {Stage::kDeformableForces, "deformable_forces", false,
+     "deformable bodies' second half: internal forces with this step's contact forces (mass-spring: springs, "
+     "tearing, second half kick; FEM: the load of the next solve), reactions (reported as `<kind>:<name>`)",
+     "surface node forces, node state", "node velocities and forces, broken springs, reactions",
+     "scene has deformable bodies", [](const F& f) { return f.deformables; }},
     {Stage::kClumpForceSum, "clump_force_sum", false, "member forces and torques summed on each clump body",
      "member forces and torques", "body force and torque", "scene has clump templates",
      [](const F& f) { return f.clumps; }},

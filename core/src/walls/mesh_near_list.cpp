@@ -10,8 +10,9 @@
 
 namespace demlink::core {
 
-void MeshNearList::build(const ParticleArrays& particles, const MeshBody& mesh, const CellGrid& grid, double skin,
-                         std::span<const std::uint32_t> newSlotOfOld) {
+void MeshNearList::build(const ParticleArrays& particles, std::span<const Vec3> vertices,
+                         std::span<const std::array<std::uint32_t, 3>> tris, std::span<const char> active,
+                         const CellGrid& grid, double skin, std::span<const std::uint32_t> newSlotOfOld) {
   // Old histories keyed by (current slot, triangle); only touching ones matter.
   std::map<std::pair<std::uint32_t, std::uint32_t>, Vec3> carried;
   for (std::size_t k = 0; k < slots.size(); ++k) {
@@ -23,14 +24,13 @@ void MeshNearList::build(const ParticleArrays& particles, const MeshBody& mesh, 
   }
 
   const std::size_t n = particles.size();
-  const auto& vertices = mesh.worldVertices();
-  const auto& tris = mesh.triangles();
   std::vector<std::vector<std::uint32_t>> candidatesOf(n);
   if (n > 0) {
     const double maxRadius = *std::max_element(particles.radius.begin(), particles.radius.end());
     const double reach = maxRadius + skin;
     const auto& dims = grid.dims();
     for (std::uint32_t t = 0; t < tris.size(); ++t) {
+      if (!active.empty() && active[t] == 0) continue;
       const Vec3& a = vertices[tris[t][0]];
       const Vec3& b = vertices[tris[t][1]];
       const Vec3& c = vertices[tris[t][2]];

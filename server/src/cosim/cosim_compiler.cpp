@@ -19,6 +19,8 @@
 #include "demlink/core/components/sampled_component.hpp"
 #include "demlink/core/input_error.hpp"
 #include "demlink/core/step/interval_steps.hpp"
+#include "demlink/server/run/deformable_series.hpp"
+#include "demlink/server/scene/translate_deformables.hpp"
 #include "demlink/server/scene/translate_rigid_body.hpp"
 
 namespace demlink::server {
@@ -46,7 +48,9 @@ bool exchangeable(Kind::KindCase kind) {
     case Kind::kParticleSink:
     case Kind::kRegionSensor:
     case Kind::kFlowSensor:
-    case Kind::kParticleView: return true;
+    case Kind::kParticleView:
+    case Kind::kMassSpringBody:
+    case Kind::kFemBody: return true;
     default: return false;
   }
 }
@@ -92,6 +96,24 @@ void defaultSampleInterval(Sampled& sampled, double communicationInterval) {
   }
 }
 
+/// The deformable body of a mass_spring_body / fem_body declaration and the nodes its
+/// outputs report; InputError named "<name>.<kind>.output_nodes...".
+void resolveDeformable(const v1::ComponentDeclaration& declaration, const core::World& world, CosimComponent& c) {
+  const bool massSpring = declaration.has_mass_spring_body();
+  const v1::DeformableOutputNodes& nodes =
+      massSpring ? declaration.mass_spring_body().output_nodes() : declaration.fem_body().output_nodes();
+  c.deformable_attached = !(massSpring ? declaration.mass_spring_body().attached_to()
+                                       : declaration.fem_body().attached_to())
+                               .empty();
+  for (std::size_t k = 0; k < world.deformableBodies().size(); ++k) {
+    const core::DeformableBody& body = *world.deformableBodies()[k];
+    if (body.name() != c.name) continue;
+    c.deformable = k;
+    c.output_nodes = outputNodesOf(nodes, body.nodeCount(), body.surface().positions().size(),
+                                   c.name + "." + c.kind + ".output_nodes");
+  }
+}
+
 std::string reportText(const CompiledSimulation& out, const core::World& world) {
   const core::TimeStepReport& limit = world.timeStepReport();
   std::string text = fmt::format("compiled co-simulation: {} components, {} particles, {} meshes\n",
@@ -110,6 +132,7 @@ std::string reportText(const CompiledSimulation& out, const core::World& world) 
                                                            static_cast<double>(c.interval_steps) * out.time_step)
                                              : std::string("not exchanged"));
   }
+  for (const std::string& line : deformableReportLines(world)) text += line + "\n";
   for (const std::string& warning : out.report.warnings()) text += "warning: " + warning + "\n";
   return text;
 }
@@ -277,6 +300,13 @@ CompiledSimulation CosimCompiler::compile(const std::filesystem::path& sceneDire
       }
       if (d.owner && interval == 0.0) {
         throw failure(c.name, field, "0", "a rigid_body declared by a client needs a communication interval > 0");
+      }
+    }
+    if (c.kind_case == Kind::kMassSpringBody || c.kind_case == Kind::kFemBody) {
+      try {
+        resolveDeformable(d.declaration, world, c);
+      } catch (const core::InputError& error) {
+        throw failure(c.name, error.field(), error.value(), error.reason());
       }
     }
     if (c.kind_case == Kind::kParticleView && d.declaration.particle_view().max_count() > 0) {

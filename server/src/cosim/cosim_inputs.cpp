@@ -59,11 +59,20 @@ v1::Error invalid(const CosimComponent& component, const std::string& field, con
                    field, true);
 }
 
+/// Error{INVALID_INPUT} unless `q` is a unit quaternion within 1e-6.
+std::optional<v1::Error> notUnit(const CosimComponent& component, const v1::Quaternion& q, const std::string& field) {
+  const double norm = std::sqrt(q.w() * q.w() + q.x() * q.x() + q.y() * q.y() + q.z() * q.z());
+  if (std::abs(norm - 1.0) <= 1.0e-6) return std::nullopt;
+  return invalid(component, field, "norm " + core::formatValue(norm), "must be a unit quaternion (within 1e-6)");
+}
+
 }  // namespace
 
 std::optional<v1::Error> checkInput(const CosimComponent& component, const v1::DataPackage& package) {
   const bool isBody = component.kind_case == v1::ComponentDeclaration::kRigidBody;
   const bool isBox = component.kind_case == v1::ComponentDeclaration::kSimulationBox;
+  const bool isDeformable = component.kind_case == v1::ComponentDeclaration::kMassSpringBody ||
+                            component.kind_case == v1::ComponentDeclaration::kFemBody;
   switch (package.input_case()) {
     case v1::DataPackage::kRigidBodyInput: {
       if (!isBody) return invalid(component, "rigid_body_input", "(given)", "a " + component.kind + " takes no rigid_body_input");
@@ -73,12 +82,27 @@ std::optional<v1::Error> checkInput(const CosimComponent& component, const v1::D
       const v1::RigidBodyInput& input = package.rigid_body_input();
       if (!input.has_position()) return invalid(component, "rigid_body_input.position", "(missing)", "required");
       if (!input.has_orientation()) return invalid(component, "rigid_body_input.orientation", "(missing)", "required");
-      const v1::Quaternion& q = input.orientation();
-      const double norm = std::sqrt(q.w() * q.w() + q.x() * q.x() + q.y() * q.y() + q.z() * q.z());
-      if (!(std::abs(norm - 1.0) <= 1.0e-6)) {
-        return invalid(component, "rigid_body_input.orientation", "norm " + core::formatValue(norm),
-                       "must be a unit quaternion (within 1e-6)");
+      if (auto bad = notUnit(component, input.orientation(), "rigid_body_input.orientation")) return bad;
+      return std::nullopt;
+    }
+    case v1::DataPackage::kDeformableBodyInput: {
+      if (!isDeformable) {
+        return invalid(component, "deformable_body_input", "(given)",
+                       "a " + component.kind + " takes no deformable_body_input");
       }
+      if (component.deformable_attached) {
+        return invalid(component, "deformable_body_input", "(given)",
+                       "the body is attached_to a rigid body, whose pose drives it");
+      }
+      if (auto bad = firstNonFinite(package.deformable_body_input(), "deformable_body_input")) {
+        return invalid(component, bad->first, core::formatValue(bad->second), "must be finite");
+      }
+      const v1::DeformableBodyInput& input = package.deformable_body_input();
+      if (!input.has_position()) return invalid(component, "deformable_body_input.position", "(missing)", "required");
+      if (!input.has_orientation()) {
+        return invalid(component, "deformable_body_input.orientation", "(missing)", "required");
+      }
+      if (auto bad = notUnit(component, input.orientation(), "deformable_body_input.orientation")) return bad;
       return std::nullopt;
     }
     case v1::DataPackage::kSimulationBoxInput: {
@@ -111,6 +135,14 @@ core::RigidPose poseOf(const v1::RigidBodyInput& input) {
 }
 
 core::RigidTwist twistOf(const v1::RigidBodyInput& input) {
+  return {toVec3(input.linear_velocity()), toVec3(input.angular_velocity())};
+}
+
+core::RigidPose poseOf(const v1::DeformableBodyInput& input) {
+  return {toVec3(input.position()), toQuat(input.orientation()).normalized()};
+}
+
+core::RigidTwist twistOf(const v1::DeformableBodyInput& input) {
   return {toVec3(input.linear_velocity()), toVec3(input.angular_velocity())};
 }
 

@@ -6,12 +6,14 @@
 /// shortfall in total (report()). ParticleSink: removed during the interval and in total.
 /// RegionSensor: measure() of the world now. FlowSensor: crossings during the interval and
 /// in total. ParticleView: every stride-th particle by slot, stride = ceil(N / max_count).
-/// RigidBody: the interval's wrench and the server's pose.
+/// RigidBody: the interval's wrench and the server's pose. MassSpringBody / FemBody: the
+/// reported nodes' displacements, the reactions and broken springs at the interval's end.
 #include "demlink/server/cosim/cosim_outputs.hpp"
 
 #include <algorithm>
 
 #include "demlink/core/components/particle_sink.hpp"
+#include "demlink/core/deformable/deformable_body.hpp"
 #include "demlink/core/components/particle_source.hpp"
 #include "demlink/core/components/region_sensor.hpp"
 #include "demlink/server/scene/proto_convert.hpp"
@@ -112,6 +114,27 @@ v1::DataPackage CosimOutputs::outputOf(std::size_t index, const CosimComponent& 
       setCount(*o.mutable_positive_total(), total.positive_count, total.positive_mass);
       setCount(*o.mutable_negative_total(), total.negative_count, total.negative_mass);
       memory.flow = total;
+      break;
+    }
+    case v1::ComponentDeclaration::kMassSpringBody:
+    case v1::ComponentDeclaration::kFemBody: {
+      if (!component.deformable) break;
+      const core::DeformableBody& body = *world.deformableBodies()[*component.deformable];
+      v1::DeformableBodyOutput& o = *out.mutable_deformable_body();
+      for (const std::uint32_t node : component.output_nodes) {
+        o.add_nodes(node);
+        const core::Vec3 u = body.nodeDisplacement(node);
+        for (int k = 0; k < 3; ++k) o.add_displacements(u[k]);
+      }
+      const core::NodeReaction driven = body.drivenReaction();
+      const core::NodeReaction fixed = body.fixedReaction();
+      setVec3(*o.mutable_driven_force(), driven.force);
+      setVec3(*o.mutable_driven_torque(), driven.torque);
+      setVec3(*o.mutable_fixed_force(), fixed.force);
+      setVec3(*o.mutable_fixed_torque(), fixed.torque);
+      o.set_broken_springs(body.brokenCount());
+      o.set_kinetic_energy(body.kineticEnergy());
+      o.set_node_count(body.nodeCount());
       break;
     }
     case v1::ComponentDeclaration::kParticleView: {

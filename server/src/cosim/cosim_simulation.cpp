@@ -4,7 +4,9 @@
 /// files, on the steps planned by the compiler) with two additions to the step: after
 /// every world step each rigid body's coupling adds the step's wrench to its impulses,
 /// and at a stop the couplings whose interval ends there snap their mesh onto the target
-/// before the outputs are read.
+/// before the outputs are read; before every world step each client-driven deformable body
+/// gets its driving pose and twist at the start of that step (the sample advanced by its
+/// twist; the body carries the pose through the step itself).
 #include "demlink/server/cosim/cosim_simulation.hpp"
 
 #include <fstream>
@@ -106,11 +108,25 @@ void CosimSimulation::retire(ConnectionId owner) {
     scheduler_.retire(i);
     inputs_.erase(i);
     if (auto it = couplings_.find(i); it != couplings_.end()) it->second.hold(world());
+    if (auto it = drives_.find(i); it != drives_.end()) {
+      // The nodes stop where they are.
+      DeformableDrive& drive = it->second;
+      drive.sample = core::advancePose(drive.sample, drive.twist,
+                                       static_cast<double>(world().stepCount() - drive.step) * compiled_.time_step);
+      drive.twist = {};
+      drive.step = world().stepCount();
+    }
   }
 }
 
 void CosimSimulation::stepWorld() {
   core::World& w = world();
+  for (const auto& [index, drive] : drives_) {
+    const double seconds = static_cast<double>(w.stepCount() - drive.step) * compiled_.time_step;
+    const core::RigidPose pose = core::advancePose(drive.sample, drive.twist, seconds);
+    w.deformableBody(*compiled_.components[index].deformable)
+        .setDrivenPose(pose.position, pose.orientation, drive.twist.linear, drive.twist.angular);
+  }
   w.step();
   for (auto& [index, coupling] : couplings_) coupling.afterStep(w);
   driver_->afterStep(w);
@@ -124,6 +140,9 @@ CosimSimulation::Advance CosimSimulation::advance() {
     if (package.has_rigid_body_input()) {
       couplings_.at(index).beginInterval(w, poseOf(package.rigid_body_input()), twistOf(package.rigid_body_input()),
                                          c.interval_steps);
+    } else if (package.has_deformable_body_input()) {
+      drives_[index] = {poseOf(package.deformable_body_input()), twistOf(package.deformable_body_input()),
+                        w.stepCount()};
     } else if (package.has_simulation_box_input()) {
       const v1::SimulationBoxInput& input = package.simulation_box_input();
       if (input.has_gravity()) {

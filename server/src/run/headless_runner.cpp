@@ -19,6 +19,7 @@
 #include "demlink/core/input_error.hpp"
 #include "demlink/core/components/particle_source.hpp"
 #include "demlink/core/components/sampled_component.hpp"
+#include "demlink/server/run/deformable_series.hpp"
 #include "demlink/server/run/frame_series.hpp"
 #include "demlink/server/run/run_driver.hpp"
 
@@ -62,6 +63,7 @@ void logCompileReport(const core::World& world, std::uint64_t endStep, std::uint
   } else {
     spdlog::info("time step: {:.4g} s = {:.1f} % of the limit", settings.time_step, percent);
   }
+  for (const std::string& line : deformableReportLines(world)) spdlog::info("{}", line);
   spdlog::info("neighbour skin: {:.4g} m; gravity ({}, {}, {}) m/s^2", world.neighbourSkin(), settings.gravity.x(),
                settings.gravity.y(), settings.gravity.z());
   const std::uint64_t frames = (endStep + frameEvery - 1) / frameEvery + 1;
@@ -187,13 +189,16 @@ RunSummary runHeadless(TranslatedScene& scene) {
       }
     }
   }
+  for (const std::string& line : deformableFinalLines(world)) spdlog::info("{}", line);
   if (const auto bounds = world.currentBounds(); bounds && bounds->growing) {
     spdlog::info("bounds (growing): lower ({}, {}, {}) m, upper ({}, {}, {}) m", bounds->lower.x(), bounds->lower.y(),
                  bounds->lower.z(), bounds->upper.x(), bounds->upper.y(), bounds->upper.z());
   }
-  spdlog::info("output: {} frames in {} (particles.pvd, summary.csv{}{})", summary.frames,
+  std::string deformables;
+  for (const auto& body : world.deformableBodies()) deformables += ", deformable_" + body->name() + ".pvd";
+  spdlog::info("output: {} frames in {} (particles.pvd, summary.csv{}{}{})", summary.frames,
                summary.output_directory.string(), world.planes().empty() ? "" : ", planes.vtp",
-               world.meshes().empty() ? "" : ", meshes.pvd");
+               world.meshes().empty() ? "" : ", meshes.pvd", deformables);
   return summary;
 }
 

@@ -56,6 +56,7 @@ RunDriver::RunDriver(core::World& world, const RunOptions& run, RunPlan plan, co
     : run_(run),
       plan_(std::move(plan)),
       frames_(claimed(directory, run.overwrite, directoryField), directoryField),
+      deformables_(directory, world),
       log_(directory / "run_log.csv") {
   run_.output_directory = directory.string();
   log_.writeConfiguration(world, run_, plan_.end_step);
@@ -71,12 +72,16 @@ void RunDriver::start(const core::World& world) {
   timed(timing_.output_seconds, [&] {
     frames_.writePlanes(world);
     frames_.writeFrame(world, 0.0);
+    deformables_.writeFrame(world);
   });
   last_frame_step_ = world.stepCount();
 }
 
 void RunDriver::writeFrame(const core::World& world) {
-  timed(timing_.output_seconds, [&] { frames_.writeFrame(world, secondsSince(start_)); });
+  timed(timing_.output_seconds, [&] {
+    frames_.writeFrame(world, secondsSince(start_));
+    deformables_.writeFrame(world);
+  });
   last_frame_step_ = world.stepCount();
 }
 
@@ -88,6 +93,7 @@ void RunDriver::writeCheckpoint(const core::World& world, const std::string& nam
 void RunDriver::afterStep(const core::World& world) {
   timing_.particle_steps += world.particles().size();
   const std::uint64_t step = world.stepCount();
+  deformables_.afterStep(world);
   if ((plan_.frame_every > 0 && step % plan_.frame_every == 0) || step == plan_.end_step) writeFrame(world);
   if (plan_.checkpoint_every > 0 && step % plan_.checkpoint_every == 0) {
     writeCheckpoint(world, fmt::format("checkpoint_{:06}.bin", step / plan_.checkpoint_every));

@@ -63,6 +63,15 @@ void RunLog::writeConfiguration(const core::World& world, const RunOptions& run,
   std::string stages;
   for (const std::string& stage : world.activeStages()) stages += (stages.empty() ? "" : ";") + stage;
   add("config", "active_stages", stages);
+  for (const auto& body : world.deformableBodies()) {
+    const std::string& name = body->name();
+    add("deformable", name + ".kind", body->kind());
+    add("deformable", name + ".nodes", std::to_string(body->nodeCount()));
+    add("deformable", name + ".surface_triangles", std::to_string(body->surface().triangles().size()));
+    add("deformable", name + ".mass", number(body->totalMass()), "kg");
+    add("deformable", name + ".critical_time_step", number(body->criticalTimeStep()), "s");
+    add("deformable", name + ".critical_time_step_set_by", body->criticalTimeStepReason());
+  }
   add("config", "output_directory", run.output_directory);
   add("config", "vtk_interval", number(run.vtk_interval), "s");
   add("config", "checkpoint_interval", number(run.checkpoint_interval), "s");
@@ -86,6 +95,10 @@ void RunLog::writeTiming(const core::World& world, const RunTiming& timing) {
   add("timing", "final_kinetic_energy", number(world.kineticEnergy()), "J");
   add("timing", "removed_at_bounds", std::to_string(world.removedAtBounds().count));
   add("timing", "removed_mass_at_bounds", number(world.removedAtBounds().mass), "kg");
+  for (const auto& body : world.deformableBodies()) {
+    add("deformable", body->name() + ".broken_springs", std::to_string(body->brokenCount()));
+    add("deformable", body->name() + ".final_kinetic_energy", number(body->kineticEnergy()), "J");
+  }
   add("timing", "status", "completed");
 }
 

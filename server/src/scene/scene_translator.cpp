@@ -6,7 +6,9 @@
 ///      there is exactly one simulation_box (its settings build the World);
 ///   2. materials, in declaration order (indices follow it);
 ///   3. planes, particle sets and meshes, in declaration order;
-///   4. sinks, sensors and trackers (translate_sensors), which refer to meshes by name.
+///   4. deformable bodies (translate_deformables), which may ride on meshes;
+///   5. sinks, sensors and trackers (translate_sensors), which refer to meshes and
+///      deformable bodies by name.
 /// Every field is checked here or by the core validators with a field path
 /// "components[i].<kind>.<field>", so a user can find it in the scene file.
 #include "demlink/server/scene/scene_translator.hpp"
@@ -29,6 +31,7 @@
 #include "demlink/server/scene/translate_facets.hpp"
 #include "demlink/server/scene/translate_room.hpp"
 #include "demlink/server/scene/translate_clumps.hpp"
+#include "demlink/server/scene/translate_deformables.hpp"
 #include "demlink/server/scene/translate_rigid_body.hpp"
 
 namespace demlink::server {
@@ -68,7 +71,7 @@ int checkStructure(const v1::Scene& scene) {
                        "declares no kind (one of simulation_box, material, plane, mesh_body, particle_lattice, "
                        "particle_file, particle_system, single_particle, particle_source, pit_generator, "
                        "particle_sink, region_sensor, flow_sensor, tracker, clump_template, facet_body, material_pair, "
-                       "rigid_body, particle_view)");
+                       "rigid_body, particle_view, mass_spring_body, fem_body)");
     }
     if (component.has_simulation_box()) boxes.push_back(i);
   }
@@ -290,10 +293,13 @@ TranslatedScene translateScene(const v1::Scene& scene, const std::filesystem::pa
       case v1::ComponentDeclaration::kMaterialPair:
       case v1::ComponentDeclaration::kClumpTemplate:
       case v1::ComponentDeclaration::kParticleView:  // served by the co-simulation host, no engine object
+      case v1::ComponentDeclaration::kMassSpringBody:  // after all mesh bodies: addDeformableBodies
+      case v1::ComponentDeclaration::kFemBody:
       case v1::ComponentDeclaration::KIND_NOT_SET:
         break;
     }
   }
+  addDeformableBodies(scene, resolve, sceneDirectory, out.world);
   addSensorComponents(scene, out.world);
   return out;
 }

@@ -6,6 +6,7 @@
 /// here with the declaration's own path, so that the error points into the scene file.
 #include "demlink/server/scene/translate_sensors.hpp"
 
+#include <charconv>
 #include <memory>
 #include <optional>
 #include <string>
@@ -13,7 +14,9 @@
 #include "demlink/core/components/flow_sensor.hpp"
 #include "demlink/core/input_error.hpp"
 #include "demlink/core/components/particle_sink.hpp"
+#include "demlink/core/components/node_tracker.hpp"
 #include "demlink/core/components/particle_tracker.hpp"
+#include "demlink/core/deformable/deformable_body.hpp"
 #include "demlink/core/components/region_sensor.hpp"
 #include "demlink/server/scene/proto_convert.hpp"
 
@@ -33,6 +36,28 @@ std::size_t meshIndex(const core::World& world, const std::string& name, const s
   }
   throw InputError(field, quoted(name),
                    "unknown mesh body (declared: " + (declared.empty() ? std::string("none") : declared) + ")");
+}
+
+/// A tracker's "<body>:<node>": the deformable body's index and the node (checked by the tracker).
+core::TrackedNode trackedNode(const core::World& world, const std::string& text, const std::string& field) {
+  const std::size_t colon = text.rfind(':');
+  if (colon == std::string::npos || colon + 1 == text.size()) {
+    throw InputError(field, quoted(text), "expected \"<body>:<node>\", e.g. \"sheet:60\"");
+  }
+  const std::string name = text.substr(0, colon);
+  const std::string digits = text.substr(colon + 1);
+  std::size_t node = 0;
+  const auto [end, error] = std::from_chars(digits.data(), digits.data() + digits.size(), node);
+  if (error != std::errc() || end != digits.data() + digits.size()) {
+    throw InputError(field, quoted(text), "the node after ':' must be a non-negative integer");
+  }
+  std::string declared;
+  for (std::size_t k = 0; k < world.deformableBodies().size(); ++k) {
+    if (world.deformableBodies()[k]->name() == name) return {k, node};
+    declared += (declared.empty() ? "" : ", ") + world.deformableBodies()[k]->name();
+  }
+  throw InputError(field, quoted(text),
+                   "unknown deformable body \"" + name + "\" (declared: " + (declared.empty() ? std::string("none") : declared) + ")");
 }
 
 /// Velocity and attachment shared by Volume and Surface.
@@ -157,9 +182,23 @@ void addSensorComponents(const v1::Scene& scene, core::World& world) {
           meshes.push_back(
               meshIndex(world, tracker.mesh_bodies(k), prefix + ".mesh_bodies[" + std::to_string(k) + "]"));
         }
-        world.addComponent(std::make_unique<core::ParticleTracker>(component.name(), std::move(ids),
-                                                                   std::move(meshes), scheduleOf(tracker, prefix),
-                                                                   prefix));
+        std::vector<core::TrackedNode> nodes;
+        for (int k = 0; k < tracker.nodes_size(); ++k) {
+          nodes.push_back(trackedNode(world, tracker.nodes(k), prefix + ".nodes[" + std::to_string(k) + "]"));
+        }
+        // Nodes go to a node tracker of their own (same name, or "<name>.nodes" next to a
+        // particle tracker): a tracker of nodes only needs no particle.
+        if (!ids.empty() || !meshes.empty() || nodes.empty()) {
+          world.addComponent(std::make_unique<core::ParticleTracker>(component.name(), std::move(ids),
+                                                                     std::move(meshes), scheduleOf(tracker, prefix),
+                                                                     prefix));
+        }
+        if (!nodes.empty()) {
+          const bool alone = tracker.particle_ids().empty() && tracker.mesh_bodies().empty();
+          world.addComponent(std::make_unique<core::NodeTracker>(alone ? component.name() : component.name() + ".nodes",
+                                                                 std::move(nodes), scheduleOf(tracker, prefix),
+                                                                 prefix));
+        }
         break;
       }
       default: break;

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <sstream>
 
 #include "demlink/core/output/vtk_writer.hpp"
 #include "demlink/core/world.hpp"
@@ -146,6 +147,76 @@ TEST(VtkWriter, MeshIsWrittenAsPolygons) {
 
   const std::vector<std::array<std::uint32_t, 3>> bad = {{0, 1, 4}};
   EXPECT_THROW(core::writeMeshVtp(path.string(), vertices, bad), std::invalid_argument);
+}
+
+/// The whitespace-separated values of the `occurrence`-th ASCII <DataArray Name="array">.
+std::vector<double> asciiValues(const std::string& xml, const std::string& array, int occurrence = 0) {
+  std::size_t at = xml.find("Name=\"" + array + "\"");
+  for (int k = 0; k < occurrence; ++k) at = xml.find("Name=\"" + array + "\"", at + 1);
+  const std::size_t start = xml.find('>', at) + 1;
+  std::istringstream values(xml.substr(start, xml.find("</DataArray>", start) - start));
+  std::vector<double> out;
+  for (double v = 0.0; values >> v;) out.push_back(v);
+  return out;
+}
+
+TEST(VtkWriter, DeformableSurfaceHasSpringLinesThenTrianglesAndTheirFlags) {
+  // A square of four nodes: four edge springs and a diagonal (broken), two triangles (one inactive).
+  const std::vector<core::Vec3> x = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  const std::vector<core::Vec3> u = {{0, 0, -0.5}, {0, 0, 0}, {0, 0, 0.25}, {0, 0, 0}};
+  const std::vector<core::Vec3> v = {{0, 0, 1}, {0, 0, 0}, {0, 0, 0}, {2, 0, 0}};
+  const std::vector<std::array<std::uint32_t, 2>> springs = {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {0, 2}};
+  const std::vector<char> intact = {1, 1, 1, 1, 0};
+  const std::vector<std::array<std::uint32_t, 3>> triangles = {{0, 1, 2}, {0, 2, 3}};
+  const std::vector<char> active = {1, 0};
+  const core::DeformableFrame frame{x, u, v, springs, intact, triangles, active};
+  const test::ScratchDir scratch;
+  const std::filesystem::path path = scratch.path() / "sheet.vtp";
+  core::writeDeformableVtp(path.string(), frame, core::VtkEncoding::Ascii);
+  const std::string file = test::readText(path);
+  EXPECT_NE(file.find("NumberOfPoints=\"4\""), std::string::npos);
+  EXPECT_NE(file.find("NumberOfLines=\"5\""), std::string::npos);
+  EXPECT_NE(file.find("NumberOfPolys=\"2\""), std::string::npos);
+  EXPECT_LT(file.find("<Lines>"), file.find("<Polys>"));  // cell data order: lines, then polygons
+  EXPECT_EQ(asciiValues(file, "displacement"), (std::vector<double>{0, 0, -0.5, 0, 0, 0, 0, 0, 0.25, 0, 0, 0}));
+  EXPECT_EQ(asciiValues(file, "velocity"), (std::vector<double>{0, 0, 1, 0, 0, 0, 0, 0, 0, 2, 0, 0}));
+  EXPECT_EQ(asciiValues(file, "intact"), (std::vector<double>{1, 1, 1, 1, 0, 1, 0}));
+  EXPECT_EQ(asciiValues(file, "cell_kind"), (std::vector<double>{0, 0, 0, 0, 0, 1, 1}));
+  EXPECT_EQ(arrayAttribute(file, "intact", "type"), "UInt8");
+  EXPECT_EQ(asciiValues(file, "connectivity", 0), (std::vector<double>{0, 1, 1, 2, 2, 3, 3, 0, 0, 2}));
+  EXPECT_EQ(asciiValues(file, "offsets", 0), (std::vector<double>{2, 4, 6, 8, 10}));
+  EXPECT_EQ(asciiValues(file, "connectivity", 1), (std::vector<double>{0, 1, 2, 0, 2, 3}));
+
+  const std::vector<std::array<std::uint32_t, 2>> bad = {{0, 4}};
+  const std::vector<char> one = {1};
+  EXPECT_THROW(core::writeDeformableVtp(path.string(), {x, u, v, bad, one, triangles, active}), std::invalid_argument);
+  EXPECT_THROW(core::writeDeformableVtp(path.string(), {x, u, v, springs, one, triangles, active}),
+               std::invalid_argument);
+}
+
+TEST(VtkWriter, TetrahedraAreAnUnstructuredGridWithStressPerCell) {
+  const std::vector<core::Vec3> x = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 1}};
+  const std::vector<core::Vec3> u(5, core::Vec3(0.0, 0.0, -1e-3));
+  const std::vector<core::Vec3> v(5, core::Vec3::Zero());
+  const std::vector<std::vector<std::uint32_t>> elements = {{0, 1, 2, 3}, {1, 2, 3, 4}};
+  const std::vector<double> stress = {1.5e6, 2.5e5};
+  const test::ScratchDir scratch;
+  const std::filesystem::path path = scratch.path() / "block.vtu";
+  core::writeTetrahedraVtu(path.string(), x, u, v, elements, stress, core::VtkEncoding::Ascii);
+  const std::string file = test::readText(path);
+  EXPECT_NE(file.find("<VTKFile type=\"UnstructuredGrid\""), std::string::npos);
+  EXPECT_NE(file.find("NumberOfPoints=\"5\" NumberOfCells=\"2\""), std::string::npos);
+  EXPECT_EQ(asciiValues(file, "von_mises_stress"), (std::vector<double>{1.5e6, 2.5e5}));
+  EXPECT_EQ(asciiValues(file, "types"), (std::vector<double>{10, 10}));  // VTK_TETRA
+  EXPECT_EQ(asciiValues(file, "offsets"), (std::vector<double>{4, 8}));
+  EXPECT_EQ(asciiValues(file, "connectivity"), (std::vector<double>{0, 1, 2, 3, 1, 2, 3, 4}));
+
+  // Appended encoding: the same stress values, bit for bit.
+  core::writeTetrahedraVtu(path.string(), x, u, v, elements, stress);
+  EXPECT_EQ(appendedValues<double>(test::readText(path), "von_mises_stress", 2), stress);
+  const std::vector<std::vector<std::uint32_t>> triangle = {{0, 1, 2}};
+  const std::vector<double> oneStress = {0.0};
+  EXPECT_THROW(core::writeTetrahedraVtu(path.string(), x, u, v, triangle, oneStress), std::invalid_argument);
 }
 
 TEST(VtkWriter, UnwritablePathThrows) {

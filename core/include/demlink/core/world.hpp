@@ -13,6 +13,7 @@
 #include <string_view>
 #include <vector>
 
+#include "demlink/core/deformable/deformable_body.hpp"
 #include "demlink/core/particles/clump_body.hpp"
 #include "demlink/core/particles/clump_template.hpp"
 #include "demlink/core/contact/contact_pair_table.hpp"
@@ -71,6 +72,15 @@ class World {
   /// returns its index. Set its pose and velocity through mesh(index).
   std::size_t addMesh(MeshBody mesh, const std::string& fieldPrefix = "mesh");
 
+  /// Adds a deformable body (mass-spring, FEM; deformable/) before initialize(): its
+  /// surface material must exist and its name be unique among deformable bodies
+  /// (errors name "<fieldPrefix>.material" / "<fieldPrefix>.name"); the frame must be
+  /// inertial. Returns its index. Its criticalTimeStep() joins the time-step check.
+  std::size_t addDeformableBody(std::unique_ptr<DeformableBody> body, const std::string& fieldPrefix = "deformable");
+  [[nodiscard]] const std::vector<std::unique_ptr<DeformableBody>>& deformableBodies() const { return deformables_; }
+  /// The body at `index` (std::out_of_range otherwise), e.g. to set a driven pose.
+  [[nodiscard]] DeformableBody& deformableBody(std::size_t index) { return *deformables_.at(index); }
+
   /// Changes the motion of the frame (the "room" of the docs) from the next step
   /// on (validated; names "frame.<field>"): a change of the world's state, the
   /// settings keep the initial motion. An inertial motion returns the step to the
@@ -114,8 +124,8 @@ class World {
 
   /// Writes everything the next step depends on (settings, materials, particle
   /// columns, neighbour and near lists with histories, planes, meshes, counters,
-  /// component states) to `out` (format: checkpoint.hpp, docs/state.md). Defined
-  /// in checkpoint.cpp. Throws std::runtime_error if `out` fails.
+  /// component states, deformable bodies) to `out` (format: checkpoint.hpp,
+  /// docs/state.md). Defined in checkpoint.cpp. Throws std::runtime_error if `out` fails.
   void saveCheckpoint(std::ostream& out) const;
   /// Restores a checkpoint written by a world built from the same scene (same
   /// settings, materials, planes, meshes and components), initialising this
@@ -162,6 +172,8 @@ class World {
 
   // Stages (stage_table.hpp), in step order.
   void moveMeshes(StepContext& context);
+  void moveDeformables(StepContext& context);
+  void finishDeformables(const StepContext& context);
   void runComponents(std::uint32_t stage);
   void removeOutsideBounds();
   void firstKickAndDrift(const StepContext& context);
@@ -177,6 +189,7 @@ class World {
   /// Updates mesh_colliding_ for a force evaluation at `time` [s]; true if any changed.
   bool updateMeshCollision(double time);
   void requireNoClumpsInRotatingFrame(const FrameMotion& motion, const std::string& fieldPrefix) const;
+  void requireNoDeformablesInMovingFrame(const FrameMotion& motion, const std::string& fieldPrefix) const;
   void applySlotMapping(const std::vector<std::uint32_t>& oldSlotOfNew);
   void rebuildNeighbours();
   void removeFlaggedWithClumps(RemovalTally& tally);
@@ -192,6 +205,9 @@ class World {
   /// Per mesh: collides at the current force evaluation (see MeshBody collision window).
   std::vector<char> mesh_colliding_;
   std::vector<MeshContactPoint> mesh_contacts_scratch_;
+  std::vector<std::unique_ptr<DeformableBody>> deformables_;
+  /// Per deformable body: candidate triangles of its surface per nearby particle.
+  std::vector<MeshNearList> deformable_near_;
   ContactPairTable pair_table_;
   std::vector<PairOverrideEntry> pair_overrides_;
   TimeStepReport time_step_report_;

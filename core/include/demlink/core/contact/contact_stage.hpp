@@ -1,7 +1,7 @@
 #pragma once
 /// Force stage loops: particle-particle (over the half neighbour list),
-/// particle-plane (over each plane's near list) and particle-mesh (over each
-/// mesh's near list). Templated on the contact law
+/// particle-plane (over each plane's near list) and particle-surface (over the
+/// near list of each mesh or deformable body's surface). Templated on the contact law
 /// and on whether rolling resistance is active, so the compiled loop contains
 /// exactly what the scene uses; the world picks one instantiation at set-up
 /// (contact_law_registry.hpp). Each loop checks that the per-contact history its
@@ -130,14 +130,17 @@ void planeContactForces(ParticleArrays& p, PlaneWall& wall, const ContactPairTab
   }
 }
 
-/// Particle-mesh contacts. Per particle, the de-duplicated contacts with its
-/// candidate triangles (mesh_contact.hpp) each get the wall contact law with the
-/// mesh's velocity at the contact point. Each candidate keeps its own tangential
-/// spring; when a particle rolls from one triangle onto the next, the spring of
-/// the triangle it left is handed to the new contact instead of being dropped, so
-/// a finely meshed flat floor behaves like a plane.
-template <class Law, bool kRolling>
-void meshContactForces(ParticleArrays& p, MeshBody& mesh, MeshNearList& near, const ContactPairTable& table,
+/// Particle-surface contacts: a mesh (MeshBody) or a deformable body's surface
+/// (DeformableSurface); both give worldVertices(), triangles(), materialIndex(),
+/// velocityAt(triangle, point) and addContactForce(triangle, point, force). Per
+/// particle, the de-duplicated contacts with its candidate triangles
+/// (mesh_contact.hpp) each get the wall contact law with the surface's velocity at
+/// the contact point. Each candidate keeps its own tangential spring; when a
+/// particle rolls from one triangle onto the next, the spring of the triangle it
+/// left is handed to the new contact instead of being dropped, so a finely meshed
+/// flat floor behaves like a plane.
+template <class Law, bool kRolling, class Surface>
+void meshContactForces(ParticleArrays& p, Surface& mesh, MeshNearList& near, const ContactPairTable& table,
                        double dt, std::vector<MeshContactPoint>& contacts) {
   static_assert(kHistoryStorageFits<Law, decltype(near.history)>, "mesh near history is not Law::History");
   const std::span<const Vec3> vertices = mesh.worldVertices();
@@ -175,8 +178,8 @@ void meshContactForces(ParticleArrays& p, MeshBody& mesh, MeshNearList& near, co
         near.history[from].setZero();
       }
       const Vec3 f = particleWallContact<Law, kRolling>(p, slot, params, c.normal, c.overlap,
-                                                        mesh.velocityAt(c.point), dt, history);
-      mesh.addContactForce(-f, c.point);
+                                                        mesh.velocityAt(c.triangle, c.point), dt, history);
+      mesh.addContactForce(c.triangle, c.point, -f);
     }
     for (std::uint32_t r = 0; r < releasedCount; ++r) near.history[released[r]].setZero();
   }

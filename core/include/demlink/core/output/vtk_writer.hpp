@@ -1,6 +1,7 @@
 #pragma once
-/// VTK XML output for ParaView: particles and triangle meshes as PolyData (.vtp)
-/// and a time series as a ParaView collection (.pvd).
+/// VTK XML output for ParaView: particles, triangle meshes and deformable surfaces as
+/// PolyData (.vtp), FEM volumes as UnstructuredGrid (.vtu) and a time series as a
+/// ParaView collection (.pvd).
 ///
 /// Why this shape: VTK XML is the one format ParaView, VisIt and most
 /// post-processing scripts read without plug-ins, and PolyData with one vertex
@@ -16,6 +17,7 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "demlink/core/math_types.hpp"
 #include "demlink/core/particles/particle_arrays.hpp"
@@ -47,6 +49,33 @@ void writeParticlesVtp(const std::string& path, const ParticleArrays& particles,
 void writeMeshVtp(const std::string& path, std::span<const Vec3> vertices,
                   std::span<const std::array<std::uint32_t, 3>> triangles,
                   VtkEncoding encoding = VtkEncoding::AppendedRaw);
+
+/// One frame of a deformable body's surface (mass-spring or the boundary of an FEM body).
+struct DeformableFrame {
+  std::span<const Vec3> positions;      ///< nodes [m]
+  std::span<const Vec3> displacements;  ///< from the initial configuration [m]
+  std::span<const Vec3> velocities;     ///< [m/s]
+  std::span<const std::array<std::uint32_t, 2>> springs;  ///< node pairs (none for FEM)
+  std::span<const char> spring_intact;  ///< per spring: 1 intact, 0 broken
+  std::span<const std::array<std::uint32_t, 3>> triangles;
+  std::span<const char> triangle_active;  ///< per triangle: 1 takes part in contacts, 0 lost its support
+};
+
+/// Writes a deformable surface as PolyData: the nodes with point data "displacement" [m]
+/// and "velocity" [m/s]; one line cell per spring, then one polygon per triangle; cell
+/// data "intact" (UInt8: 1 an intact spring / active triangle, 0 a broken spring /
+/// inactive triangle; threshold it at 1 to hide the tears) and "cell_kind" (UInt8: 0
+/// spring, 1 triangle). Throws std::invalid_argument for mismatched sizes or an index out
+/// of range, std::runtime_error if the file cannot be written.
+void writeDeformableVtp(const std::string& path, const DeformableFrame& frame,
+                        VtkEncoding encoding = VtkEncoding::AppendedRaw);
+
+/// Writes tetrahedra (4 or 10 nodes each, VTK node order) as an UnstructuredGrid (.vtu):
+/// nodes [m] with point data "displacement" [m] and "velocity" [m/s], cell data
+/// "von_mises_stress" [Pa]. Throws as writeDeformableVtp.
+void writeTetrahedraVtu(const std::string& path, std::span<const Vec3> positions, std::span<const Vec3> displacements,
+                        std::span<const Vec3> velocities, std::span<const std::vector<std::uint32_t>> elements,
+                        std::span<const double> vonMises, VtkEncoding encoding = VtkEncoding::AppendedRaw);
 
 /// Writes a ParaView collection listing the frames in the given order.
 /// Throws std::runtime_error if the file cannot be written.

@@ -30,12 +30,15 @@ enum class Stage : std::uint8_t {
   kExplicitEuler,
   kMovingFrame,
   kClumpRigidBodies,
+  kDeformableMotion,
   kNeighbourList,
   kForces,
   kParticleContacts,
   kPlaneContacts,
   kMeshContacts,
+  kDeformableContacts,
   kRollingResistance,
+  kDeformableForces,
   kClumpForceSum,
   kSecondHalfKick,
   kClumpHalfKick,
@@ -49,8 +52,9 @@ struct StepContext {
   double dt = 0.0;             ///< time step [s]
   std::uint64_t step = 0;      ///< index of the step being taken; it starts at step * dt
   ThreadPool* pool = nullptr;  ///< null: serial
-  /// Set by mesh_motion: a colliding mesh moved more than skin/2 since the last
-  /// neighbour build (neighbour_list then rebuilds).
+  /// Set by mesh_motion and deformable_motion: a colliding mesh or a deformable
+  /// surface moved more than skin/2 since the last neighbour build (neighbour_list
+  /// then rebuilds).
   bool mesh_moved_far = false;
 };
 
@@ -66,6 +70,7 @@ struct SceneFeatures {
   bool frame_moving = false;    ///< the frame is not inertial
   bool clumps = false;          ///< clump templates are declared
   bool rolling = false;         ///< some material pair has rolling friction
+  bool deformables = false;     ///< the scene has deformable bodies (mass-spring, FEM)
 };
 
 struct StageInfo {

@@ -83,6 +83,14 @@ class MeshBody {
   /// Accumulates a force on the mesh applied at worldPoint, and its torque about the
   /// reference point.
   void addContactForce(const Vec3& forceOnMesh, const Vec3& worldPoint);
+  /// The same two with the triangle of the contact first (a rigid body ignores it), so
+  /// one contact loop (contact_stage.hpp) serves meshes and deformable surfaces.
+  [[nodiscard]] Vec3 velocityAt(std::uint32_t /*triangle*/, const Vec3& worldPoint) const {
+    return velocityAt(worldPoint);
+  }
+  void addContactForce(std::uint32_t /*triangle*/, const Vec3& worldPoint, const Vec3& forceOnMesh) {
+    addContactForce(forceOnMesh, worldPoint);
+  }
   /// Adds an already reduced force and torque (about the reference point) to the wrench.
   void addWrench(const Vec3& force, const Vec3& torqueAboutReference);
   /// Resets the accumulated force and torque to zero.

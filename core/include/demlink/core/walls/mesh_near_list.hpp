@@ -1,10 +1,11 @@
 #pragma once
-/// Candidate triangles of one mesh per nearby particle: for every particle whose
+/// Candidate triangles of one mesh (or deformable surface) per nearby particle: for every particle whose
 /// sphere inflated by the skin reaches a triangle at build time, the list of such
 /// triangles, each with a tangential history. Built together with the particle
 /// neighbour list (same skin, same cell grid) and rebuilt when particles or the
 /// mesh have moved more than skin/2; histories are carried across rebuilds and
 /// slot changes like the particle pairs'.
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -28,7 +29,15 @@ struct MeshNearList {
   /// Rebuilds from the current mesh pose, using `grid` (built over the current
   /// particle positions) to find particles near each triangle.
   void build(const ParticleArrays& particles, const MeshBody& mesh, const CellGrid& grid, double skin,
-             std::span<const std::uint32_t> newSlotOfOld);
+             std::span<const std::uint32_t> newSlotOfOld) {
+    build(particles, mesh.worldVertices(), mesh.triangles(), {}, grid, skin, newSlotOfOld);
+  }
+  /// The same for any triangle surface (a mesh, a deformable body's surface): world
+  /// vertices, triangles over them and, unless empty, per triangle 1 = takes part,
+  /// 0 = left out (a deformable surface's inactive triangles).
+  void build(const ParticleArrays& particles, std::span<const Vec3> vertices,
+             std::span<const std::array<std::uint32_t, 3>> triangles, std::span<const char> active,
+             const CellGrid& grid, double skin, std::span<const std::uint32_t> newSlotOfOld);
 
   /// Checkpoint payload (after its mesh in section MESH): slots, offsets, candidate
   /// triangles, histories.

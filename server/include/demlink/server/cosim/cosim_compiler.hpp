@@ -53,6 +53,11 @@ struct CosimComponent {
   core::MotionMode motion = core::MotionMode::Predicted;  ///< rigid_body
   core::WorldComponent* engine = nullptr;     ///< source, sink, region and flow sensor
   std::uint32_t view_max_count = 10000;       ///< particle_view [-]
+  /// mass_spring_body / fem_body: index into World::deformableBodies(), whether a mesh
+  /// drives it (attached_to: no pose input), and the nodes its outputs report.
+  std::optional<std::size_t> deformable;
+  bool deformable_attached = false;
+  std::vector<std::uint32_t> output_nodes;
 };
 
 /// What compile() builds.

@@ -23,6 +23,9 @@ namespace demlink::server {
 /// sent, core::targetPose normalises it).
 [[nodiscard]] core::RigidPose poseOf(const v1::RigidBodyInput& input);
 [[nodiscard]] core::RigidTwist twistOf(const v1::RigidBodyInput& input);
+/// Pose (quaternion normalised) and twist of a checked DeformableBodyInput.
+[[nodiscard]] core::RigidPose poseOf(const v1::DeformableBodyInput& input);
+[[nodiscard]] core::RigidTwist twistOf(const v1::DeformableBodyInput& input);
 /// The room motion of a checked SimulationBox.Frame.
 [[nodiscard]] core::FrameMotion frameOf(const v1::SimulationBox::Frame& frame);
 

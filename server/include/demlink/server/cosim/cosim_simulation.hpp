@@ -1,6 +1,7 @@
 #pragma once
 /// One running co-simulation: the compiled world, its sample grid, the motion couplings of
-/// the rigid bodies, the outputs and the output directory (docs/cosim.md).
+/// the rigid bodies, the driven poses of the deformable bodies, the outputs and the output
+/// directory (docs/cosim.md).
 ///
 /// Why separate from the host: the host deals with connections, states and faults; this
 /// class only knows components and steps, so the equivalence test and the replay can see
@@ -75,6 +76,14 @@ class CosimSimulation {
   ExchangeScheduler scheduler_;
   CosimOutputs outputs_;
   std::map<std::size_t, core::CoupledMotion> couplings_;
+  /// Driven pose of a client's deformable body: the last sample, its twist and the step it
+  /// was sent at; the nodes follow the sample advanced by the twist.
+  struct DeformableDrive {
+    core::RigidPose sample;
+    core::RigidTwist twist;
+    std::uint64_t step = 0;
+  };
+  std::map<std::size_t, DeformableDrive> drives_;
   std::map<std::size_t, v1::DataPackage> inputs_;  ///< stored inputs of the current step
   std::unique_ptr<RunDriver> driver_;
 };

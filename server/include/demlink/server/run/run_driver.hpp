@@ -8,7 +8,8 @@
 ///   RunDriver()    claims the folder (output_directory.hpp), opens summary.csv,
 ///                  run_log.csv (configuration rows) and the sensor CSVs
 ///   start()        planes.vtp and the first frame; the run's wall clock starts
-///   afterStep()    a frame every frame_every steps and at end_step, a checkpoint
+///   afterStep()    springs that broke (broken_springs.csv, deformable_series.hpp),
+///                  a frame every frame_every steps and at end_step, a checkpoint
 ///                  checkpoint_NNNNNN.bin every checkpoint_every steps (N = step / every)
 ///   finish()       the last frame if the last step has none, checkpoint_final.bin,
 ///                  particles_final.csv, the timing rows and status "completed"
@@ -24,6 +25,7 @@
 #include <vector>
 
 #include "demlink/core/world.hpp"
+#include "demlink/server/run/deformable_series.hpp"
 #include "demlink/server/run/frame_series.hpp"
 #include "demlink/server/run/run_log.hpp"
 #include "demlink/server/run/run_options.hpp"
@@ -81,6 +83,7 @@ class RunDriver {
   RunOptions run_;
   RunPlan plan_;
   FrameSeries frames_;
+  DeformableSeries deformables_;
   RunLog log_;
   std::vector<std::filesystem::path> sensor_files_;
   RunTiming timing_;
