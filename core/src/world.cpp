@@ -13,6 +13,10 @@
 namespace demlink::core {
 namespace {
 
+constexpr const char* kDeformablesNeedAnInertialFrame =
+    "deformable bodies in a moving frame are not supported yet (their nodes feel no fictitious forces); use an "
+    "inertial frame";
+
 void requireFiniteVector(const std::string& field, const Vec3& v) {
   for (int k = 0; k < 3; ++k) requireFinite(field + "[" + std::to_string(k) + "]", v[k]);
 }
@@ -43,9 +47,7 @@ void World::requireNoClumpsInRotatingFrame(const FrameMotion& motion, const std:
 
 void World::requireNoDeformablesInMovingFrame(const FrameMotion& motion, const std::string& fieldPrefix) const {
   if (deformables_.empty() || motion.isInertial()) return;
-  throw InputError(fieldPrefix, "non-inertial",
-                   "deformable bodies in a moving frame are not supported yet (their nodes feel no fictitious "
-                   "forces); use an inertial frame");
+  throw InputError(fieldPrefix, "non-inertial", kDeformablesNeedAnInertialFrame);
 }
 
 void World::setGravity(const Vec3& gravity) {
@@ -208,9 +210,7 @@ std::size_t World::addDeformableBody(std::unique_ptr<DeformableBody> body, const
     }
   }
   if (state_.frame_moving) {
-    throw InputError(fieldPrefix + ".name", body->name(),
-                     "deformable bodies in a moving frame are not supported yet (their nodes feel no fictitious "
-                     "forces); use an inertial frame");
+    throw InputError(fieldPrefix + ".name", body->name(), kDeformablesNeedAnInertialFrame);
   }
   deformables_.push_back(std::move(body));
   deformable_near_.emplace_back();
@@ -258,7 +258,8 @@ void World::initialize() {
       throw InputError(settings_field_ + ".time_step", formatValue(settings_.time_step),
                        "exceeds the critical limit " + formatValue(limit) + " s of " + std::string(body->kind()) +
                            " body " + body->name() + " (" + body->criticalTimeStepReason() +
-                           "); lower it, stiffen less or set allow_unsafe_time_step to accept the risk");
+                           "); lower it, or make the body's springs softer or its nodes heavier, or set "
+                           "allow_unsafe_time_step to accept the risk");
     }
   }
   if (settings_.time_step > time_step_report_.limit && !settings_.allow_unsafe_time_step) {
