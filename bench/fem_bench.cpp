@@ -9,12 +9,13 @@
 ///   limit:  the central-difference critical step, and the wall time per simulated second of
 ///           each scheme when the three-level scheme runs at 10x that step.
 /// Usage: demlink-bench-fem [--max-dof N] [--steps S]   (defaults 120000 DOF, 200 steps)
+#include <unistd.h>
+
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
-#include <unistd.h>
 
 #include "demlink/core/deformable/fem_assembly.hpp"
 #include "demlink/core/deformable/fem_body.hpp"
@@ -26,7 +27,9 @@ namespace {
 using namespace demlink::core;
 using Clock = std::chrono::steady_clock;
 
-double seconds(Clock::time_point since) { return std::chrono::duration<double>(Clock::now() - since).count(); }
+double seconds(Clock::time_point since) {
+  return std::chrono::duration<double>(Clock::now() - since).count();
+}
 
 struct Size {
   int nx, ny, nz;
@@ -37,7 +40,8 @@ double stepCost(FemBody& body, double dt, int steps) {
   for (int i = 0; i < steps; ++i) {
     body.beginStep(dt, Vec3(0, 0, -9.81));
     body.surface().clearForces();
-    body.surface().addContactForce(0, body.surface().positions()[body.surface().triangles()[0][0]], Vec3(0, 0, -1));
+    body.surface().addContactForce(0, body.surface().positions()[body.surface().triangles()[0][0]],
+                                   Vec3(0, 0, -1));
     body.endStep(dt, Vec3(0, 0, -9.81));
   }
   return seconds(start) / steps;
@@ -60,14 +64,18 @@ int main(int argc, char** argv) {
     }
   }
   const std::string path =
-      (std::filesystem::temp_directory_path() / ("demlink_fem_bench_" + std::to_string(::getpid()) + ".msh")).string();
-  std::printf("| DOF | elements | read+assemble [s] | build 3-level [s] | build CD [s] | step 3-level [ms] | step CD [ms] "
-              "| CD dt_crit [s] | 3-level at 10 dt_crit / CD [wall per sim. s] |\n");
+      (std::filesystem::temp_directory_path() / ("demlink_fem_bench_" + std::to_string(::getpid()) + ".msh"))
+          .string();
+  std::printf(
+      "| DOF | elements | read+assemble [s] | build 3-level [s] | build CD [s] | step 3-level [ms] | step CD "
+      "[ms] "
+      "| CD dt_crit [s] | 3-level at 10 dt_crit / CD [wall per sim. s] |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|\n");
   for (const Size s : {Size{8, 2, 2}, Size{20, 4, 4}, Size{40, 10, 10}}) {
     const double length = 1.0;
     const double side = length * s.ny / s.nx;
-    const TetMesh mesh = boxTetMesh(Vec3::Zero(), Vec3(length, side, length * s.nz / s.nx), s.nx, s.ny, s.nz, 2);
+    const TetMesh mesh =
+        boxTetMesh(Vec3::Zero(), Vec3(length, side, length * s.nz / s.nx), s.nx, s.ny, s.nz, 2);
     const long dof = 3 * static_cast<long>(mesh.nodes.size());
     if (dof > maxDof) break;
     writeGmsh(path, mesh, "4.1");
@@ -99,9 +107,9 @@ int main(int argc, char** argv) {
     const double buildThree = seconds(start);
     const double stepThree = stepCost(implicitBody, 10.0 * critical, steps);
 
-    std::printf("| %ld | %zu | %.3f | %.3f | %.3f | %.3f | %.3f | %.3g | %.3g / %.3g |\n", dof, mesh.tetCount(),
-                assemble, buildThree, buildCd, 1e3 * stepThree, 1e3 * stepCd, critical, stepThree / (10.0 * critical),
-                stepCd / (0.9 * critical));
+    std::printf("| %ld | %zu | %.3f | %.3f | %.3f | %.3f | %.3f | %.3g | %.3g / %.3g |\n", dof,
+                mesh.tetCount(), assemble, buildThree, buildCd, 1e3 * stepThree, 1e3 * stepCd, critical,
+                stepThree / (10.0 * critical), stepCd / (0.9 * critical));
     std::fflush(stdout);
     (void)matrices;
   }

@@ -7,11 +7,10 @@
 /// mu = E / (2 (1 + nu)).
 #include "demlink/core/deformable/fem_assembly.hpp"
 
-#include <array>
-#include <cmath>
-
 #include <Eigen/Dense>
 #include <Eigen/Eigenvalues>
+#include <array>
+#include <cmath>
 
 namespace demlink::core {
 namespace {
@@ -29,7 +28,7 @@ struct QuadraturePoint {
 std::vector<QuadraturePoint> quadratureRule() {
   std::vector<QuadraturePoint> rule;
   for (const auto& [a, w] : {std::pair{0.0927352503108912, 0.01224884051939366},
-                            std::pair{0.3108859192633006, 0.01878132095300264}}) {
+                             std::pair{0.3108859192633006, 0.01878132095300264}}) {
     for (int k = 0; k < 4; ++k) {
       std::array<double, 4> l = {a, a, a, a};
       l[static_cast<std::size_t>(k)] = 1.0 - 3.0 * a;
@@ -148,18 +147,22 @@ FemMatrices assembleTetMesh(const TetMesh& mesh, const ElasticMaterial& material
       for (std::size_t b = 0; b < npt; ++b) {
         for (int i = 0; i < 3; ++i) {
           for (int j = 0; j < 3; ++j) {
-            kTriplets.emplace_back(static_cast<int>(3 * t[a]) + i, static_cast<int>(3 * t[b]) + j,
-                                   ke(static_cast<Eigen::Index>(3 * a) + i, static_cast<Eigen::Index>(3 * b) + j));
+            kTriplets.emplace_back(
+                static_cast<int>(3 * t[a]) + i, static_cast<int>(3 * t[b]) + j,
+                ke(static_cast<Eigen::Index>(3 * a) + i, static_cast<Eigen::Index>(3 * b) + j));
           }
         }
       }
     }
     if (lumpedMass) {
       const double elementMass = me.sum();
-      Eigen::VectorXd lumped = mesh.order == 1 ? Eigen::VectorXd(me.rowwise().sum()) : Eigen::VectorXd(me.diagonal());
+      Eigen::VectorXd lumped =
+          mesh.order == 1 ? Eigen::VectorXd(me.rowwise().sum()) : Eigen::VectorXd(me.diagonal());
       lumped *= elementMass / lumped.sum();
       for (std::size_t a = 0; a < npt; ++a) {
-        for (int i = 0; i < 3; ++i) mTriplets.emplace_back(static_cast<int>(3 * t[a]) + i, static_cast<int>(3 * t[a]) + i, lumped[static_cast<Eigen::Index>(a)]);
+        for (int i = 0; i < 3; ++i)
+          mTriplets.emplace_back(static_cast<int>(3 * t[a]) + i, static_cast<int>(3 * t[a]) + i,
+                                 lumped[static_cast<Eigen::Index>(a)]);
       }
     } else {
       for (std::size_t a = 0; a < npt; ++a) {
@@ -189,7 +192,8 @@ std::vector<double> vonMisesAtCentroids(const TetMesh& mesh, const ElasticMateri
   for (std::size_t e = 0; e < mesh.tetCount(); ++e) {
     const PointData p = pointData(mesh, e, {0.25, 0.25, 0.25, 0.25});
     for (std::size_t a = 0; a < npt; ++a) {
-      ue.segment<3>(static_cast<Eigen::Index>(3 * a)) = u.segment<3>(3 * static_cast<Eigen::Index>(mesh.tets[e * npt + a]));
+      ue.segment<3>(static_cast<Eigen::Index>(3 * a)) =
+          u.segment<3>(3 * static_cast<Eigen::Index>(mesh.tets[e * npt + a]));
     }
     const Eigen::Matrix<double, 6, 1> s = d * (p.b * ue);
     out[e] = std::sqrt(0.5 * ((s[0] - s[1]) * (s[0] - s[1]) + (s[1] - s[2]) * (s[1] - s[2]) +
@@ -226,7 +230,8 @@ double largestEigenvalue(const Eigen::SparseMatrix<double>& stiffness, const Eig
         t(i, i) = alpha[static_cast<std::size_t>(i)];
         if (i + 1 < m) t(i, i + 1) = t(i + 1, i) = beta[static_cast<std::size_t>(i)];
       }
-      const double next = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(t, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff();
+      const double next =
+          Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(t, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff();
       const bool converged = std::abs(next - lambda) <= 1e-12 * std::abs(next);
       lambda = next;
       if (converged || b <= 1e-14 * std::abs(a)) break;

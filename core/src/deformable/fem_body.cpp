@@ -56,10 +56,12 @@ SparseMatrix permuted(const SparseMatrix& a, const std::vector<std::uint32_t>& n
   std::vector<Eigen::Triplet<double>> t;
   t.reserve(static_cast<std::size_t>(a.nonZeros()));
   const auto map = [&](Eigen::Index dof) {
-    return static_cast<int>(3 * newOf[static_cast<std::size_t>(dof / 3)] + static_cast<std::uint32_t>(dof % 3));
+    return static_cast<int>(3 * newOf[static_cast<std::size_t>(dof / 3)] +
+                            static_cast<std::uint32_t>(dof % 3));
   };
   for (int c = 0; c < a.outerSize(); ++c) {
-    for (SparseMatrix::InnerIterator it(a, c); it; ++it) t.emplace_back(map(it.row()), map(it.col()), it.value());
+    for (SparseMatrix::InnerIterator it(a, c); it; ++it)
+      t.emplace_back(map(it.row()), map(it.col()), it.value());
   }
   SparseMatrix out(a.rows(), a.cols());
   out.setFromTriplets(t.begin(), t.end());
@@ -70,7 +72,8 @@ SparseMatrix permuted(const SparseMatrix& a, const std::vector<std::uint32_t>& n
 SparseMatrix selectRows(const SparseMatrix& a, const std::vector<std::uint32_t>& rows) {
   SparseMatrix s(static_cast<Eigen::Index>(rows.size()), a.rows());
   std::vector<Eigen::Triplet<double>> t;
-  for (std::size_t i = 0; i < rows.size(); ++i) t.emplace_back(static_cast<int>(i), static_cast<int>(rows[i]), 1.0);
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    t.emplace_back(static_cast<int>(i), static_cast<int>(rows[i]), 1.0);
   s.setFromTriplets(t.begin(), t.end());
   return s * a;
 }
@@ -132,7 +135,7 @@ struct FemBody::Impl {
   std::vector<std::uint32_t> freeDofs;
   std::vector<std::uint32_t> fixedDofs;
   std::vector<std::uint32_t> drivenDofs;
-  std::vector<std::int32_t> freeIndex;  // per DOF: position in freeDofs or -1
+  std::vector<std::int32_t> freeIndex;                             // per DOF: position in freeDofs or -1
   SparseMatrix kFixed, mFixed, cFixed, kDriven, mDriven, cDriven;  // rows of K, M, C
   Vec3 drivenReference = Vec3::Zero();
 
@@ -224,7 +227,8 @@ void FemBody::Impl::buildFromMesh(const FemSpec& spec) {
   const std::size_t npt = mesh.nodesPerTet();
   elements.reserve(mesh.tetCount());
   for (std::size_t e = 0; e < mesh.tetCount(); ++e) {
-    elements.emplace_back(mesh.tets.begin() + static_cast<long>(e * npt), mesh.tets.begin() + static_cast<long>((e + 1) * npt));
+    elements.emplace_back(mesh.tets.begin() + static_cast<long>(e * npt),
+                          mesh.tets.begin() + static_cast<long>((e + 1) * npt));
   }
   FemMatrices matrices = assembleTetMesh(mesh, material, spec.mass == FemMass::kLumped);
   k = std::move(matrices.stiffness);
@@ -263,7 +267,8 @@ void FemBody::Impl::buildFromMatrices(const FemSpec& spec) {
     const double norm = a.norm();
     const double asym = (a - SparseMatrix(a.transpose())).norm();
     if (!(asym <= 1e-9 * norm)) {
-      throw InputError(prefix + "." + field, formatValue(asym / norm) + " relative asymmetry", "must be symmetric");
+      throw InputError(prefix + "." + field, formatValue(asym / norm) + " relative asymmetry",
+                       "must be symmetric");
     }
   };
   k = readMatrix(spec.stiffness_matrix_path, "stiffness_matrix_path");
@@ -272,7 +277,8 @@ void FemBody::Impl::buildFromMatrices(const FemSpec& spec) {
   check(m, "mass_matrix_path");
   for (Eigen::Index i = 0; i < dofs; ++i) {
     if (!(m.coeff(i, i) > 0.0)) {
-      throw InputError(prefix + ".mass_matrix_path", "DOF " + std::to_string(i + 1), "diagonal entry must be > 0");
+      throw InputError(prefix + ".mass_matrix_path", "DOF " + std::to_string(i + 1),
+                       "diagonal entry must be > 0");
     }
   }
   if (!spec.damping_matrix_path.empty()) {
@@ -302,7 +308,8 @@ void FemBody::Impl::constrain(const FemSpec& spec, const std::vector<std::uint32
   const auto mark = [&](const std::vector<std::uint32_t>& ids, const std::vector<FemSpec::Region>& regions,
                         NodeKind target, const std::string& field) {
     for (std::size_t i = 0; i < ids.size(); ++i) {
-      const auto it = std::lower_bound(byId.begin(), byId.end(), std::pair<std::uint64_t, std::uint32_t>{ids[i], 0});
+      const auto it =
+          std::lower_bound(byId.begin(), byId.end(), std::pair<std::uint64_t, std::uint32_t>{ids[i], 0});
       if (it == byId.end() || it->first != ids[i]) {
         throw InputError(prefix + "." + field + "_nodes[" + std::to_string(i) + "]", std::to_string(ids[i]),
                          "no such node (a Gmsh node tag of a tetrahedron, or a 0-based node-file index)");
@@ -315,7 +322,8 @@ void FemBody::Impl::constrain(const FemSpec& spec, const std::vector<std::uint32
         requireFinite(f + ".lo", regions[r].lo[a]);
         requireFinite(f + ".hi", regions[r].hi[a]);
       }
-      if (!(regions[r].lo.array() <= regions[r].hi.array()).all()) throw InputError(f, "lo > hi", "lo must not exceed hi");
+      if (!(regions[r].lo.array() <= regions[r].hi.array()).all())
+        throw InputError(f, "lo > hi", "lo must not exceed hi");
       bool any = false;
       for (std::size_t i = 0; i < n; ++i) {
         if (inside(at(x0, i), regions[r])) {
@@ -354,7 +362,8 @@ void FemBody::Impl::constrain(const FemSpec& spec, const std::vector<std::uint32
     cFixed = alpha * kFixed + beta * mFixed;
     cDriven = alpha * kDriven + beta * mDriven;
   }
-  const VectorXd ex = VectorXd::NullaryExpr(3 * static_cast<Eigen::Index>(n), [](Eigen::Index i) { return i % 3 == 0 ? 1.0 : 0.0; });
+  const VectorXd ex = VectorXd::NullaryExpr(3 * static_cast<Eigen::Index>(n),
+                                            [](Eigen::Index i) { return i % 3 == 0 ? 1.0 : 0.0; });
   mass = ex.dot(m * ex);
   u = u1 = u2 = v = fc1 = fc0 = gravityLoad = VectorXd::Zero(3 * static_cast<Eigen::Index>(n));
 }
@@ -375,13 +384,15 @@ void FemBody::Impl::factorise() {
   for (int col = 0; col < m.outerSize(); ++col) {
     for (SparseMatrix::InnerIterator it(m, col); it; ++it) {
       if (it.row() != it.col() && it.value() != 0.0) {
-        throw InputError(prefix + ".integrator", "central_difference",
-                         "needs a lumped (diagonal) mass matrix; use mass = lumped or the three-level scheme");
+        throw InputError(
+            prefix + ".integrator", "central_difference",
+            "needs a lumped (diagonal) mass matrix; use mass = lumped or the three-level scheme");
       }
     }
   }
   lumpedFree.resize(static_cast<Eigen::Index>(nf));
-  for (std::size_t i = 0; i < nf; ++i) lumpedFree[static_cast<Eigen::Index>(i)] = m.coeff(freeDofs[i], freeDofs[i]);
+  for (std::size_t i = 0; i < nf; ++i)
+    lumpedFree[static_cast<Eigen::Index>(i)] = m.coeff(freeDofs[i], freeDofs[i]);
   omegaMax = std::sqrt(std::max(0.0, largestEigenvalue(block(k, freeIndex, nf), lumpedFree)));
 }
 
@@ -400,21 +411,24 @@ FemBody::FemBody(const FemSpec& spec, double timeStep, const std::string& fieldP
   const bool fromMesh = !spec.msh_path.empty();
   const bool fromMatrices = !spec.mass_matrix_path.empty() || !spec.stiffness_matrix_path.empty();
   if (fromMesh == fromMatrices) {
-    throw InputError(fieldPrefix + ".msh_path", fromMesh ? spec.msh_path : "(empty)",
-                     "give either a .msh mesh or the mass and stiffness matrices with node and triangle files");
+    throw InputError(
+        fieldPrefix + ".msh_path", fromMesh ? spec.msh_path : "(empty)",
+        "give either a .msh mesh or the mass and stiffness matrices with node and triangle files");
   }
   if (fromMesh) {
     b.buildFromMesh(spec);
   } else {
-    for (const auto& [path, field] : {std::pair{&spec.mass_matrix_path, "mass_matrix_path"},
-                                      std::pair{&spec.stiffness_matrix_path, "stiffness_matrix_path"},
-                                      std::pair{&spec.nodes_path, "nodes_path"},
-                                      std::pair{&spec.triangles_path, "triangles_path"}}) {
-      if (path->empty()) throw InputError(fieldPrefix + "." + field, "(empty)", "needed for imported matrices");
+    for (const auto& [path, field] :
+         {std::pair{&spec.mass_matrix_path, "mass_matrix_path"},
+          std::pair{&spec.stiffness_matrix_path, "stiffness_matrix_path"},
+          std::pair{&spec.nodes_path, "nodes_path"}, std::pair{&spec.triangles_path, "triangles_path"}}) {
+      if (path->empty())
+        throw InputError(fieldPrefix + "." + field, "(empty)", "needed for imported matrices");
     }
     b.buildFromMatrices(spec);
   }
-  b.surface = DeformableSurface(b.surface.positions().size(), b.surface.triangles(), spec.material, fieldPrefix);
+  b.surface =
+      DeformableSurface(b.surface.positions().size(), b.surface.triangles(), spec.material, fieldPrefix);
   b.factorise();
   b.writeSurface();
 }
@@ -489,12 +503,14 @@ void FemBody::beginStep(double dt, const Vec3& gravity) {
   VectorXd rhs;
   if (b.integrator == FemIntegrator::kThreeLevel) {
     // A3 U + A4 U- - A1 Up + (2 F + F-)/3, with Up the prescribed part of U+.
-    rhs = b.combine((2.0 * b.u - b.u1 - next) / (dt * dt), (b.u + b.u1 + next) / 3.0, (b.u1 - next) / (2.0 * dt)) +
+    rhs = b.combine((2.0 * b.u - b.u1 - next) / (dt * dt), (b.u + b.u1 + next) / 3.0,
+                    (b.u1 - next) / (2.0 * dt)) +
           b.gravityLoad + (2.0 * b.fc1 + b.fc0) / 3.0;
     VectorXd rf(static_cast<Eigen::Index>(b.freeDofs.size()));
     for (std::size_t i = 0; i < b.freeDofs.size(); ++i) rf[static_cast<Eigen::Index>(i)] = rhs[b.freeDofs[i]];
     const VectorXd xf = b.a1.solve(rf);
-    for (std::size_t i = 0; i < b.freeDofs.size(); ++i) next[b.freeDofs[i]] = xf[static_cast<Eigen::Index>(i)];
+    for (std::size_t i = 0; i < b.freeDofs.size(); ++i)
+      next[b.freeDofs[i]] = xf[static_cast<Eigen::Index>(i)];
   } else {
     rhs = b.gravityLoad + b.fc1 + b.combine(VectorXd::Zero(b.u.size()), b.u, (b.u1 - b.u) / dt);
     for (std::size_t i = 0; i < b.freeDofs.size(); ++i) {
@@ -522,15 +538,18 @@ void FemBody::endStep(double dt, const Vec3& gravity) {
       r = mp * ((b.u - 2.0 * b.u1 + b.u2) / (dt * dt)) + cp * ((b.u - b.u2) / (2.0 * dt)) +
           kp * ((b.u + b.u1 + b.u2) / 3.0);
       for (std::size_t j = 0; j < dofs.size(); ++j) {
-        r[static_cast<Eigen::Index>(j)] -= b.gravityLoad[dofs[j]] + (fc[dofs[j]] + b.fc1[dofs[j]] + b.fc0[dofs[j]]) / 3.0;
+        r[static_cast<Eigen::Index>(j)] -=
+            b.gravityLoad[dofs[j]] + (fc[dofs[j]] + b.fc1[dofs[j]] + b.fc0[dofs[j]]) / 3.0;
       }
     } else {
       r = mp * ((b.u - 2.0 * b.u1 + b.u2) / (dt * dt)) + cp * ((b.u1 - b.u2) / dt) + kp * b.u1;
-      for (std::size_t j = 0; j < dofs.size(); ++j) r[static_cast<Eigen::Index>(j)] -= b.gravityLoad[dofs[j]] + b.fc1[dofs[j]];
+      for (std::size_t j = 0; j < dofs.size(); ++j)
+        r[static_cast<Eigen::Index>(j)] -= b.gravityLoad[dofs[j]] + b.fc1[dofs[j]];
     }
     return r;
   };
-  b.fixedReaction = b.reaction(b.fixedDofs, residual(b.kFixed, b.mFixed, b.cFixed, b.fixedDofs), Vec3::Zero());
+  b.fixedReaction =
+      b.reaction(b.fixedDofs, residual(b.kFixed, b.mFixed, b.cFixed, b.fixedDofs), Vec3::Zero());
   b.drivenReaction =
       b.reaction(b.drivenDofs, residual(b.kDriven, b.mDriven, b.cDriven, b.drivenDofs), b.drivenPosition);
   b.fc0 = std::move(b.fc1);
@@ -559,7 +578,8 @@ void FemBody::solveStatic(const Vec3& gravity) {
   b.fc1 = b.fc0 = fc;
   const auto reactionRows = [&](const SparseMatrix& kp, const std::vector<std::uint32_t>& dofs) {
     VectorXd r = kp * u;
-    for (std::size_t j = 0; j < dofs.size(); ++j) r[static_cast<Eigen::Index>(j)] -= b.gravityLoad[dofs[j]] + fc[dofs[j]];
+    for (std::size_t j = 0; j < dofs.size(); ++j)
+      r[static_cast<Eigen::Index>(j)] -= b.gravityLoad[dofs[j]] + fc[dofs[j]];
     return r;
   };
   b.fixedReaction = b.reaction(b.fixedDofs, reactionRows(b.kFixed, b.fixedDofs), Vec3::Zero());
@@ -576,7 +596,8 @@ const DeformableSurface& FemBody::surface() const { return impl_->surface; }
 
 double FemBody::criticalTimeStep() const {
   const Impl& b = *impl_;
-  if (b.integrator == FemIntegrator::kThreeLevel || b.omegaMax <= 0.0) return std::numeric_limits<double>::infinity();
+  if (b.integrator == FemIntegrator::kThreeLevel || b.omegaMax <= 0.0)
+    return std::numeric_limits<double>::infinity();
   const double w2 = b.omegaMax * b.omegaMax;
   const double d = b.beta + b.alpha * w2;  // dt solves w2 dt^2 + 2 d dt - 4 = 0
   return (std::sqrt(d * d + 4.0 * w2) - d) / w2;
@@ -601,7 +622,9 @@ bool FemBody::hasDrivenNodes() const { return !impl_->drivenDofs.empty(); }
 NodeReaction FemBody::drivenReaction() const { return impl_->drivenReaction; }
 NodeReaction FemBody::fixedReaction() const { return impl_->fixedReaction; }
 std::size_t FemBody::nodeCount() const { return impl_->nodes(); }
-Vec3 FemBody::nodePosition(std::size_t node) const { return impl_->at(impl_->x0, node) + impl_->at(impl_->u, node); }
+Vec3 FemBody::nodePosition(std::size_t node) const {
+  return impl_->at(impl_->x0, node) + impl_->at(impl_->u, node);
+}
 Vec3 FemBody::nodeDisplacement(std::size_t node) const { return impl_->at(impl_->u, node); }
 Vec3 FemBody::nodeVelocity(std::size_t node) const { return impl_->at(impl_->v, node); }
 double FemBody::kineticEnergy() const { return 0.5 * impl_->v.dot(impl_->m * impl_->v); }
@@ -644,7 +667,8 @@ void FemBody::restore(StateReader& in) {
   requireEqual(in, "DOF count " + std::to_string(dofs) + " of FEM body \"" + name + "\"", dofs,
                static_cast<std::uint64_t>(b.u.size()));
   const auto integrator = in.read<std::uint8_t>();
-  requireEqual(in, "integrator of FEM body \"" + name + "\"", integrator, static_cast<std::uint8_t>(b.integrator));
+  requireEqual(in, "integrator of FEM body \"" + name + "\"", integrator,
+               static_cast<std::uint8_t>(b.integrator));
   const auto dt = in.read<double>();
   requireEqual(in, "time step of FEM body \"" + name + "\"", dt, b.dt);
   std::array<VectorXd, 6> vecs;

@@ -32,9 +32,11 @@ Eigen::SparseMatrix<double> parseMatrixMarket(std::string_view text, const std::
   }
   if (lower(banner[2]) != "coordinate") in.fail("only the 'coordinate' (sparse) format is read");
   const std::string field = lower(banner[3]);
-  if (field != "real" && field != "integer" && field != "double") in.fail("only real or integer entries are read");
+  if (field != "real" && field != "integer" && field != "double")
+    in.fail("only real or integer entries are read");
   const std::string symmetry = lower(banner[4]);
-  if (symmetry != "general" && symmetry != "symmetric") in.fail("only 'general' or 'symmetric' matrices are read");
+  if (symmetry != "general" && symmetry != "symmetric")
+    in.fail("only 'general' or 'symmetric' matrices are read");
   const bool symmetric = symmetry == "symmetric";
 
   std::string_view line = in.expectLine("the size line 'rows cols entries'");
@@ -61,7 +63,8 @@ Eigen::SparseMatrix<double> parseMatrixMarket(std::string_view text, const std::
     const std::uint64_t i = in.toCount(tok[0], "row");
     const std::uint64_t j = in.toCount(tok[1], "column");
     const double v = in.toReal(tok[2], "value");
-    if (i < 1 || i > rows || j < 1 || j > cols) in.fail("row or column outside the matrix (indices are 1-based)");
+    if (i < 1 || i > rows || j < 1 || j > cols)
+      in.fail("row or column outside the matrix (indices are 1-based)");
     if (symmetric && j > i) in.fail("a symmetric file holds the lower triangle only (row >= column)");
     const auto r = static_cast<int>(i - 1);
     const auto c = static_cast<int>(j - 1);
@@ -96,7 +99,8 @@ void writeMatrixMarket(const std::string& path, const Eigen::SparseMatrix<double
       << matrix.rows() << ' ' << matrix.cols() << ' ' << count << "\n";
   for (int c = 0; c < matrix.outerSize(); ++c) {
     for (Eigen::SparseMatrix<double>::InnerIterator it(matrix, c); it; ++it) {
-      if (!symmetric || it.row() >= it.col()) out << it.row() + 1 << ' ' << it.col() + 1 << ' ' << it.value() << "\n";
+      if (!symmetric || it.row() >= it.col())
+        out << it.row() + 1 << ' ' << it.col() + 1 << ' ' << it.value() << "\n";
     }
   }
   if (!out) throw InputError("mtx:" + path, path, "write failed");
@@ -117,7 +121,9 @@ std::vector<Vec3> parseNodeFile(std::string_view text, const std::string& source
   return nodes;
 }
 
-std::vector<Vec3> readNodeFile(const std::string& path) { return parseNodeFile(loadTextFile(path, "nodes"), path); }
+std::vector<Vec3> readNodeFile(const std::string& path) {
+  return parseNodeFile(loadTextFile(path, "nodes"), path);
+}
 
 std::vector<std::array<std::uint32_t, 3>> parseTriangleFile(std::string_view text, const std::string& source,
                                                             std::size_t nodeCount) {

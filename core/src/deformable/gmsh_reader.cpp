@@ -12,34 +12,22 @@ namespace {
 
 /// Nodes per element of the Gmsh element types a mesh file commonly holds; 0 = unknown.
 std::size_t gmshNodeCount(std::uint64_t type) {
-  switch (type) {
-    case 1: return 2;    // line
-    case 2: return 3;    // triangle
-    case 3: return 4;    // quadrangle
-    case 4: return 4;    // tetrahedron
-    case 5: return 8;    // hexahedron
-    case 6: return 6;    // prism
-    case 7: return 5;    // pyramid
-    case 8: return 3;    // 3-node line
-    case 9: return 6;    // 6-node triangle
-    case 10: return 9;   // 9-node quadrangle
-    case 11: return 10;  // 10-node tetrahedron
-    case 12: return 27;  // 27-node hexahedron
-    case 13: return 18;  // 18-node prism
-    case 14: return 14;  // 14-node pyramid
-    case 15: return 1;   // point
-    case 16: return 8;   // 8-node quadrangle
-    case 17: return 20;  // 20-node hexahedron
-    case 18: return 15;  // 15-node prism
-    case 19: return 13;  // 13-node pyramid
-    case 26: return 4;   // 4-node line
-    case 27: return 5;   // 5-node line
-    case 28: return 6;   // 6-node line
-    default: return 0;
+  // Element type -> nodes: line, triangle, quadrangle, tetrahedron, hexahedron, prism, pyramid,
+  // their second-order forms (8..14), the point (15), the incomplete second-order forms (16..19)
+  // and 4- to 6-node lines (26..28).
+  constexpr std::array<std::pair<std::uint64_t, std::size_t>, 22> kNodes = {{
+      {1, 2},  {2, 3},   {3, 4},   {4, 4},   {5, 8},   {6, 6},   {7, 5},   {8, 3},   {9, 6},  {10, 9}, {11, 10},
+      {12, 27}, {13, 18}, {14, 14}, {15, 1}, {16, 8}, {17, 20}, {18, 15}, {19, 13}, {26, 4}, {27, 5}, {28, 6},
+  }};
+  for (const auto& [t, n] : kNodes) {
+    if (t == type) return n;
   }
+  return 0;
 }
 
-bool isPointOrLine(std::uint64_t type) { return type == 1 || type == 8 || type == 15 || (type >= 26 && type <= 28); }
+bool isPointOrLine(std::uint64_t type) {
+  return type == 1 || type == 8 || type == 15 || (type >= 26 && type <= 28);
+}
 
 class GmshParser {
  public:
@@ -136,7 +124,8 @@ class GmshParser {
     const auto tok = in_.tokens(in_.expectLine("'" + names + "'"));
     if (tok.size() != 4) in_.fail("expected '" + names + "'");
     std::array<std::uint64_t, 4> out{};
-    for (std::size_t k = 0; k < 4; ++k) out[k] = in_.toCount(tok[k], "field " + std::to_string(k + 1) + " of '" + names + "'");
+    for (std::size_t k = 0; k < 4; ++k)
+      out[k] = in_.toCount(tok[k], "field " + std::to_string(k + 1) + " of '" + names + "'");
     return out;
   }
 
@@ -192,7 +181,8 @@ class GmshParser {
       const std::size_t src = (volume && order == 2 && (k == 8 || k == 9)) ? 17 - k : k;
       const std::uint64_t tag = in_.toCount(tags[src], "node tag");
       const auto it = tags_.find(tag);
-      if (it == tags_.end()) in_.fail("element refers to node tag " + std::to_string(tag) + ", not in $Nodes");
+      if (it == tags_.end())
+        in_.fail("element refers to node tag " + std::to_string(tag) + ", not in $Nodes");
       out.push_back(it->second);
     }
     if (volume) orient(order);
@@ -236,7 +226,8 @@ class GmshParser {
   }
 
   void readElements4() {
-    const auto [blocks, count, minTag, maxTag] = fourCounts("numEntityBlocks numElements minElementTag maxElementTag");
+    const auto [blocks, count, minTag, maxTag] =
+        fourCounts("numEntityBlocks numElements minElementTag maxElementTag");
     in_.requireFits(blocks, 8, "$Elements entity blocks");
     in_.requireFits(count, 4, "$Elements");
     std::uint64_t total = 0;
@@ -250,7 +241,8 @@ class GmshParser {
       for (std::uint64_t i = 0; i < n; ++i) {
         const auto tok = in_.tokens(in_.expectLine("an element line"));
         if (tok.size() != 1 + nodes) {
-          in_.fail("element type " + std::to_string(type) + " needs a tag and " + std::to_string(nodes) + " node tags");
+          in_.fail("element type " + std::to_string(type) + " needs a tag and " + std::to_string(nodes) +
+                   " node tags");
         }
         addElement(type, {tok.begin() + 1, tok.end()});
       }

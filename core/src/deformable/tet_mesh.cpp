@@ -46,7 +46,8 @@ std::vector<std::uint32_t> boundaryFaces(const TetMesh& mesh) {
   for (std::size_t i = 0; i < all.size();) {
     std::size_t j = i + 1;
     while (j < all.size() && all[j].first == all[i].first) ++j;
-    if (j - i == 1) out.insert(out.end(), all[i].second.begin(), all[i].second.begin() + static_cast<long>(npf));
+    if (j - i == 1)
+      out.insert(out.end(), all[i].second.begin(), all[i].second.begin() + static_cast<long>(npf));
     i = j;
   }
   return out;
@@ -62,7 +63,8 @@ std::vector<std::array<std::uint32_t, 3>> surfaceTriangles(const TetMesh& mesh) 
     for (std::size_t f = 0; f * npf < given.size(); ++f) {
       const auto it = outward.find(sortedCorners(&given[f * npf]));
       if (it != outward.end()) {
-        std::copy_n(faces.begin() + static_cast<long>(it->second * npf), npf, given.begin() + static_cast<long>(f * npf));
+        std::copy_n(faces.begin() + static_cast<long>(it->second * npf), npf,
+                    given.begin() + static_cast<long>(f * npf));
       }
     }
     faces = std::move(given);
@@ -159,7 +161,8 @@ void writeGmsh(const std::string& path, const TetMesh& mesh, const std::string& 
   if (version == "2.2") {
     out << "$Nodes\n" << mesh.nodes.size() << "\n";
     for (std::size_t i = 0; i < mesh.nodes.size(); ++i) {
-      out << i + 1 << ' ' << mesh.nodes[i].x() << ' ' << mesh.nodes[i].y() << ' ' << mesh.nodes[i].z() << "\n";
+      out << i + 1 << ' ' << mesh.nodes[i].x() << ' ' << mesh.nodes[i].y() << ' ' << mesh.nodes[i].z()
+          << "\n";
     }
     out << "$EndNodes\n$Elements\n" << nFaces + nTets << "\n";
     std::size_t tag = 1;

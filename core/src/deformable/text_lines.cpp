@@ -14,7 +14,8 @@ std::string loadTextFile(const std::string& path, const std::string& kind) {
   const std::string field = kind + ":" + path;
   std::error_code ec;
   const auto status = std::filesystem::status(path, ec);
-  if (status.type() == std::filesystem::file_type::not_found) throw InputError(field, path, "file does not exist");
+  if (status.type() == std::filesystem::file_type::not_found)
+    throw InputError(field, path, "file does not exist");
   if (ec) throw InputError(field, path, "cannot be accessed: " + ec.message());
   if (!std::filesystem::is_regular_file(status)) throw InputError(field, path, "is not a regular file");
   const auto size = std::filesystem::file_size(path, ec);

@@ -16,7 +16,8 @@ namespace demlink::core::fem_test {
 class TempDir {
  public:
   explicit TempDir(const std::string& name)
-      : path_(std::filesystem::temp_directory_path() / ("demlink_fem_" + name + "_" + std::to_string(::getpid()))) {
+      : path_(std::filesystem::temp_directory_path() /
+              ("demlink_fem_" + name + "_" + std::to_string(::getpid()))) {
     std::filesystem::create_directories(path_);
   }
   ~TempDir() {
@@ -90,7 +91,8 @@ inline void loadTip(FemBody& body, double length, const Vec3& total) {
     const Vec3& a = s.positions()[tri[0]];
     const Vec3& b = s.positions()[tri[1]];
     const Vec3& c = s.positions()[tri[2]];
-    if (std::abs(a.x() - length) < 1e-9 && std::abs(b.x() - length) < 1e-9 && std::abs(c.x() - length) < 1e-9) {
+    if (std::abs(a.x() - length) < 1e-9 && std::abs(b.x() - length) < 1e-9 &&
+        std::abs(c.x() - length) < 1e-9) {
       const double at = 0.5 * (b - a).cross(c - a).norm();
       tip.emplace_back(t, at);
       area += at;

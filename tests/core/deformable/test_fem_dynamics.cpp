@@ -129,7 +129,8 @@ double schemeEnergy(const FemBody& body, const Eigen::VectorXd& next, const Eige
 
 Eigen::VectorXd displacements(const FemBody& body) {
   Eigen::VectorXd u(3 * static_cast<Eigen::Index>(body.nodeCount()));
-  for (std::size_t i = 0; i < body.nodeCount(); ++i) u.segment<3>(3 * static_cast<Eigen::Index>(i)) = body.nodeDisplacement(i);
+  for (std::size_t i = 0; i < body.nodeCount(); ++i)
+    u.segment<3>(3 * static_cast<Eigen::Index>(i)) = body.nodeDisplacement(i);
   return u;
 }
 
@@ -219,7 +220,8 @@ TEST(FemDynamics, ImportedMatrixMarketMatchesAssembly) {
     }
     std::fclose(nodes);
     std::FILE* triangles = std::fopen(dir.file("triangles.txt").c_str(), "w");
-    for (const auto& t : assembled.surface().triangles()) std::fprintf(triangles, "%u %u %u\n", t[0], t[1], t[2]);
+    for (const auto& t : assembled.surface().triangles())
+      std::fprintf(triangles, "%u %u %u\n", t[0], t[1], t[2]);
     std::fclose(triangles);
   }
   FemSpec imported = spec;

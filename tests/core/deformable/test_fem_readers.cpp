@@ -27,12 +27,13 @@ double tetVolume(const TetMesh& mesh, std::size_t e) {
 
 /// Closed and outward: every directed edge appears once and its reverse once; the divergence
 /// theorem's sum of (x . n) area / 3 over the triangles is the volume.
-void expectClosedOutward(const std::vector<Vec3>& nodes, const std::vector<std::array<std::uint32_t, 3>>& tris,
-                         double volume) {
+void expectClosedOutward(const std::vector<Vec3>& nodes,
+                         const std::vector<std::array<std::uint32_t, 3>>& tris, double volume) {
   std::map<std::pair<std::uint32_t, std::uint32_t>, int> edges;
   double enclosed = 0.0;
   for (const auto& t : tris) {
-    for (int k = 0; k < 3; ++k) ++edges[{t[static_cast<std::size_t>(k)], t[static_cast<std::size_t>((k + 1) % 3)]}];
+    for (int k = 0; k < 3; ++k)
+      ++edges[{t[static_cast<std::size_t>(k)], t[static_cast<std::size_t>((k + 1) % 3)]}];
     enclosed += nodes[t[0]].dot((nodes[t[1]] - nodes[t[0]]).cross(nodes[t[2]] - nodes[t[0]])) / 6.0;
   }
   for (const auto& [e, count] : edges) {
@@ -109,7 +110,8 @@ InputError errorOf(Parse&& parse) {
   return InputError("", "", "");
 }
 
-void expectLineError(const InputError& e, const std::string& prefix, int line, const std::string& reasonPart) {
+void expectLineError(const InputError& e, const std::string& prefix, int line,
+                     const std::string& reasonPart) {
   EXPECT_EQ(e.field(), prefix + ":line " + std::to_string(line)) << e.what();
   EXPECT_NE(e.reason().find(reasonPart), std::string::npos) << e.what();
   EXPECT_EQ(std::string(e.what()).find("SECRET"), std::string::npos) << "echoes file content: " << e.what();
@@ -126,48 +128,59 @@ TEST(FemReaders, GmshErrorsNameFileAndLine) {
                   "msh:a.msh", 2, "binary");
   expectLineError(errorOf([&] { (void)parseGmsh("$MeshFormat\n3.0 0 8\n$EndMeshFormat\n", "a.msh"); }),
                   "msh:a.msh", 2, "unsupported .msh version");
-  expectLineError(
-      errorOf([&] { (void)parseGmsh(head + nodes + "$Elements\n1\n1 5 0 1 2 3 4 1 2 3 4\n$EndElements\n", "a.msh"); }),
-      "msh:a.msh", 13, "unsupported element type 5");
-  expectLineError(errorOf([&] { (void)parseGmsh(head + nodes + "$Elements\n1\n1 4 0 1 2 3 9\n$EndElements\n", "a.msh"); }),
+  expectLineError(errorOf([&] {
+                    (void)parseGmsh(head + nodes + "$Elements\n1\n1 5 0 1 2 3 4 1 2 3 4\n$EndElements\n",
+                                    "a.msh");
+                  }),
+                  "msh:a.msh", 13, "unsupported element type 5");
+  expectLineError(errorOf([&] {
+                    (void)parseGmsh(head + nodes + "$Elements\n1\n1 4 0 1 2 3 9\n$EndElements\n", "a.msh");
+                  }),
                   "msh:a.msh", 13, "node tag 9");
-  expectLineError(errorOf([&] { (void)parseGmsh(head + nodes + "$Elements\n1\n1 4 0 1 2 3 3\n$EndElements\n", "a.msh"); }),
+  expectLineError(errorOf([&] {
+                    (void)parseGmsh(head + nodes + "$Elements\n1\n1 4 0 1 2 3 3\n$EndElements\n", "a.msh");
+                  }),
                   "msh:a.msh", 13, "flat tetrahedron");
   expectLineError(errorOf([&] { (void)parseGmsh(head + nodes + "$Elements\n2\n1 4 0 1 2 3 4\n", "a.msh"); }),
                   "msh:a.msh", 12, "announces 2 entries");
-  const InputError none = errorOf([&] { (void)parseGmsh(head + nodes + "$Elements\n0\n$EndElements\n", "a.msh"); });
+  const InputError none =
+      errorOf([&] { (void)parseGmsh(head + nodes + "$Elements\n0\n$EndElements\n", "a.msh"); });
   EXPECT_EQ(none.field(), "msh:a.msh");
   const InputError missing = errorOf([&] { (void)readGmsh("/nonexistent/x.msh"); });
   EXPECT_EQ(missing.field(), "msh:/nonexistent/x.msh");
   EXPECT_EQ(missing.reason(), "file does not exist");
   // The good file parses.
-  EXPECT_EQ(parseGmsh(head + nodes + "$Elements\n1\n1 4 2 0 1 1 2 3 4\n$EndElements\n", "a.msh").tetCount(), 1u);
+  EXPECT_EQ(parseGmsh(head + nodes + "$Elements\n1\n1 4 2 0 1 1 2 3 4\n$EndElements\n", "a.msh").tetCount(),
+            1u);
 }
 
 TEST(FemReaders, MatrixMarketReadsAndRejects) {
-  const Eigen::SparseMatrix<double> g =
-      parseMatrixMarket("%%MatrixMarket matrix coordinate real general\n% c\n2 2 3\n1 1 2.5\n2 1 -1\n2 2 4\n", "m.mtx");
+  const Eigen::SparseMatrix<double> g = parseMatrixMarket(
+      "%%MatrixMarket matrix coordinate real general\n% c\n2 2 3\n1 1 2.5\n2 1 -1\n2 2 4\n", "m.mtx");
   EXPECT_EQ(g.coeff(0, 0), 2.5);
   EXPECT_EQ(g.coeff(1, 0), -1.0);
   EXPECT_EQ(g.coeff(0, 1), 0.0);
-  const Eigen::SparseMatrix<double> s =
-      parseMatrixMarket("%%MatrixMarket matrix coordinate real symmetric\n2 2 3\n1 1 2.5\n2 1 -1\n2 2 4\n", "m.mtx");
+  const Eigen::SparseMatrix<double> s = parseMatrixMarket(
+      "%%MatrixMarket matrix coordinate real symmetric\n2 2 3\n1 1 2.5\n2 1 -1\n2 2 4\n", "m.mtx");
   EXPECT_EQ(s.coeff(0, 1), -1.0);
   EXPECT_EQ(s.coeff(1, 0), -1.0);
   const std::string banner = "%%MatrixMarket matrix coordinate real symmetric\n";
-  expectLineError(errorOf([&] { (void)parseMatrixMarket("%%MatrixMarket matrix array real general\n", "m.mtx"); }),
-                  "mtx:m.mtx", 1, "coordinate");
+  expectLineError(
+      errorOf([&] { (void)parseMatrixMarket("%%MatrixMarket matrix array real general\n", "m.mtx"); }),
+      "mtx:m.mtx", 1, "coordinate");
   expectLineError(errorOf([&] { (void)parseMatrixMarket(banner + "9 9 1000000000000\n1 1 1\n", "m.mtx"); }),
                   "mtx:m.mtx", 2, "announces 1000000000000 entries");
   expectLineError(errorOf([&] { (void)parseMatrixMarket(banner + "2 2 2\n1 1 1\n3 1 SECRET\n", "m.mtx"); }),
                   "mtx:m.mtx", 4, "not a number");
-  expectLineError(errorOf([&] { (void)parseMatrixMarket(banner + "2 2 2\n1 1 1\n3 1 1\n", "m.mtx"); }), "mtx:m.mtx",
-                  4, "outside the matrix");
-  expectLineError(errorOf([&] { (void)parseMatrixMarket(banner + "2 2 2\n1 1 1\n1 2 1\n", "m.mtx"); }), "mtx:m.mtx",
-                  4, "lower triangle");
-  expectLineError(errorOf([&] { (void)parseMatrixMarket(banner + "200000000 200000000 1\n1 1 1\n", "m.mtx"); }),
-                  "mtx:m.mtx", 2, "dimension above the limit");
-  const InputError truncated = errorOf([&] { (void)parseMatrixMarket(banner + "2 2 3\n1 1 1.0000\n2 2 1.0000\n", "m.mtx"); });
+  expectLineError(errorOf([&] { (void)parseMatrixMarket(banner + "2 2 2\n1 1 1\n3 1 1\n", "m.mtx"); }),
+                  "mtx:m.mtx", 4, "outside the matrix");
+  expectLineError(errorOf([&] { (void)parseMatrixMarket(banner + "2 2 2\n1 1 1\n1 2 1\n", "m.mtx"); }),
+                  "mtx:m.mtx", 4, "lower triangle");
+  expectLineError(
+      errorOf([&] { (void)parseMatrixMarket(banner + "200000000 200000000 1\n1 1 1\n", "m.mtx"); }),
+      "mtx:m.mtx", 2, "dimension above the limit");
+  const InputError truncated =
+      errorOf([&] { (void)parseMatrixMarket(banner + "2 2 3\n1 1 1.0000\n2 2 1.0000\n", "m.mtx"); });
   EXPECT_EQ(truncated.field(), "mtx:m.mtx");
   EXPECT_NE(truncated.reason().find("announces 3 entries"), std::string::npos) << truncated.what();
 }
@@ -181,9 +194,10 @@ TEST(FemReaders, NodeAndTriangleFiles) {
   EXPECT_EQ(tris[0], (std::array<std::uint32_t, 3>{0, 1, 2}));
   expectLineError(errorOf([&] { (void)parseNodeFile("0 0 0\n1 SECRET 0\n", "n.txt"); }), "nodes:n.txt", 2,
                   "not a number");
-  expectLineError(errorOf([&] { (void)parseNodeFile("0 0 0\n1 0\n", "n.txt"); }), "nodes:n.txt", 2, "'x y z'");
-  expectLineError(errorOf([&] { (void)parseTriangleFile("0 1 2\n\n0 1 3\n", "t.txt", 3); }), "triangles:t.txt", 3,
-                  "out of range");
+  expectLineError(errorOf([&] { (void)parseNodeFile("0 0 0\n1 0\n", "n.txt"); }), "nodes:n.txt", 2,
+                  "'x y z'");
+  expectLineError(errorOf([&] { (void)parseTriangleFile("0 1 2\n\n0 1 3\n", "t.txt", 3); }),
+                  "triangles:t.txt", 3, "out of range");
   expectLineError(errorOf([&] { (void)parseTriangleFile("0 1 1\n", "t.txt", 3); }), "triangles:t.txt", 1,
                   "repeats a node");
 }

@@ -33,8 +33,8 @@ TEST(FemStatics, QuadraticCantileverTipDeflectionMatchesEulerBernoulli) {
 }
 
 // Refinement: linear tetrahedra lock in bending (far too stiff at this size) and improve
-// slowly; quadratic ones converge from below and are within 2% from 20 x 2 x 2 cells on. The printout is the convergence
-// table quoted in docs/deformable.md.
+// slowly; quadratic ones converge from below and are within 2% from 20 x 2 x 2 cells on. The printout is the
+// convergence table quoted in docs/deformable.md.
 TEST(FemStatics, RefinementConvergesFromBelow) {
   TempDir dir("refine");
   const double load = 10.0;
@@ -50,7 +50,8 @@ TEST(FemStatics, RefinementConvergesFromBelow) {
     const double exact = linear.tipDeflection(load);
     const double l = staticTip(linear, dir, load) / exact;
     const double q = staticTip(quadratic, dir, load) / exact;
-    std::printf("cells %3d x %d x %d: tip / Euler-Bernoulli  linear %.4f  quadratic %.4f\n", linear.nx, n, n, l, q);
+    std::printf("cells %3d x %d x %d: tip / Euler-Bernoulli  linear %.4f  quadratic %.4f\n", linear.nx, n, n,
+                l, q);
     EXPECT_GT(l, previousLinear);
     EXPECT_LT(l, 1.0);
     EXPECT_GT(q, previousQuadratic);

@@ -10,9 +10,8 @@
 /// instead (Hinton, Rock, Zienkiewicz, "A note on mass lumping and related processes in the
 /// finite element method", 1976): the diagonal of the consistent element mass, scaled so that it
 /// sums to the element's mass.
-#include <vector>
-
 #include <Eigen/SparseCore>
+#include <vector>
 
 #include "demlink/core/deformable/tet_mesh.hpp"
 
@@ -30,7 +29,8 @@ struct FemMatrices {
 };
 
 /// Assembles K and M (lumped or consistent) over all tetrahedra of `mesh`.
-[[nodiscard]] FemMatrices assembleTetMesh(const TetMesh& mesh, const ElasticMaterial& material, bool lumpedMass);
+[[nodiscard]] FemMatrices assembleTetMesh(const TetMesh& mesh, const ElasticMaterial& material,
+                                          bool lumpedMass);
 
 /// Von Mises stress [Pa] of each element at its centroid for the displacements `u` [m].
 [[nodiscard]] std::vector<double> vonMisesAtCentroids(const TetMesh& mesh, const ElasticMaterial& material,

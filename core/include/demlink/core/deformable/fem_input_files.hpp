@@ -10,13 +10,12 @@
 /// Node file: one node per line, "x y z" [m]. Triangle file: one triangle per line, "a b c",
 /// 0-based node indices, counter-clockwise seen from outside. In both, blank lines and lines
 /// starting with '#' are skipped; the n-th data line is node (triangle) n - 1.
+#include <Eigen/SparseCore>
 #include <array>
 #include <cstdint>
 #include <string>
 #include <string_view>
 #include <vector>
-
-#include <Eigen/SparseCore>
 
 #include "demlink/core/math_types.hpp"
 
