@@ -5,6 +5,7 @@
 #include <string>
 
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/unit_quaternion.hpp"
 #include "demlink/server/scene/proto_convert.hpp"
 
 namespace demlink::server {
@@ -74,7 +75,7 @@ std::optional<v1::Error> checkInput(const CosimComponent& component, const v1::D
       if (!input.has_position()) return invalid(component, "rigid_body_input.position", "(missing)", "required");
       if (!input.has_orientation()) return invalid(component, "rigid_body_input.orientation", "(missing)", "required");
       const v1::Quaternion& q = input.orientation();
-      const double norm = std::sqrt(q.w() * q.w() + q.x() * q.x() + q.y() * q.y() + q.z() * q.z());
+      const double norm = core::quaternionNorm(toQuat(q));
       if (!(std::abs(norm - 1.0) <= 1.0e-6)) {
         return invalid(component, "rigid_body_input.orientation", "norm " + core::formatValue(norm),
                        "must be a unit quaternion (within 1e-6)");
