@@ -19,7 +19,7 @@ cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
 if (($# > 0)); then
   targets=("$@")
 else
-  targets=(fuzz_frame_decoder fuzz_cosim_host)
+  targets=(fuzz_frame_decoder fuzz_cosim_host fuzz_scene_translator)
 fi
 cmake --build "$build" -j2 --target "${targets[@]}"
 

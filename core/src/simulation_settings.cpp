@@ -1,5 +1,8 @@
 #include "demlink/core/simulation_settings.hpp"
 
+#include <thread>
+
+#include "demlink/core/input_bounds.hpp"
 #include "demlink/core/input_error.hpp"
 
 namespace demlink::core {
@@ -10,14 +13,28 @@ void requireFiniteVector(const std::string& field, const Vec3& v) {
 }
 }  // namespace
 
+std::uint32_t maxThreads() {
+  const unsigned hardware = std::thread::hardware_concurrency();  // 0: unknown
+  return hardware > 0 ? hardware : kMaxThreadsUnknownHardware;
+}
+
 void SimulationSettings::validate(const std::string& fieldPrefix) const {
   requirePositive(fieldPrefix + ".time_step", time_step);
-  requireFiniteVector(fieldPrefix + ".gravity", gravity);
+  requireBoundedVector(fieldPrefix + ".gravity", gravity, kMaxAcceleration, "m/s^2");
+  // The first step's velocity change g dt must stay a sane speed (a huge time step
+  // accepted with allow_unsafe_time_step would otherwise overflow the positions).
+  if (!(gravity.norm() * time_step <= kMaxSpeed)) {
+    throw InputError(fieldPrefix + ".time_step", formatValue(time_step),
+                     "|gravity| x time_step = " + formatValue(gravity.norm() * time_step) + " m/s exceeds " +
+                         formatValue(kMaxSpeed) + " m/s per step");
+  }
   requireNonNegative(fieldPrefix + ".neighbour_skin", neighbour_skin);
   requirePositive(fieldPrefix + ".max_impact_velocity", max_impact_velocity);
   requireNonNegative(fieldPrefix + ".linear_normal_stiffness", linear_normal_stiffness);
-  if (threads < 1 || threads > 1024) {
-    throw InputError(fieldPrefix + ".threads", std::to_string(threads), "must be between 1 and 1024");
+  if (threads < 1 || threads > maxThreads()) {
+    throw InputError(fieldPrefix + ".threads", std::to_string(threads),
+                     "must be between 1 and " + std::to_string(maxThreads()) +
+                         " (this machine's hardware threads; 0 in a scene picks them all)");
   }
   if (bounds) {
     requireFiniteVector(fieldPrefix + ".bounds.lower", bounds->lower);

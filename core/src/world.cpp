@@ -5,7 +5,9 @@
 
 #include "demlink/core/contact/contact_law_registry.hpp"
 #include "demlink/core/contact/contact_stage.hpp"
+#include "demlink/core/input_bounds.hpp"
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/unit_quaternion.hpp"
 #include "demlink/core/step/integrator.hpp"
 #include "demlink/core/step/frame_motion.hpp"
 #include "demlink/core/step/parallel.hpp"
@@ -50,8 +52,30 @@ void World::requireNoDeformablesInMovingFrame(const FrameMotion& motion, const s
   throw InputError(fieldPrefix, "non-inertial", kDeformablesNeedAnInertialFrame);
 }
 
+void World::requireBoundedFrameAccelerations() const {
+  const FrameMotion& frame = state_.frame;
+  const double spin = frame.angular_velocity.squaredNorm();  // |Omega|^2 [rad^2/s^2]
+  const double turn = frame.angular_acceleration.norm();     // |alpha| [rad/s^2]
+  if (spin == 0.0 && turn == 0.0) return;
+  double farthest = 0.0;  // [m] from the room's origin
+  for (const Vec3& x : particles_.position) farthest = std::max(farthest, (x - frame.origin).norm());
+  const auto refuse = [&](const std::string& field, const Vec3& value, double acceleration, const char* what) {
+    throw InputError(settings_field_ + ".frame." + field,
+                     "(" + formatValue(value.x()) + ", " + formatValue(value.y()) + ", " + formatValue(value.z()) + ")",
+                     std::string(what) + " at the particle farthest from the room's origin (" + formatValue(farthest) +
+                         " m) would be " + formatValue(acceleration) + " m/s^2; at most " +
+                         formatValue(kMaxAcceleration) + " m/s^2");
+  };
+  if (!(spin * farthest <= kMaxAcceleration)) {
+    refuse("angular_velocity", frame.angular_velocity, spin * farthest, "the centrifugal acceleration Omega^2 r");
+  }
+  if (!(turn * farthest <= kMaxAcceleration)) {
+    refuse("angular_acceleration", frame.angular_acceleration, turn * farthest, "the Euler acceleration alpha r");
+  }
+}
+
 void World::setGravity(const Vec3& gravity) {
-  requireFiniteVector("gravity", gravity);
+  requireBoundedVector("gravity", gravity, kMaxAcceleration, "m/s^2");
   state_.gravity = gravity;
 }
 
@@ -63,6 +87,11 @@ std::optional<DomainBounds> World::currentBounds() const {
 std::uint32_t World::addMaterial(const Material& material) {
   const std::string& prefix = material.name;  // errors name the material by its name
   material.validate(prefix);
+  if (materials_.size() >= kMaxMaterials) {
+    throw InputError(prefix, std::to_string(materials_.size() + 1) + " materials",
+                     "a world holds at most " + std::to_string(kMaxMaterials) +
+                         " materials (the pair table grows with the square of the materials in use)");
+  }
   if (findMaterial(material.name)) throw InputError(prefix + ".name", material.name, "material name already used");
   materials_.push_back(material);
   return static_cast<std::uint32_t>(materials_.size() - 1);
@@ -95,12 +124,13 @@ void World::setPairOverride(std::uint32_t materialA, std::uint32_t materialB, co
 
 std::uint64_t World::addParticle(const ParticleSpec& spec, const std::string& fieldPrefix) {
   requirePositive(fieldPrefix + ".radius", spec.radius);
-  requireFiniteVector(fieldPrefix + ".position", spec.position);
-  requireFiniteVector(fieldPrefix + ".velocity", spec.velocity);
-  requireFiniteVector(fieldPrefix + ".angular_velocity", spec.angular_velocity);
+  requireBoundedVector(fieldPrefix + ".position", spec.position, kMaxCoordinate, "m");
+  requireBoundedVector(fieldPrefix + ".velocity", spec.velocity, kMaxSpeed, "m/s");
+  requireBoundedVector(fieldPrefix + ".angular_velocity", spec.angular_velocity, kMaxAngularVelocity, "rad/s");
   if (spec.material >= materials_.size()) {
     throw InputError(fieldPrefix + ".material", std::to_string(spec.material), "no such material");
   }
+  coverMaterial(spec.material);
   const std::uint64_t id = state_.next_particle_id++;
   particles_.append(spec, materials_[spec.material].density, id);
   rebuild_pending_ = true;
@@ -116,6 +146,7 @@ std::size_t World::addPlane(PlaneSpec plane, const std::string& fieldPrefix) {
     throw InputError(fieldPrefix + ".material", std::to_string(plane.material), "no such material");
   }
   plane.normal /= length;
+  coverMaterial(plane.material);
   planes_.push_back(PlaneWall{std::move(plane), {}, {}, Vec3::Zero(), Vec3::Zero()});
   rebuild_pending_ = true;
   if (initialized_) selectStepStages();
@@ -145,13 +176,11 @@ std::uint64_t World::addClump(const ClumpSpec& spec, const std::string& fieldPre
   if (spec.material >= materials_.size()) {
     throw InputError(fieldPrefix + ".material", std::to_string(spec.material), "no such material");
   }
-  requireFiniteVector(fieldPrefix + ".position", spec.position);
-  requireFiniteVector(fieldPrefix + ".velocity", spec.velocity);
-  requireFiniteVector(fieldPrefix + ".angular_velocity", spec.angular_velocity);
-  for (int k = 0; k < 4; ++k) requireFinite(fieldPrefix + ".orientation", spec.orientation.coeffs()[k]);
-  if (!(spec.orientation.norm() > 0.0)) {
-    throw InputError(fieldPrefix + ".orientation", "(0, 0, 0, 0)", "must be a non-zero quaternion");
-  }
+  requireBoundedVector(fieldPrefix + ".position", spec.position, kMaxCoordinate, "m");
+  requireBoundedVector(fieldPrefix + ".velocity", spec.velocity, kMaxSpeed, "m/s");
+  requireBoundedVector(fieldPrefix + ".angular_velocity", spec.angular_velocity, kMaxAngularVelocity, "rad/s");
+  const Quat orientation = requireUnitQuaternion(fieldPrefix + ".orientation", spec.orientation);
+  coverMaterial(spec.material);
   const ClumpTemplate& shape = clump_templates_[spec.template_index];
   const double density = materials_[spec.material].density;  // [kg/m^3]
   ClumpBody body;
@@ -161,7 +190,7 @@ std::uint64_t World::addClump(const ClumpSpec& spec, const std::string& fieldPre
   body.inertia = density * shape.principalMomentsPerDensity();
   body.position = spec.position;
   body.velocity = spec.velocity;
-  body.orientation = (spec.orientation.normalized() * shape.principalRotation()).normalized();
+  body.orientation = (orientation * shape.principalRotation()).normalized();
   const Mat3 rotation = body.orientation.toRotationMatrix();
   body.angular_momentum = rotation * body.inertia.asDiagonal() * rotation.transpose() * spec.angular_velocity;
   const std::size_t members = shape.bodySpheres().size();
@@ -188,6 +217,7 @@ std::size_t World::addMesh(MeshBody mesh, const std::string& fieldPrefix) {
   if (mesh.materialIndex() >= materials_.size()) {
     throw InputError(fieldPrefix + ".material", std::to_string(mesh.materialIndex()), "no such material");
   }
+  coverMaterial(mesh.materialIndex());
   meshes_.push_back(std::move(mesh));
   mesh_near_.emplace_back();
   mesh_colliding_.push_back(0);
@@ -244,9 +274,8 @@ void World::initialize() {
     throw InputError(settings_field_ + ".linear_normal_stiffness", "0",
                      "the linear law needs a stiffness when the scene starts without particles");
   }
-  pair_table_ = ContactPairTable(materials_, settings_.contact_model,
-                                 {meanRadius, settings_.max_impact_velocity, settings_.linear_normal_stiffness},
-                                 pair_overrides_);
+  pair_reference_ = {meanRadius, settings_.max_impact_velocity, settings_.linear_normal_stiffness};
+  buildPairTable(materialsInUse());
   time_step_report_ = criticalTimeStep(materials_, pair_table_, settings_.contact_model, minRadius,
                                        settings_.max_impact_velocity);
   for (const auto& body : deformables_) {
@@ -280,14 +309,18 @@ void World::initialize() {
     state_.neighbour_skin = smallest > 0.0 ? 0.5 * smallest : 1.0e-3;
   }
   neighbours_ = NeighbourList(state_.neighbour_skin);
-  if (settings_.threads > 1) pool_ = std::make_unique<ThreadPool>(settings_.threads);
+  if (settings_.threads > 1) {
+    try {
+      pool_ = std::make_unique<ThreadPool>(settings_.threads);
+    } catch (const ThreadStartError& error) {
+      throw InputError(settings_field_ + ".threads", std::to_string(settings_.threads),
+                       std::string(error.what()) + "; lower it");
+    }
+  }
 
-  rolling_active_ = pair_table_.anyRollingFriction();
-  compute_forces_ = visitContactLaw(settings_.contact_model, [this]<class Law>() {
-    return rolling_active_ ? &World::computeForces<Law, true> : &World::computeForces<Law, false>;
-  });
   requireNoClumpsInRotatingFrame(state_.frame, settings_field_ + ".frame");
   requireNoDeformablesInMovingFrame(state_.frame, settings_field_ + ".frame");
+  requireBoundedFrameAccelerations();
   initialized_ = true;
   for (const auto& component : components_) component->initialize(*this);
   selectStepStages();
@@ -295,6 +328,38 @@ void World::initialize() {
   rebuildNeighbours();
   (this->*compute_forces_)();
   gatherClumpForces();
+}
+
+std::vector<std::uint32_t> World::materialsInUse() const {
+  std::vector<char> inUse(materials_.size(), 0);
+  for (const std::uint32_t m : particles_.material) inUse[m] = 1;
+  for (const auto& entry : future_particles_) inUse[entry.first] = 1;
+  for (const PlaneWall& plane : planes_) inUse[plane.spec.material] = 1;
+  for (const MeshBody& mesh : meshes_) inUse[mesh.materialIndex()] = 1;
+  for (const PairOverrideEntry& entry : pair_overrides_) inUse[entry.material_a] = inUse[entry.material_b] = 1;
+  std::vector<std::uint32_t> used;
+  for (std::uint32_t m = 0; m < inUse.size(); ++m) {
+    if (inUse[m] != 0) used.push_back(m);
+  }
+  return used;
+}
+
+void World::buildPairTable(const std::vector<std::uint32_t>& used) {
+  pair_table_ = ContactPairTable(materials_, settings_.contact_model, pair_reference_, pair_overrides_, used);
+  rolling_active_ = pair_table_.anyRollingFriction();
+  compute_forces_ = visitContactLaw(settings_.contact_model, [this]<class Law>() {
+    return rolling_active_ ? &World::computeForces<Law, true> : &World::computeForces<Law, false>;
+  });
+}
+
+void World::coverMaterial(std::uint32_t material) {
+  if (!initialized_ || pair_table_.covers(material)) return;
+  std::vector<std::uint32_t> used = pair_table_.usedMaterials();
+  used.push_back(material);
+  std::sort(used.begin(), used.end());
+  const bool rolling = rolling_active_;
+  buildPairTable(used);
+  if (rolling != rolling_active_) selectStepStages();
 }
 
 void World::step() {

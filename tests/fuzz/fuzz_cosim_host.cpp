@@ -149,8 +149,26 @@ extern "C" int LLVMFuzzerInitialize(int* /*argc*/, char*** /*argv*/) {
   twoClients += selector(0, 1) + wire::encodeFrame(fuzz::helloMessage("second"));
   twoClients += selector(5, 0);  // first one drops mid-session
   twoClients += selector(7, 1);
+  // Hostile but well-formed: long names and control bytes, extreme finite values, a path
+  // on the server (this host has no data root: refused).
+  std::string hostile = selector(0, 2) + wire::encodeFrame(fuzz::helloMessage(std::string(4000, 'h') + "\n\x1b[31m"));
+  hostile += selector(0, 0) + wire::encodeFrame(fuzz::helloMessage("extreme"));
+  for (const char* json :
+       {R"({"name": "box", "communication_interval": 1e-4, "simulation_box": {"time_step": 1e-5, "end_time": 1e-3,
+           "gravity": {"z": -1e308}, "frame": {"angular_velocity": {"z": 1e308}},
+           "coupling": {"expected_count": 4, "client_timeout": 1e308}}})",
+        R"({"name": "glass\n[00:00:00] error: forged", "material": {"youngs_modulus": 1.7976931348623157e308}})",
+        R"({"name": "bucket", "communication_interval": 1e-4, "rigid_body": {"material": "glass",
+           "stl_file": "/etc/passwd", "orientation": {"w": 1e308, "x": 1e308}}})",
+        R"({"name": "spheres", "particle_lattice": {"material": "glass", "radius": 5e-324, "spacing": 1e308,
+           "velocity": {"z": -1e308}, "counts": {"nx": 4294967295, "ny": 4294967295, "nz": 4294967295}}})"}) {
+    v1::ClientMessage declare;
+    *declare.mutable_declare()->mutable_component() = server::parseSceneJson(
+        std::string(R"({"components": [)") + json + "]}", "hostile seed").components(0);
+    hostile += selector(0, 0) + wire::encodeFrame(declare);
+  }
   fuzz::writeSeedsIfAsked({exchange + selector(0, 0) + wire::encodeFrame(fuzz::byeMessage()),
-                           declareAll + selector(7, 0), twoClients});
+                           declareAll + selector(7, 0), twoClients, hostile});
   return 0;
 }
 

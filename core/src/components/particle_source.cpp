@@ -19,6 +19,7 @@
 
 #include "demlink/core/components/component_state.hpp"
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/unit_quaternion.hpp"
 #include "demlink/core/state/state_stream.hpp"
 #include "demlink/core/walls/triangle_geometry.hpp"
 #include "demlink/core/world.hpp"
@@ -45,8 +46,8 @@ double activeTime(double t, double start, double stop) { return std::max(0.0, st
 void SourceRegion::validate(const std::string& prefix, double largestRadius) const {
   const std::string kindPrefix = prefix + (kind == Kind::Box ? ".box" : ".disc");
   requireFiniteVector(kindPrefix + ".centre", centre);
-  for (int k = 0; k < 4; ++k) requireFinite(kindPrefix + ".orientation", orientation.coeffs()[k]);
-  if (!(orientation.norm() > 1.0e-12)) {
+  (void)requireUnitQuaternion(kindPrefix + ".orientation", orientation);
+  if (!(quaternionNorm(orientation) > 1.0e-12)) {
     throw InputError(kindPrefix + ".orientation", "(0, 0, 0, 0)", "must be a non-zero quaternion (or normal)");
   }
   if (kind == Kind::Box) {
@@ -214,7 +215,7 @@ class ParticleSource::Placement {
 ParticleSource::ParticleSource(std::string name, ParticleSourceSpec spec, std::string fieldPrefix)
     : WorldComponent(std::move(name)), spec_(std::move(spec)), field_prefix_(std::move(fieldPrefix)), rng_(spec_.seed) {
   spec_.validate(field_prefix_);
-  spec_.region.orientation.normalize();
+  spec_.region.orientation = Quat(spec_.region.orientation.coeffs() / quaternionNorm(spec_.region.orientation));
 }
 
 void ParticleSource::initialize(World& world) {

@@ -9,6 +9,7 @@
 #include <numbers>
 
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/unit_quaternion.hpp"
 #include "demlink/core/world.hpp"
 
 namespace demlink::core {
@@ -27,11 +28,7 @@ std::string formatVector(const Vec3& v) {
 void RegionPlacement::validate(const std::string& fieldPrefix) {
   requireFiniteVector(fieldPrefix + ".centre", centre);
   requireFiniteVector(fieldPrefix + ".velocity", velocity);
-  for (int k = 0; k < 4; ++k) requireFinite(fieldPrefix + ".orientation", orientation.coeffs()[k]);
-  if (!(orientation.norm() > 0.0)) {
-    throw InputError(fieldPrefix + ".orientation", "(0, 0, 0, 0)", "must be a non-zero quaternion");
-  }
-  orientation.normalize();
+  orientation = requireUnitQuaternion(fieldPrefix + ".orientation", orientation);
   if (attached_mesh && !velocity.isZero(0.0)) {
     throw InputError(fieldPrefix + ".velocity", formatVector(velocity),
                      "a region attached to a mesh body moves with it; give no velocity");

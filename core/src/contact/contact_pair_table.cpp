@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numeric>
 
 #include "demlink/core/contact/contact_law_registry.hpp"
 #include "demlink/core/input_error.hpp"
@@ -24,10 +25,30 @@ void PairOverride::validate(const std::string& fieldPrefix) const {
   if (rolling_friction) requireNonNegative(fieldPrefix + ".rolling_friction", *rolling_friction);
 }
 
+namespace {
+
+std::vector<std::uint32_t> allMaterials(std::size_t count) {
+  std::vector<std::uint32_t> all(count);
+  std::iota(all.begin(), all.end(), 0u);
+  return all;
+}
+
+}  // namespace
+
 ContactPairTable::ContactPairTable(const std::vector<Material>& materials, ContactModel model,
                                    const LinearStiffnessReference& linearReference,
                                    const std::vector<PairOverrideEntry>& overrides)
-    : count_(static_cast<std::uint32_t>(materials.size())), pairs_(materials.size() * materials.size()) {
+    : ContactPairTable(materials, model, linearReference, overrides, allMaterials(materials.size())) {}
+
+ContactPairTable::ContactPairTable(const std::vector<Material>& materials, ContactModel model,
+                                   const LinearStiffnessReference& linearReference,
+                                   const std::vector<PairOverrideEntry>& overrides,
+                                   const std::vector<std::uint32_t>& used)
+    : count_(static_cast<std::uint32_t>(used.size())),
+      slot_(materials.size(), kNoSlot),
+      used_(used),
+      pairs_(used.size() * used.size()) {
+  for (std::uint32_t row = 0; row < count_; ++row) slot_[used[row]] = row;
   // Overrides by unordered pair (lower index first); scenes have few, a map is plenty.
   std::map<std::pair<std::uint32_t, std::uint32_t>, const PairOverride*> overrideOf;
   for (const PairOverrideEntry& entry : overrides) {
@@ -37,8 +58,8 @@ ContactPairTable::ContactPairTable(const std::vector<Material>& materials, Conta
   std::map<double, double> dampingOfRestitution;  // calibration is ~ms each; reuse across pairs
   for (std::uint32_t i = 0; i < count_; ++i) {
     for (std::uint32_t j = i; j < count_; ++j) {
-      const Material& a = materials[i];
-      const Material& b = materials[j];
+      const Material& a = materials[used[i]];
+      const Material& b = materials[used[j]];
       ContactPairParams p;
       p.effective_youngs = effectiveYoungsModulus(a, b);
       p.effective_shear = effectiveShearModulus(a, b);
@@ -46,7 +67,7 @@ ContactPairTable::ContactPairTable(const std::vector<Material>& materials, Conta
       p.restitution = 0.5 * (a.restitution + b.restitution);
       p.sliding_friction = 0.5 * (a.sliding_friction + b.sliding_friction);
       p.rolling_friction = 0.5 * (a.rolling_friction + b.rolling_friction);
-      if (const auto it = overrideOf.find({i, j}); it != overrideOf.end()) {
+      if (const auto it = overrideOf.find(std::minmax(used[i], used[j])); it != overrideOf.end()) {
         const PairOverride& o = *it->second;
         p.restitution = o.restitution.value_or(p.restitution);
         p.sliding_friction = o.sliding_friction.value_or(p.sliding_friction);

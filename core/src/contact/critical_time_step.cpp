@@ -24,9 +24,9 @@ TimeStepReport criticalTimeStep(const std::vector<Material>& materials, const Co
     return 4.0 / 3.0 * std::numbers::pi * r * r * r * materials[k].density;
   };
   for (std::size_t a = 0; a < materials.size(); ++a) {
-    if (minRadiusOfMaterial[a] <= 0.0) continue;
+    if (minRadiusOfMaterial[a] <= 0.0 || !table.covers(static_cast<std::uint32_t>(a))) continue;
     report.rayleigh_time_step = std::min(report.rayleigh_time_step, rayleighTimeStep(materials[a], minRadiusOfMaterial[a]));
-    for (std::size_t b = 0; b < materials.size(); ++b) {
+    for (const std::uint32_t b : table.usedMaterials()) {
       const ContactPairParams& p = table(static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b));
       const double ra = minRadiusOfMaterial[a];
       const double ma = massOf(a);

@@ -368,8 +368,10 @@ void World::restoreCheckpoint(std::string_view bytes, const std::string& source)
 
   // Phase 2: everything read and checked: replace the state.
   particles_ = std::move(particles);
+  for (const std::uint32_t material : particles_.material) coverMaterial(material);
   neighbours_ = std::move(neighbours);
   planes_ = std::move(planes);
+  for (const PlaneWall& plane : planes_) coverMaterial(plane.spec.material);
   for (std::size_t m = 0; m < meshes_.size(); ++m) meshes_[m].restoreState(meshStates[m]);
   mesh_near_ = std::move(meshNear);
   deformable_near_ = std::move(deformableNear);

@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "demlink/core/input_bounds.hpp"
 #include "demlink/core/input_error.hpp"
 #include "demlink/core/state/state_stream.hpp"
 #include "demlink/core/step/integrator.hpp"
@@ -76,13 +77,11 @@ bool FrameMotion::isInertial() const {
 }
 
 void FrameMotion::validate(const std::string& fieldPrefix) const {
-  const auto finite = [&](const std::string& name, const Vec3& v) {
-    for (int k = 0; k < 3; ++k) requireFinite(fieldPrefix + "." + name + "[" + std::to_string(k) + "]", v[k]);
-  };
-  finite("linear_acceleration", linear_acceleration);
-  finite("angular_velocity", angular_velocity);
-  finite("angular_acceleration", angular_acceleration);
-  finite("origin", origin);
+  requireBoundedVector(fieldPrefix + ".linear_acceleration", linear_acceleration, kMaxAcceleration, "m/s^2");
+  requireBoundedVector(fieldPrefix + ".angular_velocity", angular_velocity, kMaxAngularVelocity, "rad/s");
+  requireBoundedVector(fieldPrefix + ".angular_acceleration", angular_acceleration, kMaxAngularAcceleration,
+                       "rad/s^2");
+  requireBoundedVector(fieldPrefix + ".origin", origin, kMaxCoordinate, "m");
 }
 
 void FrameMotion::save(StateWriter& out) const {

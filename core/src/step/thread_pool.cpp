@@ -1,5 +1,8 @@
 #include "demlink/core/step/thread_pool.hpp"
 
+#include <string>
+#include <system_error>
+
 namespace demlink::core {
 namespace {
 
@@ -32,15 +35,30 @@ T awaitChange(const std::atomic<T>& value, T old) {
 }  // namespace
 
 ThreadPool::ThreadPool(std::uint32_t threads) {
-  for (std::uint32_t t = 1; t < threads; ++t) workers_.emplace_back([this, t] { workerLoop(t); });
+  workers_.reserve(threads > 0 ? threads - 1 : 0);
+  try {
+    for (std::uint32_t t = 1; t < threads; ++t) workers_.emplace_back([this, t] { workerLoop(t); });
+  } catch (const std::system_error& error) {
+    // A destroyed joinable std::thread calls std::terminate: join the started ones first.
+    stopWorkers();
+    throw ThreadStartError(static_cast<std::uint32_t>(workers_.size()) + 1, threads, error.what());
+  }
 }
 
-ThreadPool::~ThreadPool() {
+ThreadPool::~ThreadPool() { stopWorkers(); }
+
+void ThreadPool::stopWorkers() {
   stop_.store(true, std::memory_order_relaxed);
   generation_.fetch_add(1, std::memory_order_release);
   generation_.notify_all();
   for (std::thread& worker : workers_) worker.join();
+  workers_.clear();
 }
+
+ThreadStartError::ThreadStartError(std::uint32_t started, std::uint32_t requested, const std::string& cause)
+    : std::runtime_error("could start only " + std::to_string(started) + " of " + std::to_string(requested) +
+                         " threads: " + cause),
+      started_(started) {}
 
 void ThreadPool::runShare(std::uint32_t thread) const {
   for (std::uint32_t part = thread; part < parts_; part += size()) task_(context_, part);

@@ -11,6 +11,7 @@
 #include <cmath>
 
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/unit_quaternion.hpp"
 #include "demlink/core/state/state_stream.hpp"
 #include "demlink/core/walls/stl_reader.hpp"
 
@@ -121,7 +122,7 @@ MeshBody MeshBody::fromStl(std::string name, const std::string& path,
 
 void MeshBody::setPose(const Vec3& position, const Quat& orientation) {
   requireFiniteVec("pose.position", position);
-  const double norm = orientation.norm();
+  const double norm = quaternionNorm(orientation);
   if (!orientation.coeffs().allFinite() || !(norm > 1e-12)) {
     const auto& q = orientation;
     throw InputError("pose.orientation",

@@ -30,17 +30,6 @@ constexpr std::size_t kHeaderBytes = 84;
 constexpr std::size_t kFacetBytes = 50;
 constexpr std::size_t kMaxListedDegenerate = 1000;  ///< individual warnings; then a summary
 
-/// A token for error messages: at most 40 bytes, non-printable bytes shown as '?'.
-std::string printable(std::string_view s) {
-  std::string r(s.substr(0, 40));
-  for (char& ch : r) {
-    const auto u = static_cast<unsigned char>(ch);
-    if (u < 0x20 || u >= 0x7F) ch = '?';
-  }
-  if (s.size() > 40) r += "...";
-  return r;
-}
-
 bool isSpace(char ch) {
   return ch == ' ' || ch == '\t' || ch == '\n' || ch == '\r' || ch == '\v' || ch == '\f';
 }
@@ -144,8 +133,12 @@ class AsciiParser {
 
  private:
   [[noreturn]] void fail(const Lexer::Token& t, const std::string& reason) const {
+    // The file's words are never quoted (a server file named by a client must not leak
+    // into its error): the place and what was expected say enough.
     throw InputError(field_ + ":line " + std::to_string(t.line),
-                     t.text.empty() ? std::string("<end of file>") : printable(t.text), reason);
+                     t.text.empty() ? std::string("<end of file>") : "a word of " + std::to_string(t.text.size()) +
+                                                                         " characters",
+                     reason);
   }
   void expect(const Lexer::Token& t, std::string_view keyword) const {
     if (!equalsIgnoreCase(t.text, keyword)) {

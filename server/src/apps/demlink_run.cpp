@@ -63,7 +63,9 @@ int run(int argc, char** argv) {
     }
   }
   const std::filesystem::path scenePath(line.scene);
-  demlink::server::TranslatedScene translated = demlink::server::translateScene(scene, scenePath.parent_path());
+  // Files the scene names must lie in its folder or below (an empty parent: the working directory).
+  const std::filesystem::path sceneFolder = scenePath.has_parent_path() ? scenePath.parent_path() : ".";
+  demlink::server::TranslatedScene translated = demlink::server::translateScene(scene, sceneFolder);
   if (line.output) {
     translated.run.output_directory = *line.output;
   } else if (translated.run.output_directory.empty()) {

@@ -3,7 +3,7 @@
 ///   demlink-server [--listen ADDR] [--port N] [--token T] [--scene FILE] [--output DIR]
 ///                  [--quiet-period S] [--timeout S] [--assembly-timeout S] [--hello-timeout S]
 ///                  [--max-frame-bytes N] [--max-queued-bytes N] [--max-unwelcomed N]
-///                  [--progress S] [--record FILE] [--replay FILE] [--overwrite]
+///                  [--progress S] [--record FILE] [--replay FILE] [--data-root DIR] [--overwrite]
 ///                  [--once | --max-simulations N] [--help] [--version]
 ///
 /// Prints "demlink-server listening on ADDR:PORT" once it accepts connections (scripts and
@@ -55,6 +55,7 @@ struct CommandLine {
   std::uint64_t max_simulations = 0;  ///< 0: no limit
   std::optional<std::string> record;
   std::optional<std::string> replay;
+  std::optional<std::string> data_root;
   bool overwrite = false;
   bool once = false;
 };
@@ -77,10 +78,10 @@ void addOptions(CLI::App& app, CommandLine& line) {
       ->type_name("FILE");
   cli::addText(app, "--output", line.output, "output root; simulation N writes DIR/sim_NNN (default out/cosim)")
       ->type_name("DIR");
-  cli::addNumber(app, "--quiet-period", line.quiet_period, {0.0, false},
+  cli::addNumber(app, "--quiet-period", line.quiet_period, {0.0, false, demlink::server::kMaxWaitSeconds},
                  "compile S seconds after the last Declare when nothing is expected (default 2)")
       ->type_name("S");
-  cli::addNumber(app, "--timeout", line.timeout, {0.0, true},
+  cli::addNumber(app, "--timeout", line.timeout, {0.0, true, demlink::server::kMaxWaitSeconds},
                  "a due client may take S seconds to send its package (default 30)")
       ->type_name("S");
   // parsePayload takes at most INT_MAX bytes (protobuf's limit).
@@ -105,6 +106,13 @@ void addOptions(CLI::App& app, CommandLine& line) {
       ->type_name("FILE");
   cli::addText(app, "--replay", line.replay, "re-run a recorded session from FILE (no network) and exit")
       ->type_name("FILE");
+  cli::addValue(app, "--data-root", "folder the files clients name must lie in (default: clients may name no file)",
+                [&line](const std::string& text) {
+                  std::error_code error;
+                  if (!std::filesystem::is_directory(text, error)) cli::refuse("--data-root", text, "not a folder");
+                  line.data_root = text;
+                })
+      ->type_name("DIR");
   app.add_flag("--overwrite", line.overwrite, "a simulation may write into an output folder that holds a run's outputs");
   CLI::Option* once = app.add_flag("--once", line.once, "exit after the first simulation ends (= --max-simulations 1)");
   cli::addWholeNumber<std::uint64_t>(app, "--max-simulations", line.max_simulations, 1,
@@ -150,6 +158,7 @@ demlink::server::CosimOptions hostOptions(const CommandLine& line) {
   }
   options.assembly_timeout_s = line.assembly_timeout;
   options.progress_interval_s = line.progress;
+  if (line.data_root) options.data_root = std::filesystem::path(*line.data_root);
   options.output_root = line.output;
   options.overwrite = line.overwrite;
   options.quiet_period_s = line.quiet_period;

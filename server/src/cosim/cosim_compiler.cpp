@@ -18,6 +18,8 @@
 
 #include "demlink/core/components/sampled_component.hpp"
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/log_text.hpp"
+#include "demlink/core/names.hpp"
 #include "demlink/core/step/interval_steps.hpp"
 #include "demlink/server/run/deformable_series.hpp"
 #include "demlink/server/scene/translate_deformables.hpp"
@@ -85,6 +87,42 @@ CompileFailure failure(const std::string& component, const std::string& field, c
                        const std::string& reason) {
   return CompileFailure(
       makeError(v1::Error::INVALID_DECLARATION, field + " = " + value + ": " + reason, component, field, true));
+}
+
+/// The file paths a declaration names: (field below the component, the path to rewrite).
+std::vector<std::pair<std::string, std::string*>> filePathsOf(v1::ComponentDeclaration& c) {
+  std::vector<std::pair<std::string, std::string*>> out;
+  if (c.has_mesh_body()) out.emplace_back("mesh_body.stl_file", c.mutable_mesh_body()->mutable_stl_file());
+  if (c.has_facet_body() && c.facet_body().has_stl_file()) {
+    out.emplace_back("facet_body.stl_file", c.mutable_facet_body()->mutable_stl_file());
+  }
+  if (c.has_rigid_body() && c.rigid_body().has_stl_file()) {
+    out.emplace_back("rigid_body.stl_file", c.mutable_rigid_body()->mutable_stl_file());
+  }
+  if (c.has_particle_file()) out.emplace_back("particle_file.path", c.mutable_particle_file()->mutable_path());
+  if (c.has_particle_system() && c.particle_system().has_csv_file()) {
+    out.emplace_back("particle_system.csv_file", c.mutable_particle_system()->mutable_csv_file());
+  }
+  if (c.has_particle_system() && c.particle_system().has_checkpoint_file()) {
+    out.emplace_back("particle_system.checkpoint_file", c.mutable_particle_system()->mutable_checkpoint_file());
+  }
+  return out;
+}
+
+/// Where a client's files may be: under the data root, relative paths from it; without
+/// one, nowhere.
+FileScope clientFileScope(const std::optional<std::filesystem::path>& dataRoot) {
+  FileScope scope;
+  scope.anywhere = false;
+  scope.roots_name = "the server's data root (--data-root)";
+  scope.no_root_reason =
+      "this server takes no file paths from clients (it runs without --data-root); send the geometry inline "
+      "(rigid_body.stl_data or triangles)";
+  if (dataRoot) {
+    scope.anchor = *dataRoot;
+    scope.roots = {*dataRoot};
+  }
+  return scope;
 }
 
 /// A sensor or sink from a client without its own sample schedule samples at its
@@ -174,7 +212,7 @@ std::optional<v1::Error> CosimCompiler::declare(ConnectionId owner, const v1::Co
   const std::string& name = declaration.name();
   if (declaration.kind_case() == Kind::KIND_NOT_SET) {
     return makeError(v1::Error::UNKNOWN_COMPONENT_KIND,
-                     "component \"" + name + "\" declares no kind this server knows (one of simulation_box, "
+                     "component " + core::quotedLogText(name) + " declares no kind this server knows (one of simulation_box, "
                      "material, plane, rigid_body, particle_source, particle_sink, region_sensor, flow_sensor, "
                      "particle_view, ...)",
                      name, "component.kind");
@@ -183,6 +221,10 @@ std::optional<v1::Error> CosimCompiler::declare(ConnectionId owner, const v1::Co
     return makeError(v1::Error::DUPLICATE_NAME, "every component needs a non-empty name (a " +
                                                     kindName(declaration.kind_case()) + " has none)",
                      name, "component.name");
+  }
+  if (std::string problem = core::nameProblem(name); !problem.empty()) {
+    return makeError(v1::Error::INVALID_DECLARATION,
+                     "component.name = " + core::quotedLogText(name, 64) + ": " + problem, "", "component.name");
   }
   for (const DeclaredComponent& d : declared_) {
     if (d.declaration.name() == name) {
@@ -250,26 +292,41 @@ CosimCompiler::Missing CosimCompiler::missing() const {
   return {"declare", fmt::format("{} components declared and declarations still arriving", declared_.size())};
 }
 
-CompiledSimulation CosimCompiler::compile(const std::filesystem::path& sceneDirectory) const {
+CompiledSimulation CosimCompiler::compile(const std::filesystem::path& sceneDirectory,
+                                          const std::optional<std::filesystem::path>& dataRoot) const {
   const v1::SimulationBox* simulationBox = box();
   if (simulationBox == nullptr) {
     throw failure("", "simulation_box", "(none)",
                   "no simulation_box declared (the scene file or a client must declare exactly one)");
   }
   v1::Scene scene;
+  const FileScope clientFiles = clientFileScope(dataRoot);
   for (const DeclaredComponent& d : declared_) {
     v1::ComponentDeclaration& c = *scene.add_components();
     c = d.declaration;
     if (!d.owner) continue;
+    // A client's paths are checked against the data root here and handed on resolved, so
+    // the translator (whose roots include the scene file's folder) sees only paths that
+    // passed this check.
+    for (const auto& [field, path] : filePathsOf(c)) {
+      if (path->empty()) continue;  // the translator names the missing path
+      try {
+        *path = resolveExistingSceneFile(*path, clientFiles, c.name() + "." + field).string();
+      } catch (const core::InputError& error) {
+        throw failure(c.name(), error.field(), error.value(), error.reason());
+      }
+    }
     const double interval = c.communication_interval();
     if (c.has_particle_sink()) defaultSampleInterval(*c.mutable_particle_sink(), interval);
     if (c.has_region_sensor()) defaultSampleInterval(*c.mutable_region_sensor(), interval);
     if (c.has_flow_sensor()) defaultSampleInterval(*c.mutable_flow_sensor(), interval);
   }
 
+  FileScope files(sceneDirectory);
+  if (dataRoot && !files.anywhere) files.roots.push_back(*dataRoot);
   CompiledSimulation out;
   try {
-    out.scene = std::make_unique<TranslatedScene>(translateScene(scene, sceneDirectory, SceneUse::Cosim));
+    out.scene = std::make_unique<TranslatedScene>(translateScene(scene, files, SceneUse::Cosim));
   } catch (const core::InputError& error) {
     throw failureOf(error, declared_);
   }

@@ -15,8 +15,12 @@
 #include <spdlog/fmt/fmt.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+#include <cmath>
 #include <map>
 
+#include "demlink/core/log_text.hpp"
+#include "demlink/core/names.hpp"
 #include "demlink/server/cosim/cosim_compiler.hpp"
 #include "demlink/server/cosim/cosim_simulation.hpp"
 #include "demlink/server/cosim/session_recorder.hpp"
@@ -25,14 +29,20 @@
 namespace demlink::server {
 namespace {
 
+/// Longest server-built message (it may quote several names) in a log line [bytes].
+constexpr std::size_t kLogMessageMaxBytes = 4096;
+
 struct Connection {
   std::string name;
   bool declared = false;  ///< declared at least one component
   bool said_bye = false;  ///< got its Finished already
 };
 
+/// A wait as a clock duration, clamped to [0, kMaxWaitSeconds]: a time_point plus a
+/// longer duration could overflow the clock's 64-bit count (1e308 s would be "now").
 SteadyClock::duration seconds(double s) {
-  return std::chrono::duration_cast<SteadyClock::duration>(std::chrono::duration<double>(s));
+  const double clamped = std::isfinite(s) ? std::clamp(s, 0.0, kMaxWaitSeconds) : kMaxWaitSeconds;
+  return std::chrono::duration_cast<SteadyClock::duration>(std::chrono::duration<double>(clamped));
 }
 
 }  // namespace
@@ -93,8 +103,9 @@ struct CosimHost::Impl {
 
   [[nodiscard]] std::string clientName(ConnectionId id) const {
     const auto it = connections.find(id);
-    const std::string name = it != connections.end() && !it->second.name.empty() ? it->second.name : "(unnamed)";
-    return fmt::format("\"{}\" (connection {})", name, id);
+    const std::string name =
+        it != connections.end() && !it->second.name.empty() ? core::quotedLogText(it->second.name) : "(unnamed)";
+    return fmt::format("{} (connection {})", name, id);
   }
 
   [[nodiscard]] std::uint64_t number() const { return finished + 1; }
@@ -155,7 +166,8 @@ struct CosimHost::Impl {
   void fault(std::vector<Outgoing>& out, ConnectionId offender, v1::Error error,
              v1::Error::Code othersCode = v1::Error::PEER_DISCONNECTED) {
     error.set_fatal(true);
-    spdlog::warn("simulation {}: client {}: {} ({}{}{})", number(), clientName(offender), error.message(),
+    spdlog::warn("simulation {}: client {}: {} ({}{}{})", number(), clientName(offender),
+                 core::logText(error.message(), kLogMessageMaxBytes),
                  v1::Error::Code_Name(error.code()), error.field().empty() ? "" : ", field ", error.field());
     send(out, offender, error);
     if (!sim) {
@@ -177,9 +189,10 @@ struct CosimHost::Impl {
     const SteadyClock::time_point workStart = SteadyClock::now();
     CompiledSimulation compiled;
     try {
-      compiled = compiler.compile(options.scene_directory);
+      compiled = compiler.compile(options.scene_directory, options.data_root);
     } catch (const CompileFailure& failure) {
-      spdlog::error("simulation {}: compile failed: {}", number(), failure.error.message());
+      spdlog::error("simulation {}: compile failed: {}", number(),
+                    core::logText(failure.error.message(), kLogMessageMaxBytes));
       for (const auto& [id, connection] : connections) send(out, id, failure.error);
       endSimulation(out, "compile failed: " + failure.error.message());
       return;
@@ -280,18 +293,20 @@ struct CosimHost::Impl {
     if (sim) {
       fault(out, from,
             makeError(v1::Error::OUT_OF_ORDER,
-                      "Declare of \"" + declare.component().name() + "\" after Compiled: the simulation is running",
+                      "Declare of " + core::quotedLogText(declare.component().name()) +
+                          " after Compiled: the simulation is running",
                       declare.component().name(), "declare"));
       return;
     }
     if (std::optional<v1::Error> refused = compiler.declare(from, declare.component())) {
-      spdlog::warn("client {}: declaration refused: {}", clientName(from), refused->message());
+      spdlog::warn("client {}: declaration refused: {}", clientName(from),
+                   core::logText(refused->message(), kLogMessageMaxBytes));
       send(out, from, *refused);
       return;
     }
     connections[from].declared = true;
     quiet_since = now;
-    spdlog::info("client {} declared \"{}\"", clientName(from), declare.component().name());
+    spdlog::info("client {} declared {}", clientName(from), core::quotedLogText(declare.component().name()));
     if (compiler.expectedSetComplete()) compile(out, now);
   }
 
@@ -326,7 +341,8 @@ struct CosimHost::Impl {
   }
 
   void onBye(std::vector<Outgoing>& out, ConnectionId from, const v1::Bye& bye, SteadyClock::time_point now) {
-    spdlog::info("client {} said Bye{}{}", clientName(from), bye.reason().empty() ? "" : ": ", bye.reason());
+    spdlog::info("client {} said Bye{}{}", clientName(from), bye.reason().empty() ? "" : ": ",
+                 core::logText(bye.reason()));
     if (!sim) {
       sendFinished(out, from, "said Bye before the simulation was compiled");
       leaveAssembly(from);
@@ -504,6 +520,16 @@ std::vector<Outgoing> CosimHost::connected(ConnectionId id, const v1::Hello& hel
                        "hello", true),
              true);
       return;
+    }
+    if (!hello.client_name().empty()) {
+      if (std::string problem = core::nameProblem(hello.client_name()); !problem.empty()) {
+        s.send(out, id,
+               makeError(v1::Error::INVALID_INPUT,
+                         "hello.client_name = " + core::quotedLogText(hello.client_name(), 64) + ": " + problem, "",
+                         "hello.client_name", true),
+               true);
+        return;
+      }
     }
     if (!s.connections.empty() && hello.simulation() != s.group) {
       s.send(out, id,

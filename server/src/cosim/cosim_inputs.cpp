@@ -5,6 +5,7 @@
 #include <string>
 
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/unit_quaternion.hpp"
 #include "demlink/server/scene/proto_convert.hpp"
 
 namespace demlink::server {
@@ -61,7 +62,7 @@ v1::Error invalid(const CosimComponent& component, const std::string& field, con
 
 /// Error{INVALID_INPUT} unless `q` is a unit quaternion within 1e-6.
 std::optional<v1::Error> notUnit(const CosimComponent& component, const v1::Quaternion& q, const std::string& field) {
-  const double norm = std::sqrt(q.w() * q.w() + q.x() * q.x() + q.y() * q.y() + q.z() * q.z());
+  const double norm = core::quaternionNorm(toQuat(q));  // scaled: no overflow for huge components
   if (std::abs(norm - 1.0) <= 1.0e-6) return std::nullopt;
   return invalid(component, field, "norm " + core::formatValue(norm), "must be a unit quaternion (within 1e-6)");
 }

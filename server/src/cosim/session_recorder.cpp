@@ -18,6 +18,7 @@ SessionRecorder::SessionRecorder(const std::filesystem::path& path, const CosimO
   header.set_kind(v1::SessionEvent::HEADER);
   *header.mutable_base_scene() = options.base_scene;
   header.set_scene_directory(options.scene_directory.string());
+  if (options.data_root) header.set_data_root(options.data_root->string());
   header.set_server_name(options.server_name);
   record(std::move(header));
 }

@@ -49,6 +49,7 @@ ReplayResult replaySession(const std::filesystem::path& file, CosimOptions optio
       }
       options.base_scene = event.base_scene();
       options.scene_directory = event.scene_directory();
+      if (!event.data_root().empty()) options.data_root = event.data_root();
       host = std::make_unique<CosimHost>(options);
       ++index;
       continue;

@@ -10,6 +10,7 @@
 
 #include "connection.hpp"
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/log_text.hpp"
 
 namespace demlink::server {
 namespace {
@@ -138,7 +139,7 @@ void TcpServer::checkHello(Connection& connection, const v1::ClientMessage& mess
     return;
   }
   connection.setWelcomed();
-  spdlog::info("connection {}: hello from \"{}\"", connection.id(), hello.client_name());
+  spdlog::info("connection {}: hello from {}", connection.id(), demlink::core::quotedLogText(hello.client_name()));
   const ConnectionId id = connection.id();
   callHandler(id, "connected", [&] { return handler_.connected(id, hello, SteadyClock::now()); });
 }

@@ -53,12 +53,12 @@ double parseNumber(std::string_view token, std::size_t column, const std::string
   double value = 0.0;
   const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
   if (ec == std::errc::result_out_of_range) {
-    throw core::InputError(field, std::string(token), columnLabel(column) + " is out of the range of a double");
+    throw core::InputError(field, columnLabel(column), "is out of the range of a double");
   }
   if (ec != std::errc() || end != token.data() + token.size() || token.empty()) {
-    throw core::InputError(field, "\"" + std::string(token) + "\"", columnLabel(column) + " is not a number");
+    throw core::InputError(field, columnLabel(column), "is not a number");
   }
-  if (!std::isfinite(value)) throw core::InputError(field, std::string(token), columnLabel(column) + " must be finite");
+  if (!std::isfinite(value)) throw core::InputError(field, columnLabel(column), "must be finite");
   return value;
 }
 
@@ -83,23 +83,20 @@ std::vector<ParticleCsvRecord> parseParticleCsv(std::string_view text, const std
       bool matches = fields.size() == kColumns;
       for (std::size_t k = 0; matches && k < kColumns; ++k) matches = fields[k] == kNames[k];
       if (!matches) {
-        throw core::InputError(field, "\"" + std::string(line) + "\"",
-                               "expected the header \"" + std::string(kParticleCsvHeader) + "\"");
+        throw core::InputError(field, "(first line)", "expected the header \"" + std::string(kParticleCsvHeader) + "\"");
       }
       headerSeen = true;
       continue;
     }
     if (fields.size() != kColumns) {
-      throw core::InputError(field, "\"" + std::string(line) + "\"",
-                             "expected 9 columns (" + std::string(kParticleCsvHeader) + "), found " +
-                                 std::to_string(fields.size()));
+      throw core::InputError(field, std::to_string(fields.size()) + " columns",
+                             "expected 9 columns (" + std::string(kParticleCsvHeader) + ")");
     }
     ParticleCsvRecord record;
     record.line = lineNumber;
     const auto [idEnd, idEc] = std::from_chars(fields[0].data(), fields[0].data() + fields[0].size(), record.id);
     if (idEc != std::errc() || idEnd != fields[0].data() + fields[0].size() || fields[0].empty()) {
-      throw core::InputError(field, "\"" + std::string(fields[0]) + "\"",
-                             columnLabel(0) + " is not a non-negative integer");
+      throw core::InputError(field, columnLabel(0), "is not a non-negative integer");
     }
     for (Eigen::Index k = 0; k < 3; ++k) {
       const auto column = static_cast<std::size_t>(k);
@@ -107,12 +104,12 @@ std::vector<ParticleCsvRecord> parseParticleCsv(std::string_view text, const std
       record.velocity[k] = parseNumber(fields[4 + column], 4 + column, field);
     }
     record.radius = parseNumber(fields[7], 7, field);
-    if (!(record.radius > 0.0)) throw core::InputError(field, std::string(fields[7]), columnLabel(7) + " must be > 0");
+    if (!(record.radius > 0.0)) throw core::InputError(field, columnLabel(7), "must be > 0");
     record.material = std::string(fields[8]);
-    if (record.material.empty()) throw core::InputError(field, "\"\"", columnLabel(8) + " is empty");
+    if (record.material.empty()) throw core::InputError(field, columnLabel(8), "is empty");
     const auto [it, inserted] = lineOfId.emplace(record.id, lineNumber);
     if (!inserted) {
-      throw core::InputError(field, std::string(fields[0]), "id already used on line " + std::to_string(it->second));
+      throw core::InputError(field, columnLabel(0), "id already used on line " + std::to_string(it->second));
     }
     records.push_back(std::move(record));
   }

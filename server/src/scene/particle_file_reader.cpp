@@ -35,14 +35,6 @@ std::vector<std::string_view> splitTokens(std::string_view line) {
   return tokens;
 }
 
-std::string trimmed(std::string_view text) {
-  std::size_t begin = 0;
-  std::size_t end = text.size();
-  while (begin < end && isBlank(text[begin])) ++begin;
-  while (end > begin && isBlank(text[end - 1])) --end;
-  return std::string(text.substr(begin, end - begin));
-}
-
 std::string columnLabel(std::size_t column) {
   return "column " + std::to_string(column + 1) + " (" + kColumnNames[column] + ")";
 }
@@ -51,12 +43,12 @@ double parseCoordinate(std::string_view token, std::size_t column, const std::st
   double value = 0.0;
   const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
   if (ec == std::errc::result_out_of_range) {
-    throw core::InputError(field, std::string(token), columnLabel(column) + " is out of the range of a double");
+    throw core::InputError(field, columnLabel(column), "is out of the range of a double");
   }
   if (ec != std::errc() || end != token.data() + token.size()) {
-    throw core::InputError(field, std::string(token), columnLabel(column) + " is not a number");
+    throw core::InputError(field, columnLabel(column), "is not a number");
   }
-  if (!std::isfinite(value)) throw core::InputError(field, std::string(token), columnLabel(column) + " must be finite");
+  if (!std::isfinite(value)) throw core::InputError(field, columnLabel(column), "must be finite");
   return value;
 }
 
@@ -79,24 +71,22 @@ std::vector<ParticleRecord> parseParticleText(std::string_view text, const std::
 
     const std::string field = sourceName + ":line " + std::to_string(lineNumber);
     if (tokens.size() != kColumns) {
-      throw core::InputError(field, "\"" + trimmed(line) + "\"",
-                             "expected 5 columns (id x y z r), found " + std::to_string(tokens.size()));
+      throw core::InputError(field, std::to_string(tokens.size()) + " columns", "expected 5 columns (id x y z r)");
     }
     ParticleRecord record;
     record.line = lineNumber;
     const auto [idEnd, idEc] = std::from_chars(tokens[0].data(), tokens[0].data() + tokens[0].size(), record.id);
     if (idEc != std::errc() || idEnd != tokens[0].data() + tokens[0].size()) {
-      throw core::InputError(field, std::string(tokens[0]), columnLabel(0) + " is not a non-negative integer");
+      throw core::InputError(field, columnLabel(0), "is not a non-negative integer");
     }
     for (std::size_t k = 0; k < 3; ++k) {
       record.position[static_cast<Eigen::Index>(k)] = parseCoordinate(tokens[k + 1], k + 1, field);
     }
     record.radius = parseCoordinate(tokens[4], 4, field);
-    if (!(record.radius > 0.0)) throw core::InputError(field, std::string(tokens[4]), columnLabel(4) + " must be > 0");
+    if (!(record.radius > 0.0)) throw core::InputError(field, columnLabel(4), "must be > 0");
     const auto [it, inserted] = lineOfId.emplace(record.id, lineNumber);
     if (!inserted) {
-      throw core::InputError(field, std::string(tokens[0]),
-                             "id already used on line " + std::to_string(it->second));
+      throw core::InputError(field, columnLabel(0), "id already used on line " + std::to_string(it->second));
     }
     records.push_back(record);
   }

@@ -25,6 +25,10 @@ double uniform(std::mt19937_64& rng, double lo, double hi) {
 
 }  // namespace
 
+std::string LatticeSpec::countText() const {
+  return std::to_string(counts[0]) + " x " + std::to_string(counts[1]) + " x " + std::to_string(counts[2]);
+}
+
 void LatticeSpec::validate(const std::string& fieldPrefix) const {
   core::requirePositive(fieldPrefix + ".radius", radius);
   if (radius_max) {
@@ -53,9 +57,7 @@ void LatticeSpec::validate(const std::string& fieldPrefix) const {
     total *= counts[k];
   }
   if (total > static_cast<double>(kMaxLatticeParticles)) {
-    throw core::InputError(fieldPrefix + ".counts",
-                           std::to_string(counts[0]) + " x " + std::to_string(counts[1]) + " x " +
-                               std::to_string(counts[2]),
+    throw core::InputError(fieldPrefix + ".counts", countText(),
                            "more than " + std::to_string(kMaxLatticeParticles) + " spheres in one lattice");
   }
 }

@@ -4,6 +4,8 @@
 #include <system_error>
 
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/unit_quaternion.hpp"
+#include "demlink/core/log_text.hpp"
 
 namespace demlink::server {
 
@@ -22,10 +24,7 @@ core::Vec3 toFiniteVec3(const v1::Vector3& v, const std::string& field) {
 }
 
 core::Quat toUnitQuat(const v1::Quaternion& q, const std::string& field) {
-  const core::Quat quat = toQuat(q);
-  for (int k = 0; k < 4; ++k) core::requireFinite(field, quat.coeffs()[k]);
-  if (!(quat.norm() > 0.0)) throw core::InputError(field, "(0, 0, 0, 0)", "must be a non-zero quaternion");
-  return quat.normalized();
+  return core::requireUnitQuaternion(field, toQuat(q));
 }
 
 void setVec3(v1::Vector3& out, const core::Vec3& v) {
@@ -41,18 +40,56 @@ void setQuat(v1::Quaternion& out, const core::Quat& q) {
   out.set_z(q.z());
 }
 
-std::filesystem::path resolveScenePath(const std::string& path, const std::filesystem::path& sceneDirectory) {
-  const std::filesystem::path p(path);
-  return p.is_absolute() || sceneDirectory.empty() ? p : sceneDirectory / p;
+FileScope::FileScope(const std::filesystem::path& sceneDirectory) {
+  if (sceneDirectory.empty()) return;
+  anchor = sceneDirectory;
+  roots = {sceneDirectory};
+  anywhere = false;
 }
 
-std::filesystem::path resolveExistingSceneFile(const std::string& path, const std::filesystem::path& sceneDirectory,
+namespace {
+
+/// `path` lies in `root` or below (both canonical).
+bool isUnder(const std::filesystem::path& path, const std::filesystem::path& root) {
+  const std::filesystem::path relative = path.lexically_relative(root);
+  return !relative.empty() && *relative.begin() != "..";
+}
+
+}  // namespace
+
+std::filesystem::path resolveExistingSceneFile(const std::string& path, const FileScope& scope,
                                                const std::string& field, const std::string& emptyReason) {
   if (path.empty()) throw core::InputError(field, "\"\"", emptyReason);
-  const std::filesystem::path resolved = resolveScenePath(path, sceneDirectory);
+  const std::string value = core::quotedLogText(path);
+  const std::filesystem::path given(path);
+  std::filesystem::path resolved = given.is_absolute() || scope.anchor.empty() ? given : scope.anchor / given;
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(resolved, ec)) {
-    throw core::InputError(field, "\"" + path + "\"", "file not found (looked for " + resolved.string() + ")");
+  if (!scope.anywhere) {
+    if (scope.roots.empty()) throw core::InputError(field, value, scope.no_root_reason);
+    resolved = std::filesystem::weakly_canonical(resolved, ec);
+    if (ec) throw core::InputError(field, value, "cannot be resolved: " + ec.message());
+    bool inside = false;
+    std::string rootList;
+    for (const std::filesystem::path& root : scope.roots) {
+      const std::filesystem::path canonicalRoot = std::filesystem::weakly_canonical(root, ec);
+      if (ec) continue;
+      inside = inside || isUnder(resolved, canonicalRoot);
+      rootList += (rootList.empty() ? "" : ", ") + canonicalRoot.string();
+    }
+    if (!inside) {
+      throw core::InputError(field, value,
+                             "lies outside " + scope.roots_name + " (" + rootList +
+                                 ") once symlinks and '..' are resolved; files may only come from there");
+    }
+  }
+  const std::filesystem::file_status status = std::filesystem::status(resolved, ec);
+  if (status.type() == std::filesystem::file_type::not_found || ec) {
+    throw core::InputError(field, value, "file not found (looked for " + core::logText(resolved.string()) + ")");
+  }
+  if (!std::filesystem::is_regular_file(status)) {
+    throw core::InputError(field, value,
+                           "not a regular file (" + core::logText(resolved.string()) +
+                               " is a folder, device, pipe or socket)");
   }
   return resolved;
 }

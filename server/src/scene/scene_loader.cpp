@@ -4,6 +4,7 @@
 
 #include <google/protobuf/util/json_util.h>
 
+#include <cctype>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -15,7 +16,47 @@
 
 namespace demlink::server {
 
+namespace {
+
+/// Refuses JSON protobuf's parser would misread: a document that is not an object, and
+/// nesting deeper than kMaxSceneJsonDepth (a 200,000-deep array came back as an empty
+/// scene). Strings are skipped, with their escapes, so brackets inside them do not count.
+void checkJsonShape(const std::string& json, const std::string& sourceName) {
+  std::size_t k = json.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0;
+  while (k < json.size() && std::isspace(static_cast<unsigned char>(json[k])) != 0) ++k;
+  if (k == json.size() || json[k] != '{') {
+    throw core::InputError(sourceName, "(scene JSON)",
+                           "invalid scene: a scene is a JSON object ({\"components\": [...]})");
+  }
+  std::size_t depth = 0;
+  std::size_t line = 1;
+  bool inString = false;
+  for (; k < json.size(); ++k) {
+    const char c = json[k];
+    if (c == '\n') ++line;
+    if (inString) {
+      if (c == '\\') {
+        ++k;
+      } else if (c == '"') {
+        inString = false;
+      }
+    } else if (c == '"') {
+      inString = true;
+    } else if (c == '{' || c == '[') {
+      if (++depth > kMaxSceneJsonDepth) {
+        throw core::InputError(sourceName + ":line " + std::to_string(line), "(scene JSON)",
+                               "invalid scene: nested deeper than " + std::to_string(kMaxSceneJsonDepth) + " levels");
+      }
+    } else if ((c == '}' || c == ']') && depth > 0) {
+      --depth;
+    }
+  }
+}
+
+}  // namespace
+
 v1::Scene parseSceneJson(const std::string& json, const std::string& sourceName) {
+  checkJsonShape(json, sourceName);
   v1::Scene scene;
   google::protobuf::util::JsonParseOptions options;
   options.ignore_unknown_fields = false;

@@ -16,11 +16,13 @@
 #include <algorithm>
 
 #include <map>
-#include <thread>
 #include <utility>
 #include <vector>
 
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/log_text.hpp"
+#include "demlink/core/names.hpp"
+#include "demlink/server/scene/input_limits.hpp"
 #include "demlink/server/scene/particle_file_reader.hpp"
 #include "demlink/server/scene/particle_lattice.hpp"
 #include "demlink/server/scene/proto_convert.hpp"
@@ -42,7 +44,7 @@ using MaterialNames = std::map<std::string, std::uint32_t>;
 
 std::string componentPath(int index) { return "components[" + std::to_string(index) + "]"; }
 
-std::string quoted(const std::string& text) { return "\"" + text + "\""; }
+std::string quoted(const std::string& text) { return core::quotedLogText(text); }
 
 std::uint32_t resolveMaterial(const MaterialNames& materials, const std::string& name, const std::string& field) {
   if (name.empty()) throw InputError(field, "\"\"", "a material name is required");
@@ -61,6 +63,7 @@ int checkStructure(const v1::Scene& scene) {
     const v1::ComponentDeclaration& component = scene.components(i);
     const std::string path = componentPath(i);
     if (component.name().empty()) throw InputError(path + ".name", "\"\"", "every component needs a name");
+    core::requireValidName(path + ".name", component.name());
     const auto [it, inserted] = firstUse.emplace(component.name(), i);
     if (!inserted) {
       throw InputError(path + ".name", quoted(component.name()),
@@ -109,7 +112,7 @@ core::SimulationSettings toSettings(const v1::SimulationBox& box, const std::str
   settings.linear_normal_stiffness = box.linear_normal_stiffness();
   settings.allow_unsafe_time_step = box.allow_unsafe_time_step();
   if (box.has_threads()) {
-    settings.threads = box.threads() == 0 ? std::max(1u, std::thread::hardware_concurrency()) : box.threads();
+    settings.threads = box.threads() == 0 ? core::maxThreads() : box.threads();
   }
   if (box.has_bounds()) {
     const v1::SimulationBox::Bounds& bounds = box.bounds();
@@ -138,6 +141,13 @@ RunOptions toRunOptions(const v1::SimulationBox& box, const std::string& prefix,
   core::requirePositive(prefix + ".output.progress_interval_s", run.progress_interval);
   run.checkpoint_interval = box.output().checkpoint_interval();
   core::requireNonNegative(prefix + ".output.checkpoint_interval", run.checkpoint_interval);
+  // Co-simulation only, checked for every scene so a file is valid for both uses.
+  core::requireInRange(prefix + ".coupling.client_timeout", box.coupling().client_timeout(), 0.0, kMaxWaitSeconds,
+                       "s (0: the server's default)");
+  for (int k = 0; k < box.coupling().expected_names_size(); ++k) {
+    core::requireValidName(prefix + ".coupling.expected_names[" + std::to_string(k) + "]",
+                           box.coupling().expected_names(k));
+  }
   if (box.output().has_final_checkpoint()) run.final_checkpoint = box.output().final_checkpoint();
   if (box.output().has_final_particles_csv()) run.final_particles_csv = box.output().final_particles_csv();
   return run;
@@ -191,14 +201,15 @@ void addLattice(const v1::ParticleLattice& lattice, const MaterialNames& materia
   spec.seed = lattice.seed();
   spec.velocity = toVec3(lattice.velocity());
   spec.validate(prefix);
+  requireParticleMemory(prefix + ".counts", spec.countText(), world.particles().size() + spec.count());
   for (const core::ParticleSpec& sphere : generateLattice(spec)) world.addParticle(sphere, prefix);
 }
 
 void addParticleFile(const v1::ParticleFile& file, const MaterialNames& materials,
-                     const std::filesystem::path& sceneDirectory, const std::string& prefix, core::World& world) {
+                     const FileScope& files, const std::string& prefix, core::World& world) {
   const std::uint32_t material = resolveMaterial(materials, file.material(), prefix + ".material");
-  if (file.path().empty()) throw InputError(prefix + ".path", "\"\"", "a particle file path is required");
-  const std::string path = resolveScenePath(file.path(), sceneDirectory).string();
+  const std::string path =
+      resolveExistingSceneFile(file.path(), files, prefix + ".path", "a particle file path is required").string();
   for (const ParticleRecord& record : readParticleFile(path)) {
     core::ParticleSpec sphere;
     sphere.position = record.position;
@@ -215,7 +226,7 @@ void addMeshBody(const MeshBodyDeclaration& declaration, const std::string& pref
 
 }  // namespace
 
-TranslatedScene translateScene(const v1::Scene& scene, const std::filesystem::path& sceneDirectory, SceneUse use) {
+TranslatedScene translateScene(const v1::Scene& scene, const FileScope& files, SceneUse use) {
   const int boxIndex = checkStructure(scene);
   const std::string boxPrefix = componentPath(boxIndex) + ".simulation_box";
   const v1::SimulationBox& box = scene.components(boxIndex).simulation_box();
@@ -238,27 +249,27 @@ TranslatedScene translateScene(const v1::Scene& scene, const std::filesystem::pa
         addLattice(component.particle_lattice(), materials, path + ".particle_lattice", out.world);
         break;
       case v1::ComponentDeclaration::kParticleFile:
-        addParticleFile(component.particle_file(), materials, sceneDirectory, path + ".particle_file", out.world);
+        addParticleFile(component.particle_file(), materials, files, path + ".particle_file", out.world);
         break;
       case v1::ComponentDeclaration::kParticleSystem:
-        addParticleSystem(component.particle_system(), sceneDirectory, path + ".particle_system", out.world);
+        addParticleSystem(component.particle_system(), files, path + ".particle_system", out.world);
         break;
       case v1::ComponentDeclaration::kMeshBody: {
         const std::string prefix = path + ".mesh_body";
         const v1::MeshBody& mesh = component.mesh_body();
         const std::uint32_t material = resolveMaterial(materials, mesh.material(), prefix + ".material");
-        addMeshBody(translateMeshBody(mesh, component.name(), material, sceneDirectory, prefix), prefix, out.world);
+        addMeshBody(translateMeshBody(mesh, component.name(), material, files, prefix), prefix, out.world);
         break;
       }
       case v1::ComponentDeclaration::kFacetBody: {
         const std::string prefix = path + ".facet_body";
-        addMeshBody(translateFacetBody(component.facet_body(), component.name(), resolve, sceneDirectory, prefix),
+        addMeshBody(translateFacetBody(component.facet_body(), component.name(), resolve, files, prefix),
                     prefix, out.world);
         break;
       }
       case v1::ComponentDeclaration::kRigidBody: {
         const std::string prefix = path + ".rigid_body";
-        addMeshBody(translateRigidBody(component.rigid_body(), component.name(), resolve, sceneDirectory, prefix),
+        addMeshBody(translateRigidBody(component.rigid_body(), component.name(), resolve, files, prefix),
                     prefix, out.world);
         break;
       }

@@ -10,6 +10,8 @@
 #include <vector>
 
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/log_text.hpp"
+#include "demlink/server/scene/input_limits.hpp"
 #include "demlink/core/components/random.hpp"
 #include "demlink/server/scene/particle_lattice.hpp"
 
@@ -39,7 +41,7 @@ void addClumpLattice(const v1::ParticleLattice& lattice, std::uint32_t material,
     for (const core::ClumpTemplate& shape : world.clumpTemplates()) {
       declared += (declared.empty() ? "" : ", ") + shape.name();
     }
-    throw InputError(prefix + ".clump_template", "\"" + name + "\"",
+    throw InputError(prefix + ".clump_template", core::quotedLogText(name),
                      "unknown clump template (declared: " + (declared.empty() ? "none" : declared) + ")");
   }
   if (lattice.radius() != 0.0) {
@@ -69,6 +71,8 @@ void addClumpLattice(const v1::ParticleLattice& lattice, std::uint32_t material,
                          core::formatValue(2.0 * (spec.radius + spec.jitter)) + " m, or neighbouring clumps could overlap");
   }
   spec.validate(prefix);
+  requireParticleMemory(prefix + ".counts", spec.countText(),
+                        world.particles().size() + spec.count() * shape.bodySpheres().size());
   core::Random rng(lattice.orientation_seed());
   for (const core::ParticleSpec& point : generateLattice(spec)) {
     core::ClumpSpec clump;

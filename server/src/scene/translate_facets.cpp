@@ -33,7 +33,7 @@ Role toRole(const v1::FacetBody& facet, const std::string& prefix) {
 }
 
 /// The geometry and the pose it is placed at.
-void readGeometry(const v1::FacetBody& facet, const std::filesystem::path& sceneDirectory, const std::string& prefix,
+void readGeometry(const v1::FacetBody& facet, const FileScope& files, const std::string& prefix,
                   MeshBodyDeclaration& out) {
   switch (facet.geometry_case()) {
     case v1::FacetBody::kBox: {
@@ -51,7 +51,7 @@ void readGeometry(const v1::FacetBody& facet, const std::filesystem::path& scene
       return;
     }
     case v1::FacetBody::kStlFile:
-      out.stl_file = stlFileOf(facet.stl_file(), sceneDirectory, prefix + ".stl_file");
+      out.stl_file = stlFileOf(facet.stl_file(), files, prefix + ".stl_file");
       readPlacement(facet, prefix, OmittedPosition::ReferencePoint, out);
       return;
     case v1::FacetBody::kTriangles:
@@ -67,7 +67,7 @@ void readGeometry(const v1::FacetBody& facet, const std::filesystem::path& scene
 
 MeshBodyDeclaration translateFacetBody(const v1::FacetBody& facet, const std::string& name,
                                        const MaterialResolver& resolveMaterial,
-                                       const std::filesystem::path& sceneDirectory, const std::string& fieldPrefix) {
+                                       const FileScope& files, const std::string& fieldPrefix) {
   const std::string& prefix = fieldPrefix;
   const Role role = toRole(facet, prefix);
   MeshBodyDeclaration out;
@@ -93,7 +93,7 @@ MeshBodyDeclaration translateFacetBody(const v1::FacetBody& facet, const std::st
                        "a NON_COLLIDING body never collides; use FIXED or MOVING with a collision window");
     }
   }
-  readGeometry(facet, sceneDirectory, prefix, out);
+  readGeometry(facet, files, prefix, out);
   if (role != Role::Fixed) readTwist(facet, prefix, out);
   if (role == Role::NonColliding) {
     out.active_from = out.active_until = std::numeric_limits<double>::infinity();

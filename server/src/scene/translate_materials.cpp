@@ -7,14 +7,14 @@
 #include <utility>
 
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/log_text.hpp"
+#include "demlink/core/names.hpp"
 #include "demlink/core/materials/material_database.hpp"
 
 namespace demlink::server {
 namespace {
 
 using core::InputError;
-
-std::string quotedText(const std::string& text) { return "\"" + text + "\""; }
 
 std::uint32_t pairMaterial(const std::map<std::string, std::uint32_t>& materials, const std::string& name,
                            const std::string& field) {
@@ -23,7 +23,7 @@ std::uint32_t pairMaterial(const std::map<std::string, std::uint32_t>& materials
   if (it != materials.end()) return it->second;
   std::string declared;
   for (const auto& entry : materials) declared += (declared.empty() ? "" : ", ") + entry.first;
-  throw InputError(field, quotedText(name), "unknown material (declared: " + (declared.empty() ? "none" : declared) + ")");
+  throw InputError(field, core::quotedLogText(name), "unknown material (declared: " + (declared.empty() ? "none" : declared) + ")");
 }
 
 }  // namespace
@@ -35,6 +35,7 @@ core::Material translateMaterial(const v1::Material& declared, const std::string
     material = core::MaterialDatabase::builtIn().at(declared.database_name(), fieldPrefix + ".database_name").material;
   }
   material.name = declared.name().empty() ? componentName : declared.name();
+  core::requireValidName(fieldPrefix + ".name", material.name);
   if (declared.has_density()) material.density = declared.density();
   if (declared.has_youngs_modulus()) material.youngs_modulus = declared.youngs_modulus();
   if (declared.has_poisson_ratio()) material.poisson_ratio = declared.poisson_ratio();
@@ -60,12 +61,12 @@ void addMaterialPairs(const v1::Scene& scene, const std::map<std::string, std::u
     if (pair.has_sliding_friction()) values.sliding_friction = pair.sliding_friction();
     if (pair.has_rolling_friction()) values.rolling_friction = pair.rolling_friction();
     if (!values.restitution && !values.sliding_friction && !values.rolling_friction) {
-      throw InputError(prefix, quotedText(component.name()),
+      throw InputError(prefix, core::quotedLogText(component.name()),
                        "overrides nothing (give restitution, sliding_friction and/or rolling_friction)");
     }
     const auto [it, inserted] = declaredBy.emplace(std::minmax(a, b), i);
     if (!inserted) {
-      throw InputError(prefix + ".material_b", quotedText(pair.material_b()),
+      throw InputError(prefix + ".material_b", core::quotedLogText(pair.material_b()),
                        "the pair " + pair.material_a() + " / " + pair.material_b() +
                            " is already overridden by components[" + std::to_string(it->second) + "]");
     }

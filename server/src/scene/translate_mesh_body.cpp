@@ -44,18 +44,18 @@ core::MeshBody buildMeshBody(const MeshBodyDeclaration& declaration, const std::
   return body;
 }
 
-std::filesystem::path stlFileOf(const std::string& file, const std::filesystem::path& sceneDirectory,
+std::filesystem::path stlFileOf(const std::string& file, const FileScope& files,
                                 const std::string& field) {
-  return resolveExistingSceneFile(file, sceneDirectory, field, "an STL file path is required");
+  return resolveExistingSceneFile(file, files, field, "an STL file path is required");
 }
 
 MeshBodyDeclaration translateMeshBody(const v1::MeshBody& mesh, const std::string& name,
-                                      std::uint32_t materialIndex, const std::filesystem::path& sceneDirectory,
+                                      std::uint32_t materialIndex, const FileScope& files,
                                       const std::string& fieldPrefix) {
   MeshBodyDeclaration out;
   out.name = name;
   out.material = materialIndex;
-  out.stl_file = stlFileOf(mesh.stl_file(), sceneDirectory, fieldPrefix + ".stl_file");
+  out.stl_file = stlFileOf(mesh.stl_file(), files, fieldPrefix + ".stl_file");
   readPlacement(mesh, fieldPrefix, OmittedPosition::Origin, out);
   readTwist(mesh, fieldPrefix, out);
   return out;

@@ -18,7 +18,7 @@ namespace {
 using core::InputError;
 
 /// The geometry in the body's own frame.
-void readGeometry(const v1::RigidBody& body, const std::filesystem::path& sceneDirectory, const std::string& prefix,
+void readGeometry(const v1::RigidBody& body, const FileScope& files, const std::string& prefix,
                   MeshBodyDeclaration& out) {
   switch (body.geometry_case()) {
     case v1::RigidBody::kBox: {
@@ -28,7 +28,7 @@ void readGeometry(const v1::RigidBody& body, const std::filesystem::path& sceneD
       return;
     }
     case v1::RigidBody::kStlFile:
-      out.stl_file = stlFileOf(body.stl_file(), sceneDirectory, prefix + ".stl_file");
+      out.stl_file = stlFileOf(body.stl_file(), files, prefix + ".stl_file");
       return;
     case v1::RigidBody::kTriangles: out.mesh = mergeTriangleList(body.triangles(), prefix + ".triangles"); return;
     case v1::RigidBody::kStlData: {
@@ -62,12 +62,12 @@ core::MotionMode rigidBodyMotion(const v1::RigidBody& body, const std::string& f
 
 MeshBodyDeclaration translateRigidBody(const v1::RigidBody& body, const std::string& name,
                                        const MaterialResolver& resolveMaterial,
-                                       const std::filesystem::path& sceneDirectory, const std::string& fieldPrefix) {
+                                       const FileScope& files, const std::string& fieldPrefix) {
   MeshBodyDeclaration out;
   out.name = name;
   out.material = resolveMaterial(body.material(), fieldPrefix + ".material");
   (void)rigidBodyMotion(body, fieldPrefix);
-  readGeometry(body, sceneDirectory, fieldPrefix, out);
+  readGeometry(body, files, fieldPrefix, out);
   readPlacement(body, fieldPrefix, OmittedPosition::ReferencePoint, out);
   readTwist(body, fieldPrefix, out);
   return out;

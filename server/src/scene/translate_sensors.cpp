@@ -13,6 +13,7 @@
 
 #include "demlink/core/components/flow_sensor.hpp"
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/log_text.hpp"
 #include "demlink/core/components/particle_sink.hpp"
 #include "demlink/core/components/node_tracker.hpp"
 #include "demlink/core/components/particle_tracker.hpp"
@@ -25,7 +26,7 @@ namespace {
 
 using core::InputError;
 
-std::string quoted(const std::string& text) { return "\"" + text + "\""; }
+std::string quoted(const std::string& text) { return core::quotedLogText(text); }
 
 /// Index of the mesh body declared under `name`; throws naming `field` if none.
 std::size_t meshIndex(const core::World& world, const std::string& name, const std::string& field) {

@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/log_text.hpp"
 #include "demlink/core/components/particle_source.hpp"
 #include "demlink/server/scene/proto_convert.hpp"
 
@@ -68,7 +69,7 @@ std::uint32_t resolveClumpTemplate(const std::string& name, const std::string& p
   if (index) return *index;
   std::string declared;
   for (const core::ClumpTemplate& shape : world.clumpTemplates()) declared += (declared.empty() ? "" : ", ") + shape.name();
-  throw InputError(prefix + ".clump_template", "\"" + name + "\"",
+  throw InputError(prefix + ".clump_template", core::quotedLogText(name),
                    "unknown clump template (declared: " + (declared.empty() ? "none" : declared) + ")");
 }
 

@@ -12,6 +12,7 @@
 
 #include "demlink/core/state/checkpoint.hpp"
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/log_text.hpp"
 #include "demlink/server/run/particle_csv.hpp"
 #include "demlink/server/scene/proto_convert.hpp"
 
@@ -24,7 +25,7 @@ std::uint32_t sceneMaterial(const core::World& world, const std::string& name, c
   if (const auto index = world.findMaterial(name)) return *index;
   std::string declared;
   for (const core::Material& m : world.materials()) declared += (declared.empty() ? "" : ", ") + m.name;
-  throw InputError(field, "\"" + name + "\"",
+  throw InputError(field, core::quotedLogText(name),
                    "material not declared in this scene (declared: " + (declared.empty() ? "none" : declared) + ")");
 }
 
@@ -61,16 +62,16 @@ std::size_t addFromCheckpoint(const std::filesystem::path& path, const std::stri
 
 }  // namespace
 
-std::size_t addParticleSystem(const v1::ParticleSystem& system, const std::filesystem::path& sceneDirectory,
+std::size_t addParticleSystem(const v1::ParticleSystem& system, const FileScope& files,
                               const std::string& fieldPrefix, core::World& world) {
   switch (system.source_case()) {
     case v1::ParticleSystem::kCsvFile: {
       const std::string field = fieldPrefix + ".csv_file";
-      return addFromCsv(resolveExistingSceneFile(system.csv_file(), sceneDirectory, field), fieldPrefix, world);
+      return addFromCsv(resolveExistingSceneFile(system.csv_file(), files, field), fieldPrefix, world);
     }
     case v1::ParticleSystem::kCheckpointFile: {
       const std::string field = fieldPrefix + ".checkpoint_file";
-      return addFromCheckpoint(resolveExistingSceneFile(system.checkpoint_file(), sceneDirectory, field), fieldPrefix,
+      return addFromCheckpoint(resolveExistingSceneFile(system.checkpoint_file(), files, field), fieldPrefix,
                                world);
     }
     case v1::ParticleSystem::SOURCE_NOT_SET: break;

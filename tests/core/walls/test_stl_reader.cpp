@@ -138,7 +138,7 @@ TEST_F(StlFiles, MalformedAsciiReportsLineNumbers) {
   struct Case {
     std::string content;
     int line;
-    std::string value;   // offending token as reported
+    std::string value;   // offending token (reported by its length)
     std::string reason;  // substring of the message
   };
   const std::string head = std::string("solid t\n") + kFacet;             // lines 1..8
@@ -160,7 +160,9 @@ TEST_F(StlFiles, MalformedAsciiReportsLineNumbers) {
   for (const Case& c : cases) {
     const std::string p = writeText("m" + std::to_string(n++) + ".stl", c.content);
     const InputError e = expectError(p, "stl:" + p + ":line " + std::to_string(c.line));
-    EXPECT_EQ(e.value(), c.value);
+    // The file's words are never quoted: only their length.
+    EXPECT_EQ(e.value(), c.value == "<end of file>" ? c.value
+                                                    : "a word of " + std::to_string(c.value.size()) + " characters");
     EXPECT_NE(std::string(e.what()).find(c.reason), std::string::npos) << e.what();
   }
 }
@@ -170,7 +172,7 @@ TEST_F(StlFiles, NonFiniteCoordinatesAreRejected) {
       writeText("nan.stl", std::string("solid t\n") + kFacet +
                                "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex nan 0 0\n");
   const InputError e = expectError(p, "stl:" + p + ":line 12");
-  EXPECT_EQ(e.value(), "nan");
+  EXPECT_EQ(e.value(), "a word of 3 characters");
   const std::string q = writeText("inf.stl",
                                   "solid t\nfacet normal 0 0 1\nouter loop\n"
                                   "vertex 0 0 0\nvertex 1 0 0\nvertex 0 -inf 0\n");

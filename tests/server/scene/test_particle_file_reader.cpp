@@ -51,8 +51,8 @@ TEST(ParticleFileReader, IgnoresBlankLinesTrailingCommentsAndCarriageReturns) {
 TEST(ParticleFileReader, NonNumericValueNamesTheLine) {
   const core::InputError error = parseError(std::string(kHeader) + "1 0.1 0.2 0.3 0.01\n2 0.1 abc 0.3 0.01\n");
   EXPECT_EQ(error.field(), "init.txt:line 3");
-  EXPECT_EQ(error.value(), "abc");
-  EXPECT_NE(std::string(error.what()).find("column 3 (y)"), std::string::npos) << error.what();
+  EXPECT_EQ(error.value(), "column 3 (y)") << "the place, never the file's text";
+  EXPECT_EQ(std::string(error.what()).find("abc"), std::string::npos) << error.what();
 }
 
 TEST(ParticleFileReader, TrailingGarbageInANumberIsAnError) {
@@ -72,14 +72,14 @@ TEST(ParticleFileReader, NanAndInfinityNameTheLine) {
 TEST(ParticleFileReader, NonPositiveRadiusNamesTheLine) {
   const core::InputError zero = parseError("1 0.1 0.2 0.3 0.01\n2 0.1 0.2 0.3 0\n");
   EXPECT_EQ(zero.field(), "init.txt:line 2");
-  EXPECT_NE(std::string(zero.what()).find("column 5 (r) must be > 0"), std::string::npos) << zero.what();
+  EXPECT_NE(std::string(zero.what()).find("column 5 (r): must be > 0"), std::string::npos) << zero.what();
   EXPECT_EQ(parseError("# c\n1 0.1 0.2 0.3 -0.002\n").field(), "init.txt:line 2");
 }
 
 TEST(ParticleFileReader, WrongColumnCountNamesTheLine) {
   const core::InputError few = parseError("1 0.1 0.2 0.3 0.01\n2 0.1 0.2 0.3\n");
   EXPECT_EQ(few.field(), "init.txt:line 2");
-  EXPECT_NE(std::string(few.what()).find("found 4"), std::string::npos) << few.what();
+  EXPECT_EQ(few.value(), "4 columns");
   EXPECT_EQ(parseError("1 0.1 0.2 0.3 0.01 2500\n").field(), "init.txt:line 1");
 }
 

@@ -124,12 +124,9 @@ TEST(ProtoConvert, ChecksNameTheFieldAndPathsFollowTheScene) {
   setVec3(out, core::Vec3(1, 2, 3));
   EXPECT_EQ(toVec3(out), core::Vec3(1, 2, 3));
 
-  EXPECT_EQ(resolveScenePath("a.stl", "/scenes"), std::filesystem::path("/scenes/a.stl"));
-  EXPECT_EQ(resolveScenePath("/abs/a.stl", "/scenes"), std::filesystem::path("/abs/a.stl"));
-  EXPECT_EQ(resolveScenePath("a.stl", {}), std::filesystem::path("a.stl"));
   const ScratchDir dir;
   test::writeText(dir.path() / "a.csv", "x\n");
-  EXPECT_EQ(resolveExistingSceneFile("a.csv", dir.path(), "f"), dir.path() / "a.csv");
+  EXPECT_EQ(resolveExistingSceneFile("a.csv", dir.path(), "f"), std::filesystem::canonical(dir.path() / "a.csv"));
   EXPECT_EQ(errorOf([&] { (void)resolveExistingSceneFile("b.csv", dir.path(), "f"); }).field(), "f");
   EXPECT_EQ(errorOf([&] { (void)resolveExistingSceneFile("", dir.path(), "f"); }).value(), "\"\"");
 }

@@ -2,6 +2,7 @@
 /// Errors for bad user input (scene fields, files, parameters). Every error names
 /// the offending field and its value so a user can fix the input without reading code.
 #include <cmath>
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 
@@ -47,5 +48,10 @@ void requireNonNegative(const std::string& field, double value);
 void requireOpenRange(const std::string& field, double value, double lo, double hi);
 /// Throws InputError unless value is finite and lo < value <= hi.
 void requireHalfOpenRange(const std::string& field, double value, double lo, double hi);
+/// The check for every duration and bounded quantity: throws InputError unless value is
+/// finite and lo <= value <= hi; `unit` (e.g. "s") follows the bounds in the reason.
+void requireInRange(const std::string& field, double value, double lo, double hi, const std::string& unit = "");
+/// The same for a count: throws InputError unless lo <= value <= hi.
+void requireCountInRange(const std::string& field, std::uint64_t value, std::uint64_t lo, std::uint64_t hi);
 
 }  // namespace demlink::core

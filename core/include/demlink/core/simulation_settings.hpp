@@ -14,6 +14,11 @@
 
 namespace demlink::core {
 
+/// The thread cap when the machine does not tell its hardware threads [-].
+inline constexpr std::uint32_t kMaxThreadsUnknownHardware = 64;
+/// Largest SimulationSettings::threads: this machine's hardware threads [-].
+[[nodiscard]] std::uint32_t maxThreads();
+
 /// Axis-aligned box outside which particles are removed (and counted).
 /// Fixed: [lower, upper] is the box. Growing: [lower, upper] is the initial box; it
 /// expands to contain every particle's sphere, but never beyond [limit_lower,
@@ -48,7 +53,8 @@ struct SimulationSettings {
   /// Planes and meshes are at rest in the frame unless moved.
   FrameMotion frame;
   /// Threads for the force, integration and skin-check loops (ThreadPool). Results
-  /// are deterministic for a fixed thread count; 1 runs everything serially.
+  /// are deterministic for a fixed thread count; 1 runs everything serially. At most
+  /// maxThreads(): more threads than cores only slow the step down.
   std::uint32_t threads = 1;
   /// Re-sort particle slots by grid cell every this many neighbour builds (0: never).
   std::uint32_t sort_every_builds = 16;

@@ -34,6 +34,10 @@
 
 namespace demlink::core {
 
+/// Most materials one world holds [-]: bounds the pair table (the square of the materials
+/// in use, 88 bytes a pair: 5.8 MB when all are used) and its set-up time.
+inline constexpr std::size_t kMaxMaterials = 256;
+
 class World {
  public:
   /// `settingsField` is the name errors give the settings ("settings.time_step"); a
@@ -188,6 +192,17 @@ class World {
 
   /// Updates mesh_colliding_ for a force evaluation at `time` [s]; true if any changed.
   bool updateMeshCollision(double time);
+  /// Throws InputError naming the frame's angular velocity (acceleration) when its
+  /// centrifugal (Euler) acceleration at the farthest particle exceeds kMaxAcceleration.
+  void requireBoundedFrameAccelerations() const;
+  /// The materials particles (present and declared future ones), planes, meshes and pair
+  /// overrides use, ascending: the pair table's rows.
+  [[nodiscard]] std::vector<std::uint32_t> materialsInUse() const;
+  /// Mixes the pair table over `used` and picks the force kernel (rolling or not).
+  void buildPairTable(const std::vector<std::uint32_t>& used);
+  /// After initialize(): gives `material` rows in the pair table if it has none yet (a
+  /// particle, plane or mesh of a material no one used before).
+  void coverMaterial(std::uint32_t material);
   void requireNoClumpsInRotatingFrame(const FrameMotion& motion, const std::string& fieldPrefix) const;
   void requireNoDeformablesInMovingFrame(const FrameMotion& motion, const std::string& fieldPrefix) const;
   void applySlotMapping(const std::vector<std::uint32_t>& oldSlotOfNew);
@@ -209,6 +224,7 @@ class World {
   /// Per deformable body: candidate triangles of its surface per nearby particle.
   std::vector<MeshNearList> deformable_near_;
   ContactPairTable pair_table_;
+  LinearStiffnessReference pair_reference_;
   std::vector<PairOverrideEntry> pair_overrides_;
   TimeStepReport time_step_report_;
   NeighbourList neighbours_;

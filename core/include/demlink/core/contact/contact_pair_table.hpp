@@ -1,6 +1,8 @@
 #pragma once
 /// Mixes material properties into per-pair contact coefficients once, at set-up,
-/// so the force stage only indexes a table (no mixing per contact).
+/// so the force stage only indexes a table (no mixing per contact). Only the materials
+/// in use (by particles, future particles, planes, meshes and overrides) get rows: memory grows
+/// with the square of the materials in use, not of the materials declared.
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -34,19 +36,33 @@ struct PairOverrideEntry {
 class ContactPairTable {
  public:
   ContactPairTable() = default;
+  /// The pairs among the materials `used` (indices into `materials`, each at most once).
   /// `overrides` must name existing materials, each unordered pair at most once
   /// (World::setPairOverride checks); all other pairs take the mean mix.
+  ContactPairTable(const std::vector<Material>& materials, ContactModel model,
+                   const LinearStiffnessReference& linearReference, const std::vector<PairOverrideEntry>& overrides,
+                   const std::vector<std::uint32_t>& used);
+  /// The pairs among all `materials`.
   ContactPairTable(const std::vector<Material>& materials, ContactModel model,
                    const LinearStiffnessReference& linearReference,
                    const std::vector<PairOverrideEntry>& overrides = {});
 
+  /// The pair of materials a and b; both must be covered.
   [[nodiscard]] const ContactPairParams& operator()(std::uint32_t a, std::uint32_t b) const {
-    return pairs_[a * count_ + b];
+    return pairs_[std::size_t{slot_[a]} * count_ + slot_[b]];
   }
+  /// Material m has a row.
+  [[nodiscard]] bool covers(std::uint32_t m) const { return m < slot_.size() && slot_[m] != kNoSlot; }
+  /// The covered materials, in row order.
+  [[nodiscard]] const std::vector<std::uint32_t>& usedMaterials() const { return used_; }
   [[nodiscard]] bool anyRollingFriction() const { return any_rolling_; }
 
  private:
-  std::uint32_t count_ = 0;
+  static constexpr std::uint32_t kNoSlot = 0xFFFFFFFFu;
+
+  std::uint32_t count_ = 0;            ///< covered materials [-]
+  std::vector<std::uint32_t> slot_;    ///< material index -> row (kNoSlot: not covered)
+  std::vector<std::uint32_t> used_;    ///< row -> material index
   bool any_rolling_ = false;
   std::vector<ContactPairParams> pairs_;
 };

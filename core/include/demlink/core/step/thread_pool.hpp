@@ -14,14 +14,29 @@
 /// on timing.
 #include <atomic>
 #include <cstdint>
+#include <stdexcept>
+#include <string>
 #include <thread>
 #include <vector>
 
 namespace demlink::core {
 
+/// The operating system refused a thread (address space, RLIMIT_NPROC): the pool joined
+/// the threads it had started and throws this instead of terminating the process.
+class ThreadStartError : public std::runtime_error {
+ public:
+  ThreadStartError(std::uint32_t started, std::uint32_t requested, const std::string& cause);
+  /// Threads that were running (the caller's included) [-].
+  [[nodiscard]] std::uint32_t started() const { return started_; }
+
+ private:
+  std::uint32_t started_;
+};
+
 class ThreadPool {
  public:
   /// A pool of `threads` threads in total: the calling thread plus threads-1 workers.
+  /// Throws ThreadStartError (after joining the workers it started) when one cannot start.
   explicit ThreadPool(std::uint32_t threads);
   ~ThreadPool();
   ThreadPool(const ThreadPool&) = delete;
@@ -45,6 +60,7 @@ class ThreadPool {
   using Task = void (*)(const void* context, std::uint32_t part);
 
   void dispatch(std::uint32_t parts, Task task, const void* context);
+  void stopWorkers();
   void workerLoop(std::uint32_t thread);
   void runShare(std::uint32_t thread) const;
 

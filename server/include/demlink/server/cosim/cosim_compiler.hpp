@@ -102,8 +102,11 @@ class CosimCompiler {
   [[nodiscard]] std::size_t remoteCount() const;
 
   /// Compiles the declared set. Throws CompileFailure with Error{INVALID_DECLARATION, fatal}
-  /// naming the component and the field ("<name>.<kind>.<field>").
-  [[nodiscard]] CompiledSimulation compile(const std::filesystem::path& sceneDirectory) const;
+  /// naming the component and the field ("<name>.<kind>.<field>"). The scene file's
+  /// components name files in `sceneDirectory` or below (or under `dataRoot`); a client's
+  /// only under `dataRoot`, relative to it, and none without one.
+  [[nodiscard]] CompiledSimulation compile(const std::filesystem::path& sceneDirectory,
+                                           const std::optional<std::filesystem::path>& dataRoot = std::nullopt) const;
 
  private:
   [[nodiscard]] const v1::SimulationBox* box() const;

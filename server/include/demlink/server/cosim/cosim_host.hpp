@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "demlink/server/net/session_handler.hpp"
+#include "demlink/server/scene/input_limits.hpp"
 #include "demlink/v1/protocol.pb.h"
 #include "demlink/v1/scene.pb.h"
 
@@ -37,6 +38,9 @@ namespace demlink::server {
 struct CosimOptions {
   v1::Scene base_scene;                         ///< components from a scene file (may be empty)
   std::filesystem::path scene_directory = ".";  ///< anchors relative paths (scene file, stl_file)
+  /// Folder the files a client names (stl_file, particle_file.path, ...) must lie in
+  /// (relative paths are relative to it); none: a client may name no file.
+  std::optional<std::filesystem::path> data_root;
   /// Simulation N writes into output_root/sim_NNN: the first such folder at or after N that
   /// does not exist yet, so a restarted server never writes into an earlier run's folder.
   std::filesystem::path output_root = "out/cosim";

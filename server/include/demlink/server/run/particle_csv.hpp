@@ -9,7 +9,7 @@
 /// radius [m] (> 0), material the name of a material of the scene. Numbers are
 /// written with 17 significant digits, so a write/read round trip reproduces
 /// every double exactly. Blank lines are ignored; everything else is checked and
-/// an error names "<file>:line <n>" and the column.
+/// an error names "<file>:line <n>" and the column, never the line's text.
 #include <cstdint>
 #include <filesystem>
 #include <string>

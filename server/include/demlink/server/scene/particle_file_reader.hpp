@@ -7,7 +7,8 @@
 ///
 /// Every malformed line is an error naming "<file>:line <n>" (too few or too many
 /// columns, a value that is not a number, NaN or infinity, radius <= 0, a
-/// repeated id), never a silently skipped sphere.
+/// repeated id), never a silently skipped sphere. Errors name the file, the line and the
+/// column, never the line's text (a file named by a client must not leak into its error).
 #include <cstdint>
 #include <string>
 #include <string_view>

@@ -38,6 +38,9 @@ struct LatticeSpec {
   /// (spacing <= 2 (radius_max + jitter)) and more than kMaxLatticeParticles.
   void validate(const std::string& fieldPrefix) const;
 
+  /// "nx x ny x nz", the counts as errors show them.
+  [[nodiscard]] std::string countText() const;
+
   /// Number of spheres (may wrap around for counts that fail validate()).
   [[nodiscard]] std::uint64_t count() const {
     return std::uint64_t{counts[0]} * counts[1] * counts[2];

@@ -1,10 +1,11 @@
 #pragma once
 /// Conversions between the schema's geometry messages (proto/demlink/v1/geometry.proto) and
 /// the engine's math types, with the declaration checks every translator shares: finite
-/// vectors named per component ("<field>[k]"), non-zero quaternions, and file paths relative
-/// to the scene file's directory.
+/// vectors named per component ("<field>[k]"), non-zero quaternions, and the files a scene
+/// may name (FileScope).
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "demlink/core/math_types.hpp"
 #include "demlink/v1/geometry.pb.h"
@@ -33,14 +34,28 @@ void setVec3(v1::Vector3& out, const core::Vec3& v);
 /// Writes an engine quaternion into a message (w, x, y, z as stored).
 void setQuat(v1::Quaternion& out, const core::Quat& q);
 
-/// A path from a scene: relative paths are relative to `sceneDirectory` (when not empty).
-[[nodiscard]] std::filesystem::path resolveScenePath(const std::string& path,
-                                                     const std::filesystem::path& sceneDirectory);
+/// Where the files a scene or a client names may be. Relative paths are relative to
+/// `anchor`; unless `anywhere`, a path is made canonical (symlinks and ".." resolved) and
+/// must then lie under one of `roots` (none: every path is refused with `no_root_reason`).
+struct FileScope {
+  std::filesystem::path anchor;
+  std::vector<std::filesystem::path> roots;
+  bool anywhere = true;
+  std::string roots_name = "the scene file's folder";  ///< how errors call the roots
+  std::string no_root_reason = "no file may be named here";
 
-/// resolveScenePath for a file that must exist. Throws core::InputError naming `field`
-/// for an empty path (reason `emptyReason`) or when no regular file is there.
-[[nodiscard]] std::filesystem::path resolveExistingSceneFile(
-    const std::string& path, const std::filesystem::path& sceneDirectory, const std::string& field,
-    const std::string& emptyReason = "a file path is required");
+  /// Any path, relative ones as given (library callers that trust their scene).
+  FileScope() = default;
+  /// A scene file's folder: the anchor and the only root. An empty folder: FileScope().
+  FileScope(const std::filesystem::path& sceneDirectory);  // NOLINT(google-explicit-constructor): a folder is a scope
+};
+
+/// A path from a scene, checked against `scope`: the file (canonical when the scope has
+/// roots). Throws core::InputError naming `field` (the path escaped and truncated) when
+/// the path is empty (reason `emptyReason`), lies outside the scope's roots, does not
+/// exist or is not a regular file (a device, folder or pipe).
+[[nodiscard]] std::filesystem::path resolveExistingSceneFile(const std::string& path, const FileScope& scope,
+                                                             const std::string& field,
+                                                             const std::string& emptyReason = "a file path is required");
 
 }  // namespace demlink::server

@@ -6,6 +6,7 @@
 /// over TCP. Parsing is strict: an unknown field is an error (it is almost always
 /// a typo that would otherwise silently take a default). Field names may be the
 /// proto names (snake_case) or their lowerCamelCase JSON names.
+#include <cstddef>
 #include <string>
 
 #include "demlink/v1/scene.pb.h"
@@ -18,7 +19,13 @@ namespace demlink::server {
 /// "(components[0].simulation_box) time_stepp: Cannot find field.").
 [[nodiscard]] v1::Scene loadSceneFile(const std::string& path);
 
+/// Deepest nesting of objects and arrays a scene file may have [-] (the deepest schema
+/// path is about 8; protobuf's parser misreads very deep documents).
+inline constexpr std::size_t kMaxSceneJsonDepth = 64;
+
 /// Parses scene JSON held in memory; `sourceName` takes the place of the path in errors.
+/// A document that is not a JSON object or nests deeper than kMaxSceneJsonDepth is an
+/// InputError naming the source (and the line where the nesting got too deep).
 [[nodiscard]] v1::Scene parseSceneJson(const std::string& json, const std::string& sourceName);
 
 /// The scene as indented JSON with proto field names (what a scene file looks like).

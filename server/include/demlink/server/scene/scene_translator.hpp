@@ -33,10 +33,11 @@ struct TranslatedScene {
 /// are checked without settling the pit (each compile settles it).
 enum class SceneUse { Headless, Cosim, CosimCheck };
 
-/// Validates and translates a scene. `sceneDirectory` anchors relative paths.
+/// Validates and translates a scene. `files` anchors relative paths and says where the
+/// files it names may be (a scene file's folder converts to the scope of that folder).
 /// Throws core::InputError naming the offending field (for a mesh_body whose
 /// STL cannot be read: "<component>.mesh_body.stl_file").
-[[nodiscard]] TranslatedScene translateScene(const v1::Scene& scene, const std::filesystem::path& sceneDirectory,
+[[nodiscard]] TranslatedScene translateScene(const v1::Scene& scene, const FileScope& files,
                                              SceneUse use = SceneUse::Headless);
 
 }  // namespace demlink::server

@@ -17,7 +17,7 @@ namespace demlink::server {
 /// for a window that ends before it starts).
 [[nodiscard]] MeshBodyDeclaration translateFacetBody(const v1::FacetBody& facet, const std::string& name,
                                                      const MaterialResolver& resolveMaterial,
-                                                     const std::filesystem::path& sceneDirectory,
+                                                     const FileScope& files,
                                                      const std::string& fieldPrefix);
 
 }  // namespace demlink::server

@@ -53,12 +53,12 @@ struct MeshBodyDeclaration {
 /// an empty stl_file, a missing file, non-finite vectors or a zero quaternion.
 [[nodiscard]] MeshBodyDeclaration translateMeshBody(const v1::MeshBody& mesh, const std::string& name,
                                                     std::uint32_t materialIndex,
-                                                    const std::filesystem::path& sceneDirectory,
+                                                    const FileScope& files,
                                                     const std::string& fieldPrefix);
 
 /// An STL file declared as `file`, resolved and present. Throws core::InputError naming
 /// `field` for an empty path or a missing file.
-[[nodiscard]] std::filesystem::path stlFileOf(const std::string& file, const std::filesystem::path& sceneDirectory,
+[[nodiscard]] std::filesystem::path stlFileOf(const std::string& file, const FileScope& files,
                                               const std::string& field);
 
 /// A FacetBox: its closed (or open-top) mesh in the box frame, vertices relative to the

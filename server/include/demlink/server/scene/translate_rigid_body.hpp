@@ -20,7 +20,7 @@ namespace demlink::server {
 /// ".orientation", ".motion".
 [[nodiscard]] MeshBodyDeclaration translateRigidBody(const v1::RigidBody& body, const std::string& name,
                                                      const MaterialResolver& resolveMaterial,
-                                                     const std::filesystem::path& sceneDirectory,
+                                                     const FileScope& files,
                                                      const std::string& fieldPrefix);
 
 /// The engine's motion mode of a declaration (MOTION_UNSPECIFIED: PREDICTED). Throws

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "demlink/core/world.hpp"
+#include "demlink/server/scene/proto_convert.hpp"
 #include "demlink/v1/state.pb.h"
 
 namespace demlink::server {
@@ -14,7 +15,7 @@ namespace demlink::server {
 /// the number of particles added. Throws core::InputError naming
 /// `fieldPrefix + ".csv_file"` / `".checkpoint_file"` (or the file's line and
 /// column, or the checkpoint's section) for a bad or missing file or an unknown material.
-std::size_t addParticleSystem(const v1::ParticleSystem& system, const std::filesystem::path& sceneDirectory,
+std::size_t addParticleSystem(const v1::ParticleSystem& system, const FileScope& files,
                               const std::string& fieldPrefix, core::World& world);
 
 }  // namespace demlink::server
