@@ -474,7 +474,7 @@ std::string bodyJson(std::size_t particles, double interval) {
 /// both runs load, so the timed runs start from a bed in contact (not from a free fall).
 BedScene makeBed(const OverheadOptions& o, const fs::path& scratch) {
   server::TranslatedScene probe = server::translateScene(
-      bedScene(latticeJson(o.particles), 1.0e-7, 4, true, bodyJson(o.particles, o.interval)), ".",
+      bedScene(latticeJson(o.particles), 1.0e-7, 4, true, bodyJson(o.particles, o.interval)), fs::path("."),
       server::SceneUse::Cosim);
   probe.world.initialize();
   const double limit = probe.world.timeStepReport().limit;
@@ -485,7 +485,7 @@ BedScene makeBed(const OverheadOptions& o, const fs::path& scratch) {
   bed.exchanges = static_cast<std::uint64_t>(std::llround(o.duration / o.interval));
 
   server::TranslatedScene settle = server::translateScene(bedScene(latticeJson(o.particles), bed.time_step, 3, false, ""),
-                                                          ".", server::SceneUse::Cosim);
+                                                          fs::path("."), server::SceneUse::Cosim);
   settle.world.initialize();
   const auto settleSteps = static_cast<std::uint64_t>(std::llround(o.settle / bed.time_step));
   const Clock::time_point begin = Clock::now();
@@ -517,7 +517,7 @@ struct InProcessResult {
 /// The same scene, the same poses, stepped in this thread: the physics alone.
 InProcessResult runInProcess(const OverheadOptions& o, const BedScene& bed) {
   v1::Scene scene = bedScene(bed.particles_json, bed.time_step, 4, true, bodyJson(o.particles, o.interval));
-  server::TranslatedScene t = server::translateScene(scene, ".", server::SceneUse::Cosim);
+  server::TranslatedScene t = server::translateScene(scene, fs::path("."), server::SceneUse::Cosim);
   core::World& world = t.world;
   world.initialize();
   std::size_t mesh = world.meshes().size();

@@ -310,7 +310,7 @@ TranslatedScene translateScene(const v1::Scene& scene, const FileScope& files, S
         break;
     }
   }
-  addDeformableBodies(scene, resolve, sceneDirectory, out.world);
+  addDeformableBodies(scene, resolve, files, out.world);
   addSensorComponents(scene, out.world);
   return out;
 }

@@ -59,9 +59,9 @@ void readConstraints(const v1::NodeSet& fixed, const v1::NodeSet& driven, const 
   spec.driven_reference = toFiniteVec3(reference, prefix + ".driven_reference");
 }
 
-std::string existingFile(const std::string& path, const std::filesystem::path& sceneDirectory,
+std::string existingFile(const std::string& path, const FileScope& files,
                          const std::string& field, const std::string& what) {
-  return resolveExistingSceneFile(path, sceneDirectory, field, what + " is required").string();
+  return resolveExistingSceneFile(path, files, field, what + " is required").string();
 }
 
 double optionalPositive(bool has, double value, const std::string& field, double omitted) {
@@ -138,7 +138,7 @@ std::size_t attachedMesh(const core::World& world, const std::string& name, cons
 
 core::MassSpringSpec translateMassSpringBody(const v1::MassSpringBody& body, const std::string& name,
                                              const MaterialResolver& resolveMaterial,
-                                             const std::filesystem::path& sceneDirectory,
+                                             const FileScope& files,
                                              const std::string& fieldPrefix) {
   core::MassSpringSpec spec;
   spec.name = name;
@@ -161,7 +161,7 @@ core::MassSpringSpec translateMassSpringBody(const v1::MassSpringBody& body, con
   switch (body.geometry_case()) {
     case v1::MassSpringBody::kBox: spec.box = boxOf(body.box(), fieldPrefix + ".box"); break;
     case v1::MassSpringBody::kStlFile:
-      spec.stl_path = existingFile(body.stl_file(), sceneDirectory, fieldPrefix + ".stl_file", "an STL file path");
+      spec.stl_path = existingFile(body.stl_file(), files, fieldPrefix + ".stl_file", "an STL file path");
       break;
     case v1::MassSpringBody::kExplicitNodes:
       readExplicit(body.explicit_nodes(), fieldPrefix + ".explicit_nodes", spec);
@@ -178,7 +178,7 @@ core::MassSpringSpec translateMassSpringBody(const v1::MassSpringBody& body, con
 }
 
 core::FemSpec translateFemBody(const v1::FemBody& body, const std::string& name,
-                               const MaterialResolver& resolveMaterial, const std::filesystem::path& sceneDirectory,
+                               const MaterialResolver& resolveMaterial, const FileScope& files,
                                const std::string& fieldPrefix) {
   core::FemSpec spec;
   spec.name = name;
@@ -198,7 +198,7 @@ core::FemSpec translateFemBody(const v1::FemBody& body, const std::string& name,
     case v1::FemBody::kMesh: {
       const v1::FemMesh& mesh = body.mesh();
       const std::string prefix = fieldPrefix + ".mesh";
-      spec.msh_path = existingFile(mesh.msh_file(), sceneDirectory, prefix + ".msh_file", "a Gmsh .msh file path");
+      spec.msh_path = existingFile(mesh.msh_file(), files, prefix + ".msh_file", "a Gmsh .msh file path");
       core::requirePositive(prefix + ".youngs_modulus", mesh.youngs_modulus());
       core::requireOpenRange(prefix + ".poisson_ratio", mesh.poisson_ratio(), -1.0, 0.5);
       core::requirePositive(prefix + ".density", mesh.density());
@@ -218,16 +218,16 @@ core::FemSpec translateFemBody(const v1::FemBody& body, const std::string& name,
       const v1::FemMatrices& m = body.matrices();
       const std::string prefix = fieldPrefix + ".matrices";
       spec.mass_matrix_path =
-          existingFile(m.mass_matrix_file(), sceneDirectory, prefix + ".mass_matrix_file", "a Matrix Market file");
-      spec.stiffness_matrix_path = existingFile(m.stiffness_matrix_file(), sceneDirectory,
+          existingFile(m.mass_matrix_file(), files, prefix + ".mass_matrix_file", "a Matrix Market file");
+      spec.stiffness_matrix_path = existingFile(m.stiffness_matrix_file(), files,
                                                 prefix + ".stiffness_matrix_file", "a Matrix Market file");
       if (!m.damping_matrix_file().empty()) {
-        spec.damping_matrix_path = existingFile(m.damping_matrix_file(), sceneDirectory,
+        spec.damping_matrix_path = existingFile(m.damping_matrix_file(), files,
                                                 prefix + ".damping_matrix_file", "a Matrix Market file");
       }
-      spec.nodes_path = existingFile(m.nodes_file(), sceneDirectory, prefix + ".nodes_file", "a node file");
+      spec.nodes_path = existingFile(m.nodes_file(), files, prefix + ".nodes_file", "a node file");
       spec.triangles_path =
-          existingFile(m.triangles_file(), sceneDirectory, prefix + ".triangles_file", "a triangle file");
+          existingFile(m.triangles_file(), files, prefix + ".triangles_file", "a triangle file");
       break;
     }
     case v1::FemBody::SOURCE_NOT_SET:
@@ -238,7 +238,7 @@ core::FemSpec translateFemBody(const v1::FemBody& body, const std::string& name,
 }
 
 void addDeformableBodies(const v1::Scene& scene, const MaterialResolver& resolveMaterial,
-                         const std::filesystem::path& sceneDirectory, core::World& world) {
+                         const FileScope& files, core::World& world) {
   for (int i = 0; i < scene.components_size(); ++i) {
     const v1::ComponentDeclaration& component = scene.components(i);
     const std::string path = "components[" + std::to_string(i) + "]";
@@ -254,13 +254,13 @@ void addDeformableBodies(const v1::Scene& scene, const MaterialResolver& resolve
     if (component.has_mass_spring_body()) {
       prefix = path + ".mass_spring_body";
       core::MassSpringSpec spec = translateMassSpringBody(component.mass_spring_body(), component.name(),
-                                                          resolveMaterial, sceneDirectory, prefix);
+                                                          resolveMaterial, files, prefix);
       attach(component.mass_spring_body().attached_to(), prefix, spec.driven_reference);
       body = std::make_unique<core::MassSpringBody>(spec, prefix);
     } else if (component.has_fem_body()) {
       prefix = path + ".fem_body";
       core::FemSpec spec =
-          translateFemBody(component.fem_body(), component.name(), resolveMaterial, sceneDirectory, prefix);
+          translateFemBody(component.fem_body(), component.name(), resolveMaterial, files, prefix);
       attach(component.fem_body().attached_to(), prefix, spec.driven_reference);
       body = std::make_unique<core::FemBody>(spec, world.settings().time_step, prefix);
     } else {

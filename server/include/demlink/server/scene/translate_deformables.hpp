@@ -20,26 +20,26 @@
 namespace demlink::server {
 
 /// The engine spec of one mass_spring_body named `name`: files resolved against
-/// `sceneDirectory` (and required to exist), the material resolved, defaults filled in.
+/// `files` (and required to exist), the material resolved, defaults filled in.
 /// Throws core::InputError naming `fieldPrefix + ".<field>"`, e.g. ".box.node_spacing",
 /// ".total_mass", ".explicit_nodes.springs[3].b", ".fixed.regions[0].hi".
 [[nodiscard]] core::MassSpringSpec translateMassSpringBody(const v1::MassSpringBody& body, const std::string& name,
                                                            const MaterialResolver& resolveMaterial,
-                                                           const std::filesystem::path& sceneDirectory,
+                                                           const FileScope& files,
                                                            const std::string& fieldPrefix);
 
 /// The engine spec of one fem_body (as translateMassSpringBody; e.g. ".mesh.msh_file",
 /// ".mesh.poisson_ratio", ".matrices.stiffness_matrix_file", ".rayleigh_alpha").
 [[nodiscard]] core::FemSpec translateFemBody(const v1::FemBody& body, const std::string& name,
                                              const MaterialResolver& resolveMaterial,
-                                             const std::filesystem::path& sceneDirectory,
+                                             const FileScope& files,
                                              const std::string& fieldPrefix);
 
 /// Builds every mass_spring_body and fem_body of the scene, in declaration order, and adds
 /// it to the world (after the mesh bodies: attached_to names one of world.meshes(), whose
 /// pose then drives the body's driven nodes every step through a core::DeformableAttachment).
 void addDeformableBodies(const v1::Scene& scene, const MaterialResolver& resolveMaterial,
-                         const std::filesystem::path& sceneDirectory, core::World& world);
+                         const FileScope& files, core::World& world);
 
 /// The nodes a client's DeformableBodyOutput and the run's node CSV report for `declared`
 /// (DeformableOutputNodes): the given indices (checked against `nodeCount`, InputError naming
