@@ -2,6 +2,7 @@
 // study of the same ODE and integrator, its convergence to the calibrated e as
 // dt -> 0, and the fraction it finds: within the tolerance there, beyond it
 // just above.
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -59,9 +60,20 @@ TEST(TimeStepCalibration, FractionIsWithinTheToleranceAndTight) {
             << law.name << " " << toString(integrator) << " e=" << e;
         EXPECT_LE(worstRestitutionError(law.model, integrator, e, c, 0.5 * f, 4 * kOnsetPhases), kTolerance)
             << law.name << " " << toString(integrator) << " e=" << e;
+        // Just above f the error target or, for e = 1, the bound on gains (0.05 x tolerance) fails
+        // (within 30 %: the error is not monotonic in f, so not necessarily at 1.01 f).
         if (f < kMaxStepFractionOfContact) {
-          EXPECT_GT(worstRestitutionError(law.model, integrator, e, c, 1.01 * f), kPhaseSafety * kTolerance)
-              << law.name << " " << toString(integrator) << " e=" << e << " f=" << f;
+          bool fails = false;
+          for (double above : {1.005 * f, 1.01 * f, 1.02 * f, 1.05 * f, 1.1 * f, 1.2 * f, 1.3 * f}) {
+            double gain = -1.0;
+            for (int k = 0; k < kOnsetPhases; ++k) {
+              const double phase = (k + 0.5) / kOnsetPhases;
+              gain = std::max(gain, law.discrete_restitution(c, above * law.elastic_duration(), phase, integrator) - e);
+            }
+            fails = fails || worstRestitutionError(law.model, integrator, e, c, above) > kPhaseSafety * kTolerance ||
+                    (e == 1.0 && gain > kPhaseSafety * 0.05 * kTolerance);
+          }
+          EXPECT_TRUE(fails) << law.name << " " << toString(integrator) << " e=" << e << " f=" << f;
         }
       }
     }

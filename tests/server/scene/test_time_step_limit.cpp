@@ -102,7 +102,7 @@ TEST(TimeStepLimit, ReportNamesTheLimitAndTheDamping) {
 TEST(TimeStepLimit, ToleranceIsValidatedAndLoosensTheLimit) {
   v1::Scene scene = impactScene(0.2, 1e-12, 0.0, true);
   scene.mutable_components(0)->mutable_simulation_box()->set_restitution_tolerance(0.0);
-  EXPECT_EQ(test::errorFieldAfterInitialize(scene), "box.simulation_box.restitution_tolerance");
+  EXPECT_EQ(test::errorFieldAfterInitialize(scene), "components[0].simulation_box.restitution_tolerance");
   scene.mutable_components(0)->mutable_simulation_box()->set_restitution_tolerance(0.05);
   TranslatedScene t = translateScene(scene, {});
   t.world.initialize();
