@@ -5,6 +5,7 @@
 #include <climits>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <new>
 
 #include "c_internal.hpp"
@@ -259,8 +260,13 @@ void writeOutputs(const Component& component, int handle, Package& p) {
       const auto& o = d.region_sensor();
       p.ints.push_back(static_cast<long long>(o.count()));
       p.reals.push_back(o.mass());
-      pushVec(p, o.centre_of_mass());
-      pushVec(p, o.mean_velocity());
+      // An empty region sends no centre of mass or mean velocity: NaN here, as documented.
+      if (o.has_centre_of_mass()) {
+        pushVec(p, o.centre_of_mass());
+        pushVec(p, o.mean_velocity());
+      } else {
+        for (int k = 0; k < 6; ++k) p.reals.push_back(std::numeric_limits<double>::quiet_NaN());
+      }
       break;
     }
     case v1::DataPackage::kFlowSensor: {

@@ -1,6 +1,7 @@
 /// Typed setters and getters of region sensors, flow sensors and particle views.
 #include "demlink/client/sensor_components.hpp"
 
+#include <limits>
 #include <utility>
 
 namespace demlink::client {
@@ -41,8 +42,22 @@ void RegionSensor::prepareDeclaration() {
 }
 std::uint64_t RegionSensor::count() const { return outputs().region_sensor().count(); }
 double RegionSensor::mass() const { return outputs().region_sensor().mass(); }
-Vec3 RegionSensor::centreOfMass() const { return fromProto(outputs().region_sensor().centre_of_mass()); }
-Vec3 RegionSensor::meanVelocity() const { return fromProto(outputs().region_sensor().mean_velocity()); }
+// An empty region sends no centre of mass or mean velocity: NaN here, as before.
+namespace {
+Vec3 nanVec() {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  return {nan, nan, nan};
+}
+}  // namespace
+
+Vec3 RegionSensor::centreOfMass() const {
+  const auto& o = outputs().region_sensor();
+  return o.has_centre_of_mass() ? fromProto(o.centre_of_mass()) : nanVec();
+}
+Vec3 RegionSensor::meanVelocity() const {
+  const auto& o = outputs().region_sensor();
+  return o.has_mean_velocity() ? fromProto(o.mean_velocity()) : nanVec();
+}
 
 FlowSensor::FlowSensor(std::string name) : Component(std::move(name)) { declaration().mutable_flow_sensor(); }
 FlowSensor& FlowSensor::setRectangle(const Vec3& centre, const Vec3& normal, double length, double width,

@@ -31,6 +31,7 @@ void SimulationSettings::validate(const std::string& fieldPrefix) const {
   requireNonNegative(fieldPrefix + ".neighbour_skin", neighbour_skin);
   requirePositive(fieldPrefix + ".max_impact_velocity", max_impact_velocity);
   requireNonNegative(fieldPrefix + ".linear_normal_stiffness", linear_normal_stiffness);
+  requireOpenRange(fieldPrefix + ".restitution_tolerance", restitution_tolerance, 0.0, 1.0);
   if (threads < 1 || threads > maxThreads()) {
     throw InputError(fieldPrefix + ".threads", std::to_string(threads),
                      "must be between 1 and " + std::to_string(maxThreads()) +
@@ -65,6 +66,7 @@ void SimulationSettings::validate(const std::string& fieldPrefix) const {
     }
   }
   frame.validate(fieldPrefix + ".frame");
+  watchdog.validate(fieldPrefix + ".watchdog");
 }
 
 }  // namespace demlink::core

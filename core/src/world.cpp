@@ -1,6 +1,8 @@
 #include "demlink/core/world.hpp"
 
 #include <algorithm>
+#include <chrono>
+#include <cmath>
 #include <numeric>
 
 #include "demlink/core/contact/contact_law_registry.hpp"
@@ -77,6 +79,7 @@ void World::requireBoundedFrameAccelerations() const {
 void World::setGravity(const Vec3& gravity) {
   requireBoundedVector("gravity", gravity, kMaxAcceleration, "m/s^2");
   state_.gravity = gravity;
+  watchdog_.resetEnergy();
 }
 
 std::optional<DomainBounds> World::currentBounds() const {
@@ -146,6 +149,7 @@ std::size_t World::addPlane(PlaneSpec plane, const std::string& fieldPrefix) {
     throw InputError(fieldPrefix + ".material", std::to_string(plane.material), "no such material");
   }
   plane.normal /= length;
+  if (plane.rigid) plane.material = rigidTwin(plane.material);
   coverMaterial(plane.material);
   planes_.push_back(PlaneWall{std::move(plane), {}, {}, Vec3::Zero(), Vec3::Zero()});
   rebuild_pending_ = true;
@@ -217,6 +221,7 @@ std::size_t World::addMesh(MeshBody mesh, const std::string& fieldPrefix) {
   if (mesh.materialIndex() >= materials_.size()) {
     throw InputError(fieldPrefix + ".material", std::to_string(mesh.materialIndex()), "no such material");
   }
+  if (mesh.rigid()) mesh.setMaterialIndex(rigidTwin(mesh.materialIndex()));
   coverMaterial(mesh.materialIndex());
   meshes_.push_back(std::move(mesh));
   mesh_near_.emplace_back();
@@ -248,6 +253,18 @@ std::size_t World::addDeformableBody(std::unique_ptr<DeformableBody> body, const
   return deformables_.size() - 1;
 }
 
+std::uint32_t World::rigidTwin(std::uint32_t material) {
+  if (materials_.at(material).rigid) return material;
+  const std::string name = materials_[material].name + " (rigid)";
+  if (const std::optional<std::uint32_t> twin = findMaterial(name)) return *twin;
+  if (initialized_) throw InputError(name, "(rigid wall)", "rigid walls must be added before initialize()");
+  Material twin = materials_[material];
+  twin.name = name;
+  twin.rigid = true;
+  materials_.push_back(std::move(twin));
+  return static_cast<std::uint32_t>(materials_.size() - 1);
+}
+
 void World::declareFutureParticles(std::uint32_t material, double minRadius, const std::string& fieldPrefix) {
   requirePositive(fieldPrefix + ".radius", minRadius);
   if (material >= materials_.size()) {
@@ -276,30 +293,36 @@ void World::initialize() {
   }
   pair_reference_ = {meanRadius, settings_.max_impact_velocity, settings_.linear_normal_stiffness};
   buildPairTable(materialsInUse());
-  time_step_report_ = criticalTimeStep(materials_, pair_table_, settings_.contact_model, minRadius,
-                                       settings_.max_impact_velocity);
+  seen_speeds_ = collectSeenSpeeds();
+  initialize_warnings_.clear();
+  double impactSpeed = settings_.max_impact_velocity;
+  if (!seen_speeds_.empty() && seen_speeds_.front().speed > impactSpeed) {
+    const SeenSpeed& fastest = seen_speeds_.front();
+    impactSpeed = fastest.speed;
+    initialize_warnings_.push_back(settings_field_ + ".max_impact_velocity = " +
+                                   formatValue(settings_.max_impact_velocity) + " m/s is below the speed of " +
+                                   fastest.what + " (" + formatValue(fastest.speed) +
+                                   " m/s); the time step is validated for " + formatValue(impactSpeed) + " m/s");
+  }
+  time_step_report_ = criticalTimeStep(materials_, pair_table_, settings_.contact_model, settings_.integrator,
+                                       minRadius, impactSpeed, settings_.restitution_tolerance);
   for (const auto& body : deformables_) {
     const double limit = body->criticalTimeStep();
-    if (!(limit < time_step_report_.limit)) continue;
-    time_step_report_.limit = limit;
-    time_step_report_.limited_by = "deformable " + body->name() + ": " + body->criticalTimeStepReason();
-    if (settings_.time_step > limit && !settings_.allow_unsafe_time_step) {
-      throw InputError(settings_field_ + ".time_step", formatValue(settings_.time_step),
-                       "exceeds the critical limit " + formatValue(limit) + " s of " + std::string(body->kind()) +
-                           " body " + body->name() + " (" + body->criticalTimeStepReason() +
-                           "); lower it, or make the body's springs softer or its nodes heavier, or set "
-                           "allow_unsafe_time_step to accept the risk");
-    }
+    if (!std::isfinite(limit)) continue;  // an unconditionally stable scheme sets no bound
+    time_step_report_.addConstraint({"deformable " + body->name(),
+                                     std::string(body->kind()) + " body: " + body->criticalTimeStepReason() +
+                                         "; softer springs or heavier nodes relax it",
+                                     limit});
   }
   if (settings_.time_step > time_step_report_.limit && !settings_.allow_unsafe_time_step) {
+    const TimeStepConstraint& limiting = *std::find_if(
+        time_step_report_.constraints.begin(), time_step_report_.constraints.end(),
+        [&](const TimeStepConstraint& c) { return c.name == time_step_report_.limited_by; });
     throw InputError(settings_field_ + ".time_step", formatValue(settings_.time_step),
                      "exceeds the critical limit " + formatValue(time_step_report_.limit) + " s (limited by " +
-                         time_step_report_.limited_by + ": Rayleigh T_R = " +
-                         formatValue(time_step_report_.rayleigh_time_step) + " s x " +
-                         formatValue(kRayleighSafetyFraction) + ", contact duration " +
-                         formatValue(time_step_report_.contact_duration) + " s / " +
-                         formatValue(kMinStepsPerContact) +
-                         "); lower it or set allow_unsafe_time_step to accept the risk");
+                         limiting.name + ": " + limiting.detail +
+                         "); lower it, raise restitution_tolerance, or set allow_unsafe_time_step to accept the "
+                         "risk");
   }
   if (settings_.neighbour_skin <= 0.0) {
     double smallest = 0.0;
@@ -328,6 +351,8 @@ void World::initialize() {
   rebuildNeighbours();
   (this->*compute_forces_)();
   gatherClumpForces();
+  requireFiniteFirstStep();
+  watchdog_.resetEnergy();
 }
 
 std::vector<std::uint32_t> World::materialsInUse() const {
@@ -336,6 +361,7 @@ std::vector<std::uint32_t> World::materialsInUse() const {
   for (const auto& entry : future_particles_) inUse[entry.first] = 1;
   for (const PlaneWall& plane : planes_) inUse[plane.spec.material] = 1;
   for (const MeshBody& mesh : meshes_) inUse[mesh.materialIndex()] = 1;
+  for (const auto& body : deformables_) inUse[body->surface().materialIndex()] = 1;
   for (const PairOverrideEntry& entry : pair_overrides_) inUse[entry.material_a] = inUse[entry.material_b] = 1;
   std::vector<std::uint32_t> used;
   for (std::uint32_t m = 0; m < inUse.size(); ++m) {
@@ -365,7 +391,18 @@ void World::coverMaterial(std::uint32_t material) {
 void World::step() {
   if (!initialized_) initialize();
   StepContext context{settings_.time_step, state_.step_count, pool_.get()};
-  for (const Stage stage : step_stages_) runStage(stage, context);
+  if (!stage_timing_) {
+    for (const Stage stage : step_stages_) runStage(stage, context);
+    return;
+  }
+  using Clock = std::chrono::steady_clock;
+  Clock::time_point last = Clock::now();
+  for (const Stage stage : step_stages_) {
+    runStage(stage, context);
+    const Clock::time_point now = Clock::now();
+    stage_seconds_[static_cast<std::size_t>(stage)] += std::chrono::duration<double>(now - last).count();
+    last = now;
+  }
 }
 
 SceneFeatures World::sceneFeatures() const {
@@ -381,6 +418,7 @@ SceneFeatures World::sceneFeatures() const {
   f.clumps = !clump_templates_.empty();
   f.rolling = rolling_active_;
   f.deformables = !deformables_.empty();
+  f.watchdog = settings_.watchdog.every_steps > 0;
   return f;
 }
 
@@ -414,6 +452,7 @@ void World::runStage(Stage stage, StepContext& context) {
     case Stage::kClumpHalfKick: return integrateClumps(0.5 * context.dt, 0.0, false);
     case Stage::kAdvanceClock: ++state_.step_count; return;
     case Stage::kObserve: return runComponents(kStageObserve);
+    case Stage::kWatchdog: return runWatchdog();
     case Stage::kParticleContacts:
     case Stage::kPlaneContacts:
     case Stage::kMeshContacts:
@@ -428,7 +467,10 @@ void World::moveMeshes(StepContext& context) {
   if (updateMeshCollision(static_cast<double>(context.step + 1) * dt)) rebuild_pending_ = true;
   for (std::size_t m = 0; m < meshes_.size(); ++m) {
     MeshBody& mesh = meshes_[m];
-    if (!mesh.linearVelocity().isZero(0.0) || !mesh.angularVelocity().isZero(0.0)) mesh.advance(dt);
+    if (!mesh.linearVelocity().isZero(0.0) || !mesh.angularVelocity().isZero(0.0)) {
+      mesh.advance(dt);
+      energy_fed_ = true;
+    }
     const bool farEnough = mesh.maxDisplacementSinceMark() > 0.5 * neighbours_.skin();
     context.mesh_moved_far = context.mesh_moved_far || (mesh_colliding_[m] != 0 && farEnough);
   }
@@ -737,6 +779,190 @@ double World::totalMass() const {
     if (particles_.clump_id[i] == 0) mass += particles_.mass[i];
   }
   return mass;
+}
+
+}  // namespace demlink::core
+
+namespace demlink::core {
+
+std::vector<SeenSpeed> World::collectSeenSpeeds() const {
+  std::vector<SeenSpeed> speeds;
+  const ParticleArrays& p = particles_;
+  std::size_t fastest = p.size();
+  double fastestSpeed = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    // Surface speed: translation plus spin at the rim.
+    const double speed = p.velocity[i].norm() + p.angular_velocity[i].norm() * p.radius[i];
+    if (speed > fastestSpeed) {
+      fastestSpeed = speed;
+      fastest = i;
+    }
+  }
+  if (fastest < p.size()) speeds.push_back({"particle " + std::to_string(p.id[fastest]), fastestSpeed});
+  for (const auto& component : components_) {
+    if (const std::optional<double> speed = component->largestSpeed(*this); speed && *speed > 0.0) {
+      speeds.push_back({std::string(component->kind()) + " " + component->name(), *speed});
+    }
+  }
+  double reach = 0.0;  // farthest particle or mesh point from the frame's origin [m]
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    reach = std::max(reach, (p.position[i] - state_.frame.origin).norm() + p.radius[i]);
+  }
+  for (const MeshBody& mesh : meshes_) {
+    reach = std::max(reach, (mesh.position() - state_.frame.origin).norm() + mesh.boundingRadius());
+    const double moving = mesh.linearVelocity().norm() + mesh.angularVelocity().norm() * mesh.boundingRadius();
+    const double speed = std::max(moving, mesh.speedLimit());
+    if (speed > 0.0) {
+      speeds.push_back({"mesh " + mesh.name() + (mesh.speedLimit() >= moving ? " (declared max_speed)" : ""),
+                        speed});
+    }
+  }
+  // Walls and meshes at rest in a rotating frame sweep past the inertial particles.
+  const double spin = state_.frame.angular_velocity.norm() * reach;
+  if (spin > 0.0) speeds.push_back({"the frame's rotation (at " + formatValue(reach) + " m from its origin)", spin});
+  std::stable_sort(speeds.begin(), speeds.end(), [](const SeenSpeed& a, const SeenSpeed& b) { return a.speed > b.speed; });
+  return speeds;
+}
+
+void World::requireFiniteFirstStep() const {
+  // The first step adds (F/m + g + fictitious) dt to every velocity; its kinetic
+  // energy m v^2 must stay finite. Each term is checked alone so the error names
+  // the input that overflows (finite inputs such as gravity 1e308 still do).
+  const double dt = settings_.time_step;
+  const ParticleArrays& p = particles_;
+  double maxMass = 0.0;
+  double maxSpeed = 0.0;
+  double reach = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    maxMass = std::max(maxMass, p.mass[i]);
+    maxSpeed = std::max(maxSpeed, p.velocity[i].norm());
+    reach = std::max(reach, (p.position[i] - state_.frame.origin).norm());
+  }
+  if (p.size() == 0) return;
+  auto overflows = [&](double speedChange) {
+    const double v = maxSpeed + speedChange;
+    return !std::isfinite(speedChange) || !std::isfinite(maxMass * v * v) || !std::isfinite(reach + v * dt);
+  };
+  const std::string reason = "makes the first step's kinetic energy or positions overflow (not finite)";
+  if (overflows(0.0)) throw InputError("particles.velocity", formatValue(maxSpeed) + " m/s", reason);
+  if (overflows(state_.gravity.norm() * dt)) {
+    throw InputError(settings_field_ + ".gravity", formatValue(state_.gravity.norm()) + " m/s^2", reason);
+  }
+  const FrameMotion& f = state_.frame;
+  const double omega = f.angular_velocity.norm();
+  if (overflows(f.linear_acceleration.norm() * dt)) {
+    throw InputError(settings_field_ + ".frame.linear_acceleration", formatValue(f.linear_acceleration.norm()), reason);
+  }
+  if (overflows((omega * omega * reach + 2.0 * omega * maxSpeed) * dt)) {
+    throw InputError(settings_field_ + ".frame.angular_velocity", formatValue(omega) + " rad/s", reason);
+  }
+  if (overflows(f.angular_acceleration.norm() * reach * dt)) {
+    throw InputError(settings_field_ + ".frame.angular_acceleration", formatValue(f.angular_acceleration.norm()),
+                     reason);
+  }
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (!std::isfinite(p.force[i].squaredNorm() * p.inv_mass[i] * dt) || overflows(p.force[i].norm() * p.inv_mass[i] * dt)) {
+      throw InputError("particle " + std::to_string(p.id[i]) + ".position", formatValue(p.position[i].x()),
+                       "its initial contact force overflows (an overlap too deep for the stiffness)");
+    }
+  }
+}
+
+template <class Law>
+void World::measureContacts(WatchdogReading& reading) const {
+  const ParticleArrays& p = particles_;
+  const auto offsets = neighbours_.offsets();
+  const auto partners = neighbours_.partners();
+  auto note = [&](double overlap, double rA, double rB, const ContactPairParams& params, const std::string_view kind,
+                  std::size_t a, std::size_t b) {
+    if (overlap <= 0.0) return;
+    const double rStar = rB > 0.0 ? rA * rB / (rA + rB) : rA;
+    const ContactStiffness k = Law::stiffness(params, rStar, overlap);
+    reading.elastic_energy += k.normal_elastic_force * overlap / (Law::kForceExponent + 1.0);
+    const double fraction = overlap / (rB > 0.0 ? std::min(rA, rB) : rA);
+    if (fraction > reading.max_overlap_fraction) {
+      reading.max_overlap_fraction = fraction;
+      reading.deepest = kind == "pair" ? "particles " + std::to_string(p.id[a]) + " and " + std::to_string(p.id[b])
+                                       : "particle " + std::to_string(p.id[a]) + " on plane " + planes_[b].spec.name;
+    }
+  };
+  for (std::size_t i = 0; i + 1 < offsets.size(); ++i) {
+    for (std::uint32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
+      const std::uint32_t j = partners[k];
+      const double overlap = p.radius[i] + p.radius[j] - (p.position[j] - p.position[i]).norm();
+      note(overlap, p.radius[i], p.radius[j], pair_table_(p.material[i], p.material[j]), "pair", i, j);
+    }
+  }
+  for (std::size_t w = 0; w < planes_.size(); ++w) {
+    const PlaneWall& wall = planes_[w];
+    for (const std::uint32_t i : wall.near_slots) {
+      const double overlap = p.radius[i] - (p.position[i] - wall.spec.point).dot(wall.spec.normal);
+      note(overlap, p.radius[i], 0.0, pair_table_(p.material[i], wall.spec.material), "plane", i, w);
+    }
+  }
+}
+
+WatchdogReading World::watch() {
+  WatchdogReading r;
+  const ParticleArrays& p = particles_;
+  std::size_t fastest = p.size();
+  double potential = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double check = p.position[i].sum() + p.velocity[i].sum() + p.angular_velocity[i].sum() + p.force[i].sum();
+    if (!std::isfinite(check) && r.non_finite.empty()) {
+      r.non_finite = "particle " + std::to_string(p.id[i]) + " (position, velocity, spin or force)";
+    }
+    const double speed = p.velocity[i].norm();
+    if (speed > r.max_speed) {
+      r.max_speed = speed;
+      fastest = i;
+    }
+    potential -= p.mass[i] * state_.gravity.dot(p.position[i]);
+  }
+  if (fastest < p.size()) r.fastest = "particle " + std::to_string(p.id[fastest]);
+  for (const MeshBody& mesh : meshes_) {
+    const double speed = mesh.linearVelocity().norm() + mesh.angularVelocity().norm() * mesh.boundingRadius();
+    if (speed > r.max_speed) {
+      r.max_speed = speed;
+      r.fastest = "mesh " + mesh.name();
+    }
+  }
+  for (const auto& body : deformables_) {
+    for (const Vec3& x : body->surface().positions()) {
+      if (!std::isfinite(x.sum()) && r.non_finite.empty()) {
+        r.non_finite = std::string(body->kind()) + " body " + body->name() + " (node positions)";
+      }
+    }
+  }
+  if (!r.non_finite.empty()) return r;
+  visitContactLaw(settings_.contact_model, [&]<class Law>() { measureContacts<Law>(r); });
+  r.kinetic_energy = kineticEnergy();
+  r.total_energy = r.kinetic_energy + potential + r.elastic_energy;
+  // Sources, moving meshes and a moving frame feed energy in: no energy check then.
+  // Mesh contacts' elastic energy and deformable bodies' energy are not measured, so scenes
+  // with meshes or deformable bodies are not checked either.
+  r.energy_checked = insert_remove_components_.empty() && !state_.frame_moving && !energy_fed_ && meshes_.empty() &&
+                     deformables_.empty();
+  if (energy_fed_) {
+    watchdog_.resetEnergy();
+    energy_fed_ = false;
+  }
+  return r;
+}
+
+void World::runWatchdog() {
+  if (state_.step_count % settings_.watchdog.every_steps != 0) return;
+  const WatchdogReading reading = watch();
+  if (std::optional<SimulationFault> fault =
+          watchdog_.assess(reading, settings_.watchdog, time_step_report_.impact_speed, state_.step_count)) {
+    throw *fault;
+  }
+}
+
+std::vector<std::string> World::warnings() const {
+  std::vector<std::string> all = initialize_warnings_;
+  all.insert(all.end(), watchdog_.warnings().begin(), watchdog_.warnings().end());
+  return all;
 }
 
 }  // namespace demlink::core

@@ -17,6 +17,9 @@ TEST(Bed, FloorCarriesTheWeightOfASettledBed) {
   SimulationSettings s;
   s.time_step = 1e-5;
   s.max_impact_velocity = 1.0;
+  // These scenes test bookkeeping, not restitution: a loose restitution tolerance keeps
+  // the step they were written for inside the limit (docs/physics.md "Critical time step").
+  s.restitution_tolerance = 0.2;
   World world(s);
   const auto grains = test::addBoxedLattice(world);
   const auto floor = world.addPlane({"floor", Vec3::Zero(), Vec3::UnitZ(), grains});

@@ -21,12 +21,14 @@ namespace demlink::server::test {
 /// One component declaration from its JSON object, e.g. {"name": "m", "material": {}}.
 inline v1::ComponentDeclaration declarationOf(const std::string& json) { return sceneOf({json}).components(0); }
 
-/// A simulation_box component; `extra` is spliced into the simulation_box object.
+/// A simulation_box component; `extra` is spliced into the simulation_box object. Its
+/// loose restitution tolerance keeps the steps these exchange tests were written for
+/// inside the limit (they test the protocol, not restitution).
 inline std::string boxJson(double timeStep, double endTime, const std::string& extra = "",
                            double communicationInterval = 0.0) {
   return R"({"name": "box", "communication_interval": )" + std::to_string(communicationInterval) +
          R"(, "simulation_box": {"time_step": )" + std::to_string(timeStep) + R"(, "end_time": )" +
-         std::to_string(endTime) + R"(, "output": {"final_particles_csv": true})" +
+         std::to_string(endTime) + R"(, "restitution_tolerance": 0.2, "output": {"final_particles_csv": true})" +
          (extra.empty() ? "" : ", " + extra) + "}}";
 }
 

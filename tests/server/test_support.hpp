@@ -62,7 +62,7 @@ inline std::size_t countOccurrences(const std::string& text, const std::string& 
 /// lattice; end_time and vtk_interval as given [s].
 inline std::string tinySceneJson(double endTime, double vtkInterval) {
   return R"({"components": [
-    {"name": "box", "simulation_box": {"time_step": 1e-5, "end_time": )" + std::to_string(endTime) +
+    {"name": "box", "simulation_box": {"time_step": 1e-5, "restitution_tolerance": 0.2, "end_time": )" + std::to_string(endTime) +
          R"(, "output": {"vtk_interval": )" + std::to_string(vtkInterval) + R"(, "progress_interval_s": 60}}},
     {"name": "glass", "material": {"density": 2500, "youngs_modulus": 5e6}},
     {"name": "floor", "plane": {"normal": {"z": 1}, "material": "glass"}},

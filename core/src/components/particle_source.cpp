@@ -426,4 +426,16 @@ ParticleSource& addParticleSource(World& world, const std::string& name, Particl
   return static_cast<ParticleSource&>(world.addComponent(std::move(source)));
 }
 
+std::optional<double> ParticleSource::largestSpeed(const World& world) const {
+  const double rim = spec_.shape == SourceShape::Sphere ? spec_.sizes.maxRadius()
+                                                        : world.clumpTemplates()[spec_.clump_template].boundingRadius();
+  double speed = spec_.velocity.norm() + spec_.angular_velocity.norm() * rim;
+  if (mesh_index_ && spec_.add_body_velocity && *mesh_index_ < world.meshes().size()) {
+    const MeshBody& mesh = world.meshes()[*mesh_index_];
+    speed += std::max(mesh.speedLimit(),
+                      mesh.linearVelocity().norm() + mesh.angularVelocity().norm() * mesh.boundingRadius());
+  }
+  return speed;
+}
+
 }  // namespace demlink::core

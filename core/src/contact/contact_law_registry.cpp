@@ -16,7 +16,9 @@ constexpr ContactLawEntry entryOf() {
           &deliveredRestitution<Law>,
           &dampingForRestitution<Law>,
           &Law::setPairCoefficients,
-          &Law::contactDuration};
+          &Law::contactDuration,
+          &step_calibration_detail::discreteRestitution<Law>,
+          &step_calibration_detail::elasticDuration<Law>};
 }
 
 template <class... Laws>

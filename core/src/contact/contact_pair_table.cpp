@@ -11,12 +11,16 @@
 namespace demlink::core {
 
 double effectiveYoungsModulus(const Material& a, const Material& b) {
-  return 1.0 / ((1.0 - a.poisson_ratio * a.poisson_ratio) / a.youngs_modulus +
-                (1.0 - b.poisson_ratio * b.poisson_ratio) / b.youngs_modulus);
+  // A rigid side has no compliance (1/E = 0).
+  auto compliance = [](const Material& m) {
+    return m.rigid ? 0.0 : (1.0 - m.poisson_ratio * m.poisson_ratio) / m.youngs_modulus;
+  };
+  return 1.0 / (compliance(a) + compliance(b));
 }
 
 double effectiveShearModulus(const Material& a, const Material& b) {
-  return 1.0 / ((2.0 - a.poisson_ratio) / a.shearModulus() + (2.0 - b.poisson_ratio) / b.shearModulus());
+  auto compliance = [](const Material& m) { return m.rigid ? 0.0 : (2.0 - m.poisson_ratio) / m.shearModulus(); };
+  return 1.0 / (compliance(a) + compliance(b));
 }
 
 void PairOverride::validate(const std::string& fieldPrefix) const {
@@ -75,6 +79,7 @@ ContactPairTable::ContactPairTable(const std::vector<Material>& materials, Conta
       }
       auto [it, inserted] = dampingOfRestitution.try_emplace(p.restitution, 0.0);
       if (inserted) it->second = law.damping_for_restitution(p.restitution);
+      p.damping_coefficient = it->second;
       law.set_pair_coefficients(p, it->second, a, b, linearReference);
       // gamma_t = 2 zeta sqrt(S_t m*) = normal_damping sqrt(S_t / S_n) sqrt(S_n m*).
       p.tangential_damping = p.normal_damping * std::sqrt(tangentialStiffnessRatio(p));

@@ -92,6 +92,11 @@ constexpr std::array<StageInfo, kStageCount> kTable{{
      "components: region and flow sensors, trackers, sinks' tallies (reported as `<kind>:<name>`)",
      "positions, velocities, meshes, time at the step's end", "readings, CSV rows", "a component declares observe",
      [](const F& f) { return f.observe_components; }},
+    {Stage::kWatchdog, "watchdog", false,
+     "every `every_steps` steps: non-finite values, overlaps, energy growth, speeds against the validated impact "
+     "speed; a failed check stops the run or warns once (policy)",
+     "positions, velocities, forces, neighbour and plane near lists", "watchdog memory, warnings",
+     "watchdog.every_steps > 0 (default 100)", [](const F& f) { return f.watchdog; }},
 }};
 
 // The table is indexed by Stage: each row must sit at its own enumerator.

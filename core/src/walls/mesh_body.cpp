@@ -244,4 +244,10 @@ void MeshBody::restoreState(const State& state) {
   updateWorldGeometry();
 }
 
+void MeshBody::setSpeedLimit(double speed) {
+  requireNonNegative("max_speed", speed);
+  requireFinite("max_speed", speed);
+  speed_limit_ = speed;
+}
+
 }  // namespace demlink::core

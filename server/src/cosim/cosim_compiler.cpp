@@ -161,6 +161,7 @@ std::string reportText(const CompiledSimulation& out, const core::World& world) 
   text += "active stages: " + stages + "\n";
   text += fmt::format("time step: {:.6g} s = {:.1f} % of the critical {:.6g} s (limited by {})\n", out.time_step,
                       100.0 * out.time_step / limit.limit, limit.limit, limit.limited_by);
+  for (const std::string& line : limit.describe()) text += line + "\n";
   text += out.end_step > 0 ? fmt::format("end step: {} (t = {:.6g} s)\n", out.end_step,
                                          static_cast<double>(out.end_step) * out.time_step)
                            : std::string("end step: none (until every client said Bye)\n");

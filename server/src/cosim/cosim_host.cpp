@@ -480,8 +480,13 @@ struct CosimHost::Impl {
     try {
       body(out);
     } catch (const std::exception& error) {
-      spdlog::error("simulation {}: internal error: {}", number(), error.what());
-      const v1::Error e = makeError(v1::Error::INTERNAL, std::string("internal error: ") + error.what(), "", "", true);
+      // A watchdog stop is the world refusing to go on, not a bug: its own code, the check as the field.
+      const auto* fault = dynamic_cast<const core::SimulationFault*>(&error);
+      spdlog::error("simulation {}: {}: {}", number(), fault != nullptr ? "stopped" : "internal error", error.what());
+      const v1::Error e =
+          fault != nullptr
+              ? makeError(v1::Error::SIMULATION_FAULT, error.what(), "", "watchdog." + fault->check(), true)
+              : makeError(v1::Error::INTERNAL, std::string("internal error: ") + error.what(), "", "", true);
       for (const auto& [id, connection] : connections) {
         if (!connection.said_bye) send(out, id, e);
       }

@@ -11,11 +11,18 @@
 #include "demlink/server/cosim/cosim_outputs.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <google/protobuf/message.h>
 
 #include "demlink/core/components/particle_sink.hpp"
 #include "demlink/core/deformable/deformable_body.hpp"
 #include "demlink/core/components/particle_source.hpp"
 #include "demlink/core/components/region_sensor.hpp"
+#include "demlink/core/step/watchdog.hpp"
 #include "demlink/server/scene/proto_convert.hpp"
 
 namespace demlink::server {
@@ -27,6 +34,40 @@ void setCount(v1::CountAndMass& out, std::uint64_t count, double mass) {
 }
 
 }  // namespace
+
+std::optional<std::string> firstNonFiniteField(const google::protobuf::Message& message) {
+  const google::protobuf::Reflection& reflection = *message.GetReflection();
+  std::vector<const google::protobuf::FieldDescriptor*> fields;
+  reflection.ListFields(message, &fields);
+  using Field = google::protobuf::FieldDescriptor;
+  for (const Field* field : fields) {
+    const int count = field->is_repeated() ? reflection.FieldSize(message, field) : 1;
+    for (int k = 0; k < count; ++k) {
+      const std::string name = field->is_repeated() ? field->name() + "[" + std::to_string(k) + "]" : field->name();
+      double value = 0.0;
+      switch (field->cpp_type()) {
+        case Field::CPPTYPE_DOUBLE:
+          value = field->is_repeated() ? reflection.GetRepeatedDouble(message, field, k)
+                                       : reflection.GetDouble(message, field);
+          break;
+        case Field::CPPTYPE_FLOAT:
+          value = field->is_repeated() ? reflection.GetRepeatedFloat(message, field, k)
+                                       : reflection.GetFloat(message, field);
+          break;
+        case Field::CPPTYPE_MESSAGE: {
+          const google::protobuf::Message& inner = field->is_repeated()
+                                                       ? reflection.GetRepeatedMessage(message, field, k)
+                                                       : reflection.GetMessage(message, field);
+          if (std::optional<std::string> bad = firstNonFiniteField(inner)) return name + "." + *bad;
+          continue;
+        }
+        default: continue;
+      }
+      if (!std::isfinite(value)) return name;
+    }
+  }
+  return std::nullopt;
+}
 
 CosimOutputs::CosimOutputs(std::size_t componentCount) : memory_(componentCount) {}
 
@@ -98,8 +139,10 @@ v1::DataPackage CosimOutputs::outputOf(std::size_t index, const CosimComponent& 
       v1::RegionSensorOutput& o = *out.mutable_region_sensor();
       o.set_count(reading.count);
       o.set_mass(reading.mass);
-      setVec3(*o.mutable_centre_of_mass(), reading.centre_of_mass);
-      setVec3(*o.mutable_mean_velocity(), reading.mean_velocity);
+      if (reading.count > 0) {  // an empty region has no centre of mass: left unset, never NaN
+        setVec3(*o.mutable_centre_of_mass(), reading.centre_of_mass);
+        setVec3(*o.mutable_mean_velocity(), reading.mean_velocity);
+      }
       break;
     }
     case v1::ComponentDeclaration::kFlowSensor: {
@@ -153,6 +196,13 @@ v1::DataPackage CosimOutputs::outputOf(std::size_t index, const CosimComponent& 
       break;
     }
     default: break;
+  }
+  // Never hand a client a NaN: a non-finite output ends the simulation (the host
+  // sends Error{SIMULATION_FAULT} to every client instead).
+  if (const std::optional<std::string> field = firstNonFiniteField(out)) {
+    throw core::SimulationFault("non_finite_output", "output " + *field + " of component " + component.name +
+                                                         " is not finite",
+                                world.stepCount());
   }
   return out;
 }

@@ -38,6 +38,7 @@ CosimSimulation::CosimSimulation(CompiledSimulation compiled, const std::filesys
     std::ofstream report(directory_ / "compile_report.txt");
     report << compiled_.report.text();
   }
+  w.setStageTiming(true);  // the run log's per-stage rows
   driver_->start(w);
 }
 

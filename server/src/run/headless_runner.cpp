@@ -52,10 +52,7 @@ void logCompileReport(const core::World& world, std::uint64_t endStep, std::uint
   spdlog::info("compiled scene: particles {}, materials {}, planes {}", world.particles().size(),
                world.materials().size(), world.planes().size());
   spdlog::info("active stages: {}", stages);
-  spdlog::info("critical time step: {:.4g} s, limited by {} (Rayleigh {:.4g} s x {}, contact duration {:.4g} s / {} "
-               "at {} m/s)",
-               report.limit, report.limited_by, report.rayleigh_time_step, core::kRayleighSafetyFraction,
-               report.contact_duration, core::kMinStepsPerContact, settings.max_impact_velocity);
+  for (const std::string& line : report.describe()) spdlog::info("{}", line);
   const double percent = 100.0 * settings.time_step / report.limit;
   if (settings.time_step > report.limit) {
     spdlog::warn("time step: {:.4g} s = {:.1f} % of the limit (allowed by allow_unsafe_time_step)",
@@ -133,6 +130,7 @@ RunSummary runHeadless(TranslatedScene& scene) {
   const RunPlan plan = planRun(run, world.settings().time_step, true);
   for (const std::string& warning : plan.warnings) spdlog::warn("{}", warning);
   for (const std::string& warning : core::sampleScheduleWarnings(world)) spdlog::warn("{}", warning);
+  for (const std::string& warning : world.warnings()) spdlog::warn("{}", warning);
   const std::uint64_t endStep = plan.end_step;
   if (world.stepCount() >= endStep) {
     throw core::InputError(box + ".end_time", core::formatValue(run.end_time),
@@ -146,6 +144,7 @@ RunSummary runHeadless(TranslatedScene& scene) {
   for (const std::filesystem::path& csv : driver.sensorFiles()) spdlog::info("sensor output: {}", csv.string());
 
   try {
+    world.setStageTiming(true);  // the run log's per-stage rows
     driver.start(world);
     ProgressMeter progress(run.progress_interval, endStep, world.stepCount());
     while (world.stepCount() < endStep) {
@@ -154,6 +153,10 @@ RunSummary runHeadless(TranslatedScene& scene) {
       progress.update(world);
     }
     driver.finish(world);
+  } catch (const core::SimulationFault& fault) {
+    spdlog::error("{}", fault.what());
+    driver.fail(world, fault.what());
+    throw;
   } catch (const std::exception& error) {
     driver.abort(error.what());
     throw;
@@ -180,6 +183,16 @@ RunSummary runHeadless(TranslatedScene& scene) {
                "max z {:.5g} m, {} neighbour builds",
                last.particles, world.removedAtBounds().count, last.kinetic_energy, last.mean_z, last.max_z,
                last.neighbour_builds);
+  double staged = 0.0;
+  for (const double seconds : world.stageSeconds()) staged += seconds;
+  std::string stages;
+  for (std::size_t k = 0; k < world.stageSeconds().size(); ++k) {
+    const double seconds = world.stageSeconds()[k];
+    if (seconds <= 0.0) continue;
+    stages += fmt::format("{}{} {:.3g} s ({:.1f} %)", stages.empty() ? "" : ", ", core::stageTable()[k].name,
+                          seconds, 100.0 * seconds / std::max(staged, 1e-12));
+  }
+  spdlog::info("stage timing: {}", stages);
   for (const auto& component : world.components()) {
     if (const auto* source = dynamic_cast<const core::ParticleSource*>(component.get())) {
       if (source->report().shortfall_count > 0) {

@@ -4,6 +4,8 @@
 /// time into stepping and output.
 #include "demlink/server/run/run_driver.hpp"
 
+#include <spdlog/spdlog.h>
+
 #include <spdlog/fmt/fmt.h>
 
 #include "demlink/core/components/sampled_component.hpp"
@@ -119,6 +121,19 @@ void RunDriver::finish(const core::World& world, const std::string& reason) {
   timing_.frames = frames_.frameCount();
   if (!reason.empty()) log_.add("timing", "finish_reason", reason);
   log_.writeTiming(world, timing_);
+}
+
+void RunDriver::fail(const core::World& world, const std::string& why) {
+  if (ended_) return;
+  try {
+    writeCheckpoint(world, "checkpoint_final.bin");
+  } catch (const std::exception& error) {
+    spdlog::error("final checkpoint not written: {}", error.what());
+  }
+  ended_ = true;
+  timing_.total_seconds = secondsSince(start_);
+  timing_.steps = world.stepCount() - first_step_;
+  log_.add("timing", "status", "failed: " + why);
 }
 
 void RunDriver::abort(const std::string& why) {

@@ -49,6 +49,20 @@ void RunLog::writeConfiguration(const core::World& world, const RunOptions& run,
   add("config", "critical_time_step", number(report.limit), "s");
   add("config", "critical_time_step_limited_by", report.limited_by);
   add("config", "time_step_fraction_of_critical", number(s.time_step / report.limit));
+  for (const core::TimeStepConstraint& c : report.constraints) {
+    add("time_step_limit", c.name, number(c.limit), "s");
+  }
+  add("time_step_limit", "restitution_tolerance", number(report.restitution_tolerance));
+  add("time_step_limit", "validated_impact_speed", number(report.impact_speed), "m/s");
+  for (const core::PairDampingReport& d : report.damping) {
+    const std::string pair = d.material_a + "/" + d.material_b;
+    add("damping", pair + " restitution", number(d.restitution));
+    add("damping", pair + " c", number(d.damping_coefficient));
+    add("damping", pair + " beta", number(d.beta));
+    add("damping", pair + " normal_damping", number(d.normal_damping));
+    add("damping", pair + " tangential_damping", number(d.tangential_damping));
+    add("damping", pair + " step_fraction_of_contact", number(d.step_fraction));
+  }
   add("config", "contact_model", core::toString(s.contact_model));
   add("config", "integrator", core::toString(s.integrator));
   add("config", "threads", std::to_string(s.threads));
@@ -82,6 +96,14 @@ void RunLog::writeTiming(const core::World& world, const RunTiming& timing) {
   const double stepping = std::max(total - timing.output_seconds, 1.0e-9);
   add("timing", "initialise_wall", number(timing.initialise_seconds), "s");
   add("timing", "total_wall", number(timing.total_seconds), "s");
+  // Per stage call (World::setStageTiming): seconds and share of the stepping time.
+  const auto& stageSeconds = world.stageSeconds();
+  for (std::size_t k = 0; k < stageSeconds.size(); ++k) {
+    if (stageSeconds[k] <= 0.0) continue;
+    const std::string name(core::stageTable()[k].name);
+    add("stage_timing", name, number(stageSeconds[k]), "s");
+    add("stage_timing", name + " share", number(stageSeconds[k] / stepping));
+  }
   add("timing", "stepping_wall", number(total - timing.output_seconds), "s");
   add("timing", "output_wall", number(timing.output_seconds), "s");
   add("timing", "steps", std::to_string(timing.steps));

@@ -110,6 +110,7 @@ core::SimulationSettings toSettings(const v1::SimulationBox& box, const std::str
   settings.neighbour_skin = box.neighbour_skin();
   if (box.has_max_impact_velocity()) settings.max_impact_velocity = box.max_impact_velocity();
   settings.linear_normal_stiffness = box.linear_normal_stiffness();
+  if (box.has_restitution_tolerance()) settings.restitution_tolerance = box.restitution_tolerance();
   settings.allow_unsafe_time_step = box.allow_unsafe_time_step();
   if (box.has_threads()) {
     settings.threads = box.threads() == 0 ? core::maxThreads() : box.threads();
@@ -121,6 +122,24 @@ core::SimulationSettings toSettings(const v1::SimulationBox& box, const std::str
     settings.bounds = core::DomainBounds{toVec3(bounds.lower()), toVec3(bounds.upper())};
   }
   translateRoom(box, prefix, settings);
+  if (box.has_watchdog()) {
+    const v1::SimulationBox::Watchdog& w = box.watchdog();
+    core::WatchdogSettings& out = settings.watchdog;
+    auto policy = [&](v1::SimulationBox::Watchdog::Policy p, core::GuardPolicy fallback, const std::string& field) {
+      switch (p) {
+        case v1::SimulationBox::Watchdog::POLICY_UNSPECIFIED: return fallback;
+        case v1::SimulationBox::Watchdog::STOP: return core::GuardPolicy::Stop;
+        case v1::SimulationBox::Watchdog::WARN: return core::GuardPolicy::Warn;
+        default: throw InputError(prefix + ".watchdog." + field, std::to_string(p), "unknown policy");
+      }
+    };
+    if (w.has_every_steps()) out.every_steps = w.every_steps();
+    out.policy = policy(w.policy(), out.policy, "policy");
+    out.speed_policy = policy(w.speed_policy(), out.speed_policy, "speed_policy");
+    if (w.has_max_overlap_fraction()) out.max_overlap_fraction = w.max_overlap_fraction();
+    if (w.has_max_energy_growth()) out.max_energy_growth = w.max_energy_growth();
+    if (w.has_max_speed_factor()) out.max_speed_factor = w.max_speed_factor();
+  }
   settings.validate(prefix);
   return settings;
 }
@@ -180,6 +199,7 @@ void addPlane(const v1::Plane& plane, const std::string& name, const MaterialNam
   if (!plane.has_normal()) throw InputError(prefix + ".normal", "(missing)", "a plane needs a normal");
   spec.normal = toVec3(plane.normal());
   spec.material = resolveMaterial(materials, plane.material(), prefix + ".material");
+  spec.rigid = plane.rigid();
   world.addPlane(std::move(spec), prefix);
 }
 

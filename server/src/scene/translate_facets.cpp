@@ -95,6 +95,7 @@ MeshBodyDeclaration translateFacetBody(const v1::FacetBody& facet, const std::st
   }
   readGeometry(facet, files, prefix, out);
   if (role != Role::Fixed) readTwist(facet, prefix, out);
+  out.rigid = facet.rigid();
   if (role == Role::NonColliding) {
     out.active_from = out.active_until = std::numeric_limits<double>::infinity();
   } else {

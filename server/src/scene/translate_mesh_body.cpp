@@ -36,7 +36,9 @@ core::MeshBody buildMeshBody(const MeshBodyDeclaration& declaration, const std::
   }();
   body.setPose(declaration.position, declaration.orientation);
   body.setVelocity(declaration.linear_velocity, declaration.angular_velocity);
+  body.setRigid(declaration.rigid);
   try {
+    body.setSpeedLimit(declaration.max_speed);
     body.setCollisionWindow(declaration.active_from, declaration.active_until);
   } catch (const InputError& e) {
     throw e.within(fieldPrefix);
@@ -58,6 +60,7 @@ MeshBodyDeclaration translateMeshBody(const v1::MeshBody& mesh, const std::strin
   out.stl_file = stlFileOf(mesh.stl_file(), files, fieldPrefix + ".stl_file");
   readPlacement(mesh, fieldPrefix, OmittedPosition::Origin, out);
   readTwist(mesh, fieldPrefix, out);
+  out.rigid = mesh.rigid();
   return out;
 }
 

@@ -70,6 +70,8 @@ MeshBodyDeclaration translateRigidBody(const v1::RigidBody& body, const std::str
   readGeometry(body, files, fieldPrefix, out);
   readPlacement(body, fieldPrefix, OmittedPosition::ReferencePoint, out);
   readTwist(body, fieldPrefix, out);
+  if (body.has_max_speed()) out.max_speed = body.max_speed();
+  out.rigid = body.rigid();
   return out;
 }
 

@@ -66,7 +66,8 @@ TEST_P(ContactLawCalibration, CriticalTimeStepIsPositiveAndFinite) {
   const ContactLawEntry& law = contactLaws()[GetParam()];
   const std::vector<Material> materials{test::testMaterial(0.5)};
   const ContactPairTable table(materials, law.model, {kRadius, kSpeed, 0.0});
-  const TimeStepReport report = criticalTimeStep(materials, table, law.model, {kRadius}, kSpeed);
+  const TimeStepReport report = criticalTimeStep(materials, table, law.model, IntegratorKind::VelocityVerlet, {kRadius},
+                                                 kSpeed, 0.01);
   for (double t : {report.contact_duration, report.limit}) {
     EXPECT_GT(t, 0.0) << law.name;
     EXPECT_TRUE(std::isfinite(t)) << law.name;

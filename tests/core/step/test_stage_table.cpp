@@ -110,7 +110,8 @@ TEST(StageTable, SpheresAloneRunTheMinimalVerletStep) {
   world.addMaterial(test::testMaterial(0.5));
   addSphere(world, Vec3::Zero());
   const std::vector<std::string> expected{"velocity_verlet", "neighbour_list", "forces",
-                                          "particle_contacts:hertz_mindlin", "second_half_kick", "advance_clock"};
+                                          "particle_contacts:hertz_mindlin", "second_half_kick", "advance_clock",
+                                          "watchdog"};
   EXPECT_EQ(world.activeStages(), expected);
   world.initialize();
   world.step();
@@ -127,7 +128,8 @@ TEST(StageTable, EulerRunsNoSecondKickAndPlanesAndBoundsAddTheirStages) {
   addSphere(world, Vec3::Zero());
   EXPECT_EQ(world.activeStages(),
             (std::vector<std::string>{"bounds_removal", "explicit_euler", "neighbour_list", "forces",
-                                      "particle_contacts:linear_spring_dashpot", "plane_contacts", "advance_clock"}));
+                                      "particle_contacts:linear_spring_dashpot", "plane_contacts", "advance_clock",
+                                      "watchdog"}));
 }
 
 TEST(StageTable, EveryFeatureAddsItsStagesInStepOrder) {
@@ -154,7 +156,7 @@ TEST(StageTable, EveryFeatureAddsItsStagesInStepOrder) {
       "mesh_motion",      "probe:feed",         "probe:drain",     "growing_bounds", "velocity_verlet",
       "moving_frame",     "clump_rigid_bodies", "neighbour_list",  "forces",         "particle_contacts:hertz_mindlin",
       "mesh_contacts",    "rolling_resistance", "clump_force_sum", "second_half_kick", "clump_half_kick",
-      "advance_clock",    "probe:drain",        "probe:sensor"};
+      "advance_clock",    "probe:drain",        "probe:sensor",    "watchdog"};
   world.initialize();  // mixes the pairs: only now is rolling friction known
   EXPECT_EQ(world.activeStages(), expected);
   world.step();

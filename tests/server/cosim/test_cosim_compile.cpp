@@ -210,7 +210,11 @@ TEST(CosimCompile, ReportHasStagesCriticalStepAndInitialOutputs) {
   EXPECT_DOUBLE_EQ(c->time_step(), 1e-5);
   EXPECT_GT(c->report().critical_time_step(), 1e-5);
   EXPECT_EQ(c->report().particle_count(), 9u);
-  EXPECT_GT(c->report().active_stages_size(), 0);
+  // Exactly what a bed on a plane needs (tests/server/scene/test_scene_stages.cpp covers more scenes).
+  const std::vector<std::string> stages(c->report().active_stages().begin(), c->report().active_stages().end());
+  EXPECT_EQ(stages, (std::vector<std::string>{"velocity_verlet", "neighbour_list", "forces",
+                                              "particle_contacts:hertz_mindlin", "plane_contacts", "second_half_kick",
+                                              "advance_clock", "watchdog"}));
   ASSERT_EQ(c->initial_outputs_size(), 2);
   EXPECT_EQ(c->initial_outputs(0).simulation_box().particle_count(), 9u);
   const v1::ParticleViewOutput& view = c->initial_outputs(1).particle_view();

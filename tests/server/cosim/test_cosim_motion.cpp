@@ -17,6 +17,8 @@ constexpr double kPi = std::numbers::pi;
 
 /// A plate (top face at z = 0 when at its initial pose; reference point = box centre at
 /// z = -0.005) declared by client 1, plus `extra` components; compiled on the last one.
+/// The plate's declared max_speed covers the jumps these tests send (else the watchdog
+/// stops a body moving 10 x faster than the validated speed).
 void startPlate(CosimHarness& h, double dt, double interval, const std::string& motion,
                 const std::vector<std::string>& extra) {
   h.hello(1, "driver");
@@ -25,7 +27,7 @@ void startPlate(CosimHarness& h, double dt, double interval, const std::string& 
   for (const std::string& c : extra) h.declare(1, c);
   h.declare(1, R"({"name": "plate", "communication_interval": )" + std::to_string(interval) +
                    R"(, "rigid_body": {"material": "glass", "box": {"size": {"x": 0.05, "y": 0.05, "z": 0.01}},
-                   "position": {"z": -0.005}, "motion": ")" + motion + R"("}})");
+                   "position": {"z": -0.005}, "max_speed": 100, "motion": ")" + motion + R"("}})");
   ASSERT_TRUE(h.compiled(1));
 }
 

@@ -15,7 +15,7 @@
 namespace demlink::server {
 namespace {
 
-constexpr const char* kBox = R"({"name": "box", "simulation_box": {"end_time": 0.1}})";
+constexpr const char* kBox = R"({"name": "box", "simulation_box": {"end_time": 0.1, "restitution_tolerance": 0.2}})";
 constexpr const char* kGlass = R"({"name": "glass", "material": {}})";
 constexpr const char* kPair = R"({"name": "pair", "clump_template": {"spheres": [
     {"offset": {"x": -0.001}, "radius": 0.001}, {"offset": {"x": 0.001}, "radius": 0.001}]}})";

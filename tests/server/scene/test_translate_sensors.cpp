@@ -20,7 +20,7 @@ namespace {
 const std::filesystem::path kScenes = std::filesystem::path(DEMLINK_EXAMPLES_DIR) / "scenes";
 
 constexpr const char* kBox =
-    R"({"name": "box", "simulation_box": {"end_time": 0.002, "output": {"progress_interval_s": 60}}})";
+    R"({"name": "box", "simulation_box": {"end_time": 0.002, "restitution_tolerance": 0.2, "output": {"progress_interval_s": 60}}})";
 constexpr const char* kGlass = R"({"name": "glass", "material": {}})";
 constexpr const char* kLattice = R"({"name": "grains", "particle_lattice": {"material": "glass", "radius": 0.002,
     "spacing": 0.006, "origin": {"z": 0.01}, "counts": {"nx": 2, "ny": 2, "nz": 2}}})";

@@ -11,6 +11,7 @@
 #include "demlink/core/contact/contact_model.hpp"
 #include "demlink/core/math_types.hpp"
 #include "demlink/core/step/frame_motion.hpp"
+#include "demlink/core/step/watchdog.hpp"
 
 namespace demlink::core {
 
@@ -45,6 +46,10 @@ struct SimulationSettings {
   /// Linear law only: normal stiffness [N/m]; 0 derives it from Hertz (see
   /// ContactPairTable) at the mean radius and max_impact_velocity.
   double linear_normal_stiffness = 0.0;
+  /// Largest error of the delivered restitution the time-step limit allows, over
+  /// every contact-onset phase: relative for e >= 0.1, tolerance * 0.1 absolute
+  /// below (critical_time_step.hpp). In (0, 1).
+  double restitution_tolerance = 0.01;
   /// Accept a time step above the critical limit (a warning instead of an error).
   bool allow_unsafe_time_step = false;
   std::optional<DomainBounds> bounds;
@@ -56,6 +61,8 @@ struct SimulationSettings {
   /// are deterministic for a fixed thread count; 1 runs everything serially. At most
   /// maxThreads(): more threads than cores only slow the step down.
   std::uint32_t threads = 1;
+  /// The run-time watchdog's period, checks and policies (step/watchdog.hpp).
+  WatchdogSettings watchdog;
   /// Re-sort particle slots by grid cell every this many neighbour builds (0: never).
   std::uint32_t sort_every_builds = 16;
 

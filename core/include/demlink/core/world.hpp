@@ -5,6 +5,7 @@
 /// selects the stages its scene needs once, at initialize(), and step() calls
 /// only those. What the user chose (SimulationSettings) stays fixed; what evolves
 /// is in WorldState (world_state.hpp).
+#include <array>
 #include <cstdint>
 #include <iosfwd>
 #include <memory>
@@ -29,6 +30,7 @@
 #include "demlink/core/simulation_settings.hpp"
 #include "demlink/core/step/stage_table.hpp"
 #include "demlink/core/step/thread_pool.hpp"
+#include "demlink/core/step/watchdog.hpp"
 #include "demlink/core/components/world_component.hpp"
 #include "demlink/core/world_state.hpp"
 
@@ -154,6 +156,26 @@ class World {
   [[nodiscard]] const std::vector<MeshBody>& meshes() const { return meshes_; }
   [[nodiscard]] MeshBody& mesh(std::size_t index) { return meshes_.at(index); }
   [[nodiscard]] const TimeStepReport& timeStepReport() const { return time_step_report_; }
+  /// The index of the rigid twin of `material` (Material::rigid, named "<name> (rigid)"),
+  /// added on first use; rigid planes and meshes use it.
+  std::uint32_t rigidTwin(std::uint32_t material);
+  /// Measures the wall time of every stage call from now on (two clock reads per
+  /// call, none per contact); off by default.
+  void setStageTiming(bool on) { stage_timing_ = on; }
+  /// Wall seconds spent in each stage call since timing was switched on, by Stage.
+  [[nodiscard]] const std::array<double, kStageCount>& stageSeconds() const { return stage_seconds_; }
+  /// Every speed the world could see at initialize() (particles, sources, meshes,
+  /// the frame's rotation), fastest first.
+  [[nodiscard]] const std::vector<SeenSpeed>& seenSpeeds() const { return seen_speeds_; }
+  /// The impact speed the time step is validated for [m/s]: the largest of
+  /// max_impact_velocity and the seen speeds.
+  [[nodiscard]] double validatedImpactSpeed() const { return time_step_report_.impact_speed; }
+  /// Warnings of initialize() (a declared speed below a seen one) and of the
+  /// watchdog so far, in order.
+  [[nodiscard]] std::vector<std::string> warnings() const;
+  /// Measures what the watchdog checks, now (stage watchdog calls it every
+  /// every_steps steps; tests call it directly).
+  [[nodiscard]] WatchdogReading watch();
   [[nodiscard]] const ContactPairTable& pairTable() const { return pair_table_; }
   [[nodiscard]] const RemovalTally& removedAtBounds() const { return state_.removed_at_bounds; }
   [[nodiscard]] const NeighbourList& neighbourList() const { return neighbours_; }
@@ -189,6 +211,16 @@ class World {
   void computeForces();
   void gatherClumpForces();
   void secondHalfKick(const StepContext& context);
+  void runWatchdog();
+
+  /// The speeds the scene shows before it runs (seen_speeds_), fastest first.
+  [[nodiscard]] std::vector<SeenSpeed> collectSeenSpeeds() const;
+  /// Refuses settings or particles whose first step would overflow, naming the field.
+  void requireFiniteFirstStep() const;
+  /// Elastic energy stored in particle-pair and plane contacts [J], and the
+  /// deepest overlap (fraction of the smaller radius) with its contact's name.
+  template <class Law>
+  void measureContacts(WatchdogReading& reading) const;
 
   /// Updates mesh_colliding_ for a force evaluation at `time` [s]; true if any changed.
   bool updateMeshCollision(double time);
@@ -227,6 +259,12 @@ class World {
   LinearStiffnessReference pair_reference_;
   std::vector<PairOverrideEntry> pair_overrides_;
   TimeStepReport time_step_report_;
+  std::vector<SeenSpeed> seen_speeds_;
+  std::vector<std::string> initialize_warnings_;
+  Watchdog watchdog_;
+  bool energy_fed_ = false;  ///< a mesh moved since the last watchdog check
+  bool stage_timing_ = false;
+  std::array<double, kStageCount> stage_seconds_{};
   NeighbourList neighbours_;
   PairLoopPartition partition_;
   std::unique_ptr<ThreadPool> pool_;  ///< null when running on one thread

@@ -108,6 +108,8 @@ class ParticleSource final : public WorldComponent {
   [[nodiscard]] std::uint32_t stages() const override { return kStageInsertRemove; }
   void initialize(World& world) override;
   void insertAndRemove(World& world) override;
+  /// Insertion speed plus the spin at the rim (and the attached body's speed when added).
+  [[nodiscard]] std::optional<double> largestSpeed(const World& world) const override;
   /// A "SRCE" section: generator state, the drawn particle waiting for its mass (kg/s),
   /// the consumed mass, the report and the shortfall log mark.
   void saveState(StateWriter& out) const override;

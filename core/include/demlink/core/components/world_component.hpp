@@ -7,6 +7,7 @@
 /// Why a virtual interface here but compile-time contact laws: components run
 /// once per step (a handful of virtual calls), contact laws once per contact.
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -44,6 +45,10 @@ class WorldComponent {
   virtual void insertAndRemove(World& /*world*/) {}
   /// Stage observe. `world.time()` is the time at the end of the step.
   virtual void observe(const World& /*world*/) {}
+
+  /// The largest speed [m/s] the component gives particles (a source's insertion
+  /// speed), for the time-step limit; nullopt: none.
+  [[nodiscard]] virtual std::optional<double> largestSpeed(const World& /*world*/) const { return std::nullopt; }
 
   /// Writes whatever the component's future behaviour depends on (random
   /// generator state, accumulated counts, next insertion time) into a

@@ -17,6 +17,7 @@
 #include "demlink/core/contact/contact_model.hpp"
 #include "demlink/core/contact/hertz_mindlin_law.hpp"
 #include "demlink/core/contact/linear_spring_dashpot_law.hpp"
+#include "demlink/core/contact/time_step_calibration.hpp"
 #include "demlink/core/materials/material.hpp"
 
 namespace demlink::core {
@@ -53,6 +54,11 @@ struct ContactLawEntry {
                                 const LinearStiffnessReference& linearReference);
   /// Duration [s] of a head-on impact at impactSpeed [m/s].
   double (*contact_duration)(const ContactPairParams& p, double rStar, double mStar, double impactSpeed);
+  /// Rebound ratio the engine's integrator delivers for damping c at the
+  /// dimensionless step h and onset phase in [0, 1) (time_step_calibration.hpp).
+  double (*discrete_restitution)(double c, double h, double phase, IntegratorKind integrator);
+  /// Dimensionless duration of the undamped contact (its ODE's time unit).
+  double (*elastic_duration)();
 };
 
 /// All entries, indexed by ContactModel value.

@@ -41,6 +41,7 @@ struct ContactPairParams {
   double linear_normal_stiffness = 0.0;      ///< k_n [N/m], linear law only
   double linear_tangential_stiffness = 0.0;  ///< k_t [N/m], linear law only
   double restitution = 1.0;           ///< requested e (for reports)
+  double damping_coefficient = 0.0;   ///< the law's dimensionless c delivering e (for the time-step limit)
   double beta = 0.0;                  ///< solver-paper beta equivalent (Hertz) or -zeta (linear), for reports
 };
 

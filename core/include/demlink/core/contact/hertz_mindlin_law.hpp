@@ -27,6 +27,8 @@ struct HertzMindlinLaw {
   static constexpr std::string_view kName = "hertz_mindlin";
   /// Per-contact history: the tangential spring xi [m] (contact_kernel.hpp).
   using History = Vec3;
+  /// F_ne grows as overlap^kForceExponent: the stored elastic energy is F_ne delta / (kForceExponent + 1).
+  static constexpr double kForceExponent = 1.5;
 
   static ContactStiffness stiffness(const ContactPairParams& p, double rStar, double overlap) {
     const double root = std::sqrt(rStar * overlap);

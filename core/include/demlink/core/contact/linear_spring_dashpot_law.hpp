@@ -24,6 +24,8 @@ struct LinearSpringDashpotLaw {
   static constexpr std::string_view kName = "linear_spring_dashpot";
   /// Per-contact history: the tangential spring xi [m] (contact_kernel.hpp).
   using History = Vec3;
+  /// F_ne grows as overlap^kForceExponent: the stored elastic energy is F_ne delta / (kForceExponent + 1).
+  static constexpr double kForceExponent = 1.0;
 
   static ContactStiffness stiffness(const ContactPairParams& p, double /*rStar*/, double overlap) {
     return {p.linear_normal_stiffness * overlap, p.linear_normal_stiffness, p.linear_tangential_stiffness};

@@ -44,8 +44,9 @@ enum class Stage : std::uint8_t {
   kClumpHalfKick,
   kAdvanceClock,
   kObserve,
+  kWatchdog,
 };
-inline constexpr std::size_t kStageCount = static_cast<std::size_t>(Stage::kObserve) + 1;
+inline constexpr std::size_t kStageCount = static_cast<std::size_t>(Stage::kWatchdog) + 1;
 
 /// What a step's stages share.
 struct StepContext {
@@ -71,6 +72,7 @@ struct SceneFeatures {
   bool clumps = false;          ///< clump templates are declared
   bool rolling = false;         ///< some material pair has rolling friction
   bool deformables = false;     ///< the scene has deformable bodies (mass-spring, FEM)
+  bool watchdog = false;        ///< the watchdog runs (its every_steps > 0)
 };
 
 struct StageInfo {

@@ -127,6 +127,17 @@ class MeshBody {
   [[nodiscard]] const Vec3& force() const { return state_.force; }
   [[nodiscard]] const Vec3& torque() const { return state_.torque; }
   [[nodiscard]] std::uint32_t materialIndex() const { return material_index_; }
+  /// Declares the body rigid (World::addMesh then gives it the rigid twin of its
+  /// material, Material::rigid).
+  void setRigid(bool rigid) { rigid_ = rigid; }
+  [[nodiscard]] bool rigid() const { return rigid_; }
+  /// Replaces the material (World::addMesh for a rigid body's twin material).
+  void setMaterialIndex(std::uint32_t materialIndex) { material_index_ = materialIndex; }
+  /// Declared largest speed of any point of the body [m/s] (a client-driven
+  /// body's promise; 0: none). The time-step limit is validated against it.
+  /// Throws InputError ("max_speed") unless finite and >= 0.
+  void setSpeedLimit(double speed);
+  [[nodiscard]] double speedLimit() const { return speed_limit_; }
   /// Largest distance of a vertex from the reference point [m].
   [[nodiscard]] double boundingRadius() const { return bounding_radius_; }
   /// Warnings from loading (e.g. degenerate STL triangles dropped); empty otherwise.
@@ -166,6 +177,8 @@ class MeshBody {
   std::vector<std::string> load_warnings_;
   State state_;
   double bounding_radius_ = 0.0;
+  double speed_limit_ = 0.0;  ///< [m/s], 0: none declared
+  bool rigid_ = false;
   double collide_from_ = -std::numeric_limits<double>::infinity();  ///< [s]
   double collide_until_ = std::numeric_limits<double>::infinity();  ///< [s]
   std::uint32_t material_index_ = 0;

@@ -21,6 +21,9 @@ struct PlaneSpec {
   Vec3 point = Vec3::Zero();         ///< any point on the plane [m]
   Vec3 normal = Vec3::UnitZ();       ///< towards the particles' side (normalised on add)
   std::uint32_t material = 0;
+  /// Does not deform: World::addPlane gives it the rigid twin of its material
+  /// (Material::rigid), so the particle alone sets the contact stiffness.
+  bool rigid = false;
 };
 
 struct PlaneWall {

@@ -8,6 +8,7 @@
 /// components' intervals are and whatever the sensors' own CSV schedule is.
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "demlink/core/walls/coupled_motion.hpp"
@@ -17,6 +18,10 @@
 #include "demlink/v1/protocol.pb.h"
 
 namespace demlink::server {
+
+/// Path of the first NaN or infinite double/float field of `message` (nested
+/// messages and repeated fields included, e.g. "rigid_body.mean_force.x"), if any.
+[[nodiscard]] std::optional<std::string> firstNonFiniteField(const google::protobuf::Message& message);
 
 class CosimOutputs {
  public:

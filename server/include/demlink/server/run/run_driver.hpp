@@ -66,6 +66,10 @@ class RunDriver {
   void finish(const core::World& world, const std::string& reason = {});
   /// Ends the run log with status "aborted: <why>" (nothing if the run already ended).
   void abort(const std::string& why);
+  /// Ends a run the watchdog stopped: checkpoint_final.bin of the state it stopped
+  /// in (for diagnosis; no frame, which could hold non-finite values), the timing
+  /// rows and status "failed: <why>".
+  void fail(const core::World& world, const std::string& why);
 
   [[nodiscard]] const RunPlan& plan() const { return plan_; }
   [[nodiscard]] const RunTiming& timing() const { return timing_; }

@@ -41,6 +41,8 @@ struct MeshBodyDeclaration {
   core::Vec3 reference_point = core::Vec3::Zero();   ///< in the body's frame [m]
   double active_from = -std::numeric_limits<double>::infinity();  ///< collision window start [s]
   double active_until = std::numeric_limits<double>::infinity();  ///< collision window end [s]
+  bool rigid = false;      ///< the particle alone sets the contact stiffness (core::Material::rigid)
+  double max_speed = 0.0;  ///< declared largest speed of a point of the body [m/s] (rigid bodies); 0: none
 };
 
 /// The engine body of a declaration. Throws core::InputError naming

@@ -1,0 +1,202 @@
+// The run-time watchdog and the speeds the time step is validated for: a
+// bounce at 10x the accepted step is stopped by name (or warned about once), a
+// NaN stops the run, a declared impact speed below a particle's speed is
+// replaced and reported, a speed beyond the validated one warns once or (strict)
+// stops, inputs whose first step overflows are refused naming the field, and
+// rigid walls take the particle's stiffness alone.
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "demlink/core/contact/contact_pair_table.hpp"
+#include "demlink/core/input_error.hpp"
+#include "test_scenes.hpp"
+
+namespace demlink::core {
+namespace {
+
+constexpr double kRadius = 0.01;  // [m]
+
+/// A sphere on a floor at `speed`, at `stepFactor` x the accepted limit.
+World bounce(double speed, double stepFactor, double e, const WatchdogSettings& watchdog = {}) {
+  SimulationSettings probe = test::fineSettings(1e-12, speed);
+  World limit(probe);
+  limit.addMaterial(test::testMaterial(e));
+  test::addFloorAndSphere(limit, 0, kRadius, Vec3(0.0, 0.0, -speed), 1e-4);
+  limit.initialize();
+  SimulationSettings s = test::fineSettings(stepFactor * limit.timeStepReport().limit, speed);
+  s.allow_unsafe_time_step = stepFactor > 1.0;
+  s.watchdog = watchdog;
+  s.watchdog.every_steps = 1;
+  World world(s);
+  world.addMaterial(test::testMaterial(e));
+  test::addFloorAndSphere(world, 0, kRadius, Vec3(0.0, 0.0, -speed), 1e-4);
+  world.initialize();
+  return world;
+}
+
+std::string faultOf(World& world, int steps) {
+  try {
+    for (int k = 0; k < steps; ++k) world.step();
+  } catch (const SimulationFault& fault) {
+    return fault.check();
+  }
+  return "(none)";
+}
+
+TEST(Watchdog, StopsABounceAtTenTimesTheLimitByName) {
+  // At 10x the limit an elastic bounce gains or loses energy depending on the
+  // onset phase; with e = 1 any gain beyond 10 % of the energy in motion stops it.
+  World world = bounce(1.0, 10.0, 1.0);
+  const std::string check = faultOf(world, 20'000);
+  EXPECT_TRUE(check == "energy" || check == "overlap" || check == "speed_bound") << check;
+}
+
+TEST(Watchdog, AcceptedStepRunsWithoutAFault) {
+  World world = bounce(1.0, 0.99, 1.0);
+  EXPECT_EQ(faultOf(world, 2'000), "(none)");
+}
+
+TEST(Watchdog, WarnPolicyWarnsOncePerCheck) {
+  WatchdogSettings warn;
+  warn.policy = GuardPolicy::Warn;
+  World world = bounce(1.0, 10.0, 1.0, warn);
+  EXPECT_EQ(faultOf(world, 20'000), "(none)");
+  ASSERT_FALSE(world.warnings().empty());
+  for (const std::string& w : world.warnings()) EXPECT_NE(w.find("watchdog"), std::string::npos) << w;
+  const std::size_t before = world.warnings().size();
+  (void)faultOf(world, 2'000);
+  EXPECT_EQ(world.warnings().size(), before) << "each check warns once";
+}
+
+TEST(Watchdog, NonFiniteAlwaysStops) {
+  WatchdogSettings warn;
+  warn.policy = GuardPolicy::Warn;
+  World world = bounce(1.0, 0.5, 0.5, warn);
+  world.particles().velocity[0].x() = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(faultOf(world, 1), "non_finite");
+}
+
+TEST(Watchdog, OffRemovesTheStage) {
+  SimulationSettings s = test::fineSettings(1e-6, 1.0);
+  s.watchdog.every_steps = 0;
+  World off(s);
+  off.addMaterial(test::testMaterial(0.5));
+  off.initialize();
+  for (const std::string& stage : off.activeStages()) EXPECT_NE(stage, "watchdog");
+  World on(test::fineSettings(1e-6, 1.0));
+  on.addMaterial(test::testMaterial(0.5));
+  on.initialize();
+  EXPECT_EQ(on.activeStages().back(), "watchdog");
+}
+
+TEST(Speeds, DeclaredImpactSpeedBelowAParticlesIsReplacedAndReported) {
+  // The user's check: 3.9 m/s with max_impact_velocity 0.01 was accepted silently.
+  SimulationSettings s = test::fineSettings(1e-7, 0.01);
+  World world(s);
+  world.addMaterial(test::testMaterial(0.5));
+  test::addFloorAndSphere(world, 0, kRadius, Vec3(0.0, 0.0, -3.9), 1e-3);
+  world.initialize();
+  EXPECT_DOUBLE_EQ(world.validatedImpactSpeed(), 3.9);
+  ASSERT_EQ(world.warnings().size(), 1u);
+  EXPECT_NE(world.warnings()[0].find("particle 1"), std::string::npos) << world.warnings()[0];
+  EXPECT_NE(world.warnings()[0].find("max_impact_velocity"), std::string::npos) << world.warnings()[0];
+  // The limit is the one for 3.9 m/s: t_c ~ v^(-1/5).
+  World declared(test::fineSettings(1e-7, 3.9));
+  declared.addMaterial(test::testMaterial(0.5));
+  test::addFloorAndSphere(declared, 0, kRadius, Vec3(0.0, 0.0, -3.9), 1e-3);
+  declared.initialize();
+  EXPECT_DOUBLE_EQ(world.timeStepReport().limit, declared.timeStepReport().limit);
+}
+
+TEST(Speeds, MeshMotionAndItsDeclaredLimitCount) {
+  World world(test::fineSettings(1e-7, 0.5));
+  world.addMaterial(test::testMaterial(0.5));
+  MeshBody mesh("paddle", {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)}, {{0, 1, 2}}, 0);
+  mesh.setVelocity(Vec3(2.0, 0.0, 0.0), Vec3::Zero());
+  mesh.setSpeedLimit(5.0);
+  world.addMesh(std::move(mesh));
+  ParticleSpec p;
+  p.radius = kRadius;
+  p.position = Vec3(0.2, 0.2, 0.5);
+  world.addParticle(p);
+  world.initialize();
+  EXPECT_DOUBLE_EQ(world.validatedImpactSpeed(), 5.0);
+  EXPECT_NE(world.seenSpeeds().front().what.find("mesh paddle"), std::string::npos);
+}
+
+TEST(Speeds, FasterThanValidatedWarnsOnceOrStopsWhenStrict) {
+  for (const GuardPolicy policy : {GuardPolicy::Warn, GuardPolicy::Stop}) {
+    SimulationSettings s = test::fineSettings(1e-5, 0.5);
+    s.gravity = Vec3(0.0, 0.0, -9.81);
+    s.watchdog.speed_policy = policy;
+    World world(s);
+    world.addMaterial(test::testMaterial(0.5));
+    ParticleSpec p;
+    p.radius = kRadius;
+    world.addParticle(p);  // falls freely: 0.5 m/s after 0.051 s
+    world.initialize();
+    const std::string check = faultOf(world, 10'000);
+    if (policy == GuardPolicy::Stop) {
+      EXPECT_EQ(check, "speed");
+    } else {
+      EXPECT_EQ(check, "(none)");
+      ASSERT_EQ(world.warnings().size(), 1u);
+      EXPECT_NE(world.warnings()[0].find("particle 1"), std::string::npos) << world.warnings()[0];
+    }
+  }
+}
+
+TEST(FirstStep, OverflowingInputsAreRefusedNamingTheField) {
+  auto fieldOf = [](SimulationSettings s) {
+    World world(s);
+    world.addMaterial(test::testMaterial(0.5));
+    ParticleSpec p;
+    p.radius = kRadius;
+    p.position = Vec3(0.1, 0.0, 0.0);
+    world.addParticle(p);
+    try {
+      world.initialize();
+    } catch (const InputError& error) {
+      return error.field();
+    }
+    return std::string("(accepted)");
+  };
+  SimulationSettings s = test::fineSettings(1e-5, 1.0);
+  s.allow_unsafe_time_step = true;
+  EXPECT_EQ(fieldOf(s), "(accepted)");
+  SimulationSettings g = s;
+  g.gravity = Vec3(0.0, 0.0, -1e308);
+  EXPECT_EQ(fieldOf(g), "settings.gravity");
+  SimulationSettings spin = s;
+  spin.frame.angular_velocity = Vec3(0.0, 0.0, 1e308);
+  EXPECT_EQ(fieldOf(spin), "settings.frame.angular_velocity");
+}
+
+TEST(RigidWalls, TheParticleAloneSetsTheStiffness) {
+  World world(test::fineSettings(1e-6, 1.0));
+  Material grains = test::testMaterial(0.5);
+  const auto g = world.addMaterial(grains);
+  Material soft = test::testMaterial(0.5);
+  soft.name = "soft";
+  soft.youngs_modulus = 1e3;
+  const auto w = world.addMaterial(soft);
+  world.addPlane({"floor", Vec3::Zero(), Vec3::UnitZ(), w, true});
+  ParticleSpec p;
+  p.radius = kRadius;
+  p.position = Vec3(0.0, 0.0, 0.5);
+  world.addParticle(p);
+  world.initialize();
+  const std::uint32_t twin = world.planes()[0].spec.material;
+  EXPECT_NE(twin, w);
+  EXPECT_EQ(world.materials()[twin].name, "soft (rigid)");
+  const ContactPairParams& pair = world.pairTable()(g, twin);
+  const double nu = grains.poisson_ratio;
+  EXPECT_DOUBLE_EQ(pair.effective_youngs, grains.youngs_modulus / (1.0 - nu * nu));
+  EXPECT_DOUBLE_EQ(pair.effective_shear, grains.shearModulus() / (2.0 - nu));
+}
+
+}  // namespace
+}  // namespace demlink::core
