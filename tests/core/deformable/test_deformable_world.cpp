@@ -34,7 +34,7 @@ TEST(DeformableWorld, StagesOfADeformableSceneNameTheBody) {
   const std::vector<std::string> expected{"velocity_verlet",  "mass_spring:sheet", "neighbour_list",
                                           "forces",           "particle_contacts:hertz_mindlin",
                                           "deformable_contacts", "mass_spring:sheet", "second_half_kick",
-                                          "advance_clock"};
+                                          "advance_clock",    "watchdog"};
   EXPECT_EQ(world.activeStages(), expected);
 }
 
@@ -77,7 +77,7 @@ TEST(DeformableWorld, ASceneWithoutDeformablesRunsNoneOfTheirStages) {
   const std::vector<std::string> expected{"mesh_motion",  "velocity_verlet", "neighbour_list",
                                           "forces",       "particle_contacts:hertz_mindlin",
                                           "plane_contacts", "mesh_contacts", "second_half_kick",
-                                          "advance_clock"};
+                                          "advance_clock",  "watchdog"};
   EXPECT_EQ(world.activeStages(), expected);
 }
 

@@ -151,13 +151,13 @@ TEST(Speeds, FasterThanValidatedWarnsOnceOrStopsWhenStrict) {
 
 TEST(FirstStep, OverflowingInputsAreRefusedNamingTheField) {
   auto fieldOf = [](SimulationSettings s) {
-    World world(s);
-    world.addMaterial(test::testMaterial(0.5));
-    ParticleSpec p;
-    p.radius = kRadius;
-    p.position = Vec3(0.1, 0.0, 0.0);
-    world.addParticle(p);
-    try {
+    try {  // the settings' own bounds may refuse it already at construction
+      World world(s);
+      world.addMaterial(test::testMaterial(0.5));
+      ParticleSpec p;
+      p.radius = kRadius;
+      p.position = Vec3(0.1, 0.0, 0.0);
+      world.addParticle(p);
       world.initialize();
     } catch (const InputError& error) {
       return error.field();

@@ -83,7 +83,7 @@ TEST(DeformableOutputs, FramesBrokenSpringsAndRunLog) {
 TEST(DeformableOutputs, FemBodyFramesAreUnstructuredGridsWithStress) {
   // The FEM tests' cantilever (110 nodes, 254 linear tetrahedra), clamped at x = 0, sagging.
   const std::filesystem::path mesh =
-      std::filesystem::path(__FILE__).parent_path() / "../../core/deformable/data/bar_order1.msh";
+      std::filesystem::path(DEMLINK_TESTS_DIR) / "core/deformable/data/bar_order1.msh";
   const test::ScratchDir scratch;
   const std::filesystem::path out = scratch.path() / "out";
   run(R"({"components": [
