@@ -169,10 +169,10 @@ TEST(FirstStep, OverflowingInputsAreRefusedNamingTheField) {
   EXPECT_EQ(fieldOf(s), "(accepted)");
   SimulationSettings g = s;
   g.gravity = Vec3(0.0, 0.0, -1e308);
-  EXPECT_EQ(fieldOf(g), "settings.gravity");
+  EXPECT_EQ(fieldOf(g).rfind("settings.gravity", 0), 0u) << fieldOf(g);  // "settings.gravity[2]" from the bounds
   SimulationSettings spin = s;
   spin.frame.angular_velocity = Vec3(0.0, 0.0, 1e308);
-  EXPECT_EQ(fieldOf(spin), "settings.frame.angular_velocity");
+  EXPECT_EQ(fieldOf(spin).rfind("settings.frame.angular_velocity", 0), 0u) << fieldOf(spin);
 }
 
 TEST(RigidWalls, TheParticleAloneSetsTheStiffness) {

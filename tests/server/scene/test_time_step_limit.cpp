@@ -29,7 +29,7 @@ v1::Scene impactScene(double e, double dt, double phase, bool onPlane) {
   const double gap = (3.0 + phase) * kSpeed * dt;
   std::vector<std::string> c{
       R"({"name": "box", "simulation_box": {"time_step": )" + number(dt) +
-          R"(, "end_time": 1, "gravity": {}, "max_impact_velocity": )" + number(kSpeed) + "}}",
+          R"(, "end_time": 1, "gravity": {}, "restitution_tolerance": 0.01, "max_impact_velocity": )" + number(kSpeed) + "}}",
       R"({"name": "glass", "material": {"youngs_modulus": 1e7, "sliding_friction": 0, "restitution": )" +
           number(e) + "}}"};
   auto lattice = [&](const std::string& name, double x, double z, double vx, double vz) {
@@ -111,3 +111,10 @@ TEST(TimeStepLimit, ToleranceIsValidatedAndLoosensTheLimit) {
 
 }  // namespace
 }  // namespace demlink::server
+
+TEST(TimeStepLimit, ASceneThatOmitsTheToleranceGetsTenPercent) {
+  v1::Scene scene = impactScene(0.2, 1e-12, 0.0, true);
+  scene.mutable_components(0)->mutable_simulation_box()->clear_restitution_tolerance();
+  TranslatedScene t = translateScene(scene, {});
+  EXPECT_EQ(t.world.settings().restitution_tolerance, 0.1);
+}
