@@ -109,12 +109,12 @@ TEST(TimeStepLimit, ToleranceIsValidatedAndLoosensTheLimit) {
   EXPECT_GT(t.world.timeStepReport().limit, 2.0 * acceptedLimit(0.2, true));
 }
 
-}  // namespace
-}  // namespace demlink::server
-
 TEST(TimeStepLimit, ASceneThatOmitsTheToleranceGetsTenPercent) {
   v1::Scene scene = impactScene(0.2, 1e-12, 0.0, true);
   scene.mutable_components(0)->mutable_simulation_box()->clear_restitution_tolerance();
   TranslatedScene t = translateScene(scene, {});
   EXPECT_EQ(t.world.settings().restitution_tolerance, 0.1);
 }
+
+}  // namespace
+}  // namespace demlink::server
