@@ -1,0 +1,94 @@
+/// demlink-fmu: packages a DEMLink component set as an FMI 2.0 Co-Simulation FMU
+/// (docs/fmi.md). Reads the FMU configuration, writes modelDescription.xml, copies the
+/// generic FMU library as binaries/linux64/<model>.so next to libdemlink_c.so (found through
+/// the library's RUNPATH $ORIGIN) and the configuration as resources/demlink_fmu.cfg, and
+/// zips them into the .fmu.
+#include <cstdio>
+#include <exception>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "fmu_config.hpp"
+#include "zip_writer.hpp"
+
+namespace {
+
+std::string readFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::invalid_argument("cannot read '" + path + "'");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+constexpr const char* kUsage =
+    "usage: demlink-fmu CONFIG -o OUTPUT.fmu [--fmu-library PATH] [--c-library PATH]\n"
+    "  CONFIG         the FMU configuration (docs/fmi.md)\n"
+    "  -o OUTPUT.fmu  the FMU to write\n"
+    "  --fmu-library  the generic FMU library (default: the one built with this tool)\n"
+    "  --c-library    libdemlink_c.so (default: the one built with this tool)\n"
+    "  --model-description  print modelDescription.xml and exit\n";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string config_path;
+  std::string output;
+  std::string fmu_library = DEMLINK_FMU_LIBRARY;
+  std::string c_library = DEMLINK_C_LIBRARY;
+  bool print_only = false;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const bool hasValue = i + 1 < argc;
+    if (arg == "-h" || arg == "--help") {
+      std::cout << kUsage;
+      return 0;
+    }
+    if (arg == "-o" && hasValue) {
+      output = argv[++i];
+    } else if (arg == "--fmu-library" && hasValue) {
+      fmu_library = argv[++i];
+    } else if (arg == "--c-library" && hasValue) {
+      c_library = argv[++i];
+    } else if (arg == "--model-description") {
+      print_only = true;
+    } else if (config_path.empty() && !arg.starts_with("-")) {
+      config_path = arg;
+    } else {
+      std::cerr << "demlink-fmu: unexpected argument '" << arg << "'\n" << kUsage;
+      return 2;
+    }
+  }
+  if (config_path.empty() || (output.empty() && !print_only)) {
+    std::cerr << kUsage;
+    return 2;
+  }
+  try {
+    const std::string text = readFile(config_path);
+    const demlink::fmu::FmuConfig config = demlink::fmu::parseConfig(text);
+    const std::string description = demlink::fmu::modelDescriptionXml(config, demlink::fmu::guidOf(text));
+    if (print_only) {
+      std::cout << description;
+      return 0;
+    }
+    const std::vector<demlink::fmu::ZipEntry> entries = {
+        {"modelDescription.xml", description},
+        {"binaries/linux64/" + config.model_identifier + ".so", readFile(fmu_library)},
+        {"binaries/linux64/libdemlink_c.so", readFile(c_library)},
+        {"resources/demlink_fmu.cfg", text},
+    };
+    std::ofstream out(output, std::ios::binary | std::ios::trunc);
+    const std::string archive = demlink::fmu::zipArchive(entries);
+    out.write(archive.data(), static_cast<std::streamsize>(archive.size()));
+    if (!out) throw std::invalid_argument("cannot write '" + output + "'");
+    std::cout << "demlink-fmu: wrote " << output << " (" << config.model_identifier << ", "
+              << demlink::fmu::variablesOf(config).size() << " variables)\n";
+    return 0;
+  } catch (const std::exception& e) {
+    std::cerr << "demlink-fmu: " << e.what() << "\n";
+    return 1;
+  }
+}

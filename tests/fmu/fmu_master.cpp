@@ -1,0 +1,196 @@
+/// A small FMI 2.0 Co-Simulation master for the DEMLink FMU test: unpacks the .fmu, reads
+/// modelDescription.xml for the model identifier, GUID and value references, dlopens the
+/// library and runs the plate-into-bed scenario of plate_in_bed.cfg against a server.
+/// Usage: fmu_master FMU HOST PORT WORKDIR. Prints one summary line; exit 0 when every
+/// physical check holds, 1 otherwise (the reason on stderr).
+#include <dlfcn.h>
+#include <sys/stat.h>
+
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <sstream>
+#include <string>
+
+#include "fmi2.h"
+#include "zip_writer.hpp"
+
+namespace {
+
+std::string readFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+void logger(fmi2ComponentEnvironment, fmi2String instance, fmi2Status status, fmi2String category, fmi2String message,
+            ...) {
+  va_list args;
+  va_start(args, message);
+  std::fprintf(stderr, "[%s %d %s] ", instance, static_cast<int>(status), category);
+  std::vfprintf(stderr, message, args);
+  std::fprintf(stderr, "\n");
+  va_end(args);
+}
+
+int failWith(const std::string& why) {
+  std::fprintf(stderr, "fmu_master: %s\n", why.c_str());
+  return 1;
+}
+
+template <class F>
+F symbol(void* library, const char* name) {
+  void* s = dlsym(library, name);
+  if (s == nullptr) {
+    std::fprintf(stderr, "fmu_master: %s is not exported\n", name);
+    std::exit(1);
+  }
+  return reinterpret_cast<F>(s);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 5) {
+    std::fprintf(stderr, "usage: %s FMU HOST PORT WORKDIR\n", argv[0]);
+    return 2;
+  }
+  const std::filesystem::path work = argv[4];
+  try {
+    for (const demlink::fmu::ZipEntry& e : demlink::fmu::readStoredZip(readFile(argv[1]))) {
+      const std::filesystem::path file = work / e.name;
+      std::filesystem::create_directories(file.parent_path());
+      std::ofstream(file, std::ios::binary) << e.data;
+    }
+  } catch (const std::exception& e) {
+    return failWith(e.what());
+  }
+  const std::string xml = readFile((work / "modelDescription.xml").string());
+  std::smatch m;
+  if (!std::regex_search(xml, m, std::regex("modelIdentifier=\"([A-Za-z0-9_]+)\""))) return failWith("no modelIdentifier");
+  const std::string model = m[1];
+  if (!std::regex_search(xml, m, std::regex("guid=\"([^\"]+)\""))) return failWith("no guid");
+  const std::string guid = m[1];
+  std::map<std::string, fmi2ValueReference> vr;
+  const std::regex variable("name=\"([^\"]+)\" valueReference=\"([0-9]+)\"");
+  for (auto it = std::sregex_iterator(xml.begin(), xml.end(), variable); it != std::sregex_iterator(); ++it) {
+    vr[(*it)[1]] = static_cast<fmi2ValueReference>(std::stoul((*it)[2]));
+  }
+  auto ref = [&](const std::string& name) {
+    if (!vr.contains(name)) {
+      std::fprintf(stderr, "fmu_master: no variable %s\n", name.c_str());
+      std::exit(1);
+    }
+    return vr[name];
+  };
+
+  const std::string libraryPath = (work / "binaries" / "linux64" / (model + ".so")).string();
+  void* library = dlopen(libraryPath.c_str(), RTLD_NOW | RTLD_LOCAL);
+  if (library == nullptr) return failWith(std::string("dlopen: ") + dlerror());
+  const auto instantiate = symbol<decltype(&fmi2Instantiate)>(library, "fmi2Instantiate");
+  const auto setupExperiment = symbol<decltype(&fmi2SetupExperiment)>(library, "fmi2SetupExperiment");
+  const auto enterInit = symbol<decltype(&fmi2EnterInitializationMode)>(library, "fmi2EnterInitializationMode");
+  const auto exitInit = symbol<decltype(&fmi2ExitInitializationMode)>(library, "fmi2ExitInitializationMode");
+  const auto setReal = symbol<decltype(&fmi2SetReal)>(library, "fmi2SetReal");
+  const auto getReal = symbol<decltype(&fmi2GetReal)>(library, "fmi2GetReal");
+  const auto setInteger = symbol<decltype(&fmi2SetInteger)>(library, "fmi2SetInteger");
+  const auto getInteger = symbol<decltype(&fmi2GetInteger)>(library, "fmi2GetInteger");
+  const auto setString = symbol<decltype(&fmi2SetString)>(library, "fmi2SetString");
+  const auto doStep = symbol<decltype(&fmi2DoStep)>(library, "fmi2DoStep");
+  const auto terminate = symbol<decltype(&fmi2Terminate)>(library, "fmi2Terminate");
+  const auto freeInstance = symbol<decltype(&fmi2FreeInstance)>(library, "fmi2FreeInstance");
+  if (std::string(symbol<decltype(&fmi2GetVersion)>(library, "fmi2GetVersion")()) != "2.0") return failWith("version");
+
+  const fmi2CallbackFunctions callbacks{logger, nullptr, nullptr, nullptr, nullptr};
+  const std::string resources = "file://" + std::filesystem::absolute(work / "resources").string();
+  fmi2Component fmu = instantiate("plate", fmi2CoSimulation, guid.c_str(), resources.c_str(), &callbacks, fmi2False,
+                                  fmi2False);
+  if (fmu == nullptr) return failWith("fmi2Instantiate returned NULL");
+  const fmi2ValueReference hostRef = ref("host");
+  const fmi2ValueReference portRef = ref("port");
+  const fmi2String host = argv[2];
+  const fmi2Integer port = std::atoi(argv[3]);
+  const double h = 0.002;
+  const double speed = 0.25;      // plate lowered at 0.25 m/s [m/s]
+  const double startZ = 0.11;     // plate centre at the start [m]
+  const double finalZ = 0.05;     // plate bottom 45 mm above the floor, 15-35 mm into the bed [m]
+  const double bedTop = 0.08;     // the pit's target height: the bed's top is at most this [m]
+  const int steps = static_cast<int>(std::lround((startZ - finalZ) / speed / h));
+  fmi2ValueReference poseRefs[13];
+  const char* const inputs[13] = {"position[1]", "position[2]", "position[3]", "orientation[1]", "orientation[2]",
+                                  "orientation[3]", "orientation[4]", "velocity[1]", "velocity[2]", "velocity[3]",
+                                  "angularVelocity[1]", "angularVelocity[2]", "angularVelocity[3]"};
+  for (int i = 0; i < 13; ++i) poseRefs[i] = ref(std::string("plate.") + inputs[i]);
+  const fmi2ValueReference outRefs[6] = {ref("plate.meanForce[1]"), ref("plate.meanForce[2]"),
+                                         ref("plate.meanForce[3]"), ref("plate.bodyPosition[3]"),
+                                         ref("box.totalMass"), ref("box.time")};
+  const fmi2ValueReference countRef = ref("box.particleCount");
+
+  const fmi2ValueReference timeoutRef = ref("timeout");
+  const fmi2Real timeout = 300.0;  // the bed settles before Compiled: slow on a loaded machine [s]
+  if (setString(fmu, &hostRef, 1, &host) != fmi2OK || setInteger(fmu, &portRef, 1, &port) != fmi2OK ||
+      setReal(fmu, &timeoutRef, 1, &timeout) != fmi2OK ||
+      setupExperiment(fmu, fmi2False, 0.0, 0.0, fmi2False, 0.0) != fmi2OK || enterInit(fmu) != fmi2OK) {
+    return failWith("setting up the instance failed");
+  }
+  double pose[13] = {0, 0, startZ, 1, 0, 0, 0, 0, 0, -speed, 0, 0, 0};
+  if (setReal(fmu, poseRefs, 13, pose) != fmi2OK || exitInit(fmu) != fmi2OK) return failWith("initialization failed");
+
+  // The bed's top is at most the target height and within one diameter (20 mm) below it
+  // (docs/sources.md): the plate's bottom (5 mm below its centre) is clear of it above
+  // the target height.
+  const double clearZ = bedTop;
+  double out[6] = {};
+  double initialMass = 0.0;
+  double previousZ = startZ;
+  double maxClearForce = 0.0;
+  double maxLagError = 0.0;
+  double halfwayForceZ = -1.0;  // mean vertical force when the plate is halfway down [N]
+  for (int k = 0; k <= steps; ++k) {
+    const double t = k * h;
+    pose[2] = startZ - speed * t;
+    if (setReal(fmu, poseRefs, 13, pose) != fmi2OK) return failWith("fmi2SetReal failed");
+    if (doStep(fmu, t, h, fmi2True) != fmi2OK) return failWith("fmi2DoStep failed at t = " + std::to_string(t));
+    if (getReal(fmu, outRefs, 6, out) != fmi2OK) return failWith("fmi2GetReal failed");
+    // One-interval lag: the step from t_k returns the interval that ended at t_k, during
+    // which the body moved (PREDICTED) from the pose sent at t_k-1 with the sent velocity.
+    const double expectedZ = k == 0 ? startZ : previousZ - speed * h;
+    maxLagError = std::max(maxLagError, std::fabs(out[3] - expectedZ));
+    if (k == 0) initialMass = out[4];
+    if (out[3] - 0.005 > clearZ) maxClearForce = std::max(maxClearForce, std::fabs(out[2]));
+    if (halfwayForceZ < 0.0 && out[3] <= 0.5 * (clearZ + 0.005 + finalZ)) halfwayForceZ = out[2];
+    previousZ = pose[2];
+  }
+  fmi2Integer particles = 0;
+  getInteger(fmu, &countRef, 1, &particles);
+  const double finalForceZ = out[2];
+  const double depth = bedTop - 0.02 - (out[3] - 0.005);  // at least this deep [m]
+  // Lower bound: the plate carries at least the weight of the bulk column it displaced
+  // (bulk density = solid density 2650 kg/m^3 x solid fraction >= 0.35, docs/sources.md).
+  const double columnWeight = 2650.0 * 0.35 * 9.81 * 0.06 * 0.06 * std::max(depth, 0.0);
+  std::printf("fmu_master: %d steps, t = %g s, particles %d, mass %g kg, plate z %g m, mean force (%g, %g, %g) N, "
+              "clear force %g N, halfway force %g N, lag error %g m, column weight %g N\n",
+              steps + 1, out[5], particles, out[4], out[3], out[0], out[1], out[2], maxClearForce, halfwayForceZ, maxLagError,
+              columnWeight);
+  std::fflush(stdout);
+  int status = 0;
+  if (terminate(fmu) != fmi2OK) status = failWith("fmi2Terminate failed");
+  freeInstance(fmu);
+  if (maxLagError > 1e-9) status = failWith("body position does not lag the inputs by one interval");
+  if (maxClearForce != 0.0) status = failWith("force on the plate while it is clear of the bed");
+  if (!(finalForceZ > columnWeight && columnWeight > 0.0)) status = failWith("no upward force in the bed");
+  if (!(finalForceZ > halfwayForceZ)) status = failWith("the bed's resistance does not grow with depth");
+  if (!(std::fabs(out[0]) < 0.5 * finalForceZ && std::fabs(out[1]) < 0.5 * finalForceZ)) {
+    status = failWith("horizontal force not small against the vertical one (symmetric plate)");
+  }
+  if (particles < 100 || std::fabs(out[4] - initialMass) > 1e-9 * initialMass) {
+    status = failWith("the bed's particles or mass changed");
+  }
+  return status;
+}
