@@ -1,39 +1,62 @@
 within DEMLink.Basics;
-model SimulationBox "Server address, communication interval and scene-wide settings (use as inner simBox)"
-  parameter String address = "127.0.0.1" "Host of demlink-server";
-  parameter Integer port = 47000 "TCP port of demlink-server (its --port)";
-  parameter String token = "" "Access token when the server requires one";
-  parameter Modelica.Units.SI.Time tc = 1e-3 "Communication interval of the components";
-  parameter Modelica.Units.SI.Time timeStep = 1e-5 "DEM time step";
-  parameter Modelica.Units.SI.Time endTime = 10 "Simulated time of the DEM run";
-  parameter Real gravity[3] = {0, 0, -9.81} "Gravity [m/s2]";
-  parameter Real boundsLower[3] = {-5, -5, -5} "Lower corner of the DEM domain [m]";
-  parameter Real boundsUpper[3] = {5, 5, 5} "Upper corner of the DEM domain [m]";
-  parameter Integer nComponents = 1 "Components in the model, this box included (the server compiles once all are declared)";
-  parameter Real timeout = 30 "Longest wait for the server in one call [s]";
-  output Integer particleCount(start = 0, fixed = true) "Particles in the DEM world";
-  output Real totalMass(start = 0, fixed = true) "Mass of all particles [kg]";
-  output Real kineticEnergy(start = 0, fixed = true) "Kinetic energy of all particles [J]";
+model SimulationBox "Server address, communication interval and the DEM run's settings (use as inner simBox)"
+  parameter String address = "127.0.0.1" "Host of demlink-server" annotation (Dialog(group = "Server"));
+  parameter Integer port = 47000 "TCP port of demlink-server (its --port)" annotation (Dialog(group = "Server"));
+  parameter String token = "" "Access token when the server requires one" annotation (Dialog(group = "Server"));
+  parameter Modelica.Units.SI.Time timeout = 30 "Longest wait for the server in one call" annotation (Dialog(group = "Server"));
+  parameter Modelica.Units.SI.Time tc = 1e-3 "Communication interval of the components" annotation (Dialog(group = "Coupling"));
+  parameter Integer nComponents = 1 "Components in the model, this box included: the server compiles once all declared"
+    annotation (Dialog(group = "Coupling"));
+  parameter Modelica.Units.SI.Time timeStep = -1 "DEM time step (negative: the server's limit from the materials)";
+  parameter Modelica.Units.SI.Time endTime = 0
+    "DEM end time; 0: the DEM run ends with this model's run (every component's Bye at terminal())";
+  parameter Modelica.Units.SI.Acceleration gravity[3] = {0, 0, -9.81} "Gravity";
+  parameter Modelica.Units.SI.Position boundsLower[3] = {-5, -5, -5} "Lower corner of the DEM domain (particles leaving it are removed)";
+  parameter Modelica.Units.SI.Position boundsUpper[3] = {5, 5, 5} "Upper corner of the DEM domain";
+  parameter Modelica.Units.SI.Time vtkInterval = -1 "VTK output interval of the server (negative: the server's default)"
+    annotation (Dialog(group = "Server output"));
+  parameter Integer threads = -1 "Engine threads (negative: 1, 0: all cores)";
+  Modelica.Blocks.Interfaces.IntegerOutput particleCount(start = 0, fixed = true) "Particles in the DEM world"
+    annotation (Placement(transformation(extent = {{100, 50}, {120, 70}})));
+  Modelica.Blocks.Interfaces.RealOutput totalMass(unit = "kg", start = 0, fixed = true) "Mass of all particles"
+    annotation (Placement(transformation(extent = {{100, 10}, {120, 30}})));
+  Modelica.Blocks.Interfaces.RealOutput kineticEnergy(unit = "J", start = 0, fixed = true) "Kinetic energy of all particles"
+    annotation (Placement(transformation(extent = {{100, -30}, {120, -10}})));
+  Modelica.Blocks.Interfaces.RealOutput demTime(unit = "s", start = 0, fixed = true) "DEM time at the end of the last interval"
+    annotation (Placement(transformation(extent = {{100, -70}, {120, -50}})));
+  Modelica.Blocks.Interfaces.RealOutput stepRate(unit = "1/s", start = 0, fixed = true) "DEM steps per wall-clock second";
 protected
   DEMLink.Functions.Client client = DEMLink.Functions.Client();
-  parameter Integer handle(fixed = false);
   Integer status(start = 0, fixed = true);
   Real out[4](each start = 0, each fixed = true);
 initial algorithm
-  DEMLink.Functions.check(client, DEMLink.Functions.setTimeout(client, timeout));
-  DEMLink.Functions.check(client, DEMLink.Functions.connectToHost(client, address, port, "simBox", token));
-  handle := DEMLink.Functions.declareSimulationBox(client, "simBox", tc, timeStep, endTime, gravity,
-    boundsLower, boundsUpper, nComponents);
+  DEMLink.Functions.connectClient(client, address, port, "simBox", token, timeout);
+  DEMLink.Functions.declare(client, "simulation_box", "simBox", tc, {nComponents, threads},
+    cat(1, {DEMLink.Functions.optional(timeStep), endTime}, gravity, boundsLower, boundsUpper,
+    {DEMLink.Functions.optional(vtkInterval)}), fill("", 0));
 algorithm
   when sample(0, tc) then
-    (status, out, particleCount) := DEMLink.Functions.simulationBoxExchange(client, handle, gravity);
-    DEMLink.Functions.check(client, status);
+    (status, out, particleCount) := DEMLink.Functions.External.simulationBoxExchange(client, 0, gravity);
+    DEMLink.Functions.checkExchange(client, status);
+    demTime := out[1];
     totalMass := out[2];
     kineticEnergy := out[3];
+    stepRate := out[4];
   end when;
   when terminal() then
-    DEMLink.Functions.check(client, DEMLink.Functions.finish(client, "terminal()"));
+    DEMLink.Functions.finish(client);
   end when;
   annotation (defaultComponentName = "simBox", defaultComponentPrefixes = "inner",
-    missingInnerMessage = "Add an inner DEMLink.Basics.SimulationBox simBox to the model.");
+    missingInnerMessage = "Add an inner DEMLink.Basics.SimulationBox simBox to the model.",
+    Icon(graphics = {Rectangle(extent = {{-100, 100}, {100, -100}}, lineColor = {95, 75, 45}, fillColor = {250, 245, 230},
+      fillPattern = FillPattern.Solid), Rectangle(extent = {{-70, 60}, {70, -70}}, lineColor = {95, 75, 45},
+      pattern = LinePattern.Dash), Text(extent = {{-150, 140}, {150, 105}}, textString = "%name", textColor = {0, 0, 255})}),
+    Documentation(info = "<html>
+<p>Exactly one <code>inner SimulationBox simBox</code> per model, like the MultiBody
+<code>world</code>: every component reaches the server address, port and communication
+interval through <code>outer simBox</code>. The box declares the DEM run's settings (time
+step, gravity, bounds, VTK output interval, engine threads) and how many components the
+server waits for before it compiles (<code>nComponents</code>, this box included).</p>
+<p>With <code>endTime = 0</code> (the default) the DEM run lasts exactly as long as the
+model's run: it ends when every component has said Bye at <code>terminal()</code>.</p></html>"));
 end SimulationBox;

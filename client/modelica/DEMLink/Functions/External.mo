@@ -1,8 +1,9 @@
 within DEMLink.Functions;
-package External "The C functions of libdemlink_c (demlink/demlink_c.h); each returns a dl_status (0: OK)"
+package External "The C functions of libdemlink_c (demlink/demlink_c.h) and of Resources/Include/demlink_modelica.h; each int function returns a dl_status (0: OK)"
   extends Modelica.Icons.InternalPackage;
 
   impure function lastError "dl_last_error"
+    extends Modelica.Icons.Function;
     input Client client;
     output String message;
     external "C" message = dl_last_error(client)
@@ -10,6 +11,7 @@ package External "The C functions of libdemlink_c (demlink/demlink_c.h); each re
   end lastError;
 
   impure function setTimeout "dl_set_timeout"
+    extends Modelica.Icons.Function;
     input Client client;
     input Real seconds;
     output Integer status;
@@ -18,6 +20,7 @@ package External "The C functions of libdemlink_c (demlink/demlink_c.h); each re
   end setTimeout;
 
   impure function connectToHost "dl_connect_to_host"
+    extends Modelica.Icons.Function;
     input Client client;
     input String address;
     input Integer port;
@@ -28,90 +31,26 @@ package External "The C functions of libdemlink_c (demlink/demlink_c.h); each re
       annotation (Library = "demlink_c", Include = "#include \"demlink/demlink_c.h\"");
   end connectToHost;
 
-  impure function declareSimulationBox "dl_declare_simulation_box"
+  impure function declare "dlm_declare: declares a component from the generic layout (demlink_c.h)"
+    extends Modelica.Icons.Function;
     input Client client;
-    input String name;
-    input Real interval;
-    input Real timeStep;
-    input Real endTime;
-    input Real gravity[3];
-    input Real boundsLower[3];
-    input Real boundsUpper[3];
-    input Integer expectedCount;
+    input Integer ints[:];
+    input Real reals[:];
+    input String strings[:];
     output Integer status;
-    output Integer handle;
-    external "C" status = dl_declare_simulation_box(client, name, interval, timeStep, endTime, gravity,
-      boundsLower, boundsUpper, expectedCount, handle)
-      annotation (Library = "demlink_c", Include = "#include \"demlink/demlink_c.h\"");
-  end declareSimulationBox;
+    external "C" status = dlm_declare(client, ints, size(ints, 1), reals, size(reals, 1), strings, size(strings, 1))
+      annotation (Library = "demlink_c", Include = "#include \"demlink_modelica.h\"");
+  end declare;
 
-  impure function declareMaterial "dl_declare_material"
-    input Client client;
-    input String name;
-    input String databaseName;
-    input Real density;
-    input Real youngsModulus;
-    input Real poissonRatio;
-    input Real restitution;
-    input Real slidingFriction;
-    input Real rollingFriction;
-    output Integer status;
-    output Integer handle;
-    external "C" status = dl_declare_material(client, name, databaseName, density, youngsModulus, poissonRatio,
-      restitution, slidingFriction, rollingFriction, handle)
-      annotation (Library = "demlink_c", Include = "#include \"demlink/demlink_c.h\"");
-  end declareMaterial;
-
-  impure function declareRigidBodyStl "dl_declare_rigid_body_stl"
-    input Client client;
-    input String name;
-    input Real interval;
-    input String stlFile;
-    input String material;
-    input Real referencePoint[3];
-    input Real pose[7];
-    input Integer motion;
-    output Integer status;
-    output Integer handle;
-    external "C" status = dl_declare_rigid_body_stl(client, name, interval, stlFile, material, referencePoint,
-      pose, motion, handle)
-      annotation (Library = "demlink_c", Include = "#include \"demlink/demlink_c.h\"");
-  end declareRigidBodyStl;
-
-  impure function declareRegionSensorBox "dl_declare_region_sensor_box"
-    input Client client;
-    input String name;
-    input Real interval;
-    input Real centre[3];
-    input Real size[3];
-    input String attachedTo;
-    output Integer status;
-    output Integer handle;
-    external "C" status = dl_declare_region_sensor_box(client, name, interval, centre, size, attachedTo, handle)
-      annotation (Library = "demlink_c", Include = "#include \"demlink/demlink_c.h\"");
-  end declareRegionSensorBox;
-
-  impure function declareParticleSourceBox "dl_declare_particle_source_box"
-    input Client client;
-    input String name;
-    input Real interval;
-    input String material;
-    input Real centre[3];
-    input Real halfExtents[3];
-    input Real rMin;
-    input Real rMax;
-    input Real ratePerSecond;
-    input Real rateKgPerSecond;
-    input Real velocity[3];
-    input Integer seed;
-    output Integer status;
-    output Integer handle;
-    external "C" status = dl_declare_particle_source_box(client, name, interval, material, centre, halfExtents,
-      rMin, rMax, ratePerSecond, rateKgPerSecond, velocity, seed, handle)
-      annotation (Library = "demlink_c", Include = "#include \"demlink/demlink_c.h\"");
-  end declareParticleSourceBox;
+  pure function notGiven "dlm_not_given: NaN, the generic layout's \"not given\""
+    extends Modelica.Icons.Function;
+    output Real value;
+    external "C" value = dlm_not_given()
+      annotation (Include = "#include \"demlink_modelica.h\"");
+  end notGiven;
 
   impure function simulationBoxExchange "dl_simulation_box_exchange"
+    extends Modelica.Icons.Function;
     input Client client;
     input Integer handle;
     input Real gravity[3];
@@ -123,6 +62,7 @@ package External "The C functions of libdemlink_c (demlink/demlink_c.h); each re
   end simulationBoxExchange;
 
   impure function rigidBodyExchange "dl_rigid_body_exchange"
+    extends Modelica.Icons.Function;
     input Client client;
     input Integer handle;
     input Real pose[7];
@@ -134,6 +74,7 @@ package External "The C functions of libdemlink_c (demlink/demlink_c.h); each re
   end rigidBodyExchange;
 
   impure function regionSensorRead "dl_region_sensor_read"
+    extends Modelica.Icons.Function;
     input Client client;
     input Integer handle;
     output Integer status;
@@ -143,7 +84,19 @@ package External "The C functions of libdemlink_c (demlink/demlink_c.h); each re
       annotation (Library = "demlink_c", Include = "#include \"demlink/demlink_c.h\"");
   end regionSensorRead;
 
+  impure function flowSensorRead "dl_flow_sensor_read"
+    extends Modelica.Icons.Function;
+    input Client client;
+    input Integer handle;
+    output Integer status;
+    output Integer counts[4];
+    output Real masses[4];
+    external "C" status = dl_flow_sensor_read(client, handle, counts, masses)
+      annotation (Library = "demlink_c", Include = "#include \"demlink/demlink_c.h\"");
+  end flowSensorRead;
+
   impure function particleSourceRead "dl_particle_source_read"
+    extends Modelica.Icons.Function;
     input Client client;
     input Integer handle;
     output Integer status;
@@ -153,7 +106,32 @@ package External "The C functions of libdemlink_c (demlink/demlink_c.h); each re
       annotation (Library = "demlink_c", Include = "#include \"demlink/demlink_c.h\"");
   end particleSourceRead;
 
+  impure function particleSinkRead "dl_particle_sink_read"
+    extends Modelica.Icons.Function;
+    input Client client;
+    input Integer handle;
+    output Integer status;
+    output Integer counts[2];
+    output Real masses[2];
+    external "C" status = dl_particle_sink_read(client, handle, counts, masses)
+      annotation (Library = "demlink_c", Include = "#include \"demlink/demlink_c.h\"");
+  end particleSinkRead;
+
+  impure function particleViewRead "dl_particle_view_read"
+    extends Modelica.Icons.Function;
+    input Client client;
+    input Integer handle;
+    input Integer capacity;
+    output Integer status;
+    output Real positions[3 * capacity];
+    output Real radii[capacity];
+    output Integer count;
+    external "C" status = dl_particle_view_read(client, handle, capacity, positions, radii, count)
+      annotation (Library = "demlink_c", Include = "#include \"demlink/demlink_c.h\"");
+  end particleViewRead;
+
   impure function finish "dl_finish: Bye without waiting"
+    extends Modelica.Icons.Function;
     input Client client;
     input String reason;
     output Integer status;

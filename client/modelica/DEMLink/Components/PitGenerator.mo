@@ -1,0 +1,15 @@
+within DEMLink.Components;
+model PitGenerator "Fills a box with a settled bed of particles before the run"
+  extends DEMLink.Interfaces.PartialComponent(name = "pit", final kind = "pit_generator", final exchanged = false,
+    final declInts = {seed}, final declReals = cat(1, lower, upper, {rMin, rMax, targetHeight}), final declStrings = {material});
+  parameter String material = "gravel" "Material name";
+  parameter Modelica.Units.SI.Position lower[3] = {-3, -1, -1} "Lower corner of the box";
+  parameter Modelica.Units.SI.Position upper[3] = {3, 1, 0} "Upper corner of the box";
+  parameter Modelica.Units.SI.Radius rMin = 0.04 "Smallest radius";
+  parameter Modelica.Units.SI.Radius rMax = 0.05 "Largest radius";
+  parameter Modelica.Units.SI.Height targetHeight = 1 "Bed height above the box's floor";
+  parameter Integer seed = 1 "Random seed";
+  annotation (Documentation(info = "<html><p>The pit of the coupling paper's excavator use case
+(section 6.1): the server rains and settles the bed when it compiles the scene, before the
+first exchange. Give the floor (and walls) as Plane components.</p></html>"));
+end PitGenerator;

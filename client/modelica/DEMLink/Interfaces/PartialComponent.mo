@@ -1,0 +1,30 @@
+within DEMLink.Interfaces;
+partial model PartialComponent "Connection, declaration and Bye of one DEMLink component"
+  outer DEMLink.Basics.SimulationBox simBox "The model's inner SimulationBox";
+  parameter String name "Unique component name on the server";
+  parameter Modelica.Units.SI.Time tc = simBox.tc "Communication interval (exchanged components)";
+protected
+  parameter String kind "Component kind of the generic layout (docs/c_abi.md)";
+  parameter Boolean exchanged "True: exchanged every tc; false: declared only";
+  parameter Integer declInts[:] "Declare package ints";
+  parameter Real declReals[:] "Declare package reals from index 1";
+  parameter String declStrings[:] "Declare package strings from index 2";
+  DEMLink.Functions.Client client = DEMLink.Functions.Client() "This component's connection (handle 0 on it)";
+initial algorithm
+  // Connect and declare only: waiting for Compiled here would block before the other
+  // components have declared (they run one after the other in this thread).
+  DEMLink.Functions.connectClient(client, simBox.address, simBox.port, name, simBox.token, simBox.timeout);
+  DEMLink.Functions.declare(client, kind, name, if exchanged then tc else 0, declInts, declReals, declStrings);
+algorithm
+  when terminal() then
+    DEMLink.Functions.finish(client);
+  end when;
+  annotation (Icon(graphics = {Rectangle(extent = {{-100, 100}, {100, -100}}, lineColor = {95, 75, 45},
+    fillColor = {235, 220, 190}, fillPattern = FillPattern.Solid), Text(extent = {{-150, 140}, {150, 105}},
+    textString = "%name", textColor = {0, 0, 255})}), Documentation(info = "<html>
+<p>Every component connects its own client in the initial algorithm and declares itself in
+the generic layout of the C ABI; exchanged components read (and send) at
+<code>sample(0, tc)</code>, receiving the interval that just ended first, so their outputs
+lag one communication interval; <code>terminal()</code> says Bye. The DEM run ends when
+every component said Bye.</p></html>"));
+end PartialComponent;

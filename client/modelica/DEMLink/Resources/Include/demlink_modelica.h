@@ -1,0 +1,45 @@
+/* Helpers the DEMLink Modelica package calls besides demlink/demlink_c.h (docs/modelica.md).
+ *
+ * Why: a Modelica Integer is a C int, but the generic package of the C ABI takes long long
+ * ints, so a declaration cannot be passed from Modelica to dl_set_data directly; and
+ * Modelica has no literal for NaN, the C ABI's "not given". Both are bridged here, in C
+ * the tool compiles with the model (Include annotation), so libdemlink_c stays unchanged. */
+#ifndef DEMLINK_MODELICA_H
+#define DEMLINK_MODELICA_H
+
+#include <math.h>
+#include <stdlib.h>
+
+#include "demlink/demlink_c.h"
+
+/* Declares one component from the generic declare layout (demlink_c.h, "Generic layout":
+ * strings[0] kind, strings[1] name, reals[0] communication interval). Each Modelica
+ * component owns its client, so the component's handle is 0. Returns a dl_status. */
+static int dlm_declare(dl_client* client, const int* ints, int nInts, const double* reals, int nReals,
+                       const char** strings, int nStrings) {
+  long long* wide = NULL;
+  dl_package* package;
+  int status;
+  int i;
+  if (nInts < 0) return DL_ERR_ARGUMENT;
+  package = dl_package_create();
+  if (package == NULL) return DL_ERR_INTERNAL;
+  if (nInts > 0) {
+    wide = (long long*)malloc((size_t)nInts * sizeof *wide);
+    if (wide == NULL) {
+      dl_package_destroy(package);
+      return DL_ERR_INTERNAL;
+    }
+    for (i = 0; i < nInts; ++i) wide[i] = ints[i];
+  }
+  status = dl_set_data(package, wide, nInts, reals, nReals, strings, nStrings);
+  if (status == DL_OK) status = dl_send_package(client, package);
+  free(wide);
+  dl_package_destroy(package);
+  return status;
+}
+
+/* NaN: "not given" in an optional real of the generic layout. */
+static double dlm_not_given(void) { return NAN; }
+
+#endif /* DEMLINK_MODELICA_H */
