@@ -1,4 +1,5 @@
-/* The exact call sequence of the Modelica package client/modelica/DEMLink, in C:
+/* A Modelica-style call sequence through the typed declarations, in C (the package's own
+ * examples, which declare in the generic layout, are replayed by tests/modelica):
  *   - construction of each component's ExternalObject: dl_client_create
  *   - initial algorithm of each component: dl_connect_to_host, dl_declare_<kind>
  *   - each sample(0, tc) event: the due components' dl_<kind>_exchange / _read, in
