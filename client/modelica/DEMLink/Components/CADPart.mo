@@ -1,7 +1,7 @@
 within DEMLink.Components;
 model CADPart "A CAD part (STL file on the client, sent to the server), moved through plain signals; returns the particles' wrench"
   extends DEMLink.Interfaces.PartialSignalBody(name = "part", final geometry = 2,
-    final geometryText = ModelicaServices.ExternalReferences.loadResource(fileName));
+    final geometryText = Modelica.Utilities.Files.loadResource(fileName));
   parameter String fileName = "modelica://DEMLink/Resources/Data/bucket.stl"
     "STL file (modelica:// URI or path on this computer); its bytes are sent to the server";
 end CADPart;

@@ -19,18 +19,18 @@ model TruckLoading "A truck bed on a sprung MultiBody axis (CADPartFrame) loaded
   parameter Modelica.Units.SI.Mass m = 50 "Sprung mass of the truck bed";
   parameter Modelica.Units.SI.TranslationalSpringConstant c = 5e4 "Suspension stiffness";
   parameter Modelica.Units.SI.TranslationalDampingConstant d = 2000 "Suspension damping";
-  Modelica.Mechanics.MultiBody.Joints.Prismatic axis(n = {0, 0, 1}, useAxisFlange = true, s(start = 0, fixed = true),
+  Modelica.Mechanics.MultiBody.Joints.Prismatic travel(n = {0, 0, 1}, useAxisFlange = true, s(start = 0, fixed = true),
     v(start = 0, fixed = true)) "Vertical travel of the bed" annotation (Placement(transformation(extent = {{-50, -50}, {-30, -30}})));
   Modelica.Mechanics.MultiBody.Parts.Body body(m = m, r_CM = {0, 0, 0}, animation = false)
     annotation (Placement(transformation(extent = {{0, -90}, {20, -70}})));
   Modelica.Mechanics.Translational.Components.SpringDamper suspension(c = c, d = d, s_rel0 = m * world.g / c)
     "Preloaded: the empty bed rests at s = 0" annotation (Placement(transformation(extent = {{-50, -20}, {-30, 0}})));
 equation
-  connect(world.frame_b, axis.frame_a) annotation (Line(points = {{-70, -40}, {-50, -40}}));
-  connect(axis.frame_b, truck.frame_a) annotation (Line(points = {{-30, -40}, {40, -40}}));
-  connect(axis.frame_b, body.frame_a) annotation (Line(points = {{-30, -40}, {-10, -40}, {-10, -80}, {0, -80}}));
-  connect(suspension.flange_a, axis.support) annotation (Line(points = {{-50, -10}, {-50, -30}, {-44, -30}}));
-  connect(suspension.flange_b, axis.axis) annotation (Line(points = {{-30, -10}, {-30, -30}, {-32, -30}}));
+  connect(world.frame_b, travel.frame_a) annotation (Line(points = {{-70, -40}, {-50, -40}}));
+  connect(travel.frame_b, truck.frame_a) annotation (Line(points = {{-30, -40}, {40, -40}}));
+  connect(travel.frame_b, body.frame_a) annotation (Line(points = {{-30, -40}, {-10, -40}, {-10, -80}, {0, -80}}));
+  connect(suspension.flange_a, travel.support) annotation (Line(points = {{-50, -10}, {-50, -30}, {-44, -30}}));
+  connect(suspension.flange_b, travel.axis) annotation (Line(points = {{-30, -10}, {-30, -30}, {-32, -30}}));
   annotation (experiment(StopTime = 0.8, Interval = 0.002), Documentation(info = "<html>
 <p>The loaded-truck use case of the coupling paper (section 6.2), reduced to the dump body:
 a 300 x 200 x 100 mm open box (CADPartFrame, STL sent from Resources/Data) on a vertical

@@ -3,12 +3,15 @@ partial model PartialComponent "Connection, declaration and Bye of one DEMLink c
   outer DEMLink.Basics.SimulationBox simBox "The model's inner SimulationBox";
   parameter String name "Unique component name on the server";
   parameter Modelica.Units.SI.Time tc = simBox.tc "Communication interval (exchanged components)";
+  // Set (final) by each component: its declaration in the generic layout (docs/c_abi.md).
+  parameter String kind "Component kind" annotation (Dialog(tab = "Declaration", enable = false));
+  parameter Boolean exchanged "True: exchanged every tc; false: declared only"
+    annotation (Dialog(tab = "Declaration", enable = false));
+  parameter Integer declInts[:] "Declare package ints" annotation (Dialog(tab = "Declaration", enable = false));
+  parameter Real declReals[:] "Declare package reals from index 1" annotation (Dialog(tab = "Declaration", enable = false));
+  parameter String declStrings[:] "Declare package strings from index 2"
+    annotation (Dialog(tab = "Declaration", enable = false));
 protected
-  parameter String kind "Component kind of the generic layout (docs/c_abi.md)";
-  parameter Boolean exchanged "True: exchanged every tc; false: declared only";
-  parameter Integer declInts[:] "Declare package ints";
-  parameter Real declReals[:] "Declare package reals from index 1";
-  parameter String declStrings[:] "Declare package strings from index 2";
   DEMLink.Functions.Client client = DEMLink.Functions.Client() "This component's connection (handle 0 on it)";
 initial algorithm
   // Connect and declare only: waiting for Compiled here would block before the other
