@@ -11,10 +11,9 @@
 #include <cmath>
 #include <cstring>
 #include <exception>
-#include <fstream>
 #include <limits>
 #include <new>
-#include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -105,14 +104,6 @@ std::string pathOfUri(std::string uri) {
   }
   while (out.size() > 1 && out.back() == '/') out.pop_back();
   return out;
-}
-
-std::string readFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::invalid_argument("cannot read '" + path + "'");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
 }
 
 void setUpVariables(Instance& instance) {
@@ -310,7 +301,7 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
   try {
     if (fmuType != fmi2CoSimulation) throw std::invalid_argument("this FMU supports Co-Simulation only");
     if (fmuResourceLocation == nullptr) throw std::invalid_argument("no resource location");
-    const std::string text = readFile(pathOfUri(fmuResourceLocation) + "/" + kConfigFile);
+    const std::string text = demlink::fmu::readFile(pathOfUri(fmuResourceLocation) + "/" + kConfigFile);
     const std::string guid = demlink::fmu::guidOf(text);
     if (fmuGUID == nullptr || guid != fmuGUID) {
       throw std::invalid_argument("GUID " + std::string(fmuGUID != nullptr ? fmuGUID : "(null)") +

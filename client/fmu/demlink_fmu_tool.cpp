@@ -7,7 +7,7 @@
 #include <exception>
 #include <fstream>
 #include <iostream>
-#include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -15,14 +15,6 @@
 #include "zip_writer.hpp"
 
 namespace {
-
-std::string readFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::invalid_argument("cannot read '" + path + "'");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 constexpr const char* kUsage =
     "usage: demlink-fmu CONFIG -o OUTPUT.fmu [--fmu-library PATH] [--c-library PATH]\n"
@@ -67,7 +59,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    const std::string text = readFile(config_path);
+    const std::string text = demlink::fmu::readFile(config_path);
     const demlink::fmu::FmuConfig config = demlink::fmu::parseConfig(text);
     const std::string description = demlink::fmu::modelDescriptionXml(config, demlink::fmu::guidOf(text));
     if (print_only) {
@@ -76,8 +68,8 @@ int main(int argc, char** argv) {
     }
     const std::vector<demlink::fmu::ZipEntry> entries = {
         {"modelDescription.xml", description},
-        {"binaries/linux64/" + config.model_identifier + ".so", readFile(fmu_library)},
-        {"binaries/linux64/libdemlink_c.so", readFile(c_library)},
+        {"binaries/linux64/" + config.model_identifier + ".so", demlink::fmu::readFile(fmu_library)},
+        {"binaries/linux64/libdemlink_c.so", demlink::fmu::readFile(c_library)},
         {"resources/demlink_fmu.cfg", text},
     };
     std::ofstream out(output, std::ios::binary | std::ios::trunc);

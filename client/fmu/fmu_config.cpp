@@ -214,13 +214,15 @@ FmuConfig parseConfig(std::string_view text) {
   return config;
 }
 
-FmuConfig readConfigFile(const std::string& path) {
+std::string readFile(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::invalid_argument("cannot read the FMU configuration '" + path + "'");
+  if (!in) throw std::invalid_argument("cannot read '" + path + "'");
   std::ostringstream text;
   text << in.rdbuf();
-  return parseConfig(text.str());
+  return text.str();
 }
+
+FmuConfig readConfigFile(const std::string& path) { return parseConfig(readFile(path)); }
 
 std::vector<Variable> variablesOf(const FmuConfig& config) {
   std::vector<Variable> out;

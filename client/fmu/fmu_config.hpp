@@ -83,6 +83,8 @@ const KindLayout& layoutOf(const std::string& kind);
 
 /// Parses the file format above; std::invalid_argument names the line, field and value.
 FmuConfig parseConfig(std::string_view text);
+/// A file's bytes; std::invalid_argument naming the path when it cannot be read.
+std::string readFile(const std::string& path);
 /// Reads and parses a file; std::invalid_argument when it cannot be read.
 FmuConfig readConfigFile(const std::string& path);
 /// Every FMI variable in modelDescription order (parameters, then per component).

@@ -8,8 +8,6 @@
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -19,13 +17,6 @@
 
 namespace demlink::fmu {
 namespace {
-
-std::string readFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 TEST(FmuConfig, PlateConfigurationGivesTheBodyAndBoxVariables) {
   const FmuConfig config = readConfigFile(DEMLINK_FMU_TEST_CONFIG);
