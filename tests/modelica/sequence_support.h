@@ -46,14 +46,14 @@ static int sequence_declare(dl_client* client, const int* ints, int nInts, const
   return sequence_check(dlm_declare(client, ints, nInts, reals, nReals, strings, nStrings), client, strings[1]);
 }
 
-/* terminal(): Functions.finish of every component; then the destructors. */
+/* terminal(): Functions.finish of every component; then the destructors (Client.destructor). */
 static int sequence_finish(dl_client** clients, int count) {
   int ok = 1;
   int i;
   for (i = 0; i < count; ++i) {
     if (clients[i] != NULL) ok = sequence_check(dl_finish(clients[i], "terminal()"), clients[i], "dl_finish") && ok;
   }
-  for (i = 0; i < count; ++i) dl_client_destroy(clients[i]);
+  for (i = 0; i < count; ++i) dlm_client_destroy(clients[i]);
   return ok;
 }
 

@@ -39,6 +39,15 @@ static int dlm_declare(dl_client* client, const int* ints, int nInts, const doub
   return status;
 }
 
+/* The ExternalObject destructor: Bye (a no-op after terminal()'s, and when not connected),
+ * then close. A run the tool ends without terminal() (an error, a stop) thus still ends
+ * the DEM run as "said Bye" instead of as a lost connection. */
+static void dlm_client_destroy(dl_client* client) {
+  if (client == NULL) return;
+  (void)dl_finish(client, "destructor");
+  dl_client_destroy(client);
+}
+
 /* NaN: "not given" in an optional real of the generic layout. */
 static double dlm_not_given(void) { return NAN; }
 
