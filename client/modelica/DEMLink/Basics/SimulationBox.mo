@@ -16,6 +16,12 @@ model SimulationBox "Server address, communication interval and the DEM run's se
   parameter Modelica.Units.SI.Time vtkInterval = -1 "VTK output interval of the server (negative: the server's default)"
     annotation (Dialog(group = "Server output"));
   parameter Integer threads = -1 "Engine threads (negative: 1, 0: all cores)";
+  parameter String expectedNames[:] = fill("", 0)
+    "Names of components the server waits for besides the count (e.g. those of another tool's clients)"
+    annotation (Dialog(group = "Coupling"));
+  parameter Boolean useGravityInput = false "Gravity from the input gravityIn (a tilting or accelerating room)";
+  Modelica.Blocks.Interfaces.RealInput gravityIn[3](each unit = "m/s2") if useGravityInput
+    "Gravity, world frame, sent at every sample" annotation (Placement(transformation(extent = {{-140, -20}, {-100, 20}})));
   Modelica.Blocks.Interfaces.IntegerOutput particleCount(start = 0, fixed = true) "Particles in the DEM world"
     annotation (Placement(transformation(extent = {{100, 50}, {120, 70}})));
   Modelica.Blocks.Interfaces.RealOutput totalMass(unit = "kg", start = 0, fixed = true) "Mass of all particles"
@@ -26,6 +32,7 @@ model SimulationBox "Server address, communication interval and the DEM run's se
     annotation (Placement(transformation(extent = {{100, -70}, {120, -50}})));
   Modelica.Blocks.Interfaces.RealOutput stepRate(unit = "1/s", start = 0, fixed = true) "DEM steps per wall-clock second";
 protected
+  Modelica.Blocks.Interfaces.RealInput gravityNow[3] "gravityIn or the gravity parameter";
   DEMLink.Functions.Client client = DEMLink.Functions.Client();
   Integer status(start = 0, fixed = true);
   Real out[4](each start = 0, each fixed = true);
@@ -33,10 +40,15 @@ initial algorithm
   DEMLink.Functions.connectClient(client, address, port, "simBox", token, timeout);
   DEMLink.Functions.declare(client, "simulation_box", "simBox", tc, {nComponents, threads},
     cat(1, {DEMLink.Functions.optional(timeStep), endTime}, gravity, boundsLower, boundsUpper,
-    {DEMLink.Functions.optional(vtkInterval)}), fill("", 0));
+    {DEMLink.Functions.optional(vtkInterval)}), expectedNames);
+equation
+  connect(gravityIn, gravityNow);
+  if not useGravityInput then
+    gravityNow = gravity;
+  end if;
 algorithm
   when sample(0, tc) then
-    (status, out, particleCount) := DEMLink.Functions.External.simulationBoxExchange(client, 0, gravity);
+    (status, out, particleCount) := DEMLink.Functions.External.simulationBoxExchange(client, 0, gravityNow);
     DEMLink.Functions.checkExchange(client, status);
     demTime := out[1];
     totalMass := out[2];
@@ -56,7 +68,10 @@ algorithm
 <code>world</code>: every component reaches the server address, port and communication
 interval through <code>outer simBox</code>. The box declares the DEM run's settings (time
 step, gravity, bounds, VTK output interval, engine threads) and how many components the
-server waits for before it compiles (<code>nComponents</code>, this box included).</p>
+server waits for before it compiles (<code>nComponents</code>, this box included, and
+optionally their names). With <code>useGravityInput</code> the gravity follows the input
+<code>gravityIn</code> at every sample (the paper's accelerated and tilting rooms, section
+6.2, as far as a gravity vector expresses them).</p>
 <p>With <code>endTime = 0</code> (the default) the DEM run lasts exactly as long as the
 model's run: it ends when every component has said Bye at <code>terminal()</code>.</p></html>"));
 end SimulationBox;
