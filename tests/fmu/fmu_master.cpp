@@ -103,6 +103,25 @@ int main(int argc, char** argv) {
 
   const fmi2CallbackFunctions callbacks{logger, nullptr, nullptr, nullptr, nullptr};
   const std::string resources = "file://" + std::filesystem::absolute(work / "resources").string();
+  // Refusals (logged, no server involved): another GUID, Model Exchange, a step before
+  // initialization, setting an output.
+  if (instantiate("wrongGuid", fmi2CoSimulation, "{00000000-0000-0000-0000-000000000000}", resources.c_str(),
+                  &callbacks, fmi2False, fmi2False) != nullptr ||
+      instantiate("modelExchange", fmi2ModelExchange, guid.c_str(), resources.c_str(), &callbacks, fmi2False,
+                  fmi2False) != nullptr) {
+    return failWith("an FMU with another GUID or as Model Exchange was instantiated");
+  }
+  {
+    fmi2Component early = instantiate("early", fmi2CoSimulation, guid.c_str(), resources.c_str(), &callbacks,
+                                      fmi2False, fmi2False);
+    const fmi2ValueReference output = ref("plate.meanForce[3]");
+    const fmi2Real value = 1.0;
+    if (early == nullptr || doStep(early, 0.0, 0.002, fmi2True) != fmi2Error ||
+        setReal(early, &output, 1, &value) != fmi2Error) {
+      return failWith("a step before initialization or setting an output was accepted");
+    }
+    freeInstance(early);
+  }
   fmi2Component fmu = instantiate("plate", fmi2CoSimulation, guid.c_str(), resources.c_str(), &callbacks, fmi2False,
                                   fmi2False);
   if (fmu == nullptr) return failWith("fmi2Instantiate returned NULL");
