@@ -58,6 +58,7 @@ struct Instance {
   Phase phase = Phase::kInstantiated;
   double time = 0.0;
   bool first_step = true;
+  bool server_finished = false;  ///< the DEM run ended (an end time, another client's fault)
 };
 
 void log(const Instance& instance, fmi2Status status, const char* category, const std::string& message) {
@@ -78,8 +79,15 @@ fmi2Status fail(Instance& instance, const std::string& message) {
   return fmi2Error;
 }
 
-/// A DEMLink call's failure with the client's message.
+/// A DEMLink call's failure with the client's message. A finished DEM run is fmi2Discard
+/// with fmi2Terminated set (the master may stop), not an error of the FMU.
 fmi2Status failCall(Instance& instance, const char* call, int status) {
+  if (status == DL_ERR_FINISHED && instance.phase == Phase::kStepping) {
+    instance.server_finished = true;
+    log(instance, fmi2Discard, "logStatusDiscard",
+        std::string("the DEM run has ended: ") + dl_finished_reason(instance.client));
+    return fmi2Discard;
+  }
   std::string message = std::string(call) + " failed (status " + std::to_string(status) + ")";
   if (instance.client != nullptr) message += ": " + std::string(dl_last_error(instance.client));
   return fail(instance, message);
@@ -488,7 +496,8 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPoint, fmi2R
       return fail(instance, "currentCommunicationPoint " + std::to_string(currentCommunicationPoint) +
                                 " s is not the FMU's time " + std::to_string(instance.time) + " s");
     }
-    if (exchange(instance) != fmi2OK) return fmi2Error;
+    if (instance.server_finished) return fmi2Discard;
+    if (const fmi2Status status = exchange(instance); status != fmi2OK) return status;
     instance.time = currentCommunicationPoint + communicationStepSize;
     return fmi2OK;
   });
@@ -511,7 +520,7 @@ fmi2Status fmi2GetIntegerStatus(fmi2Component c, const fmi2StatusKind, fmi2Integ
 fmi2Status fmi2GetBooleanStatus(fmi2Component c, const fmi2StatusKind s, fmi2Boolean* value) {
   return guarded(c, [&](Instance& instance) {
     if (s != fmi2Terminated || value == nullptr) return fail(instance, "only fmi2Terminated is a Boolean status");
-    *value = instance.phase == Phase::kTerminated ? fmi2True : fmi2False;
+    *value = instance.phase == Phase::kTerminated || instance.server_finished ? fmi2True : fmi2False;
     return fmi2OK;
   });
 }

@@ -1,8 +1,9 @@
 /// A small FMI 2.0 Co-Simulation master for the DEMLink FMU test: unpacks the .fmu, reads
 /// modelDescription.xml for the model identifier, GUID and value references, dlopens the
 /// library and runs the plate-into-bed scenario of plate_in_bed.cfg against a server.
-/// Usage: fmu_master FMU HOST PORT WORKDIR. Prints one summary line; exit 0 when every
-/// physical check holds, 1 otherwise (the reason on stderr).
+/// Usage: fmu_master FMU HOST PORT WORKDIR [end]. Prints one summary line; exit 0 when
+/// every physical check holds, 1 otherwise (the reason on stderr). With "end" it steps
+/// short_run.cfg until the server ends the run and checks fmi2Discard and fmi2Terminated.
 #include <dlfcn.h>
 #include <sys/stat.h>
 
@@ -50,8 +51,8 @@ F symbol(void* library, const char* name) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 5) {
-    std::fprintf(stderr, "usage: %s FMU HOST PORT WORKDIR\n", argv[0]);
+  if (argc != 5 && argc != 6) {
+    std::fprintf(stderr, "usage: %s FMU HOST PORT WORKDIR [end]\n", argv[0]);
     return 2;
   }
   const std::filesystem::path work = argv[4];
@@ -103,6 +104,30 @@ int main(int argc, char** argv) {
 
   const fmi2CallbackFunctions callbacks{logger, nullptr, nullptr, nullptr, nullptr};
   const std::string resources = "file://" + std::filesystem::absolute(work / "resources").string();
+  if (argc == 6) {
+    // The box's end time is 10 ms: steps 0..5 (the answers up to the end step) succeed, the
+    // next one finds the run finished.
+    const auto getBooleanStatus = symbol<decltype(&fmi2GetBooleanStatus)>(library, "fmi2GetBooleanStatus");
+    fmi2Component fmu = instantiate("short", fmi2CoSimulation, guid.c_str(), resources.c_str(), &callbacks,
+                                    fmi2False, fmi2False);
+    const fmi2ValueReference portRef = ref("port");
+    const fmi2Integer port = std::atoi(argv[3]);
+    if (fmu == nullptr || setInteger(fmu, &portRef, 1, &port) != fmi2OK || enterInit(fmu) != fmi2OK ||
+        exitInit(fmu) != fmi2OK) {
+      return failWith("initialization failed");
+    }
+    int k = 0;
+    fmi2Status status = fmi2OK;
+    while (k < 100 && (status = doStep(fmu, k * 0.002, 0.002, fmi2True)) == fmi2OK) ++k;
+    fmi2Boolean terminated = fmi2False;
+    getBooleanStatus(fmu, fmi2Terminated, &terminated);
+    std::printf("fmu_master: end after %d steps, status %d, terminated %d\n", k, static_cast<int>(status),
+                static_cast<int>(terminated));
+    std::fflush(stdout);
+    const bool ok = status == fmi2Discard && terminated == fmi2True && terminate(fmu) == fmi2OK;
+    freeInstance(fmu);
+    return ok ? 0 : failWith("the server's end of the run is not fmi2Discard with fmi2Terminated");
+  }
   // Refusals (logged, no server involved): another GUID, Model Exchange, a step before
   // initialization, setting an output.
   if (instantiate("wrongGuid", fmi2CoSimulation, "{00000000-0000-0000-0000-000000000000}", resources.c_str(),

@@ -135,5 +135,24 @@ TEST(FmuRealServer, PlateLoweredIntoBedFeelsUpwardForce) {
   if (!::testing::Test::HasFailure()) std::filesystem::remove_all(out);
 }
 
+/// A box with its own end time: the steps up to it succeed, then fmi2DoStep answers
+/// fmi2Discard and fmi2Terminated is set (not fmi2Error).
+TEST(FmuRealServer, ServerEndOfRunIsDiscardWithTerminated) {
+  using integration::Child;
+  const std::filesystem::path out =
+      std::filesystem::temp_directory_path() / ("demlink_fmu_end_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(out);
+  Child server({DEMLINK_SERVER_EXE, "--port", "0", "--once", "--output", (out / "server").string()});
+  const std::string announced = server.readLine(std::chrono::seconds(10));
+  const auto [host, port] = integration::announcedAddress(announced);
+  ASSERT_GT(std::atoi(port.c_str()), 0) << announced;
+  Child master({DEMLINK_FMU_MASTER_EXE, DEMLINK_SHORT_FMU, host, port, (out / "unpacked").string(), "end"});
+  const std::string summary = master.readLine(std::chrono::seconds(120));
+  EXPECT_EQ(master.waitForExit(std::chrono::seconds(30)), 0) << summary;
+  EXPECT_NE(summary.find("end after 6 steps, status 2, terminated 1"), std::string::npos) << summary;
+  EXPECT_EQ(server.waitForExit(std::chrono::seconds(20)), 0);
+  if (!::testing::Test::HasFailure()) std::filesystem::remove_all(out);
+}
+
 }  // namespace
 }  // namespace demlink::fmu
