@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "child_process.hpp"
 #include "fmu_config.hpp"
@@ -113,45 +114,42 @@ TEST(FmuArchive, PackagedFmuHasTheStandardLayout) {
   EXPECT_NE(entries[0].data.find(guidOf(entries[3].data)), std::string::npos);
 }
 
+/// Runs fmu_master on `fmu` (with `extra` arguments) against a fresh demlink-server and
+/// checks that both exit 0 (the server once the FMU said Bye); returns the master's summary.
+std::string runMaster(const std::string& fmu, const std::string& tag, const std::vector<std::string>& extra) {
+  using integration::Child;
+  const std::filesystem::path out =
+      std::filesystem::temp_directory_path() / ("demlink_fmu_" + tag + "_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(out);
+  Child server({DEMLINK_SERVER_EXE, "--port", "0", "--once", "--output", (out / "server").string()});
+  const std::string announced = server.readLine(std::chrono::seconds(10));
+  const auto [host, port] = integration::announcedAddress(announced);
+  EXPECT_GT(std::atoi(port.c_str()), 0) << announced;
+  if (std::atoi(port.c_str()) <= 0) return "";
+  std::vector<std::string> line = {DEMLINK_FMU_MASTER_EXE, fmu, host, port, (out / "unpacked").string()};
+  line.insert(line.end(), extra.begin(), extra.end());
+  Child master(line);
+  const std::string summary = master.readLine(std::chrono::seconds(300));
+  EXPECT_EQ(master.waitForExit(std::chrono::seconds(60)), 0) << summary;
+  EXPECT_EQ(server.waitForExit(std::chrono::seconds(20)), 0) << "the run ends and the server exits";
+  if (!::testing::Test::HasFailure()) std::filesystem::remove_all(out);
+  return summary;
+}
+
 /// The FMU stepped by fmu_master against demlink-server: a plate lowered into a gravel bed
 /// feels no force while clear of it and an upward force above the displaced column's weight
 /// once 15-35 mm deep; its reported position lags the inputs by exactly one interval; the run
 /// ends with fmi2Terminate's Bye (the box has no end time) and the server exits.
 TEST(FmuRealServer, PlateLoweredIntoBedFeelsUpwardForce) {
-  using integration::Child;
-  const std::filesystem::path out =
-      std::filesystem::temp_directory_path() / ("demlink_fmu_" + std::to_string(::getpid()));
-  std::filesystem::remove_all(out);
-  Child server({DEMLINK_SERVER_EXE, "--port", "0", "--once", "--output", (out / "server").string()});
-  const std::string announced = server.readLine(std::chrono::seconds(10));
-  const auto [host, port] = integration::announcedAddress(announced);
-  ASSERT_GT(std::atoi(port.c_str()), 0) << announced;
-
-  Child master({DEMLINK_FMU_MASTER_EXE, DEMLINK_TEST_FMU, host, port, (out / "unpacked").string()});
-  const std::string summary = master.readLine(std::chrono::seconds(300));
-  EXPECT_EQ(master.waitForExit(std::chrono::seconds(60)), 0) << summary;
+  const std::string summary = runMaster(DEMLINK_TEST_FMU, "plate", {});
   EXPECT_NE(summary.find("121 steps"), std::string::npos) << summary;
-  EXPECT_EQ(server.waitForExit(std::chrono::seconds(20)), 0) << "all clients said Bye: the run ends";
-  if (!::testing::Test::HasFailure()) std::filesystem::remove_all(out);
 }
 
 /// A box with its own end time: the steps up to it succeed, then fmi2DoStep answers
 /// fmi2Discard and fmi2Terminated is set (not fmi2Error).
 TEST(FmuRealServer, ServerEndOfRunIsDiscardWithTerminated) {
-  using integration::Child;
-  const std::filesystem::path out =
-      std::filesystem::temp_directory_path() / ("demlink_fmu_end_" + std::to_string(::getpid()));
-  std::filesystem::remove_all(out);
-  Child server({DEMLINK_SERVER_EXE, "--port", "0", "--once", "--output", (out / "server").string()});
-  const std::string announced = server.readLine(std::chrono::seconds(10));
-  const auto [host, port] = integration::announcedAddress(announced);
-  ASSERT_GT(std::atoi(port.c_str()), 0) << announced;
-  Child master({DEMLINK_FMU_MASTER_EXE, DEMLINK_SHORT_FMU, host, port, (out / "unpacked").string(), "end"});
-  const std::string summary = master.readLine(std::chrono::seconds(120));
-  EXPECT_EQ(master.waitForExit(std::chrono::seconds(30)), 0) << summary;
+  const std::string summary = runMaster(DEMLINK_SHORT_FMU, "end", {"end"});
   EXPECT_NE(summary.find("end after 6 steps, status 2, terminated 1"), std::string::npos) << summary;
-  EXPECT_EQ(server.waitForExit(std::chrono::seconds(20)), 0);
-  if (!::testing::Test::HasFailure()) std::filesystem::remove_all(out);
 }
 
 }  // namespace
