@@ -117,23 +117,21 @@ TEST(FmuArchive, PackagedFmuHasTheStandardLayout) {
 /// Runs fmu_master on `fmu` (with `extra` arguments) against a fresh demlink-server and
 /// checks that both exit 0 (the server once the FMU said Bye); returns the master's summary.
 std::string runMaster(const std::string& fmu, const std::string& tag, const std::vector<std::string>& extra) {
-  using integration::Child;
   const std::filesystem::path out =
       std::filesystem::temp_directory_path() / ("demlink_fmu_" + tag + "_" + std::to_string(::getpid()));
   std::filesystem::remove_all(out);
-  Child server({DEMLINK_SERVER_EXE, "--port", "0", "--once", "--output", (out / "server").string()});
-  const std::string announced = server.readLine(std::chrono::seconds(10));
-  const auto [host, port] = integration::announcedAddress(announced);
-  EXPECT_GT(std::atoi(port.c_str()), 0) << announced;
-  if (std::atoi(port.c_str()) <= 0) return "";
-  std::vector<std::string> line = {DEMLINK_FMU_MASTER_EXE, fmu, host, port, (out / "unpacked").string()};
-  line.insert(line.end(), extra.begin(), extra.end());
-  Child master(line);
-  const std::string summary = master.readLine(std::chrono::seconds(300));
-  EXPECT_EQ(master.waitForExit(std::chrono::seconds(60)), 0) << summary;
-  EXPECT_EQ(server.waitForExit(std::chrono::seconds(20)), 0) << "the run ends and the server exits";
+  const integration::ClientRun run = integration::runClientAgainstServer(
+      DEMLINK_SERVER_EXE, (out / "server").string(),
+      [&](const std::string& host, const std::string& port) {
+        std::vector<std::string> line = {DEMLINK_FMU_MASTER_EXE, fmu, host, port, (out / "unpacked").string()};
+        line.insert(line.end(), extra.begin(), extra.end());
+        return line;
+      },
+      std::chrono::seconds(300));
+  EXPECT_EQ(run.client_exit, 0) << run.announced << "\n" << run.summary;
+  EXPECT_EQ(run.server_exit, 0) << "the run ends and the server exits";
   if (!::testing::Test::HasFailure()) std::filesystem::remove_all(out);
-  return summary;
+  return run.summary;
 }
 
 /// The FMU stepped by fmu_master against demlink-server: a plate lowered into a gravel bed

@@ -8,6 +8,8 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdlib>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -95,6 +97,33 @@ inline ServerAddress announcedAddress(const std::string& line) {
   const std::size_t colon = address.rfind(':');
   if (colon == std::string::npos) return {};
   return {address.substr(0, colon), address.substr(colon + 1)};
+}
+
+/// What runClientAgainstServer saw.
+struct ClientRun {
+  std::string announced;  ///< the server's first line
+  std::string summary;    ///< the client's first line on stdout
+  int client_exit = -1;   ///< -1: still running at the deadline (killed)
+  int server_exit = -1;
+};
+
+/// Starts `demlink-server --port 0 --once --output out`, runs the client program whose
+/// command line `command(host, port)` gives, and waits for both (the server exits once the
+/// simulation ends). Bounded by `timeout` for the client and 20 s for the server after it.
+inline ClientRun runClientAgainstServer(
+    const std::string& serverExe, const std::string& out,
+    const std::function<std::vector<std::string>(const std::string&, const std::string&)>& command,
+    std::chrono::seconds timeout) {
+  ClientRun run;
+  Child server({serverExe, "--port", "0", "--once", "--output", out});
+  run.announced = server.readLine(std::chrono::seconds(10));
+  const ServerAddress address = announcedAddress(run.announced);
+  if (std::atoi(address.port.c_str()) <= 0) return run;
+  Child client(command(address.host, address.port));
+  run.summary = client.readLine(timeout);
+  run.client_exit = client.waitForExit(std::chrono::seconds(60));
+  run.server_exit = server.waitForExit(std::chrono::seconds(20));
+  return run;
 }
 
 }  // namespace demlink::integration

@@ -11,13 +11,12 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "child_process.hpp"
 
 namespace demlink::modelica {
 namespace {
-
-using integration::Child;
 
 std::string readFile(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -31,18 +30,17 @@ std::string runAgainstServer(const std::string& program, const std::string& stl,
   const std::filesystem::path out =
       std::filesystem::temp_directory_path() / ("demlink_modelica_" + tag + "_" + std::to_string(::getpid()));
   std::filesystem::remove_all(out);
-  Child server({DEMLINK_SERVER_EXE, "--port", "0", "--once", "--output", out.string()});
-  const std::string announced = server.readLine(std::chrono::seconds(10));
-  const auto [host, port] = integration::announcedAddress(announced);
-  EXPECT_GT(std::atoi(port.c_str()), 0) << announced;
-  if (std::atoi(port.c_str()) <= 0) return "";
-  Child sequence({program, host, port, stl});
-  const std::string summary = sequence.readLine(std::chrono::seconds(600));
-  EXPECT_EQ(sequence.waitForExit(std::chrono::seconds(60)), 0) << summary;
+  const integration::ClientRun run = integration::runClientAgainstServer(
+      DEMLINK_SERVER_EXE, out.string(),
+      [&](const std::string& host, const std::string& port) {
+        return std::vector<std::string>{program, host, port, stl};
+      },
+      std::chrono::seconds(600));
+  EXPECT_EQ(run.client_exit, 0) << run.announced << "\n" << run.summary;
   // End time 0: the DEM run ends with the model's, when every component said Bye.
-  EXPECT_EQ(server.waitForExit(std::chrono::seconds(20)), 0) << "the server ends when all components said Bye";
+  EXPECT_EQ(run.server_exit, 0) << "the server ends when all components said Bye";
   if (!::testing::Test::HasFailure()) std::filesystem::remove_all(out);
-  return summary;
+  return run.summary;
 }
 
 TEST(ModelicaResources, StagedPackageHasHeaderAndLibrary) {
