@@ -215,13 +215,15 @@ TEST(ClientCAbi, StatusCodesAndMessages) {
   ASSERT_EQ(dl_set_timeout(c.client, 3.0), DL_OK);
   ASSERT_EQ(dl_connect_to_host(c.client, "127.0.0.1", server.port(), "errors", ""), DL_OK);
   int box = -1;
-  ASSERT_EQ(dl_declare_simulation_box(c.client, "box", 0.0, 1e-3, 0.0, nullptr, nullptr, nullptr, 1, &box), DL_OK);
+  ASSERT_EQ(dl_declare_simulation_box_ex(c.client, "box", 0.0, 1e-3, 0.0, nullptr, nullptr, nullptr, 1, 0.05, &box),
+            DL_OK);
   EXPECT_EQ(dl_wait_compiled(c.client), DL_ERR_SERVER);
   EXPECT_EQ(dl_last_server_error_code(c.client), kInvalidDeclaration);
   EXPECT_STREQ(dl_last_server_error_field(c.client), "simulation_box.end_time");
   EXPECT_STREQ(dl_last_server_error_component(c.client), "box");
   EXPECT_NE(std::string(dl_last_error(c.client)).find("end_time must be > 0"), std::string::npos);
   EXPECT_EQ(server.wait(), 0);
+  EXPECT_TRUE(contains(readLines(logFile("errors")), "DECL box", "restitution_tolerance: 0.05"));
 
   // An unknown kind in a generic declaration names the kinds that exist (the layout is
   // checked before anything is sent, so no server is needed).
@@ -231,8 +233,8 @@ TEST(ClientCAbi, StatusCodesAndMessages) {
   EXPECT_NE(std::string(dl_last_error(refused.client)).find("'tracker' has no generic layout"), std::string::npos);
 }
 
-// The optional simulation_box entries of the generic layout (VTK interval, threads,
-// expected names, the room frame input) reach the declaration; omitted ones stay unset.
+// The optional simulation_box entries of the generic layout (VTK interval, restitution
+// tolerance, threads, expected names, the room frame input) reach the declaration; omitted ones stay unset.
 TEST(ClientCAbi, GenericSimulationBoxCarriesOutputThreadsAndNames) {
   const std::string log = logFile("generic_box");
   FakeServerProcess server(1, 1, log);
@@ -243,8 +245,8 @@ TEST(ClientCAbi, GenericSimulationBoxCarriesOutputThreadsAndNames) {
   const double nan = std::nan("");
   const char* boxStrings[] = {"simulation_box", "room", "room", "truck_body"};
   const long long boxInts[] = {0, 2};
-  const double boxReals[] = {0.001, 2e-4, 1.0, 0.0, 0.0, -9.81, -1.0, -2.0, -3.0, 4.0, 5.0, 6.0, 0.25};
-  ASSERT_EQ(dl_set_data(pkg.package, boxInts, 2, boxReals, 13, boxStrings, 4), DL_OK);
+  const double boxReals[] = {0.001, 2e-4, 1.0, 0.0, 0.0, -9.81, -1.0, -2.0, -3.0, 4.0, 5.0, 6.0, 0.25, 0.05};
+  ASSERT_EQ(dl_set_data(pkg.package, boxInts, 2, boxReals, 14, boxStrings, 4), DL_OK);
   ASSERT_EQ(dl_send_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
   ASSERT_EQ(dl_wait_compiled(c.client), DL_OK) << dl_last_error(c.client);
   // The frame input: gravity unchanged (NaN), then a_f, Omega, alpha, origin.
@@ -260,6 +262,7 @@ TEST(ClientCAbi, GenericSimulationBoxCarriesOutputThreadsAndNames) {
   const auto lines = readLines(log);
   EXPECT_TRUE(contains(lines, "DECL room", "output { vtk_interval: 0.25 }"));
   EXPECT_TRUE(contains(lines, "DECL room", "threads: 2"));
+  EXPECT_TRUE(contains(lines, "DECL room", "restitution_tolerance: 0.05"));
   EXPECT_TRUE(contains(lines, "DECL room", "expected_names: \"room\" expected_names: \"truck_body\""));
   EXPECT_TRUE(contains(lines, "DECL room", "bounds { lower { x: -1 y: -2 z: -3 } upper { x: 4 y: 5 z: 6 } }"));
 

@@ -5,6 +5,8 @@ model SimulationBox "Server address, communication interval and scene-wide setti
   parameter String token = "" "Access token when the server requires one";
   parameter Modelica.Units.SI.Time tc = 1e-3 "Communication interval of the components";
   parameter Modelica.Units.SI.Time timeStep = 1e-5 "DEM time step";
+  parameter Real restitutionTolerance = 0.01
+    "Largest restitution error the server's time-step limit allows; larger accepts a larger timeStep (trades accuracy for speed)";
   parameter Modelica.Units.SI.Time endTime = 10 "Simulated time of the DEM run";
   parameter Real gravity[3] = {0, 0, -9.81} "Gravity [m/s2]";
   parameter Real boundsLower[3] = {-5, -5, -5} "Lower corner of the DEM domain [m]";
@@ -23,7 +25,7 @@ initial algorithm
   DEMLink.Functions.check(client, DEMLink.Functions.setTimeout(client, timeout));
   DEMLink.Functions.check(client, DEMLink.Functions.connectToHost(client, address, port, "simBox", token));
   handle := DEMLink.Functions.declareSimulationBox(client, "simBox", tc, timeStep, endTime, gravity,
-    boundsLower, boundsUpper, nComponents);
+    boundsLower, boundsUpper, nComponents, restitutionTolerance);
 algorithm
   when sample(0, tc) then
     (status, out, particleCount) := DEMLink.Functions.simulationBoxExchange(client, handle, gravity);

@@ -28,7 +28,7 @@ package External "The C functions of libdemlink_c (demlink/demlink_c.h); each re
       annotation (Library = "demlink_c", Include = "#include \"demlink/demlink_c.h\"");
   end connectToHost;
 
-  impure function declareSimulationBox "dl_declare_simulation_box"
+  impure function declareSimulationBox "dl_declare_simulation_box_ex"
     input Client client;
     input String name;
     input Real interval;
@@ -38,10 +38,11 @@ package External "The C functions of libdemlink_c (demlink/demlink_c.h); each re
     input Real boundsLower[3];
     input Real boundsUpper[3];
     input Integer expectedCount;
+    input Real restitutionTolerance;
     output Integer status;
     output Integer handle;
-    external "C" status = dl_declare_simulation_box(client, name, interval, timeStep, endTime, gravity,
-      boundsLower, boundsUpper, expectedCount, handle)
+    external "C" status = dl_declare_simulation_box_ex(client, name, interval, timeStep, endTime, gravity,
+      boundsLower, boundsUpper, expectedCount, restitutionTolerance, handle)
       annotation (Library = "demlink_c", Include = "#include \"demlink/demlink_c.h\"");
   end declareSimulationBox;
 

@@ -38,12 +38,13 @@ package Functions "Calls into libdemlink_c; the declare functions stop the simul
     input Real boundsLower[3];
     input Real boundsUpper[3];
     input Integer expectedCount;
+    input Real restitutionTolerance = 0.01 "Largest restitution error the time-step limit allows";
     output Integer handle;
   protected
     Integer status;
   algorithm
     (status, handle) := External.declareSimulationBox(client, name, interval, timeStep, endTime, gravity,
-      boundsLower, boundsUpper, expectedCount);
+      boundsLower, boundsUpper, expectedCount, restitutionTolerance);
     check(client, status);
   end declareSimulationBox;
 
