@@ -112,18 +112,24 @@ TEST(Speeds, DeclaredImpactSpeedBelowAParticlesIsReplacedAndReported) {
   EXPECT_DOUBLE_EQ(world.timeStepReport().limit, declared.timeStepReport().limit);
 }
 
-TEST(Speeds, MeshMotionAndItsDeclaredLimitCount) {
-  World world(test::fineSettings(1e-7, 0.5));
+/// A triangle "paddle" at z = 0 moving at `velocity` with a declared speed limit, and
+/// a sphere 0.5 m above it; initialised.
+void addPaddleAndSphere(World& world, const Vec3& velocity, double speedLimit) {
   world.addMaterial(test::testMaterial(0.5));
   MeshBody mesh("paddle", {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)}, {{0, 1, 2}}, 0);
-  mesh.setVelocity(Vec3(2.0, 0.0, 0.0), Vec3::Zero());
-  mesh.setSpeedLimit(5.0);
+  mesh.setVelocity(velocity, Vec3::Zero());
+  mesh.setSpeedLimit(speedLimit);
   world.addMesh(std::move(mesh));
   ParticleSpec p;
   p.radius = kRadius;
   p.position = Vec3(0.2, 0.2, 0.5);
   world.addParticle(p);
   world.initialize();
+}
+
+TEST(Speeds, MeshMotionAndItsDeclaredLimitCount) {
+  World world(test::fineSettings(1e-7, 0.5));
+  addPaddleAndSphere(world, Vec3(2.0, 0.0, 0.0), 5.0);
   EXPECT_DOUBLE_EQ(world.validatedImpactSpeed(), 5.0);
   EXPECT_NE(world.seenSpeeds().front().what.find("mesh paddle"), std::string::npos);
 }
@@ -161,15 +167,7 @@ TEST(Speeds, AMeshDrivenFasterThanValidatedIsNamed) {
     s.watchdog.speed_policy = policy;
     s.watchdog.every_steps = 10;
     World world(s);
-    world.addMaterial(test::testMaterial(0.5));
-    MeshBody mesh("paddle", {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)}, {{0, 1, 2}}, 0);
-    mesh.setSpeedLimit(1.0);
-    world.addMesh(std::move(mesh));
-    ParticleSpec p;
-    p.radius = kRadius;
-    p.position = Vec3(0.2, 0.2, 0.5);
-    world.addParticle(p);
-    world.initialize();
+    addPaddleAndSphere(world, Vec3::Zero(), 1.0);
     ASSERT_DOUBLE_EQ(world.validatedImpactSpeed(), 1.0);
     EXPECT_EQ(faultOf(world, 20), "(none)");  // at rest
     world.mesh(0).setVelocity(Vec3(0.0, 0.0, 1.5), Vec3::Zero());
