@@ -49,8 +49,10 @@ def scene(d_mm):
     walls = [("wall_x0", v(x=-half), v(x=1.0)), ("wall_x1", v(x=half), v(x=-1.0)),
              ("wall_y0", v(y=-half), v(y=1.0)), ("wall_y1", v(y=half), v(y=-1.0))]
     components = [
+        # A 10 % restitution tolerance instead of the default 1 %: trades accuracy for
+        # speed (the 1 % limit for these spheres is 1.0e-5 s).
         {"name": "box", "simulation_box": {
-            "time_step": 4e-05, "end_time": END_TIME, "max_impact_velocity": 3.0,
+            "time_step": 4e-05, "restitution_tolerance": 0.1, "end_time": END_TIME, "max_impact_velocity": 3.0,
             "bounds": {"lower": v(-0.07, -0.07, -0.25), "upper": v(0.07, 0.07, 0.3)},
             "output": {"vtk_interval": 0.1}}},
         {"name": "glass", "material": {"density": 2500.0, "youngs_modulus": 1e7, "poisson_ratio": 0.3,

@@ -100,6 +100,7 @@ std::unique_ptr<Component> componentFromPackage(const Package& p) {
       if (!(r.real(12) >= 0.0)) throw ArgumentError("simulation_box: reals[12] (VTK interval) must be >= 0 s");
       c->message().mutable_output()->set_vtk_interval(r.real(12));
     }
+    if (r.hasReal(13)) c->setRestitutionTolerance(r.real(13));
     const long long threads = r.integer(1, -1);
     if (threads > static_cast<long long>(UINT32_MAX)) throw ArgumentError("simulation_box: ints[1] (threads) is too large");
     if (threads >= 0) c->message().set_threads(static_cast<std::uint32_t>(threads));

@@ -114,9 +114,18 @@ extern "C" {
 int dl_declare_simulation_box(dl_client* client, const char* name, double interval, double timeStep, double endTime,
                               const double gravity[3], const double boundsLower[3], const double boundsUpper[3],
                               int expectedCount, int* component) {
+  return dl_declare_simulation_box_ex(client, name, interval, timeStep, endTime, gravity, boundsLower, boundsUpper,
+                                      expectedCount, std::nan(""), component);
+}
+
+int dl_declare_simulation_box_ex(dl_client* client, const char* name, double interval, double timeStep,
+                                 double endTime, const double gravity[3], const double boundsLower[3],
+                                 const double boundsUpper[3], int expectedCount, double restitutionTolerance,
+                                 int* component) {
   return guarded(client, [&](Client& c) -> int {
     auto box = std::make_unique<SimulationBox>(name != nullptr && name[0] != '\0' ? name : "simulation_box");
     if (given(timeStep)) box->setTimeStep(timeStep);
+    if (given(restitutionTolerance)) box->setRestitutionTolerance(restitutionTolerance);
     box->setEndTime(endTime);
     if (gravity != nullptr) box->setInitialGravity(vec(gravity, "gravity"));
     if ((boundsLower == nullptr) != (boundsUpper == nullptr)) {

@@ -27,6 +27,10 @@ SimulationBox& SimulationBox::setBounds(const Vec3& lower, const Vec3& upper) {
   *message().mutable_bounds()->mutable_upper() = toProto(upper);
   return *this;
 }
+SimulationBox& SimulationBox::setRestitutionTolerance(double tolerance) {
+  message().set_restitution_tolerance(tolerance);
+  return *this;
+}
 SimulationBox& SimulationBox::setExpectedCount(std::uint32_t count) {
   message().mutable_coupling()->set_expected_count(count);
   return *this;

@@ -13,6 +13,7 @@
 #include "demlink/core/step/integrator.hpp"
 #include "demlink/core/step/frame_motion.hpp"
 #include "demlink/core/step/parallel.hpp"
+#include "demlink/core/step/stage_sampling.hpp"
 
 namespace demlink::core {
 namespace {
@@ -391,7 +392,8 @@ void World::coverMaterial(std::uint32_t material) {
 void World::step() {
   if (!initialized_) initialize();
   StepContext context{settings_.time_step, state_.step_count, pool_.get()};
-  if (!stage_timing_) {
+  const std::uint64_t weight = stage_timing_ ? stageTimingWeight(state_.step_count) : 0;
+  if (weight == 0) {
     for (const Stage stage : step_stages_) runStage(stage, context);
     return;
   }
@@ -400,7 +402,8 @@ void World::step() {
   for (const Stage stage : step_stages_) {
     runStage(stage, context);
     const Clock::time_point now = Clock::now();
-    stage_seconds_[static_cast<std::size_t>(stage)] += std::chrono::duration<double>(now - last).count();
+    stage_seconds_[static_cast<std::size_t>(stage)] +=
+        static_cast<double>(weight) * std::chrono::duration<double>(now - last).count();
     last = now;
   }
 }

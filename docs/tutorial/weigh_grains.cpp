@@ -32,6 +32,9 @@ int main(int argc, char** argv) {
 
     auto& box = session.add<dc::SimulationBox>("box");
     box.setTimeStep(1e-5).setEndTime(0.8).setInitialGravity({0, 0, -kGravity});
+    // 10 % instead of the default 1 %: trades restitution accuracy for speed (at 1 % these
+    // grains (e = 0.3) need a step below 7.4e-6 s).
+    box.setRestitutionTolerance(0.1);
     box.setBounds({-0.1, -0.1, -0.02}, {0.1, 0.1, 0.3}).setExpectedCount(6);
     session.add<dc::Material>("grain").setDensity(2500).setYoungsModulus(1e7).setPoissonRatio(0.3)
         .setRestitution(0.3).setSlidingFriction(0.5);

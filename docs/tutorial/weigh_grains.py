@@ -23,6 +23,9 @@ def vec(x=0.0, y=0.0, z=0.0):
 def declarations():
     box = scene_pb2.ComponentDeclaration(name="box")
     box.simulation_box.time_step = 1e-5
+    # 10 % instead of the default 1 %: trades restitution accuracy for speed (at 1 % these
+    # grains (e = 0.3) need a step below 7.4e-6 s).
+    box.simulation_box.restitution_tolerance = 0.1
     box.simulation_box.end_time = 0.8
     box.simulation_box.gravity.CopyFrom(vec(z=-GRAVITY))
     box.simulation_box.bounds.lower.CopyFrom(vec(-0.1, -0.1, -0.02))

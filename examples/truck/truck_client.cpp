@@ -268,12 +268,14 @@ int run(const Options& o) {
   link.check(dl_connect_to_host(link.client(), o.host.c_str(), o.port, "truck", token != nullptr ? token : ""),
              "dl_connect_to_host");
 
-  // SimulationBox: the whole site, run until Bye, VTK every 0.25 s, 2 threads.
+  // SimulationBox: the whole site, run until Bye, VTK every 0.25 s, 2 threads, and a
+  // restitution tolerance of 10 % instead of the default 1 %: it trades accuracy for speed
+  // (the site's step, chosen for a real-time pace, is not held to the 1 % limit).
   std::vector<std::string> boxStrings{"simulation_box", kRoomName, kRoomName, kBodyName, kLoadName};
   if (o.source) boxStrings.emplace_back(kFeederName);
   for (const auto& n : o.expected) boxStrings.push_back(n);
   link.send({0, 2},
-            {tc, site::kTimeStep, 0.0, 0.0, 0.0, -9.81, -5.0, -6.5, -2.0, 9.5, 3.0, 5.0, 0.25}, boxStrings,
+            {tc, site::kTimeStep, 0.0, 0.0, 0.0, -9.81, -5.0, -6.5, -2.0, 9.5, 3.0, 5.0, 0.25, 0.1}, boxStrings,
             "declare simulation_box");
   // The dump body: STL bytes sent from here, reference point = the body frame's origin.
   link.send({2, 2},

@@ -231,8 +231,8 @@ TEST(ClientCAbi, StatusCodesAndMessages) {
   EXPECT_NE(std::string(dl_last_error(refused.client)).find("'tracker' has no generic layout"), std::string::npos);
 }
 
-// The optional simulation_box entries of the generic layout (VTK interval, threads,
-// expected names, the room frame input) reach the declaration; omitted ones stay unset.
+// The optional simulation_box entries of the generic layout (VTK interval, restitution
+// tolerance, threads, expected names, the room frame input) reach the declaration; omitted ones stay unset.
 TEST(ClientCAbi, GenericSimulationBoxCarriesOutputThreadsAndNames) {
   const std::string log = logFile("generic_box");
   FakeServerProcess server(1, 1, log);
@@ -243,8 +243,8 @@ TEST(ClientCAbi, GenericSimulationBoxCarriesOutputThreadsAndNames) {
   const double nan = std::nan("");
   const char* boxStrings[] = {"simulation_box", "room", "room", "truck_body"};
   const long long boxInts[] = {0, 2};
-  const double boxReals[] = {0.001, 2e-4, 1.0, 0.0, 0.0, -9.81, -1.0, -2.0, -3.0, 4.0, 5.0, 6.0, 0.25};
-  ASSERT_EQ(dl_set_data(pkg.package, boxInts, 2, boxReals, 13, boxStrings, 4), DL_OK);
+  const double boxReals[] = {0.001, 2e-4, 1.0, 0.0, 0.0, -9.81, -1.0, -2.0, -3.0, 4.0, 5.0, 6.0, 0.25, 0.05};
+  ASSERT_EQ(dl_set_data(pkg.package, boxInts, 2, boxReals, 14, boxStrings, 4), DL_OK);
   ASSERT_EQ(dl_send_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
   ASSERT_EQ(dl_wait_compiled(c.client), DL_OK) << dl_last_error(c.client);
   // The frame input: gravity unchanged (NaN), then a_f, Omega, alpha, origin.
@@ -260,6 +260,7 @@ TEST(ClientCAbi, GenericSimulationBoxCarriesOutputThreadsAndNames) {
   const auto lines = readLines(log);
   EXPECT_TRUE(contains(lines, "DECL room", "output { vtk_interval: 0.25 }"));
   EXPECT_TRUE(contains(lines, "DECL room", "threads: 2"));
+  EXPECT_TRUE(contains(lines, "DECL room", "restitution_tolerance: 0.05"));
   EXPECT_TRUE(contains(lines, "DECL room", "expected_names: \"room\" expected_names: \"truck_body\""));
   EXPECT_TRUE(contains(lines, "DECL room", "bounds { lower { x: -1 y: -2 z: -3 } upper { x: 4 y: 5 z: 6 } }"));
 
@@ -285,6 +286,8 @@ TEST(ClientCAbi, ModelicaSequenceProgramRunsAgainstTheFakeServer) {
   for (const auto& line : readLines(logPath)) packages += line.rfind("DECL", 0) == 0 ? 0U : 1U;
   // 12 samples of box, bucket and feeder (interval 2 steps) and 6 of the sensor (4 steps).
   EXPECT_EQ(packages, 12U * 3U + 6U);
+  // The SimulationBox model's restitutionTolerance reaches the declaration.
+  EXPECT_TRUE(contains(readLines(logPath), "DECL simBox", "restitution_tolerance: 0.01"));
 }
 
 }  // namespace

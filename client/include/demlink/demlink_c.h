@@ -184,6 +184,13 @@ DL_API const char* dl_finished_reason(const dl_client* client); /* "" until fini
 DL_API int dl_declare_simulation_box(dl_client* client, const char* name, double interval, double timeStep,
                                      double endTime, const double gravity[3], const double boundsLower[3],
                                      const double boundsUpper[3], int expectedCount, int* component);
+/* As dl_declare_simulation_box, plus the largest restitution error the server's time-step
+ * limit allows [-] (NaN or negative: the server's default 0.01; a larger value accepts a
+ * larger time step, trading accuracy for speed). */
+DL_API int dl_declare_simulation_box_ex(dl_client* client, const char* name, double interval, double timeStep,
+                                        double endTime, const double gravity[3], const double boundsLower[3],
+                                        const double boundsUpper[3], int expectedCount, double restitutionTolerance,
+                                        int* component);
 DL_API int dl_declare_material(dl_client* client, const char* name, const char* databaseName, double density,
                                double youngsModulus, double poissonRatio, double restitution,
                                double slidingFriction, double rollingFriction, int* component);

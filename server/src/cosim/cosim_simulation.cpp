@@ -12,6 +12,7 @@
 #include <fstream>
 
 #include "demlink/server/cosim/cosim_inputs.hpp"
+#include "demlink/server/run/run_log.hpp"
 
 namespace demlink::server {
 namespace {
@@ -170,6 +171,11 @@ CosimSimulation::Advance CosimSimulation::advance() {
   return out;
 }
 
-void CosimSimulation::finish(const std::string& reason) { driver_->finish(world(), reason); }
+void CosimSimulation::finish(const std::string& reason) {
+  driver_->finish(world(), reason);
+  // The measured part of the compile report: known only once the run has stepped.
+  std::ofstream report(directory_ / "compile_report.txt", std::ios::app);
+  report << "stage timing (sampled, " << world().stepCount() << " steps): " << stageTimingSummary(world()) << "\n";
+}
 
 }  // namespace demlink::server

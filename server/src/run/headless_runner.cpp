@@ -183,16 +183,7 @@ RunSummary runHeadless(TranslatedScene& scene) {
                "max z {:.5g} m, {} neighbour builds",
                last.particles, world.removedAtBounds().count, last.kinetic_energy, last.mean_z, last.max_z,
                last.neighbour_builds);
-  double staged = 0.0;
-  for (const double seconds : world.stageSeconds()) staged += seconds;
-  std::string stages;
-  for (std::size_t k = 0; k < world.stageSeconds().size(); ++k) {
-    const double seconds = world.stageSeconds()[k];
-    if (seconds <= 0.0) continue;
-    stages += fmt::format("{}{} {:.3g} s ({:.1f} %)", stages.empty() ? "" : ", ", core::stageTable()[k].name,
-                          seconds, 100.0 * seconds / std::max(staged, 1e-12));
-  }
-  spdlog::info("stage timing: {}", stages);
+  spdlog::info("stage timing (sampled): {}", stageTimingSummary(world));
   for (const auto& component : world.components()) {
     if (const auto* source = dynamic_cast<const core::ParticleSource*>(component.get())) {
       if (source->report().shortfall_count > 0) {

@@ -91,13 +91,26 @@ void RunLog::writeConfiguration(const core::World& world, const RunOptions& run,
   add("config", "checkpoint_interval", number(run.checkpoint_interval), "s");
 }
 
+std::string stageTimingSummary(const core::World& world) {
+  const auto seconds = world.stageSeconds();
+  double staged = 0.0;
+  for (const double s : seconds) staged += s;
+  std::string out;
+  for (std::size_t k = 0; k < seconds.size(); ++k) {
+    if (seconds[k] <= 0.0) continue;
+    out += fmt::format("{}{} {:.3g} s ({:.1f} %)", out.empty() ? "" : ", ", core::stageTable()[k].name, seconds[k],
+                       100.0 * seconds[k] / std::max(staged, 1e-12));
+  }
+  return out;
+}
+
 void RunLog::writeTiming(const core::World& world, const RunTiming& timing) {
   const double total = std::max(timing.total_seconds, 1.0e-9);
   const double stepping = std::max(total - timing.output_seconds, 1.0e-9);
   add("timing", "initialise_wall", number(timing.initialise_seconds), "s");
   add("timing", "total_wall", number(timing.total_seconds), "s");
-  // Per stage call (World::setStageTiming): seconds and share of the stepping time.
-  const auto& stageSeconds = world.stageSeconds();
+  // Per stage (World::setStageTiming, sampled): seconds and share of the stepping time.
+  const auto stageSeconds = world.stageSeconds();
   for (std::size_t k = 0; k < stageSeconds.size(); ++k) {
     if (stageSeconds[k] <= 0.0) continue;
     const std::string name(core::stageTable()[k].name);

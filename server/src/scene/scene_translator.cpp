@@ -39,9 +39,6 @@
 namespace demlink::server {
 namespace {
 
-/// restitution_tolerance of a simulation_box that does not give one (see toSettings).
-constexpr double kSceneRestitutionTolerance = 0.1;
-
 using core::InputError;
 using MaterialNames = std::map<std::string, std::uint32_t>;
 
@@ -113,11 +110,7 @@ core::SimulationSettings toSettings(const v1::SimulationBox& box, const std::str
   settings.neighbour_skin = box.neighbour_skin();
   if (box.has_max_impact_velocity()) settings.max_impact_velocity = box.max_impact_velocity();
   settings.linear_normal_stiffness = box.linear_normal_stiffness();
-  // Scenes and clients that omit it get a 10 % tolerance: the examples' and clients' time
-  // steps were chosen for the earlier ten-steps-per-contact rule, and the C ABI and the
-  // Modelica library cannot set this field yet. 0.01 keeps the 1 % promise (docs/physics.md).
-  settings.restitution_tolerance =
-      box.has_restitution_tolerance() ? box.restitution_tolerance() : kSceneRestitutionTolerance;
+  if (box.has_restitution_tolerance()) settings.restitution_tolerance = box.restitution_tolerance();
   settings.allow_unsafe_time_step = box.allow_unsafe_time_step();
   if (box.has_threads()) {
     settings.threads = box.threads() == 0 ? core::maxThreads() : box.threads();

@@ -37,10 +37,11 @@ World bounce(double speed, double stepFactor, double e, const WatchdogSettings& 
   return world;
 }
 
-std::string faultOf(World& world, int steps) {
+std::string faultOf(World& world, int steps, std::string* message = nullptr) {
   try {
     for (int k = 0; k < steps; ++k) world.step();
   } catch (const SimulationFault& fault) {
+    if (message != nullptr) *message = fault.what();
     return fault.check();
   }
   return "(none)";
@@ -111,18 +112,24 @@ TEST(Speeds, DeclaredImpactSpeedBelowAParticlesIsReplacedAndReported) {
   EXPECT_DOUBLE_EQ(world.timeStepReport().limit, declared.timeStepReport().limit);
 }
 
-TEST(Speeds, MeshMotionAndItsDeclaredLimitCount) {
-  World world(test::fineSettings(1e-7, 0.5));
+/// A triangle "paddle" at z = 0 moving at `velocity` with a declared speed limit, and
+/// a sphere 0.5 m above it; initialised.
+void addPaddleAndSphere(World& world, const Vec3& velocity, double speedLimit) {
   world.addMaterial(test::testMaterial(0.5));
   MeshBody mesh("paddle", {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)}, {{0, 1, 2}}, 0);
-  mesh.setVelocity(Vec3(2.0, 0.0, 0.0), Vec3::Zero());
-  mesh.setSpeedLimit(5.0);
+  mesh.setVelocity(velocity, Vec3::Zero());
+  mesh.setSpeedLimit(speedLimit);
   world.addMesh(std::move(mesh));
   ParticleSpec p;
   p.radius = kRadius;
   p.position = Vec3(0.2, 0.2, 0.5);
   world.addParticle(p);
   world.initialize();
+}
+
+TEST(Speeds, MeshMotionAndItsDeclaredLimitCount) {
+  World world(test::fineSettings(1e-7, 0.5));
+  addPaddleAndSphere(world, Vec3(2.0, 0.0, 0.0), 5.0);
   EXPECT_DOUBLE_EQ(world.validatedImpactSpeed(), 5.0);
   EXPECT_NE(world.seenSpeeds().front().what.find("mesh paddle"), std::string::npos);
 }
@@ -138,13 +145,41 @@ TEST(Speeds, FasterThanValidatedWarnsOnceOrStopsWhenStrict) {
     p.radius = kRadius;
     world.addParticle(p);  // falls freely: 0.5 m/s after 0.051 s
     world.initialize();
-    const std::string check = faultOf(world, 10'000);
+    std::string message;
+    const std::string check = faultOf(world, 10'000, &message);
     if (policy == GuardPolicy::Stop) {
       EXPECT_EQ(check, "speed");
+      EXPECT_NE(message.find("particle 1 moves at"), std::string::npos) << message;
+      EXPECT_TRUE(world.warnings().empty());
     } else {
       EXPECT_EQ(check, "(none)");
       ASSERT_EQ(world.warnings().size(), 1u);
       EXPECT_NE(world.warnings()[0].find("particle 1"), std::string::npos) << world.warnings()[0];
+    }
+  }
+}
+
+// A mesh driven at run time faster than the speed the step was validated for (its
+// declared limit) is named: a warning once, or a stop under the strict policy.
+TEST(Speeds, AMeshDrivenFasterThanValidatedIsNamed) {
+  for (const GuardPolicy policy : {GuardPolicy::Warn, GuardPolicy::Stop}) {
+    SimulationSettings s = test::fineSettings(1e-6, 1.0);
+    s.watchdog.speed_policy = policy;
+    s.watchdog.every_steps = 10;
+    World world(s);
+    addPaddleAndSphere(world, Vec3::Zero(), 1.0);
+    ASSERT_DOUBLE_EQ(world.validatedImpactSpeed(), 1.0);
+    EXPECT_EQ(faultOf(world, 20), "(none)");  // at rest
+    world.mesh(0).setVelocity(Vec3(0.0, 0.0, 1.5), Vec3::Zero());
+    std::string message;
+    const std::string check = faultOf(world, 100, &message);
+    if (policy == GuardPolicy::Stop) {
+      EXPECT_EQ(check, "speed");
+      EXPECT_NE(message.find("mesh paddle moves at 1.5 m/s"), std::string::npos) << message;
+    } else {
+      EXPECT_EQ(check, "(none)");
+      ASSERT_EQ(world.warnings().size(), 1u);
+      EXPECT_NE(world.warnings()[0].find("mesh paddle"), std::string::npos) << world.warnings()[0];
     }
   }
 }

@@ -109,11 +109,36 @@ TEST(TimeStepLimit, ToleranceIsValidatedAndLoosensTheLimit) {
   EXPECT_GT(t.world.timeStepReport().limit, 2.0 * acceptedLimit(0.2, true));
 }
 
-TEST(TimeStepLimit, ASceneThatOmitsTheToleranceGetsTenPercent) {
+// One default everywhere: a scene file or client that omits the tolerance gets the
+// engine's 1 %, and the limit it computes is the one the accuracy test above checks.
+TEST(TimeStepLimit, ASceneThatOmitsTheToleranceGetsOnePercent) {
   v1::Scene scene = impactScene(0.2, 1e-12, 0.0, true);
   scene.mutable_components(0)->mutable_simulation_box()->clear_restitution_tolerance();
   TranslatedScene t = translateScene(scene, {});
-  EXPECT_EQ(t.world.settings().restitution_tolerance, 0.1);
+  EXPECT_EQ(t.world.settings().restitution_tolerance, 0.01);
+  t.world.initialize();
+  EXPECT_NEAR(t.world.timeStepReport().limit / acceptedLimit(0.2, true), 1.0, 1e-12);
+}
+
+// The strict policy from a scene file: a sphere falling past the declared impact speed
+// stops the run by name at the first watchdog check beyond it (0.1 m/s after ~1.03e-2 s).
+TEST(TimeStepLimit, StrictSpeedPolicyStopsAFasterParticleNamingIt) {
+  const v1::Scene scene = test::sceneOf(
+      {R"({"name": "box", "simulation_box": {"time_step": 1e-5, "end_time": 1, "max_impact_velocity": 0.1,
+           "watchdog": {"every_steps": 10, "speed_policy": "STOP"}}})",
+       R"({"name": "glass", "material": {"youngs_modulus": 1e7}})",
+       R"({"name": "ball", "particle_lattice": {"material": "glass", "radius": 0.01, "spacing": 1,
+           "counts": {"nx": 1, "ny": 1, "nz": 1}}})"});
+  TranslatedScene t = translateScene(scene, {});
+  t.world.initialize();
+  try {
+    for (int k = 0; k < 2000; ++k) t.world.step();
+    FAIL() << "no stop; speed " << t.world.particles().velocity[0].norm() << " m/s";
+  } catch (const core::SimulationFault& fault) {
+    EXPECT_EQ(fault.check(), "speed");
+    EXPECT_NE(std::string(fault.what()).find("particle 1 moves at"), std::string::npos) << fault.what();
+    EXPECT_NEAR(t.world.time(), 0.0103, 2e-4);
+  }
 }
 
 }  // namespace

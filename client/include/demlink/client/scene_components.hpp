@@ -18,6 +18,9 @@ class SimulationBox : public Component {
   SimulationBox& setEndTime(double seconds);          ///< [s]; required by the compiler
   SimulationBox& setInitialGravity(const Vec3& g);    ///< declared gravity [m/s^2]
   SimulationBox& setBounds(const Vec3& lower, const Vec3& upper);  ///< fixed domain [m]
+  /// Largest restitution error the server's time-step limit allows [-], in (0, 1); unset:
+  /// 0.01. A larger value accepts a larger time step: it trades accuracy for speed.
+  SimulationBox& setRestitutionTolerance(double tolerance);
   /// Compile once this many components are declared (this box included) [-].
   SimulationBox& setExpectedCount(std::uint32_t count);
   SimulationBox& addExpectedName(const std::string& name);

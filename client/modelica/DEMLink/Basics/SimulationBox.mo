@@ -16,6 +16,8 @@ model SimulationBox "Server address, communication interval and the DEM run's se
   parameter Modelica.Units.SI.Time vtkInterval = -1 "VTK output interval of the server (negative: the server's default)"
     annotation (Dialog(group = "Server output"));
   parameter Integer threads = -1 "Engine threads (negative: 1, 0: all cores)";
+  parameter Real restitutionTolerance = 0.01
+    "Largest restitution error the server's time-step limit allows; larger accepts a larger timeStep (trades accuracy for speed)";
   parameter String expectedNames[:] = fill("", 0)
     "Names of components the server waits for besides the count (e.g. those of another tool's clients)"
     annotation (Dialog(group = "Coupling"));
@@ -40,7 +42,7 @@ initial algorithm
   DEMLink.Functions.connectClient(client, address, port, "simBox", token, timeout);
   DEMLink.Functions.declare(client, "simulation_box", "simBox", tc, {nComponents, threads},
     cat(1, {DEMLink.Functions.optional(timeStep), endTime}, gravity, boundsLower, boundsUpper,
-    {DEMLink.Functions.optional(vtkInterval)}), expectedNames);
+    {DEMLink.Functions.optional(vtkInterval), restitutionTolerance}), expectedNames);
 equation
   connect(gravityIn, gravityNow);
   if not useGravityInput then

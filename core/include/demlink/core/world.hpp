@@ -159,10 +159,10 @@ class World {
   /// The index of the rigid twin of `material` (Material::rigid, named "<name> (rigid)"),
   /// added on first use; rigid planes and meshes use it.
   std::uint32_t rigidTwin(std::uint32_t material);
-  /// Measures the wall time of every stage call from now on (two clock reads per
-  /// call, none per contact); off by default.
+  /// Estimates the wall time of every stage from now on by timing a sample of steps
+  /// (step/stage_sampling.hpp: well under 1 % of the step's cost); off by default.
   void setStageTiming(bool on) { stage_timing_ = on; }
-  /// Wall seconds spent in each stage call since timing was switched on, by Stage.
+  /// Estimated wall seconds of each stage since timing was switched on, by Stage.
   [[nodiscard]] const std::array<double, kStageCount>& stageSeconds() const { return stage_seconds_; }
   /// Every speed the world could see at initialize() (particles, sources, meshes,
   /// the frame's rotation), fastest first.

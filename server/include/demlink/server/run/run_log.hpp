@@ -29,6 +29,12 @@ struct RunTiming {
   std::size_t checkpoints = 0;      ///< checkpoint files written [-]
 };
 
+/// "<stage> <seconds> s (<share> %), ..." for every stage that ran, from the world's
+/// sampled stage timing (World::setStageTiming); shares are of the stages' sum. For the
+/// end of a run: a headless run logs it, a co-simulation appends it to
+/// compile_report.txt.
+std::string stageTimingSummary(const core::World& world);
+
 class RunLog {
  public:
   /// Creates `path` and writes the header. Throws std::runtime_error if it cannot.
