@@ -105,7 +105,7 @@ TEST(CohesionForce, EnergyOfAnUndampedCohesiveImpactIsConserved) {
 /// the cohesive potential in its energy check).
 double separationAfterSlowImpact(double kc) {
   constexpr double kSpeed = 0.02;  // [m/s]
-  World world(test::fineSettings(1.0e-6, kSpeed));
+  World world(test::fineSettings(1.0e-6, 2.0 * kSpeed));  // cohesion speeds the approach up
   world.addMaterial(cohesiveMaterial(kc, 0.5, 0.0));
   test::addHeadOnPair(world, kRadius, kSpeed, 1.0e-6);
   world.initialize();
@@ -123,7 +123,7 @@ TEST(CohesionForce, CohesionCapturesASlowImpactThatADryPairSurvives) {
 /// packing, centres jittered by 0.2 % of the radius to break its symmetry) after
 /// 0.4 s on a floor.
 double blockHeightAfterSettling(double kc) {
-  SimulationSettings settings = test::fineSettings(1.0e-5, 0.5);
+  SimulationSettings settings = test::fineSettings(1.0e-5, 1.0);
   settings.gravity = Vec3(0.0, 0.0, -9.81);
   World world(settings);
   const auto material = world.addMaterial(cohesiveMaterial(kc, 0.3, 0.5));

@@ -27,9 +27,9 @@ template <class Law, class Storage>
 inline constexpr bool kHistoryStorageFits =
     std::is_same_v<typename Law::History, std::ranges::range_value_t<std::remove_cvref_t<Storage>>>;
 
-/// Cohesive attraction k_c A [N] of a contact whose overlap circle has area
-/// A = pi a^2. Two spheres of radii r1, r2 at centre distance d (overlap
-/// delta = r1 + r2 - d) meet in a circle of radius
+/// Contact area A = pi a^2 [m^2] of an overlap, for the cohesive attraction k_c A [N].
+/// Two spheres of radii r1, r2 at centre distance d (overlap delta = r1 + r2 - d)
+/// meet in a circle of radius
 ///   a^2 = delta (d + r1 + r2) (d^2 - (r1 - r2)^2) / (4 d^2),
 /// the product form of the sphere-sphere intersection (no cancellation at small
 /// delta; a^2 -> 2 R* delta as delta -> 0, R* = r1 r2 / (r1 + r2)). A sphere on a
@@ -125,7 +125,8 @@ void particleContactRows(ParticleArrays& p, NeighbourList& list, const ContactPa
       double normalForce = 0.0;
       Vec3 f = contactForce<Law>(params, normal, overlap, vRel, rStar, mStar, dt, history[k], normalForce);
       if constexpr (kPasses.cohesion) {
-        // Pulls j back towards i; the friction cap and rolling resistance above use the repulsive part alone.
+        // Pulls j back towards i; the friction cap (above) and rolling resistance (below) see the
+        // repulsive part alone.
         f -= (params.cohesion_energy_density * pairContactArea(ri, p.radius[j], dist, overlap)) * normal;
       }
       if constexpr (kPasses.recording) {
