@@ -44,17 +44,6 @@ std::vector<std::vector<std::string>> csvRows(const std::string& text) {
   return rows;
 }
 
-/// The values of the ASCII DataArray `name` of a .vtp file.
-std::vector<double> asciiArray(const std::string& file, const std::string& name) {
-  const std::size_t at = file.find("Name=\"" + name + "\"");
-  if (at == std::string::npos) return {};
-  const std::size_t start = file.find('>', at) + 1;
-  std::istringstream in(file.substr(start, file.find("</DataArray>", start) - start));
-  std::vector<double> values;
-  for (double v = 0.0; in >> v;) values.push_back(v);
-  return values;
-}
-
 TEST(ContactOutputs, ContactFilesOnTheirStepsCarryTheWeight) {
   const test::ScratchDir scratch;
   TranslatedScene scene =
@@ -113,7 +102,7 @@ TEST(ContactOutputs, MeshFramesCarryTriangleLoadsThatAddUpToTheWrench) {
   core::writeMeshLoadsVtp(ascii.string(), world.meshes()[0].worldVertices(), world.meshes()[0].triangles(),
                           world.meshLoads(0), core::VtkEncoding::Ascii);
   const std::string file = test::readText(ascii);
-  const std::vector<double> force = asciiArray(file, "load_force");
+  const std::vector<double> force = test::asciiValues(file, "load_force");
   ASSERT_EQ(force.size(), 3 * floor.triangles.size());
   core::Vec3 sum = core::Vec3::Zero();
   for (std::size_t t = 0; t < floor.triangles.size(); ++t) sum += core::Vec3(force[3 * t], force[3 * t + 1], force[3 * t + 2]);
