@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <numeric>
+#include <utility>
 
 #include "demlink/core/contact/contact_law_registry.hpp"
 #include "demlink/core/contact/contact_stage.hpp"
@@ -350,6 +351,8 @@ void World::initialize() {
   selectStepStages();
   updateMeshCollision(time());
   rebuildNeighbours();
+  force_step_ = state_.step_count;
+  force_weight_ = 0.0;
   (this->*compute_forces_)();
   gatherClumpForces();
   requireFiniteFirstStep();
@@ -374,9 +377,36 @@ std::vector<std::uint32_t> World::materialsInUse() const {
 void World::buildPairTable(const std::vector<std::uint32_t>& used) {
   pair_table_ = ContactPairTable(materials_, settings_.contact_model, pair_reference_, pair_overrides_, used);
   rolling_active_ = pair_table_.anyRollingFriction();
-  compute_forces_ = visitContactLaw(settings_.contact_model, [this]<class Law>() {
-    return rolling_active_ ? &World::computeForces<Law, true> : &World::computeForces<Law, false>;
+  cohesion_active_ = pair_table_.anyCohesion();
+  selectForceKernel();
+}
+
+void World::selectForceKernel() {
+  using Kernel = void (World::*)();
+  // Index: rolling + 2 cohesion + 4 recording.
+  const std::size_t index = (rolling_active_ ? 1u : 0u) + (cohesion_active_ ? 2u : 0u) +
+                            (contact_output_.active() ? 4u : 0u);
+  compute_forces_ = visitContactLaw(settings_.contact_model, [index]<class Law>() {
+    return [&]<std::size_t... I>(std::index_sequence<I...>) {
+      constexpr std::array<Kernel, 8> kernels{
+          &World::computeForces<Law, ForcePasses{(I & 1u) != 0, (I & 2u) != 0, (I & 4u) != 0}>...};
+      return kernels[index];
+    }(std::make_index_sequence<8>{});
   });
+}
+
+void World::setContactOutput(const ContactOutputSettings& settings) {
+  contact_output_ = settings;
+  contact_snapshot_ = ContactSnapshot{};
+  mesh_loads_.clear();
+  if (!initialized_) return;
+  selectForceKernel();
+  selectStepStages();
+}
+
+std::span<const TriangleLoad> World::meshLoads(std::size_t index) const {
+  if (index >= mesh_loads_.size()) return {};
+  return mesh_loads_[index];
 }
 
 void World::coverMaterial(std::uint32_t material) {
@@ -385,13 +415,16 @@ void World::coverMaterial(std::uint32_t material) {
   used.push_back(material);
   std::sort(used.begin(), used.end());
   const bool rolling = rolling_active_;
+  const bool cohesion = cohesion_active_;
   buildPairTable(used);
-  if (rolling != rolling_active_) selectStepStages();
+  if (rolling != rolling_active_ || cohesion != cohesion_active_) selectStepStages();
 }
 
 void World::step() {
   if (!initialized_) initialize();
   StepContext context{settings_.time_step, state_.step_count, pool_.get()};
+  force_step_ = state_.step_count + 1;  // the forces of a step belong to its end
+  force_weight_ = settings_.time_step;
   const std::uint64_t weight = stage_timing_ ? stageTimingWeight(state_.step_count) : 0;
   if (weight == 0) {
     for (const Stage stage : step_stages_) runStage(stage, context);
@@ -422,6 +455,8 @@ SceneFeatures World::sceneFeatures() const {
   f.rolling = rolling_active_;
   f.deformables = !deformables_.empty();
   f.watchdog = settings_.watchdog.every_steps > 0;
+  f.cohesion = cohesion_active_;
+  f.contact_recording = contact_output_.active();
   return f;
 }
 
@@ -460,7 +495,9 @@ void World::runStage(Stage stage, StepContext& context) {
     case Stage::kPlaneContacts:
     case Stage::kMeshContacts:
     case Stage::kDeformableContacts:
-    case Stage::kRollingResistance: return;  // passes inside kForces, never selected as calls
+    case Stage::kRollingResistance:
+    case Stage::kCohesion:
+    case Stage::kContactRecording: return;  // passes inside kForces, never selected as calls
   }
 }
 
@@ -532,11 +569,46 @@ void World::secondHalfKick(const StepContext& context) {
   }
 }
 
-template <class Law, bool kRolling>
+template <class Law, ForcePasses kPasses>
 void World::computeForces() {
   const double dt = settings_.time_step;
   ParticleArrays& p = particles_;
   PairLoopPartition& parts = partition_;
+  // Contact records this evaluation? (Only the recording instantiation asks.)
+  bool snapshot = false;
+  if constexpr (kPasses.recording) {
+    const std::uint64_t every = contact_output_.every_steps;
+    snapshot = every > 0 && (force_weight_ == 0.0 || force_step_ % every == 0);
+    part_records_.resize(parts.parts());
+    for (auto& records : part_records_) records.clear();
+    if (snapshot) {
+      contact_snapshot_.contacts.clear();
+      contact_snapshot_.step = force_step_;
+      contact_snapshot_.valid = true;
+    }
+    if (contact_output_.mesh_loads) {
+      mesh_loads_.resize(meshes_.size());
+      for (std::size_t m = 0; m < meshes_.size(); ++m) {
+        mesh_loads_[m].resize(meshes_[m].triangles().size());
+        for (TriangleLoad& load : mesh_loads_[m]) {
+          load.force.setZero();
+          load.normal_force = load.tangential_force = 0.0;
+        }
+      }
+    }
+  }
+  auto partRecords = [&](std::uint32_t part) -> std::vector<ContactRecord>* {
+    return snapshot ? &part_records_[part] : nullptr;
+  };
+  auto recording = [&](ContactKind kind, std::size_t index, std::vector<TriangleLoad>* loads) {
+    ContactRecording r;
+    r.contacts = snapshot ? &contact_snapshot_.contacts : nullptr;
+    r.loads = loads;
+    r.dt = force_weight_;
+    r.kind = kind;
+    r.index = index;
+    return r;
+  };
   // Clear; pair rows (part 0 into the arrays, other parts into their own
   // buffers); add the buffers in fixed part order; then planes and meshes, in
   // order (the passes of stage forces in stage_table.hpp).
@@ -551,16 +623,16 @@ void World::computeForces() {
     const std::size_t rowBegin = parts.rowBegin(part);
     const std::size_t rowEnd = parts.rowEnd(part);
     if (part == 0) {
-      particleContactRows<Law, kRolling>(p, neighbours_, pair_table_, dt, rowBegin, rowEnd, p.force.data(),
-                                         p.torque.data(), 0);
+      particleContactRows<Law, kPasses>(p, neighbours_, pair_table_, dt, rowBegin, rowEnd, p.force.data(),
+                                        p.torque.data(), 0, partRecords(part));
       return;
     }
     std::vector<Vec3>& f = parts.force(part);
     std::vector<Vec3>& t = parts.torque(part);
     std::fill(f.begin(), f.end(), Vec3::Zero());
     std::fill(t.begin(), t.end(), Vec3::Zero());
-    particleContactRows<Law, kRolling>(p, neighbours_, pair_table_, dt, rowBegin, rowEnd, f.data(), t.data(),
-                                       rowBegin);
+    particleContactRows<Law, kPasses>(p, neighbours_, pair_table_, dt, rowBegin, rowEnd, f.data(), t.data(),
+                                      rowBegin, partRecords(part));
   });
   if (parts.parts() > 1) {
     parallelChunks(pool, p.size(), [&](std::size_t begin, std::size_t end) {
@@ -573,20 +645,29 @@ void World::computeForces() {
       }
     });
   }
-  for (PlaneWall& wall : planes_) {
+  if (snapshot) {
+    for (const auto& records : part_records_) {
+      contact_snapshot_.contacts.insert(contact_snapshot_.contacts.end(), records.begin(), records.end());
+    }
+  }
+  for (std::size_t w = 0; w < planes_.size(); ++w) {
+    PlaneWall& wall = planes_[w];
     wall.force.setZero();
     wall.torque.setZero();
-    planeContactForces<Law, kRolling>(p, wall, pair_table_, dt);
+    planeContactForces<Law, kPasses>(p, wall, pair_table_, dt, recording(ContactKind::kPlane, w, nullptr));
   }
   for (std::size_t m = 0; m < meshes_.size(); ++m) {
     meshes_[m].clearWrench();
     if (mesh_colliding_[m] == 0) continue;
-    meshContactForces<Law, kRolling>(p, meshes_[m], mesh_near_[m], pair_table_, dt, mesh_contacts_scratch_);
+    std::vector<TriangleLoad>* loads = kPasses.recording && contact_output_.mesh_loads ? &mesh_loads_[m] : nullptr;
+    meshContactForces<Law, kPasses>(p, meshes_[m], mesh_near_[m], pair_table_, dt, mesh_contacts_scratch_,
+                                    recording(ContactKind::kMesh, m, loads));
   }
   for (std::size_t d = 0; d < deformables_.size(); ++d) {
     DeformableSurface& surface = deformables_[d]->surface();
     surface.clearForces();
-    meshContactForces<Law, kRolling>(p, surface, deformable_near_[d], pair_table_, dt, mesh_contacts_scratch_);
+    meshContactForces<Law, kPasses>(p, surface, deformable_near_[d], pair_table_, dt, mesh_contacts_scratch_,
+                                    recording(ContactKind::kDeformable, d, nullptr));
   }
 }
 
@@ -882,6 +963,7 @@ void World::measureContacts(WatchdogReading& reading) const {
     const double rStar = rB > 0.0 ? rA * rB / (rA + rB) : rA;
     const ContactStiffness k = Law::stiffness(params, rStar, overlap);
     reading.elastic_energy += k.normal_elastic_force * overlap / (Law::kForceExponent + 1.0);
+    reading.cohesion_energy += cohesionEnergy(params.cohesion_energy_density, rA, rB, overlap);
     const double fraction = overlap / (rB > 0.0 ? std::min(rA, rB) : rA);
     if (fraction > reading.max_overlap_fraction) {
       reading.max_overlap_fraction = fraction;
@@ -940,7 +1022,7 @@ WatchdogReading World::watch() {
   if (!r.non_finite.empty()) return r;
   visitContactLaw(settings_.contact_model, [&]<class Law>() { measureContacts<Law>(r); });
   r.kinetic_energy = kineticEnergy();
-  r.total_energy = r.kinetic_energy + potential + r.elastic_energy;
+  r.total_energy = r.kinetic_energy + potential + r.elastic_energy + r.cohesion_energy;
   // Sources, moving meshes and a moving frame feed energy in: no energy check then.
   // Mesh contacts' elastic energy and deformable bodies' energy are not measured, so scenes
   // with meshes or deformable bodies are not checked either.

@@ -9,6 +9,7 @@
 #include <sstream>
 #include <string>
 #include <system_error>
+#include <vector>
 
 namespace demlink::server::test {
 
@@ -56,6 +57,18 @@ inline std::size_t countOccurrences(const std::string& text, const std::string& 
     ++count;
   }
   return count;
+}
+
+/// The whitespace-separated values of the `occurrence`-th ASCII <DataArray Name="array"> of a VTK XML file.
+inline std::vector<double> asciiValues(const std::string& xml, const std::string& array, int occurrence = 0) {
+  std::size_t at = xml.find("Name=\"" + array + "\"");
+  for (int k = 0; k < occurrence; ++k) at = xml.find("Name=\"" + array + "\"", at + 1);
+  if (at == std::string::npos) return {};
+  const std::size_t start = xml.find('>', at) + 1;
+  std::istringstream values(xml.substr(start, xml.find("</DataArray>", start) - start));
+  std::vector<double> out;
+  for (double v = 0.0; values >> v;) out.push_back(v);
+  return out;
 }
 
 /// A small valid scene (JSON): a box with a floor, one material and a 2x2x2

@@ -27,6 +27,9 @@ void PairOverride::validate(const std::string& fieldPrefix) const {
   if (restitution) requireHalfOpenRange(fieldPrefix + ".restitution", *restitution, 0.0, 1.0);
   if (sliding_friction) requireNonNegative(fieldPrefix + ".sliding_friction", *sliding_friction);
   if (rolling_friction) requireNonNegative(fieldPrefix + ".rolling_friction", *rolling_friction);
+  if (cohesion_energy_density) {
+    requireNonNegative(fieldPrefix + ".cohesion_energy_density", *cohesion_energy_density);
+  }
 }
 
 namespace {
@@ -71,11 +74,13 @@ ContactPairTable::ContactPairTable(const std::vector<Material>& materials, Conta
       p.restitution = 0.5 * (a.restitution + b.restitution);
       p.sliding_friction = 0.5 * (a.sliding_friction + b.sliding_friction);
       p.rolling_friction = 0.5 * (a.rolling_friction + b.rolling_friction);
+      p.cohesion_energy_density = 0.5 * (a.cohesion_energy_density + b.cohesion_energy_density);
       if (const auto it = overrideOf.find(std::minmax(used[i], used[j])); it != overrideOf.end()) {
         const PairOverride& o = *it->second;
         p.restitution = o.restitution.value_or(p.restitution);
         p.sliding_friction = o.sliding_friction.value_or(p.sliding_friction);
         p.rolling_friction = o.rolling_friction.value_or(p.rolling_friction);
+        p.cohesion_energy_density = o.cohesion_energy_density.value_or(p.cohesion_energy_density);
       }
       auto [it, inserted] = dampingOfRestitution.try_emplace(p.restitution, 0.0);
       if (inserted) it->second = law.damping_for_restitution(p.restitution);
@@ -84,6 +89,7 @@ ContactPairTable::ContactPairTable(const std::vector<Material>& materials, Conta
       // gamma_t = 2 zeta sqrt(S_t m*) = normal_damping sqrt(S_t / S_n) sqrt(S_n m*).
       p.tangential_damping = p.normal_damping * std::sqrt(tangentialStiffnessRatio(p));
       any_rolling_ = any_rolling_ || p.rolling_friction > 0.0;
+      any_cohesion_ = any_cohesion_ || p.cohesion_energy_density > 0.0;
       pairs_[i * count_ + j] = p;
       pairs_[j * count_ + i] = p;
     }

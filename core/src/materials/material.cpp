@@ -11,6 +11,7 @@ void Material::validate(const std::string& fieldPrefix) const {
   requireHalfOpenRange(fieldPrefix + ".restitution", restitution, 0.0, 1.0);
   requireNonNegative(fieldPrefix + ".sliding_friction", sliding_friction);
   requireNonNegative(fieldPrefix + ".rolling_friction", rolling_friction);
+  requireNonNegative(fieldPrefix + ".cohesion_energy_density", cohesion_energy_density);
 }
 
 }  // namespace demlink::core

@@ -19,9 +19,12 @@ extern const char* const kBuiltInMaterialsCsv;
 
 namespace {
 
-constexpr std::array<std::string_view, 11> kColumns = {
-    "name",     "density",          "youngs_modulus", "poisson_ratio", "restitution", "sliding_friction",
-    "rolling_friction", "size_kind", "radius_min",    "radius_max",    "source"};
+constexpr std::array<std::string_view, 12> kColumns = {
+    "name",       "density",    "youngs_modulus", "poisson_ratio", "restitution", "sliding_friction",
+    "rolling_friction", "size_kind", "radius_min", "radius_max", "source", "cohesion_energy_density"};
+/// Columns a file may leave out (their values then keep core::Material's defaults).
+constexpr std::size_t kCohesionColumn = 11;
+constexpr std::size_t kAbsent = static_cast<std::size_t>(-1);
 
 std::string_view trim(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
@@ -130,6 +133,10 @@ MaterialDatabase MaterialDatabase::parse(std::string_view text, const std::strin
       }
       for (std::size_t c = 0; c < kColumns.size(); ++c) {
         const auto it = indexOf.find(std::string(kColumns[c]));
+        if (it == indexOf.end() && c == kCohesionColumn) {
+          columnOf[c] = kAbsent;
+          continue;
+        }
         if (it == indexOf.end()) {
           throw InputError(where + ".header", quotedText(kColumns[c]), "missing column " + std::string(kColumns[c]));
         }
@@ -156,6 +163,7 @@ MaterialDatabase MaterialDatabase::parse(std::string_view text, const std::strin
     m.restitution = number(4);
     m.sliding_friction = number(5);
     m.rolling_friction = number(6);
+    if (columnOf[kCohesionColumn] != kAbsent) m.cohesion_energy_density = number(kCohesionColumn);
     m.validate(where);
     record.size.kind = parseSizeKind(field(7), where + ".size_kind");
     record.size.radius_min = number(8);

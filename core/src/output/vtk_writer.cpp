@@ -254,6 +254,124 @@ void writeMeshVtp(const std::string& path, std::span<const Vec3> vertices,
   writePolyData(path, piece, encoding);
 }
 
+void writeContactsVtp(const std::string& path, std::span<const ContactRecord> contacts, VtkEncoding encoding) {
+  const std::size_t n = contacts.size();
+  std::vector<Vec3> points;
+  points.reserve(2 * n);
+  std::vector<std::array<std::uint32_t, 2>> lines(n);
+  std::vector<Vec3> normalForce(n), tangentialForce(n), contactPoint(n), normal(n);
+  std::vector<double> component(n), overlap(n);
+  std::vector<std::uint8_t> kind(n);
+  std::vector<std::uint64_t> particle(n), other(n);
+  std::vector<std::uint32_t> triangle(n);
+  for (std::size_t c = 0; c < n; ++c) {
+    const ContactRecord& r = contacts[c];
+    lines[c] = {static_cast<std::uint32_t>(points.size()), static_cast<std::uint32_t>(points.size() + 1)};
+    points.push_back(r.centre);
+    points.push_back(r.other_point);
+    normalForce[c] = r.normal_force;
+    tangentialForce[c] = r.tangential_force;
+    component[c] = r.normal_force.dot(r.normal);
+    overlap[c] = r.overlap;
+    contactPoint[c] = r.contact_point;
+    normal[c] = r.normal;
+    kind[c] = static_cast<std::uint8_t>(r.kind);
+    particle[c] = r.particle;
+    other[c] = r.other;
+    triangle[c] = r.triangle;
+  }
+  PolyDataPiece piece;
+  piece.point_count = points.size();
+  piece.points = vectorColumn("position", points);
+  piece.cell_data.push_back(vectorColumn("normal_force", normalForce));
+  piece.cell_data.push_back(vectorColumn("tangential_force", tangentialForce));
+  piece.cell_data.push_back(scalarColumn<double>("force_normal_component", component));
+  piece.cell_data.push_back(scalarColumn<double>("overlap", overlap));
+  piece.cell_data.push_back(vectorColumn("contact_point", contactPoint));
+  piece.cell_data.push_back(vectorColumn("normal", normal));
+  piece.cell_data.push_back(scalarColumn<std::uint8_t>("kind", kind));
+  piece.cell_data.push_back(scalarColumn<std::uint64_t>("particle", particle));
+  piece.cell_data.push_back(scalarColumn<std::uint64_t>("other", other));
+  piece.cell_data.push_back(scalarColumn<std::uint32_t>("triangle", triangle));
+  piece.sections.push_back(cellsOf<2>("Lines", std::span<const std::array<std::uint32_t, 2>>(lines), points.size(),
+                                      "writeContactsVtp"));
+  writePolyData(path, piece, encoding);
+}
+
+void writeMeshLoadsVtp(const std::string& path, std::span<const Vec3> vertices,
+                       std::span<const std::array<std::uint32_t, 3>> triangles, std::span<const TriangleLoad> loads,
+                       VtkEncoding encoding) {
+  if (!loads.empty() && loads.size() != triangles.size()) {
+    throw std::invalid_argument("writeMeshLoadsVtp: " + std::to_string(loads.size()) + " loads for " +
+                                std::to_string(triangles.size()) + " triangles");
+  }
+  PolyDataPiece piece;
+  piece.point_count = vertices.size();
+  piece.points = vectorColumn("position", vertices);
+  piece.sections.push_back(cellsOf<3>("Polys", triangles, vertices.size(), "writeMeshLoadsVtp"));
+  const std::size_t n = triangles.size();
+  std::vector<Vec3> force(n, Vec3::Zero());
+  std::vector<double> normal(n, 0.0), tangential(n, 0.0), pressure(n, 0.0), normalImpulse(n, 0.0),
+      tangentialImpulse(n, 0.0), archard(n, 0.0), friction(n, 0.0);
+  for (std::size_t t = 0; t < n && !loads.empty(); ++t) {
+    const TriangleLoad& load = loads[t];
+    const auto& v = triangles[t];
+    const double area = 0.5 * (vertices[v[1]] - vertices[v[0]]).cross(vertices[v[2]] - vertices[v[0]]).norm();
+    force[t] = load.force;
+    normal[t] = load.normal_force;
+    tangential[t] = load.tangential_force;
+    pressure[t] = area > 0.0 ? load.normal_force / area : 0.0;
+    normalImpulse[t] = load.normal_impulse;
+    tangentialImpulse[t] = load.tangential_impulse;
+    archard[t] = load.archard_work;
+    friction[t] = load.friction_work;
+  }
+  piece.cell_data.push_back(vectorColumn("load_force", force));
+  piece.cell_data.push_back(scalarColumn<double>("normal_force", normal));
+  piece.cell_data.push_back(scalarColumn<double>("tangential_force", tangential));
+  piece.cell_data.push_back(scalarColumn<double>("pressure", pressure));
+  piece.cell_data.push_back(scalarColumn<double>("normal_impulse", normalImpulse));
+  piece.cell_data.push_back(scalarColumn<double>("tangential_impulse", tangentialImpulse));
+  piece.cell_data.push_back(scalarColumn<double>("archard_work", archard));
+  piece.cell_data.push_back(scalarColumn<double>("friction_work", friction));
+  writePolyData(path, piece, encoding);
+}
+
+const std::vector<std::string>& contactsCsvColumns() {
+  static const std::vector<std::string> columns{
+      "kind",         "particle",     "other",        "triangle",     "contact_x_m",  "contact_y_m",
+      "contact_z_m",  "normal_x",     "normal_y",     "normal_z",     "overlap_m",    "normal_force_N",
+      "normal_fx_N",  "normal_fy_N",  "normal_fz_N",  "tangential_fx_N", "tangential_fy_N", "tangential_fz_N"};
+  return columns;
+}
+
+void writeContactsCsv(const std::string& path, std::span<const ContactRecord> contacts) {
+  std::ofstream out(path, std::ios::trunc);
+  if (!out) throw std::runtime_error("cannot write " + path);
+  const std::vector<std::string>& columns = contactsCsvColumns();
+  for (std::size_t c = 0; c < columns.size(); ++c) out << (c == 0 ? "" : ",") << columns[c];
+  out << '\n';
+  std::string line;
+  for (const ContactRecord& r : contacts) {
+    line.clear();
+    appendNumber(line, static_cast<unsigned>(r.kind));
+    for (const std::uint64_t id : {r.particle, r.other, std::uint64_t{r.triangle}}) {
+      line += ',';
+      appendNumber(line, id);
+    }
+    for (const double value :
+         {r.contact_point.x(), r.contact_point.y(), r.contact_point.z(), r.normal.x(), r.normal.y(), r.normal.z(),
+          r.overlap, r.normal_force.dot(r.normal), r.normal_force.x(), r.normal_force.y(), r.normal_force.z(),
+          r.tangential_force.x(), r.tangential_force.y(), r.tangential_force.z()}) {
+      line += ',';
+      appendNumber(line, value);
+    }
+    out << line << '\n';
+  }
+  out.flush();
+  if (!out) throw std::runtime_error("cannot write " + path);
+}
+
 void writeDeformableVtp(const std::string& path, const DeformableFrame& frame, VtkEncoding encoding) {
   const std::size_t n = frame.positions.size();
   if (frame.displacements.size() != n || frame.velocities.size() != n || frame.spring_intact.size() != frame.springs.size() ||

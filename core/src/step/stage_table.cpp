@@ -52,8 +52,8 @@ constexpr std::array<StageInfo, kStageCount> kTable{{
      "positions, mesh poses, deformable surfaces", "neighbour and near lists, slot order", "always",
      [](const F&) { return true; }},
     {Stage::kForces, "forces", false,
-     "clear forces and torques, then the passes below in one call chosen at initialisation (law and rolling "
-     "fixed)",
+     "clear forces and torques, then the passes below in one call chosen at initialisation (law, rolling, "
+     "cohesion and recording fixed)",
      "positions, velocities, contact histories", "forces, torques, contact histories", "always",
      [](const F&) { return true; }},
     {Stage::kParticleContacts, "particle_contacts:<law>", true,
@@ -71,6 +71,14 @@ constexpr std::array<StageInfo, kStageCount> kTable{{
      [](const F& f) { return f.deformables; }},
     {Stage::kRollingResistance, "rolling_resistance", true, "rolling-resistance torque in every contact pass",
      "pair table", "torques", "a material pair has rolling friction", [](const F& f) { return f.rolling; }},
+    {Stage::kCohesion, "cohesion", true,
+     "cohesive attraction k_c A in every contact pass, A the area of the overlap's contact circle",
+     "pair table", "forces, torques", "a material pair has cohesion", [](const F& f) { return f.cohesion; }},
+    {Stage::kContactRecording, "contact_recording", true,
+     "every contact pass records its contacts on the contact output's steps, and adds mesh contacts into "
+     "per-triangle loads and their time integrals every step",
+     "contact forces, slip velocities", "contact records, triangle loads", "contact output is requested",
+     [](const F& f) { return f.contact_recording; }},
     {Stage::kDeformableForces, "deformable_forces", false,
      "deformable bodies' second half: internal forces with this step's contact forces (mass-spring: springs, "
      "tearing, second half kick; FEM: the load of the next solve), reactions (reported as `<kind>:<name>`)",

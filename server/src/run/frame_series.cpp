@@ -116,13 +116,24 @@ void FrameSeries::writeMeshes(const core::World& world, double time) {
   // All meshes of the frame in one file, so ParaView shows them as one series.
   std::vector<core::Vec3> vertices;
   std::vector<std::array<std::uint32_t, 3>> triangles;
-  for (const core::MeshBody& mesh : world.meshes()) {
+  const bool loads = world.contactOutput().mesh_loads;
+  std::vector<core::TriangleLoad> triangleLoads;
+  for (std::size_t m = 0; m < world.meshes().size(); ++m) {
+    const core::MeshBody& mesh = world.meshes()[m];
     const auto base = static_cast<std::uint32_t>(vertices.size());
     vertices.insert(vertices.end(), mesh.worldVertices().begin(), mesh.worldVertices().end());
     for (const auto& t : mesh.triangles()) triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+    if (!loads) continue;
+    const std::span<const core::TriangleLoad> meshLoads = world.meshLoads(m);
+    triangleLoads.insert(triangleLoads.end(), meshLoads.begin(), meshLoads.end());
+    triangleLoads.resize(triangles.size());  // no evaluation yet: zeros
   }
   const std::string file = fmt::format("meshes_{:06}.vtp", mesh_entries_.size());
-  core::writeMeshVtp((directory_ / file).string(), vertices, triangles);
+  if (loads) {
+    core::writeMeshLoadsVtp((directory_ / file).string(), vertices, triangles, triangleLoads);
+  } else {
+    core::writeMeshVtp((directory_ / file).string(), vertices, triangles);
+  }
   mesh_entries_.push_back({time, file});
   core::writePvd((directory_ / "meshes.pvd").string(), mesh_entries_);
 }

@@ -50,6 +50,7 @@ RunPlan planRun(const RunOptions& run, double timeStep, bool endTimeRequired) {
       convert(".end_time", run.end_time, endTimeRequired ? core::ZeroInterval::Refused : core::ZeroInterval::Off);
   plan.frame_every = convert(".output.vtk_interval", run.vtk_interval, core::ZeroInterval::Off);
   plan.checkpoint_every = convert(".output.checkpoint_interval", run.checkpoint_interval, core::ZeroInterval::Off);
+  plan.contact_every = convert(".output.contact_interval", run.contact_interval, core::ZeroInterval::Off);
   return plan;
 }
 
@@ -61,6 +62,8 @@ RunDriver::RunDriver(core::World& world, const RunOptions& run, RunPlan plan, co
       deformables_(directory, world),
       log_(directory / "run_log.csv") {
   run_.output_directory = directory.string();
+  const core::ContactOutputSettings contacts{plan_.contact_every, run_.mesh_loads};
+  if (contacts.active()) world.setContactOutput(contacts);
   log_.writeConfiguration(world, run_, plan_.end_step);
   sensor_files_ = core::writeSamplesToCsv(world, directory);
 }
@@ -92,11 +95,26 @@ void RunDriver::writeCheckpoint(const core::World& world, const std::string& nam
   ++timing_.checkpoints;
 }
 
+void RunDriver::writeContacts(const core::World& world) {
+  const core::ContactSnapshot& snapshot = world.contactSnapshot();
+  const std::string stem = fmt::format("contacts_{:06}", contact_entries_.size());
+  timed(timing_.output_seconds, [&] {
+    core::writeContactsVtp((directory() / (stem + ".vtp")).string(), snapshot.contacts);
+    core::writeContactsCsv((directory() / (stem + ".csv")).string(), snapshot.contacts);
+    contact_entries_.push_back({world.time(), stem + ".vtp"});
+    core::writePvd((directory() / "contacts.pvd").string(), contact_entries_);
+  });
+}
+
 void RunDriver::afterStep(const core::World& world) {
   timing_.particle_steps += world.particles().size();
   const std::uint64_t step = world.stepCount();
   deformables_.afterStep(world);
   if ((plan_.frame_every > 0 && step % plan_.frame_every == 0) || step == plan_.end_step) writeFrame(world);
+  if (plan_.contact_every > 0 && step % plan_.contact_every == 0 && world.contactSnapshot().valid &&
+      world.contactSnapshot().step == step) {
+    writeContacts(world);
+  }
   if (plan_.checkpoint_every > 0 && step % plan_.checkpoint_every == 0) {
     writeCheckpoint(world, fmt::format("checkpoint_{:06}.bin", step / plan_.checkpoint_every));
   }

@@ -89,6 +89,9 @@ void RunLog::writeConfiguration(const core::World& world, const RunOptions& run,
   add("config", "output_directory", run.output_directory);
   add("config", "vtk_interval", number(run.vtk_interval), "s");
   add("config", "checkpoint_interval", number(run.checkpoint_interval), "s");
+  // Rows of optional outputs only when asked for, so other run logs keep their rows.
+  if (run.contact_interval > 0.0) add("config", "contact_interval", number(run.contact_interval), "s");
+  if (run.mesh_loads) add("config", "mesh_loads", "true");
 }
 
 std::string stageTimingSummary(const core::World& world) {

@@ -160,6 +160,9 @@ RunOptions toRunOptions(const v1::SimulationBox& box, const std::string& prefix,
   core::requirePositive(prefix + ".output.progress_interval_s", run.progress_interval);
   run.checkpoint_interval = box.output().checkpoint_interval();
   core::requireNonNegative(prefix + ".output.checkpoint_interval", run.checkpoint_interval);
+  run.contact_interval = box.output().contact_interval();
+  core::requireNonNegative(prefix + ".output.contact_interval", run.contact_interval);
+  run.mesh_loads = box.output().mesh_loads();
   // Co-simulation only, checked for every scene so a file is valid for both uses.
   core::requireInRange(prefix + ".coupling.client_timeout", box.coupling().client_timeout(), 0.0, kMaxWaitSeconds,
                        "s (0: the server's default)");
@@ -332,6 +335,10 @@ TranslatedScene translateScene(const v1::Scene& scene, const FileScope& files, S
   }
   addDeformableBodies(scene, resolve, files, out.world);
   addSensorComponents(scene, out.world);
+  if (out.run.mesh_loads && out.world.meshes().empty()) {
+    throw core::InputError(out.run.field_prefix + ".output.mesh_loads", "true",
+                           "the scene has no mesh bodies to put loads on");
+  }
   return out;
 }
 

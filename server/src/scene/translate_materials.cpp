@@ -42,6 +42,7 @@ core::Material translateMaterial(const v1::Material& declared, const std::string
   if (declared.has_restitution()) material.restitution = declared.restitution();
   if (declared.has_sliding_friction()) material.sliding_friction = declared.sliding_friction();
   if (declared.has_rolling_friction()) material.rolling_friction = declared.rolling_friction();
+  if (declared.has_cohesion_energy_density()) material.cohesion_energy_density = declared.cohesion_energy_density();
   material.validate(fieldPrefix);
   return material;
 }
@@ -60,9 +61,12 @@ void addMaterialPairs(const v1::Scene& scene, const std::map<std::string, std::u
     if (pair.has_restitution()) values.restitution = pair.restitution();
     if (pair.has_sliding_friction()) values.sliding_friction = pair.sliding_friction();
     if (pair.has_rolling_friction()) values.rolling_friction = pair.rolling_friction();
-    if (!values.restitution && !values.sliding_friction && !values.rolling_friction) {
+    if (pair.has_cohesion_energy_density()) values.cohesion_energy_density = pair.cohesion_energy_density();
+    if (!values.restitution && !values.sliding_friction && !values.rolling_friction &&
+        !values.cohesion_energy_density) {
       throw InputError(prefix, core::quotedLogText(component.name()),
-                       "overrides nothing (give restitution, sliding_friction and/or rolling_friction)");
+                       "overrides nothing (give restitution, sliding_friction, rolling_friction and/or "
+                       "cohesion_energy_density)");
     }
     const auto [it, inserted] = declaredBy.emplace(std::minmax(a, b), i);
     if (!inserted) {

@@ -149,16 +149,7 @@ TEST(VtkWriter, MeshIsWrittenAsPolygons) {
   EXPECT_THROW(core::writeMeshVtp(path.string(), vertices, bad), std::invalid_argument);
 }
 
-/// The whitespace-separated values of the `occurrence`-th ASCII <DataArray Name="array">.
-std::vector<double> asciiValues(const std::string& xml, const std::string& array, int occurrence = 0) {
-  std::size_t at = xml.find("Name=\"" + array + "\"");
-  for (int k = 0; k < occurrence; ++k) at = xml.find("Name=\"" + array + "\"", at + 1);
-  const std::size_t start = xml.find('>', at) + 1;
-  std::istringstream values(xml.substr(start, xml.find("</DataArray>", start) - start));
-  std::vector<double> out;
-  for (double v = 0.0; values >> v;) out.push_back(v);
-  return out;
-}
+using test::asciiValues;
 
 TEST(VtkWriter, DeformableSurfaceHasSpringLinesThenTrianglesAndTheirFlags) {
   // A square of four nodes: four edge springs and a diagonal (broken), two triangles (one inactive).

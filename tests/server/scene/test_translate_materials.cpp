@@ -2,6 +2,7 @@
 /// overrides, unknown database names, material_pair components and their errors.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <ostream>
 
 #include "demlink/core/input_error.hpp"
@@ -90,6 +91,29 @@ TEST(TranslateMaterials, MaterialPairReachesThePairTable) {
   EXPECT_EQ(p.rolling_friction, 0.5 * (wheat.rolling_friction + gravel.rolling_friction)) << "not overridden";
   EXPECT_EQ(t.world.pairTable()(0, 0).restitution, wheat.restitution);
   EXPECT_EQ(t.world.pairTable()(1, 1).restitution, gravel.restitution);
+}
+
+TEST(TranslateMaterials, CohesionFromAMaterialTheDatabaseAndAPair) {
+  TranslatedScene t = translateScene(
+      sceneOf({kBox, R"({"name": "soil", "material": {"database_name": "moist_soil"}})",
+               R"({"name": "clay", "material": {"cohesion_energy_density": 4e4}})",
+               R"({"name": "steel", "material": {"youngs_modulus": 2e8}})",
+               R"({"name": "pair", "material_pair": {"material_a": "steel", "material_b": "clay",
+                  "cohesion_energy_density": 1e3}})",
+               R"({"name": "soil_on_steel", "material_pair": {"material_a": "soil", "material_b": "steel",
+                  "restitution": 0.3}})"}),
+      {});
+  t.world.initialize();
+  EXPECT_GT(t.world.materials()[0].cohesion_energy_density, 0.0) << "moist_soil is cohesive";
+  EXPECT_EQ(t.world.pairTable()(1, 1).cohesion_energy_density, 4e4);
+  EXPECT_EQ(t.world.pairTable()(0, 2).cohesion_energy_density, 0.5 * t.world.materials()[0].cohesion_energy_density)
+      << "mean of soil and (dry) steel";
+  EXPECT_EQ(t.world.pairTable()(1, 2).cohesion_energy_density, 1e3) << "the pair's own value";
+  const std::vector<std::string> stages = t.world.activeStages();
+  EXPECT_NE(std::find(stages.begin(), stages.end(), "cohesion"), stages.end());
+  EXPECT_EQ(translationError(sceneOf({kBox, R"({"name": "wet", "material": {"cohesion_energy_density": -1}})"}))
+                .field(),
+            "components[1].material.cohesion_energy_density");
 }
 
 struct PairError {

@@ -10,6 +10,7 @@
 #include <iosfwd>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -18,6 +19,7 @@
 #include "demlink/core/particles/clump_body.hpp"
 #include "demlink/core/particles/clump_template.hpp"
 #include "demlink/core/contact/contact_pair_table.hpp"
+#include "demlink/core/contact/contact_record.hpp"
 #include "demlink/core/contact/critical_time_step.hpp"
 #include "demlink/core/materials/material.hpp"
 #include "demlink/core/walls/mesh_body.hpp"
@@ -187,6 +189,18 @@ class World {
   [[nodiscard]] double kineticEnergy() const;
   /// Total particle mass [kg].
   [[nodiscard]] double totalMass() const;
+
+  /// Contact output: records of every contact at each multiple of every_steps (and at
+  /// initialisation), per-triangle loads of each mesh with their time integrals
+  /// (contact_record.hpp). Inactive settings (the default) leave the recording pass
+  /// out of the force stage. May be called before or after initialize().
+  void setContactOutput(const ContactOutputSettings& settings);
+  [[nodiscard]] const ContactOutputSettings& contactOutput() const { return contact_output_; }
+  /// The contacts of the last recorded force evaluation (valid = false before one).
+  [[nodiscard]] const ContactSnapshot& contactSnapshot() const { return contact_snapshot_; }
+  /// Loads per triangle of mesh `index`; empty unless mesh loads are on and a force
+  /// evaluation ran since.
+  [[nodiscard]] std::span<const TriangleLoad> meshLoads(std::size_t index) const;
   [[nodiscard]] bool initialized() const { return initialized_; }
 
  private:
@@ -207,8 +221,10 @@ class World {
   void advanceFrame(const StepContext& context);
   void integrateClumps(double kickStep, double driftStep, bool driftFirst);
   void updateNeighbours(const StepContext& context);
-  template <class Law, bool kRolling>
+  template <class Law, ForcePasses kPasses>
   void computeForces();
+  /// Picks compute_forces_ for the law and the passes the scene uses.
+  void selectForceKernel();
   void gatherClumpForces();
   void secondHalfKick(const StepContext& context);
   void runWatchdog();
@@ -270,6 +286,13 @@ class World {
   std::unique_ptr<ThreadPool> pool_;  ///< null when running on one thread
   void (World::*compute_forces_)() = nullptr;
   bool rolling_active_ = false;
+  bool cohesion_active_ = false;
+  ContactOutputSettings contact_output_;
+  ContactSnapshot contact_snapshot_;
+  std::vector<std::vector<TriangleLoad>> mesh_loads_;      ///< per mesh, per triangle (mesh loads on)
+  std::vector<std::vector<ContactRecord>> part_records_;   ///< per pair-loop part, merged in part order
+  std::uint64_t force_step_ = 0;  ///< step count the force evaluation in progress belongs to
+  double force_weight_ = 0.0;     ///< its weight in time integrals [s]: dt in a step, 0 at initialisation
   bool initialized_ = false;
   /// The stage calls of one step, in table order (passes excluded: they run inside forces).
   std::vector<Stage> step_stages_;

@@ -38,11 +38,20 @@ struct ContactPairParams {
   double tangential_damping = 0.0;
   double sliding_friction = 0.0;      ///< mu [-]
   double rolling_friction = 0.0;      ///< mu_r [-]
+  double cohesion_energy_density = 0.0;  ///< k_c [J/m^3]: cohesive force k_c A at overlap area A (0: dry)
   double linear_normal_stiffness = 0.0;      ///< k_n [N/m], linear law only
   double linear_tangential_stiffness = 0.0;  ///< k_t [N/m], linear law only
   double restitution = 1.0;           ///< requested e (for reports)
   double damping_coefficient = 0.0;   ///< the law's dimensionless c delivering e (for the time-step limit)
   double beta = 0.0;                  ///< solver-paper beta equivalent (Hertz) or -zeta (linear), for reports
+};
+
+/// The optional passes of one force-stage instantiation (contact_stage.hpp), fixed at
+/// set-up so a scene that does not use one compiles it out.
+struct ForcePasses {
+  bool rolling = false;    ///< rolling-resistance torque
+  bool cohesion = false;   ///< cohesive attraction k_c A (pairContactArea, wallContactArea)
+  bool recording = false;  ///< contact records and triangle loads (contact_record.hpp)
 };
 
 /// Reference scales for the linear law's stiffness when the scene gives none:

@@ -20,6 +20,7 @@ struct PairOverride {
   std::optional<double> restitution;       ///< e [-], in (0, 1]
   std::optional<double> sliding_friction;  ///< mu [-], >= 0
   std::optional<double> rolling_friction;  ///< mu_r [-], >= 0
+  std::optional<double> cohesion_energy_density;  ///< k_c [J/m^3], >= 0
 
   /// Throws InputError naming `fieldPrefix + ".<field>"` for the first invalid value.
   void validate(const std::string& fieldPrefix) const;
@@ -56,6 +57,8 @@ class ContactPairTable {
   /// The covered materials, in row order.
   [[nodiscard]] const std::vector<std::uint32_t>& usedMaterials() const { return used_; }
   [[nodiscard]] bool anyRollingFriction() const { return any_rolling_; }
+  /// Some covered pair has cohesion (k_c > 0): the force stage adds the cohesion pass.
+  [[nodiscard]] bool anyCohesion() const { return any_cohesion_; }
 
  private:
   static constexpr std::uint32_t kNoSlot = 0xFFFFFFFFu;
@@ -64,6 +67,7 @@ class ContactPairTable {
   std::vector<std::uint32_t> slot_;    ///< material index -> row (kNoSlot: not covered)
   std::vector<std::uint32_t> used_;    ///< row -> material index
   bool any_rolling_ = false;
+  bool any_cohesion_ = false;
   std::vector<ContactPairParams> pairs_;
 };
 

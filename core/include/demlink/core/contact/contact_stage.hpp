@@ -2,15 +2,17 @@
 /// Force stage loops: particle-particle (over the half neighbour list),
 /// particle-plane (over each plane's near list) and particle-surface (over the
 /// near list of each mesh or deformable body's surface). Templated on the contact law
-/// and on whether rolling resistance is active, so the compiled loop contains
-/// exactly what the scene uses; the world picks one instantiation at set-up
-/// (contact_law_registry.hpp). Each loop checks that the per-contact history its
-/// storage keeps is the one the law declares.
+/// and on the optional passes (rolling resistance, cohesion, contact recording), so
+/// the compiled loop contains exactly what the scene uses; the world picks one
+/// instantiation at set-up (contact_law_registry.hpp). Each loop checks that the
+/// per-contact history its storage keeps is the one the law declares.
+#include <numbers>
 #include <ranges>
 #include <type_traits>
 
 #include "demlink/core/contact/contact_kernel.hpp"
 #include "demlink/core/contact/contact_pair_table.hpp"
+#include "demlink/core/contact/contact_record.hpp"
 #include "demlink/core/walls/mesh_body.hpp"
 #include "demlink/core/walls/mesh_contact.hpp"
 #include "demlink/core/walls/mesh_near_list.hpp"
@@ -25,12 +27,70 @@ template <class Law, class Storage>
 inline constexpr bool kHistoryStorageFits =
     std::is_same_v<typename Law::History, std::ranges::range_value_t<std::remove_cvref_t<Storage>>>;
 
+/// Contact area A = pi a^2 [m^2] of an overlap, for the cohesive attraction k_c A [N].
+/// Two spheres of radii r1, r2 at centre distance d (overlap delta = r1 + r2 - d)
+/// meet in a circle of radius
+///   a^2 = delta (d + r1 + r2) (d^2 - (r1 - r2)^2) / (4 d^2),
+/// the product form of the sphere-sphere intersection (no cancellation at small
+/// delta; a^2 -> 2 R* delta as delta -> 0, R* = r1 r2 / (r1 + r2)). A sphere on a
+/// wall: a^2 = delta (2 r - delta), the limit r2 -> infinity. Clamped at a^2 >= 0
+/// (one sphere inside the other).
+DEMLINK_FORCE_INLINE double pairContactArea(double r1, double r2, double distance, double overlap) {
+  const double dr = r1 - r2;
+  const double a2 = overlap * (distance + r1 + r2) * (distance * distance - dr * dr) / (4.0 * distance * distance);
+  return std::numbers::pi * std::max(a2, 0.0);
+}
+DEMLINK_FORCE_INLINE double wallContactArea(double radius, double overlap) {
+  return std::numbers::pi * std::max(overlap * (2.0 * radius - overlap), 0.0);
+}
+
+/// Potential of the cohesive force at `overlap`: U = -k_c * integral_0^overlap A [J], so a
+/// cohesive contact's elastic plus cohesive energy is conserved without damping. rB = 0: a
+/// wall (A quadratic in the overlap, integrated exactly); pairs by Simpson's rule, whose
+/// relative error is of order (overlap / r)^4.
+inline double cohesionEnergy(double kc, double rA, double rB, double overlap) {
+  if (kc == 0.0 || overlap <= 0.0) return 0.0;
+  if (rB <= 0.0) return -kc * std::numbers::pi * overlap * overlap * (rA - overlap / 3.0);
+  auto area = [&](double delta) { return pairContactArea(rA, rB, rA + rB - delta, delta); };
+  return -kc * overlap / 6.0 * (4.0 * area(0.5 * overlap) + area(overlap));
+}
+
+/// Velocity of a particle's contact point on a rigid wall relative to the wall.
+DEMLINK_FORCE_INLINE Vec3 wallContactVelocity(const ParticleArrays& p, std::size_t slot, const Vec3& normal,
+                                              double overlap, const Vec3& wallVelocity) {
+  // A rigid wall does not deform: the contact point is on its surface.
+  const double arm = p.radius[slot] - overlap;
+  return p.velocity[slot] - arm * p.angular_velocity[slot].cross(normal) - wallVelocity;
+}
+
+/// A contact record of particle `slot` (body a) with `other`, the force on a being `force`.
+inline ContactRecord makeContactRecord(ContactKind kind, const ParticleArrays& p, std::size_t slot,
+                                       std::uint64_t other, std::uint32_t triangle, const Vec3& otherPoint,
+                                       const Vec3& contactPoint, const Vec3& normal, double overlap,
+                                       const Vec3& force) {
+  ContactRecord r;
+  r.kind = kind;
+  r.particle = p.id[slot];
+  r.other = other;
+  r.triangle = triangle;
+  r.centre = p.position[slot];
+  r.other_point = otherPoint;
+  r.contact_point = contactPoint;
+  r.normal = normal;
+  r.overlap = overlap;
+  r.normal_force = force.dot(normal) * normal;
+  r.tangential_force = force - r.normal_force;
+  return r;
+}
+
 /// Particle-particle contacts of rows [rowBegin, rowEnd) of the half list.
 /// Forces and torques of slot s are added to force[s - base], torque[s - base]
-/// (see PairLoopPartition for why every touched slot is >= base).
-template <class Law, bool kRolling>
+/// (see PairLoopPartition for why every touched slot is >= base). With
+/// kPasses.recording and `records` set, each contact is appended to *records.
+template <class Law, ForcePasses kPasses>
 void particleContactRows(ParticleArrays& p, NeighbourList& list, const ContactPairTable& table, double dt,
-                         std::size_t rowBegin, std::size_t rowEnd, Vec3* force, Vec3* torque, std::size_t base) {
+                         std::size_t rowBegin, std::size_t rowEnd, Vec3* force, Vec3* torque, std::size_t base,
+                         std::vector<ContactRecord>* records = nullptr) {
   const std::span<const std::uint32_t> offsets = list.offsets();
   const std::span<const std::uint32_t> partners = list.partners();
   const std::span<Vec3> history = list.history();
@@ -63,13 +123,24 @@ void particleContactRows(ParticleArrays& p, NeighbourList& list, const ContactPa
       const double mStar = reduced[k].mass;
       const ContactPairParams& params = table(p.material[i], p.material[j]);
       double normalForce = 0.0;
-      const Vec3 f = contactForce<Law>(params, normal, overlap, vRel, rStar, mStar, dt, history[k], normalForce);
+      Vec3 f = contactForce<Law>(params, normal, overlap, vRel, rStar, mStar, dt, history[k], normalForce);
+      if constexpr (kPasses.cohesion) {
+        // Pulls j back towards i; the friction cap (above) and rolling resistance (below) see the
+        // repulsive part alone.
+        f -= (params.cohesion_energy_density * pairContactArea(ri, p.radius[j], dist, overlap)) * normal;
+      }
+      if constexpr (kPasses.recording) {
+        if (records != nullptr) {
+          records->push_back(makeContactRecord(ContactKind::kParticle, p, i, p.id[j], 0, p.position[j],
+                                               xi + armI * normal, -normal, overlap, -f));
+        }
+      }
       const Vec3 nxf = normal.cross(f);
       forceI -= f;
       torqueI -= armI * nxf;
       force[j - base] += f;
       torque[j - base] -= armJ * nxf;
-      if constexpr (kRolling) {
+      if constexpr (kPasses.rolling) {
         if (params.rolling_friction > 0.0) {
           const double reducedInertia = 1.0 / (p.inv_inertia[i] + p.inv_inertia[j]);
           const Vec3 t = rollingResistanceTorque(params.rolling_friction, rStar, normalForce, normal,
@@ -87,21 +158,23 @@ void particleContactRows(ParticleArrays& p, NeighbourList& list, const ContactPa
 /// Contact of particle `slot` with a rigid wall surface at `contactPoint` whose
 /// unit normal points to the particle; wallVelocity is the wall's velocity at the
 /// contact point. Returns the force on the particle; adds force and torque to it.
-template <class Law, bool kRolling>
+/// `vRel` is wallContactVelocity(p, slot, normal, overlap, wallVelocity).
+template <class Law, ForcePasses kPasses>
 DEMLINK_FORCE_INLINE Vec3 particleWallContact(ParticleArrays& p, std::size_t slot, const ContactPairParams& params,
-                                const Vec3& normal, double overlap, const Vec3& wallVelocity, double dt,
+                                const Vec3& normal, double overlap, const Vec3& vRel, double dt,
                                 typename Law::History& history) {
-  // A rigid wall does not deform: the contact point is on its surface.
   const double arm = p.radius[slot] - overlap;
-  const Vec3 vRel = p.velocity[slot] - arm * p.angular_velocity[slot].cross(normal) - wallVelocity;
   const double rStar = p.radius[slot];
   // The body's mass: for a clump member inv_mass is 1 / clump mass (mass is its share).
   const double mStar = 1.0 / p.inv_mass[slot];
   double normalForce = 0.0;
-  const Vec3 f = contactForce<Law>(params, normal, overlap, vRel, rStar, mStar, dt, history, normalForce);
+  Vec3 f = contactForce<Law>(params, normal, overlap, vRel, rStar, mStar, dt, history, normalForce);
+  if constexpr (kPasses.cohesion) {
+    f -= (params.cohesion_energy_density * wallContactArea(p.radius[slot], overlap)) * normal;
+  }
   p.force[slot] += f;
   p.torque[slot] -= arm * normal.cross(f);
-  if constexpr (kRolling) {
+  if constexpr (kPasses.rolling) {
     if (params.rolling_friction > 0.0) {
       p.torque[slot] += rollingResistanceTorque(params.rolling_friction, rStar, normalForce, normal,
                                                 p.angular_velocity[slot], 1.0 / p.inv_inertia[slot], dt);
@@ -110,8 +183,32 @@ DEMLINK_FORCE_INLINE Vec3 particleWallContact(ParticleArrays& p, std::size_t slo
   return f;
 }
 
-template <class Law, bool kRolling>
-void planeContactForces(ParticleArrays& p, PlaneWall& wall, const ContactPairTable& table, double dt) {
+/// A contact of particle `slot` with a wall (b): appends its record and adds it to
+/// its triangle's load, as far as `recording` asks.
+inline void recordWallContact(const ParticleArrays& p, std::size_t slot, const ContactRecording& recording,
+                              std::uint32_t triangle, const Vec3& point, const Vec3& normal, double overlap,
+                              const Vec3& force, const Vec3& vRel) {
+  if (recording.contacts != nullptr) {
+    recording.contacts->push_back(
+        makeContactRecord(recording.kind, p, slot, recording.index, triangle, point, point, normal, overlap, force));
+  }
+  if (recording.loads == nullptr) return;
+  TriangleLoad& load = (*recording.loads)[triangle];
+  const double fn = force.dot(normal);
+  const double ft = (force - fn * normal).norm();
+  const double slip = (vRel - vRel.dot(normal) * normal).norm();
+  load.force -= force;
+  load.normal_force += fn;
+  load.tangential_force += ft;
+  load.normal_impulse += fn * recording.dt;
+  load.tangential_impulse += ft * recording.dt;
+  load.archard_work += std::max(fn, 0.0) * slip * recording.dt;
+  load.friction_work += ft * slip * recording.dt;
+}
+
+template <class Law, ForcePasses kPasses>
+void planeContactForces(ParticleArrays& p, PlaneWall& wall, const ContactPairTable& table, double dt,
+                        const ContactRecording& recording = {}) {
   static_assert(kHistoryStorageFits<Law, decltype(wall.near_history)>, "plane near history is not Law::History");
   const Vec3 normal = wall.spec.normal;
   for (std::size_t k = 0; k < wall.near_slots.size(); ++k) {
@@ -122,9 +219,11 @@ void planeContactForces(ParticleArrays& p, PlaneWall& wall, const ContactPairTab
       wall.near_history[k].setZero();
       continue;
     }
-    const Vec3 f = particleWallContact<Law, kRolling>(p, slot, table(p.material[slot], wall.spec.material), normal,
-                                                      overlap, Vec3::Zero(), dt, wall.near_history[k]);
+    const Vec3 vRel = wallContactVelocity(p, slot, normal, overlap, Vec3::Zero());
+    const Vec3 f = particleWallContact<Law, kPasses>(p, slot, table(p.material[slot], wall.spec.material), normal,
+                                                     overlap, vRel, dt, wall.near_history[k]);
     const Vec3 contactPoint = p.position[slot] - distance * normal;
+    if constexpr (kPasses.recording) recordWallContact(p, slot, recording, 0, contactPoint, normal, overlap, f, vRel);
     wall.force -= f;
     wall.torque -= (contactPoint - wall.spec.point).cross(f);
   }
@@ -139,9 +238,9 @@ void planeContactForces(ParticleArrays& p, PlaneWall& wall, const ContactPairTab
 /// particle rolls from one triangle onto the next, the spring of the triangle it
 /// left is handed to the new contact instead of being dropped, so a finely meshed
 /// flat floor behaves like a plane.
-template <class Law, bool kRolling, class Surface>
+template <class Law, ForcePasses kPasses, class Surface>
 void meshContactForces(ParticleArrays& p, Surface& mesh, MeshNearList& near, const ContactPairTable& table,
-                       double dt, std::vector<MeshContactPoint>& contacts) {
+                       double dt, std::vector<MeshContactPoint>& contacts, const ContactRecording& recording = {}) {
   static_assert(kHistoryStorageFits<Law, decltype(near.history)>, "mesh near history is not Law::History");
   const std::span<const Vec3> vertices = mesh.worldVertices();
   const std::span<const std::array<std::uint32_t, 3>> triangles = mesh.triangles();
@@ -177,9 +276,12 @@ void meshContactForces(ParticleArrays& p, Surface& mesh, MeshNearList& near, con
         history = near.history[from];
         near.history[from].setZero();
       }
-      const Vec3 f = particleWallContact<Law, kRolling>(p, slot, params, c.normal, c.overlap,
-                                                        mesh.velocityAt(c.triangle, c.point), dt, history);
+      const Vec3 vRel = wallContactVelocity(p, slot, c.normal, c.overlap, mesh.velocityAt(c.triangle, c.point));
+      const Vec3 f = particleWallContact<Law, kPasses>(p, slot, params, c.normal, c.overlap, vRel, dt, history);
       mesh.addContactForce(c.triangle, c.point, -f);
+      if constexpr (kPasses.recording) {
+        recordWallContact(p, slot, recording, c.triangle, c.point, c.normal, c.overlap, f, vRel);
+      }
     }
     for (std::uint32_t r = 0; r < releasedCount; ++r) near.history[released[r]].setZero();
   }

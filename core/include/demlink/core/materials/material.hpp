@@ -12,6 +12,9 @@ struct Material {
   double restitution = 0.5;           ///< coefficient of restitution e [-], in (0, 1]
   double sliding_friction = 0.5;      ///< Coulomb coefficient mu [-], >= 0
   double rolling_friction = 0.0;      ///< EPSD rolling coefficient mu_r [-], >= 0 (0 = off)
+  /// Cohesion energy density k_c [J/m^3 = Pa], >= 0 (0 = dry): a contact of overlap
+  /// area A attracts with k_c A (docs/physics.md "Cohesion").
+  double cohesion_energy_density = 0.0;
   /// A wall material that does not deform: pair mixing drops its compliance, so
   /// the particle alone sets E* = E_p / (1 - nu_p^2) and G* = G_p / (2 - nu_p).
   /// Set by World for the twin of a rigid wall's material, never by a scene.

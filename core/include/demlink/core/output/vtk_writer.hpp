@@ -22,6 +22,8 @@
 #include "demlink/core/math_types.hpp"
 #include "demlink/core/particles/particle_arrays.hpp"
 
+#include "demlink/core/contact/contact_record.hpp"
+
 namespace demlink::core {
 
 enum class VtkEncoding : std::uint8_t {
@@ -76,6 +78,32 @@ void writeDeformableVtp(const std::string& path, const DeformableFrame& frame,
 void writeTetrahedraVtu(const std::string& path, std::span<const Vec3> positions, std::span<const Vec3> displacements,
                         std::span<const Vec3> velocities, std::span<const std::vector<std::uint32_t>> elements,
                         std::span<const double> vonMises, VtkEncoding encoding = VtkEncoding::AppendedRaw);
+
+/// Writes contacts as a force network (PolyData): per contact one line from the centre
+/// of particle a to the centre of particle b, or to the contact point on a wall, with
+/// cell data (conventions in contact_record.hpp) "normal_force" and "tangential_force"
+/// (vectors on a [N]), "force_normal_component" (F_n [N], negative when cohesion
+/// pulls), "overlap" [m], "contact_point" [m], "normal" [-], "kind" (UInt8:
+/// ContactKind), "particle" and "other" (UInt64: ids or wall index) and "triangle"
+/// (UInt32). Throws std::runtime_error if the file cannot be written.
+void writeContactsVtp(const std::string& path, std::span<const ContactRecord> contacts,
+                      VtkEncoding encoding = VtkEncoding::AppendedRaw);
+
+/// Writes triangle meshes (as writeMeshVtp) with per-triangle loads as cell data
+/// (TriangleLoad, contact_record.hpp): "load_force" [N], "normal_force" [N],
+/// "tangential_force" [N], "pressure" (normal_force / triangle area [Pa]),
+/// "normal_impulse" and "tangential_impulse" [N s], "archard_work" [N m] and
+/// "friction_work" [J]. `loads` holds one entry per triangle, or is empty (zeros).
+/// Throws std::invalid_argument for another size or an index out of range.
+void writeMeshLoadsVtp(const std::string& path, std::span<const Vec3> vertices,
+                       std::span<const std::array<std::uint32_t, 3>> triangles, std::span<const TriangleLoad> loads,
+                       VtkEncoding encoding = VtkEncoding::AppendedRaw);
+
+/// Writes contacts as CSV, one row per contact (columns in contactsCsvColumns()).
+/// Throws std::runtime_error if the file cannot be written.
+void writeContactsCsv(const std::string& path, std::span<const ContactRecord> contacts);
+/// The header of writeContactsCsv, with units.
+[[nodiscard]] const std::vector<std::string>& contactsCsvColumns();
 
 /// Writes a ParaView collection listing the frames in the given order.
 /// Throws std::runtime_error if the file cannot be written.

@@ -38,6 +38,8 @@ enum class Stage : std::uint8_t {
   kMeshContacts,
   kDeformableContacts,
   kRollingResistance,
+  kCohesion,
+  kContactRecording,
   kDeformableForces,
   kClumpForceSum,
   kSecondHalfKick,
@@ -73,6 +75,8 @@ struct SceneFeatures {
   bool rolling = false;         ///< some material pair has rolling friction
   bool deformables = false;     ///< the scene has deformable bodies (mass-spring, FEM)
   bool watchdog = false;        ///< the watchdog runs (its every_steps > 0)
+  bool cohesion = false;        ///< some material pair has cohesion (k_c > 0)
+  bool contact_recording = false;  ///< contact output is requested (contacts or mesh loads)
 };
 
 struct StageInfo {

@@ -78,8 +78,9 @@ struct WatchdogReading {
   std::string deepest;               ///< which contact
   bool energy_checked = false;       ///< nothing fed energy in since the last reset
   double kinetic_energy = 0.0;       ///< [J]
-  double total_energy = 0.0;         ///< kinetic + gravitational + elastic [J]
+  double total_energy = 0.0;         ///< kinetic + gravitational + elastic + cohesive [J]
   double elastic_energy = 0.0;       ///< [J]
+  double cohesion_energy = 0.0;      ///< potential of the cohesive contacts, <= 0 [J]
 };
 
 /// The watchdog's memory between checks.

@@ -6,11 +6,14 @@
 ///
 ///   planRun()      seconds -> steps for end_time, vtk_interval, checkpoint_interval
 ///   RunDriver()    claims the folder (output_directory.hpp), opens summary.csv,
-///                  run_log.csv (configuration rows) and the sensor CSVs
+///                  run_log.csv (configuration rows) and the sensor CSVs; asks the
+///                  world for contact output when the run writes it
+///                  (World::setContactOutput: contact_every, mesh_loads)
 ///   start()        planes.vtp and the first frame; the run's wall clock starts
 ///   afterStep()    springs that broke (broken_springs.csv, deformable_series.hpp),
 ///                  a frame every frame_every steps and at end_step, a checkpoint
-///                  checkpoint_NNNNNN.bin every checkpoint_every steps (N = step / every)
+///                  checkpoint_NNNNNN.bin every checkpoint_every steps (N = step / every),
+///                  contacts_NNNNNN.vtp / .csv (series contacts.pvd) every contact_every steps
 ///   finish()       the last frame if the last step has none, checkpoint_final.bin,
 ///                  particles_final.csv, the timing rows and status "completed"
 ///   abort()        status "aborted: <why>" instead (a run that fails keeps a valid log)
@@ -37,13 +40,15 @@ struct RunPlan {
   std::uint64_t end_step = 0;          ///< [-]; 0: no end step (a co-simulation runs until every client said Bye)
   std::uint64_t frame_every = 0;       ///< [-]; 0: first and last frame only
   std::uint64_t checkpoint_every = 0;  ///< [-]; 0: no periodic checkpoints
+  std::uint64_t contact_every = 0;     ///< [-]; 0: no contact output
   std::vector<std::string> warnings;   ///< times rounded to whole steps (intervalSteps)
 };
 
-/// Converts run.end_time, run.vtk_interval and run.checkpoint_interval with
+/// Converts run.end_time, run.vtk_interval, run.checkpoint_interval and run.contact_interval with
 /// core::intervalSteps (0 is off, except an end time where `endTimeRequired`; off-grid
 /// times are rounded with a warning). Fields are named run.field_prefix + ".end_time",
-/// ".output.vtk_interval", ".output.checkpoint_interval". Throws core::InputError.
+/// ".output.vtk_interval", ".output.checkpoint_interval", ".output.contact_interval".
+/// Throws core::InputError.
 [[nodiscard]] RunPlan planRun(const RunOptions& run, double timeStep, bool endTimeRequired);
 
 class RunDriver {
@@ -83,10 +88,12 @@ class RunDriver {
  private:
   void writeFrame(const core::World& world);
   void writeCheckpoint(const core::World& world, const std::string& name);
+  void writeContacts(const core::World& world);
 
   RunOptions run_;
   RunPlan plan_;
   FrameSeries frames_;
+  std::vector<core::PvdEntry> contact_entries_;
   DeformableSeries deformables_;
   RunLog log_;
   std::vector<std::filesystem::path> sensor_files_;

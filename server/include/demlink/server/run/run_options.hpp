@@ -12,6 +12,8 @@ struct RunOptions {
   double vtk_interval = 0.0;       ///< simulated time between frames [s]; 0: first and last frame only
   double progress_interval = 2.0;  ///< wall-clock time between progress lines [s]
   double checkpoint_interval = 0.0;  ///< simulated time between checkpoint files [s]; 0: none
+  double contact_interval = 0.0;     ///< simulated time between contact outputs [s]; 0: none
+  bool mesh_loads = false;           ///< per-triangle loads as cell data of the mesh frames
   bool final_checkpoint = true;      ///< write checkpoint_final.bin at the end
   bool final_particles_csv = true;   ///< write particles_final.csv at the end
   /// Checkpoint to continue from (demlink-run --restore), written by a run of the
