@@ -102,6 +102,21 @@ void copyCounts(const v1::CountAndMass* const* values, int n, int* counts, doubl
   }
 }
 
+/// The box of both simulation-box declarations. No end time (NaN or <= 0): the run ends
+/// when the tool's clients say Bye.
+std::unique_ptr<SimulationBox> simulationBox(const char* name, double timeStep, double endTime, const double* gravity,
+                                             const double* boundsLower, const double* boundsUpper) {
+  auto box = std::make_unique<SimulationBox>(name != nullptr && name[0] != '\0' ? name : "simulation_box");
+  if (given(timeStep)) box->setTimeStep(timeStep);
+  if (std::isfinite(endTime) && endTime > 0.0) box->setEndTime(endTime);
+  if (gravity != nullptr) box->setInitialGravity(vec(gravity, "gravity"));
+  if ((boundsLower == nullptr) != (boundsUpper == nullptr)) {
+    throw ArgumentError("boundsLower and boundsUpper must both be given or both be NULL");
+  }
+  if (boundsLower != nullptr) box->setBounds(vec(boundsLower, "boundsLower"), vec(boundsUpper, "boundsUpper"));
+  return box;
+}
+
 }  // namespace
 }  // namespace demlink::client::c_abi
 
@@ -114,15 +129,7 @@ int dl_declare_simulation_box(dl_client* client, const char* name, double interv
                               const double gravity[3], const double boundsLower[3], const double boundsUpper[3],
                               int expectedCount, int* component) {
   return guarded(client, [&](Client& c) -> int {
-    auto box = std::make_unique<SimulationBox>(name != nullptr && name[0] != '\0' ? name : "simulation_box");
-    if (given(timeStep)) box->setTimeStep(timeStep);
-    // No end time (NaN or <= 0): the run ends when the tool's clients say Bye.
-    if (std::isfinite(endTime) && endTime > 0.0) box->setEndTime(endTime);
-    if (gravity != nullptr) box->setInitialGravity(vec(gravity, "gravity"));
-    if ((boundsLower == nullptr) != (boundsUpper == nullptr)) {
-      throw ArgumentError("boundsLower and boundsUpper must both be given or both be NULL");
-    }
-    if (boundsLower != nullptr) box->setBounds(vec(boundsLower, "boundsLower"), vec(boundsUpper, "boundsUpper"));
+    auto box = simulationBox(name, timeStep, endTime, gravity, boundsLower, boundsUpper);
     if (expectedCount > 0) box->setExpectedCount(static_cast<std::uint32_t>(expectedCount));
     return declareComponent(c, std::move(box), interval, component);
   });
@@ -134,14 +141,7 @@ int dl_declare_simulation_box_ex(dl_client* client, const char* name, double int
                                  double maxImpactVelocity, double vtkInterval, int threads, const double frame[12],
                                  int* component) {
   return guarded(client, [&](Client& c) -> int {
-    auto box = std::make_unique<SimulationBox>(name != nullptr && name[0] != '\0' ? name : "simulation_box");
-    if (given(timeStep)) box->setTimeStep(timeStep);
-    if (std::isfinite(endTime) && endTime > 0.0) box->setEndTime(endTime);
-    if (gravity != nullptr) box->setInitialGravity(vec(gravity, "gravity"));
-    if ((boundsLower == nullptr) != (boundsUpper == nullptr)) {
-      throw ArgumentError("boundsLower and boundsUpper must both be given or both be NULL");
-    }
-    if (boundsLower != nullptr) box->setBounds(vec(boundsLower, "boundsLower"), vec(boundsUpper, "boundsUpper"));
+    auto box = simulationBox(name, timeStep, endTime, gravity, boundsLower, boundsUpper);
     demlink::v1::SimulationBox& m = box->message();
     if (contactModel < 0 || contactModel > 2) {
       throw ArgumentError("contactModel must be 0 (default), 1 (Hertz-Mindlin) or 2 (linear spring-dashpot), got " +

@@ -178,8 +178,16 @@ TEST_F(CAbiRealServer, EveryTypedCallAgainstTheServerWithDeclarationsDoneAndRunT
     const double r = radii[static_cast<std::size_t>(i)];
     EXPECT_TRUE(std::abs(r - 0.004) < 1e-6 || std::abs(r - 0.002) < 1e-6 || std::abs(r - 0.005) < 1e-6) << r;
   }
-  // The paddle is far from every particle: no force on it.
+  // The paddle (the server's STL) is far from every particle: no force on it; LAGGED, it
+  // stands exactly on the pose sent.
   for (double w : wrench) EXPECT_EQ(w, 0.0);
+  dl_package* outputs = dl_package_create();
+  ASSERT_EQ(dl_get_outputs(c, paddle, outputs), DL_OK) << dl_last_error(c);
+  double bodyOut[19];
+  int n = 0;
+  ASSERT_EQ(dl_get_reals(outputs, bodyOut, 19, &n), DL_OK);
+  dl_package_destroy(outputs);
+  for (int k = 0; k < 7; ++k) EXPECT_EQ(bodyOut[12 + k], paddlePose[k]) << "pose " << k;
 
   // Run-time inputs, sent with the packages of sample 11 (the calls of sample 10 already
   // sent theirs): the source off, the sink onto the ball, the probe moved into the bed.

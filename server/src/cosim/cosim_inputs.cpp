@@ -18,6 +18,7 @@ namespace {
 
 using google::protobuf::FieldDescriptor;
 using google::protobuf::Message;
+using Kind = v1::ComponentDeclaration;
 
 /// The first non-finite double/float in `message` (recursively), as (path, value).
 std::optional<std::pair<std::string, double>> firstNonFinite(const Message& message, const std::string& path) {
@@ -99,10 +100,17 @@ std::optional<v1::Error> checkRegion(const CosimComponent& component, const Regi
   return std::nullopt;
 }
 
-/// Error{INVALID_INPUT} for an input of another kind than the component's.
-std::optional<v1::Error> wrongKind(const CosimComponent& component, bool matches, const std::string& field) {
-  if (matches) return std::nullopt;
-  return invalid(component, field, "(given)", "a " + component.kind + " takes no " + field);
+/// Error{INVALID_INPUT} for an input of another kind than the component's, or with a
+/// non-finite value.
+std::optional<v1::Error> kindAndFinite(const CosimComponent& component, Kind::KindCase kind, const Message& input,
+                                       const std::string& field) {
+  if (component.kind_case != kind) {
+    return invalid(component, field, "(given)", "a " + component.kind + " takes no " + field);
+  }
+  if (auto bad = firstNonFinite(input, field)) {
+    return invalid(component, bad->first, core::formatValue(bad->second), "must be finite");
+  }
+  return std::nullopt;
 }
 
 }  // namespace
@@ -162,36 +170,21 @@ std::optional<v1::Error> checkInput(const CosimComponent& component, const v1::D
     }
     case v1::DataPackage::kRegionSensorInput: {
       const std::string field = "region_sensor_input";
-      if (auto bad = wrongKind(component, component.kind_case == v1::ComponentDeclaration::kRegionSensor, field)) {
-        return bad;
-      }
-      if (auto bad = firstNonFinite(package.region_sensor_input(), field)) {
-        return invalid(component, bad->first, core::formatValue(bad->second), "must be finite");
-      }
+      if (auto bad = kindAndFinite(component, Kind::kRegionSensor, package.region_sensor_input(), field)) return bad;
       return checkRegion(component, dynamic_cast<const core::RegionSensor*>(component.engine),
                          package.region_sensor_input(), field);
     }
     case v1::DataPackage::kParticleSinkInput: {
       const std::string field = "particle_sink_input";
-      if (auto bad = wrongKind(component, component.kind_case == v1::ComponentDeclaration::kParticleSink, field)) {
-        return bad;
-      }
-      if (auto bad = firstNonFinite(package.particle_sink_input(), field)) {
-        return invalid(component, bad->first, core::formatValue(bad->second), "must be finite");
-      }
+      if (auto bad = kindAndFinite(component, Kind::kParticleSink, package.particle_sink_input(), field)) return bad;
       if (!package.particle_sink_input().has_region()) return std::nullopt;
       return checkRegion(component, dynamic_cast<const core::ParticleSink*>(component.engine),
                          package.particle_sink_input().region(), field + ".region");
     }
     case v1::DataPackage::kParticleSourceInput: {
       const std::string field = "particle_source_input";
-      if (auto bad = wrongKind(component, component.kind_case == v1::ComponentDeclaration::kParticleSource, field)) {
-        return bad;
-      }
       const v1::ParticleSourceInput& input = package.particle_source_input();
-      if (auto bad = firstNonFinite(input, field)) {
-        return invalid(component, bad->first, core::formatValue(bad->second), "must be finite");
-      }
+      if (auto bad = kindAndFinite(component, Kind::kParticleSource, input, field)) return bad;
       const auto* source = dynamic_cast<const core::ParticleSource*>(component.engine);
       if (source == nullptr) return invalid(component, field, "(given)", "the component has no engine source");
       const bool perParticle = source->spec().rate_particles_per_s.has_value();
