@@ -55,9 +55,20 @@ TEST(DeclarationsDoneOverTcp, CompilesWhenEveryConnectionIsDoneAndEndsWithTheBye
   a.declarationsDone();
   a.declarationsDone();  // idempotent: sends nothing more
   EXPECT_TRUE(a.declarationsDoneSent());
+  // A round trip on A after its DeclarationsDone (a refused Declare), so the server has
+  // surely handled it before B declares: had it compiled the set then, B would receive
+  // Compiled (and OUT_OF_ORDER for its Declare) instead of the refusal below.
+  v1::ClientMessage clash;
+  *clash.mutable_declare()->mutable_component() = a.find("ball")->declaration();
+  clash.mutable_declare()->mutable_component()->mutable_single_particle()->set_diameter(0.02);
+  connA.send(clash);
+  try {
+    (void)connA.receive();
+    ADD_FAILURE() << "expected DUPLICATE_NAME for a";
+  } catch (const client::ServerError& e) {
+    EXPECT_EQ(e.code(), v1::Error::DUPLICATE_NAME);
+  }
 
-  // Had A's DeclarationsDone compiled the set, B's Declare would be OUT_OF_ORDER (fatal)
-  // and B's waitCompiled would throw.
   client::Session b(connB);
   auto& probe = b.add<client::RegionSensor>("probe");
   probe.setSphere({0.0, 0.0, 0.0}, 0.02).setCommunicationInterval(10 * kDt);
