@@ -248,6 +248,13 @@ class Client:
         msg.declare.component.CopyFrom(declaration)
         self.send(msg)
 
+    def declarations_done(self):
+        """Tell the server this connection declares nothing more (DeclarationsDone): once every
+        connection has, it compiles without an expected count or a quiet period."""
+        msg = protocol_pb2.ClientMessage()
+        msg.declarations_done.SetInParent()
+        self.send(msg)
+
     def wait_compiled(self, timeout=None):
         """Waits for Compiled; sets up the sample grid of this connection's components."""
         self.compiled = self._expect("compiled", timeout)

@@ -60,6 +60,8 @@ using namespace demlink::client::c_abi;
 
 extern "C" {
 
+const char* dl_version(void) { return DEMLINK_C_VERSION; }
+
 dl_client* dl_client_create(void) { return new (std::nothrow) Client(); }
 
 void dl_client_destroy(dl_client* client) {
@@ -82,13 +84,23 @@ int dl_connect_to_host(dl_client* client, const char* host, int port, const char
   return guarded(client, [&](Client& c) -> int {
     if (host == nullptr) throw ArgumentError("host is NULL");
     if (port <= 0 || port > 65535) throw ArgumentError("port " + std::to_string(port) + " is not in 1..65535");
-    if (c.session) throw StateError("already connected");
     ConnectOptions options;
     options.client_name = client_name != nullptr && client_name[0] != '\0' ? client_name : "demlink_c";
     options.access_token = token != nullptr ? token : "";
+    const std::string address = std::string(host) + ":" + std::to_string(port);
+    if (c.session) {
+      // A tool that runs its initialisation twice connects again: same server, same name: nothing to do.
+      if (c.address == address && c.connection.options().client_name == options.client_name &&
+          c.connection.isOpen()) {
+        return DL_OK;
+      }
+      throw StateError("already connected to " + c.address + " as '" + c.connection.options().client_name +
+                       "'; a client connects once (create another client for " + address + ")");
+    }
     options.timeout = std::chrono::milliseconds(static_cast<long long>(std::ceil(c.timeout_s * 1000.0)));
     c.connection.connect(host, static_cast<std::uint16_t>(port), options);
     c.session = std::make_unique<Session>(c.connection);
+    c.address = address;
     return DL_OK;
   });
 }
@@ -120,9 +132,8 @@ int dl_send_package(dl_client* client, const dl_package* package) {
     if (!p->strings.empty()) {  // a declaration; its layout is checked before the state
       std::unique_ptr<Component> component = componentFromPackage(*p);
       Session& session = sessionOf(c);
-      if (session.isCompiled()) throw StateError("cannot declare: the simulation is already compiled");
-      session.adopt(std::move(component));
-      session.declare();
+      std::size_t index = 0;
+      session.declareOnce(std::move(component), index);  // a repeated identical declaration is a no-op
       return DL_OK;
     }
     Session& session = sessionOf(c);
@@ -161,6 +172,13 @@ int dl_get_outputs(dl_client* client, int component, dl_package* package) {
     Package* p = asPackage(package);
     if (p == nullptr) throw ArgumentError("invalid package handle");
     writeOutputs(componentOf(c, component), component, *p);
+    return DL_OK;
+  });
+}
+
+int dl_declarations_done(dl_client* client) {
+  return guarded(client, [&](Client& c) -> int {
+    sessionOf(c).declarationsDone();
     return DL_OK;
   });
 }

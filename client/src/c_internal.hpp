@@ -30,6 +30,7 @@ struct Client {
   Connection connection;
   std::unique_ptr<Session> session;
   double timeout_s = 30.0;
+  std::string address;  ///< host:port connected to
   std::string last_error;
   int server_code = 0;
   std::string server_field;

@@ -224,6 +224,17 @@ void applyInputs(Component& component, const Package& p) {
   } else if (auto* box = dynamic_cast<SimulationBox*>(&component)) {
     if (r.hasReal(0)) box->setGravity(r.vec(0));
     if (p.reals.size() >= 15) box->setFrame(r.vec(3), r.vec(6), r.vec(9), r.vec(12));
+  } else if (auto* sensor = dynamic_cast<RegionSensor*>(&component)) {
+    if (r.hasReal(0)) sensor->moveTo(r.vec(0));
+    if (r.hasReal(3)) sensor->turnTo(r.quat(3));
+    if (r.hasReal(7)) sensor->resizeBox(r.vec(7));
+    if (r.hasReal(10)) sensor->resizeSphere(r.real(10));
+  } else if (auto* source = dynamic_cast<ParticleSource*>(&component)) {
+    if (r.hasReal(0)) source->setEnabled(r.real(0) != 0.0);
+    if (r.hasReal(1)) source->changeRate(r.real(1));
+  } else if (auto* sink = dynamic_cast<ParticleSink*>(&component)) {
+    if (r.hasReal(0)) sink->setEnabled(r.real(0) != 0.0);
+    if (r.hasReal(1)) sink->moveTo(r.vec(1));
   } else if (!p.reals.empty()) {
     throw ArgumentError(kind + " input: this kind takes no reals, got " + std::to_string(p.reals.size()));
   }
@@ -284,6 +295,7 @@ void writeOutputs(const Component& component, int handle, Package& p) {
       for (const auto id : o.ids()) p.ints.push_back(static_cast<long long>(id));
       for (const float x : o.positions()) p.reals.push_back(x);
       for (const float r : o.radii()) p.reals.push_back(r);
+      for (const float v : o.velocities()) p.reals.push_back(v);
       break;
     }
     case v1::DataPackage::kDeformableBody: {

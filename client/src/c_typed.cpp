@@ -26,14 +26,13 @@ int clampCount(std::uint64_t count) { return static_cast<int>(std::min<std::uint
 int declareComponent(Client& c, std::unique_ptr<Component> component, double interval, int* handle) {
   if (handle == nullptr) throw ArgumentError("component (the handle output) is NULL");
   Session& session = sessionOf(c);
-  if (session.isCompiled()) throw StateError("cannot declare: the simulation is already compiled");
   if (!std::isfinite(interval) || interval < 0.0) {
     throw ArgumentError("communication interval must be >= 0 s, got " + std::to_string(interval));
   }
   component->setCommunicationInterval(interval);
-  session.adopt(std::move(component));
-  session.declare();
-  *handle = static_cast<int>(session.size() - 1);
+  std::size_t index = 0;
+  session.declareOnce(std::move(component), index);
+  *handle = static_cast<int>(index);
   return DL_OK;
 }
 
@@ -103,6 +102,21 @@ void copyCounts(const v1::CountAndMass* const* values, int n, int* counts, doubl
   }
 }
 
+/// The box of both simulation-box declarations. No end time (NaN or <= 0): the run ends
+/// when the tool's clients say Bye.
+std::unique_ptr<SimulationBox> simulationBox(const char* name, double timeStep, double endTime, const double* gravity,
+                                             const double* boundsLower, const double* boundsUpper) {
+  auto box = std::make_unique<SimulationBox>(name != nullptr && name[0] != '\0' ? name : "simulation_box");
+  if (given(timeStep)) box->setTimeStep(timeStep);
+  if (std::isfinite(endTime) && endTime > 0.0) box->setEndTime(endTime);
+  if (gravity != nullptr) box->setInitialGravity(vec(gravity, "gravity"));
+  if ((boundsLower == nullptr) != (boundsUpper == nullptr)) {
+    throw ArgumentError("boundsLower and boundsUpper must both be given or both be NULL");
+  }
+  if (boundsLower != nullptr) box->setBounds(vec(boundsLower, "boundsLower"), vec(boundsUpper, "boundsUpper"));
+  return box;
+}
+
 }  // namespace
 }  // namespace demlink::client::c_abi
 
@@ -114,26 +128,56 @@ extern "C" {
 int dl_declare_simulation_box(dl_client* client, const char* name, double interval, double timeStep, double endTime,
                               const double gravity[3], const double boundsLower[3], const double boundsUpper[3],
                               int expectedCount, int* component) {
-  return dl_declare_simulation_box_ex(client, name, interval, timeStep, endTime, gravity, boundsLower, boundsUpper,
-                                      expectedCount, std::nan(""), component);
+  return guarded(client, [&](Client& c) -> int {
+    auto box = simulationBox(name, timeStep, endTime, gravity, boundsLower, boundsUpper);
+    if (expectedCount > 0) box->setExpectedCount(static_cast<std::uint32_t>(expectedCount));
+    return declareComponent(c, std::move(box), interval, component);
+  });
 }
 
 int dl_declare_simulation_box_ex(dl_client* client, const char* name, double interval, double timeStep,
                                  double endTime, const double gravity[3], const double boundsLower[3],
-                                 const double boundsUpper[3], int expectedCount, double restitutionTolerance,
+                                 const double boundsUpper[3], int contactModel, int integrator,
+                                 double maxImpactVelocity, double restitutionTolerance, double vtkInterval,
+                                 int threads, const double frame[12],
                                  int* component) {
   return guarded(client, [&](Client& c) -> int {
-    auto box = std::make_unique<SimulationBox>(name != nullptr && name[0] != '\0' ? name : "simulation_box");
-    if (given(timeStep)) box->setTimeStep(timeStep);
-    if (given(restitutionTolerance)) box->setRestitutionTolerance(restitutionTolerance);
-    box->setEndTime(endTime);
-    if (gravity != nullptr) box->setInitialGravity(vec(gravity, "gravity"));
-    if ((boundsLower == nullptr) != (boundsUpper == nullptr)) {
-      throw ArgumentError("boundsLower and boundsUpper must both be given or both be NULL");
+    auto box = simulationBox(name, timeStep, endTime, gravity, boundsLower, boundsUpper);
+    demlink::v1::SimulationBox& m = box->message();
+    if (contactModel < 0 || contactModel > 2) {
+      throw ArgumentError("contactModel must be 0 (default), 1 (Hertz-Mindlin) or 2 (linear spring-dashpot), got " +
+                          std::to_string(contactModel));
     }
-    if (boundsLower != nullptr) box->setBounds(vec(boundsLower, "boundsLower"), vec(boundsUpper, "boundsUpper"));
-    if (expectedCount > 0) box->setExpectedCount(static_cast<std::uint32_t>(expectedCount));
+    m.set_contact_model(static_cast<demlink::v1::SimulationBox::ContactModel>(contactModel));
+    if (integrator < 0 || integrator > 2) {
+      throw ArgumentError("integrator must be 0 (default), 1 (velocity Verlet) or 2 (explicit Euler), got " +
+                          std::to_string(integrator));
+    }
+    m.set_integrator(static_cast<demlink::v1::SimulationBox::Integrator>(integrator));
+    if (std::isfinite(maxImpactVelocity) && maxImpactVelocity > 0.0) m.set_max_impact_velocity(maxImpactVelocity);
+    if (given(restitutionTolerance)) box->setRestitutionTolerance(restitutionTolerance);
+    if (given(vtkInterval)) m.mutable_output()->set_vtk_interval(vtkInterval);
+    if (threads >= 0) m.set_threads(static_cast<std::uint32_t>(threads));
+    if (frame != nullptr) {
+      demlink::v1::SimulationBox::Frame& f = *m.mutable_frame();
+      *f.mutable_linear_acceleration() = toProto(vec(frame, "frame"));
+      *f.mutable_angular_velocity() = toProto(vec(frame + 3, "frame"));
+      *f.mutable_angular_acceleration() = toProto(vec(frame + 6, "frame"));
+      *f.mutable_origin() = toProto(vec(frame + 9, "frame"));
+    }
     return declareComponent(c, std::move(box), interval, component);
+  });
+}
+
+int dl_simulation_box_set_frame(dl_client* client, int component, const double linearAcceleration[3],
+                                const double angularVelocity[3], const double angularAcceleration[3],
+                                const double origin[3]) {
+  return guarded(client, [&](Client& c) -> int {
+    auto& box = typed<SimulationBox>(c, component, "simulation_box");
+    box.setFrame(vec(linearAcceleration, "linearAcceleration"), vec(angularVelocity, "angularVelocity"),
+                 vec(angularAcceleration, "angularAcceleration"),
+                 origin != nullptr ? vec(origin, "origin") : Vec3{});
+    return DL_OK;
   });
 }
 
@@ -228,12 +272,12 @@ int dl_declare_flow_sensor_disc(dl_client* client, const char* name, double inte
 
 int dl_declare_particle_source_box(dl_client* client, const char* name, double interval, const char* material,
                                    const double centre[3], const double halfExtents[3], double rMin, double rMax,
-                                   double ratePerSecond, double rateKgPerSecond, const double velocity[3], int seed,
+                                   double ratePerSecond, double rateKgPerSecond, const double velocity[3], uint64_t seed,
                                    int* component) {
   return guarded(client, [&](Client& c) -> int {
     auto s = std::make_unique<ParticleSource>(str(name));
     s->setMaterial(str(material)).setBox(vec(centre, "centre"), vec(halfExtents, "halfExtents"));
-    s->setRadiusRange(rMin, rMax).setSeed(static_cast<std::uint64_t>(std::max(seed, 0)));
+    s->setRadiusRange(rMin, rMax).setSeed(seed);
     if (given(ratePerSecond)) s->setRateParticles(ratePerSecond);
     if (given(rateKgPerSecond)) s->setRateMass(rateKgPerSecond);
     if (velocity != nullptr) s->setVelocity(vec(velocity, "velocity"));
@@ -251,12 +295,12 @@ int dl_declare_particle_sink_box(dl_client* client, const char* name, double int
 }
 
 int dl_declare_pit_generator(dl_client* client, const char* name, const char* material, const double lower[3],
-                             const double upper[3], double rMin, double rMax, double targetHeight, int seed,
+                             const double upper[3], double rMin, double rMax, double targetHeight, uint64_t seed,
                              int* component) {
   return guarded(client, [&](Client& c) -> int {
     auto p = std::make_unique<PitGenerator>(str(name));
     p->setMaterial(str(material)).setBox(vec(lower, "lower"), vec(upper, "upper")).setRadiusRange(rMin, rMax);
-    p->setTargetHeight(targetHeight).setSeed(static_cast<std::uint64_t>(std::max(seed, 0)));
+    p->setTargetHeight(targetHeight).setSeed(seed);
     return declareComponent(c, std::move(p), 0.0, component);
   });
 }
@@ -429,8 +473,49 @@ int dl_particle_sink_read(dl_client* client, int component, int counts[2], doubl
   });
 }
 
-int dl_particle_view_read(dl_client* client, int component, int capacity, double* positions, double* radii,
-                          int* count) {
+int dl_region_sensor_set_region(dl_client* client, int component, const double centre[3],
+                                const double orientation[4], const double size[3], double radius) {
+  return guarded(client, [&](Client& c) -> int {
+    auto& sensor = typed<RegionSensor>(c, component, "region_sensor");
+    if (centre != nullptr) sensor.moveTo(vec(centre, "centre"));
+    if (orientation != nullptr) sensor.turnTo({orientation[0], orientation[1], orientation[2], orientation[3]});
+    if (size != nullptr) sensor.resizeBox(vec(size, "size"));
+    if (!std::isnan(radius)) sensor.resizeSphere(radius);
+    return DL_OK;
+  });
+}
+
+int dl_particle_source_set_enabled(dl_client* client, int component, int on) {
+  return guarded(client, [&](Client& c) -> int {
+    typed<ParticleSource>(c, component, "particle_source").setEnabled(on != 0);
+    return DL_OK;
+  });
+}
+
+int dl_particle_source_set_rate(dl_client* client, int component, double rate) {
+  return guarded(client, [&](Client& c) -> int {
+    if (!std::isfinite(rate) || rate < 0.0) throw ArgumentError("rate must be finite and >= 0, got " + std::to_string(rate));
+    typed<ParticleSource>(c, component, "particle_source").changeRate(rate);
+    return DL_OK;
+  });
+}
+
+int dl_particle_sink_set_enabled(dl_client* client, int component, int on) {
+  return guarded(client, [&](Client& c) -> int {
+    typed<ParticleSink>(c, component, "particle_sink").setEnabled(on != 0);
+    return DL_OK;
+  });
+}
+
+int dl_particle_sink_move(dl_client* client, int component, const double centre[3]) {
+  return guarded(client, [&](Client& c) -> int {
+    typed<ParticleSink>(c, component, "particle_sink").moveTo(vec(centre, "centre"));
+    return DL_OK;
+  });
+}
+
+int dl_particle_view_read_ex(dl_client* client, int component, int capacity, double* positions,
+                             double* velocities, double* radii, uint64_t* ids, int* count) {
   return guarded(client, [&](Client& c) -> int {
     if (capacity < 0 || count == nullptr || (capacity > 0 && (positions == nullptr || radii == nullptr))) {
       throw ArgumentError("particle view: bad capacity or NULL output arrays");
@@ -443,16 +528,25 @@ int dl_particle_view_read(dl_client* client, int component, int capacity, double
           const int listed = o.radii_size();
           *count = listed;
           const int n = std::min(listed, capacity);
+          const auto triple = [](const google::protobuf::RepeatedField<float>& from, int j) {
+            return j < from.size() ? static_cast<double>(from.Get(j)) : 0.0;
+          };
           for (int i = 0; i < n; ++i) {
             for (int k = 0; k < 3; ++k) {
-              const int j = 3 * i + k;
-              positions[j] = j < o.positions_size() ? static_cast<double>(o.positions(j)) : 0.0;
+              positions[3 * i + k] = triple(o.positions(), 3 * i + k);
+              if (velocities != nullptr) velocities[3 * i + k] = triple(o.velocities(), 3 * i + k);
             }
             radii[i] = o.radii(i);
+            if (ids != nullptr) ids[i] = i < o.ids_size() ? o.ids(i) : 0;
           }
         },
         [] {});
   });
+}
+
+int dl_particle_view_read(dl_client* client, int component, int capacity, double* positions, double* radii,
+                          int* count) {
+  return dl_particle_view_read_ex(client, component, capacity, positions, nullptr, radii, nullptr, count);
 }
 
 }  // extern "C"

@@ -104,6 +104,34 @@ ParticleSink& ParticleSink::setSampleInterval(double seconds) {
   message().set_sample_interval(seconds);
   return *this;
 }
+void ParticleSource::setEnabled(bool on) {
+  if (!pending_) pending_.emplace();
+  pending_->set_enabled(on);
+}
+void ParticleSource::changeRate(double rate) {
+  if (!pending_) pending_.emplace();
+  if (message().has_rate_kg_per_s()) {
+    pending_->set_rate_kg_per_s(rate);
+  } else {
+    pending_->set_rate_particles_per_s(rate);
+  }
+}
+void ParticleSource::writeInputs(v1::DataPackage& package) const {
+  if (pending_) *package.mutable_particle_source_input() = *pending_;
+}
+
+void ParticleSink::setEnabled(bool on) {
+  if (!pending_) pending_.emplace();
+  pending_->set_enabled(on);
+}
+void ParticleSink::moveTo(const Vec3& centre) {
+  if (!pending_) pending_.emplace();
+  *pending_->mutable_region()->mutable_centre() = toProto(centre);
+}
+void ParticleSink::writeInputs(v1::DataPackage& package) const {
+  if (pending_) *package.mutable_particle_sink_input() = *pending_;
+}
+
 void ParticleSink::prepareDeclaration() {
   if (message().sample_interval() == 0.0 && message().sample_every_steps() == 0) {
     message().set_sample_interval(communicationInterval());

@@ -40,6 +40,18 @@ void RegionSensor::prepareDeclaration() {
     message().set_sample_interval(communicationInterval());
   }
 }
+v1::RegionInput& RegionSensor::pending() {
+  if (!pending_) pending_.emplace();
+  return *pending_;
+}
+void RegionSensor::moveTo(const Vec3& centre) { *pending().mutable_centre() = toProto(centre); }
+void RegionSensor::turnTo(const Quat& orientation) { *pending().mutable_orientation() = toProto(orientation); }
+void RegionSensor::resizeBox(const Vec3& size) { *pending().mutable_size() = toProto(size); }
+void RegionSensor::resizeSphere(double radius) { pending().set_radius(radius); }
+void RegionSensor::writeInputs(v1::DataPackage& package) const {
+  if (pending_) *package.mutable_region_sensor_input() = *pending_;
+}
+
 std::uint64_t RegionSensor::count() const { return outputs().region_sensor().count(); }
 double RegionSensor::mass() const { return outputs().region_sensor().mass(); }
 // An empty region sends no centre of mass or mean velocity: NaN here, as before.
@@ -105,12 +117,16 @@ ParticleView& ParticleView::setMaxCount(std::uint32_t count) {
 }
 std::uint64_t ParticleView::totalCount() const { return view().total_count(); }
 std::uint32_t ParticleView::stride() const { return view().stride(); }
-std::vector<Vec3> ParticleView::positions() const {
-  const auto& p = view().positions();
+namespace {
+std::vector<Vec3> triples(const google::protobuf::RepeatedField<float>& p) {
   std::vector<Vec3> out;
   out.reserve(static_cast<std::size_t>(p.size()) / 3);
   for (int i = 0; i + 2 < p.size(); i += 3) out.push_back({p[i], p[i + 1], p[i + 2]});
   return out;
 }
+}  // namespace
+std::vector<Vec3> ParticleView::positions() const { return triples(view().positions()); }
+std::vector<Vec3> ParticleView::velocities() const { return triples(view().velocities()); }
+std::vector<std::uint64_t> ParticleView::ids() const { return {view().ids().begin(), view().ids().end()}; }
 
 }  // namespace demlink::client

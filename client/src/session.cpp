@@ -3,6 +3,8 @@
 /// server that breaks the schedule is reported instead of silently shifting the outputs.
 #include "demlink/client/session.hpp"
 
+#include <google/protobuf/util/message_differencer.h>
+
 #include <algorithm>
 #include <limits>
 
@@ -34,6 +36,34 @@ void Session::declare() {
     connection_.send(message);
     c->declared_ = true;
   }
+}
+
+Component& Session::declareOnce(std::unique_ptr<Component> component, std::size_t& index) {
+  component->prepareDeclaration();
+  for (std::size_t i = 0; i < components_.size(); ++i) {
+    Component& existing = *components_[i];
+    if (existing.name() != component->name()) continue;
+    if (!google::protobuf::util::MessageDifferencer::Equals(existing.declaration_, component->declaration_)) {
+      throw StateError("component '" + component->name() +
+                       "' is already declared on this connection with a different declaration");
+    }
+    index = i;
+    return existing;
+  }
+  requireNotCompiled("declare");
+  components_.push_back(std::move(component));
+  declare();
+  index = components_.size() - 1;
+  return *components_.back();
+}
+
+void Session::declarationsDone() {
+  if (done_sent_ || compiled_flag_ || finished_flag_) return;
+  declare();
+  v1::ClientMessage message;
+  message.mutable_declarations_done();
+  connection_.send(message);
+  done_sent_ = true;
 }
 
 const v1::Compiled& Session::waitCompiled() {

@@ -78,9 +78,9 @@ int main(int argc, char** argv) {
     for (i = 0; i < kCount && ok; ++i) {
       ok = check(dl_connect_to_host(clients[i], host, port, kNames[i], ""), clients[i], "dl_connect_to_host");
     }
-    ok = ok && check(dl_declare_simulation_box_ex(clients[kBox], kNames[kBox], tc, 1e-5, samples * tc, gravity, lower,
-                                                  upper, kCount, 0.01, &handles[kBox]),
-                     clients[kBox], "dl_declare_simulation_box_ex");
+    ok = ok && check(dl_declare_simulation_box(clients[kBox], kNames[kBox], tc, 1e-5, samples * tc, gravity, lower,
+                                               upper, kCount, &handles[kBox]),
+                     clients[kBox], "dl_declare_simulation_box");
     ok = ok && check(dl_declare_material(clients[kMaterial], kNames[kMaterial], "gravel", -1, -1, -1, -1, -1, -1,
                                          &handles[kMaterial]),
                      clients[kMaterial], "dl_declare_material");

@@ -1,7 +1,8 @@
 #pragma once
 /// A child process with its stdout on a pipe, for the end-to-end tests that run the real
-/// server and a client program as separate processes. Every wait is bounded; a child still
-/// running when the object goes away is killed.
+/// server and a client program as separate processes (the C ABI's shared library carries its
+/// own copy of the protobuf messages and cannot share a process with the server's). Every
+/// wait is bounded; a child still running when the object goes away is killed.
 #include <signal.h>
 #include <sys/select.h>
 #include <sys/wait.h>
@@ -125,5 +126,25 @@ inline ClientRun runClientAgainstServer(
   run.server_exit = server.waitForExit(std::chrono::seconds(20));
   return run;
 }
+
+/// demlink-server on an ephemeral loopback port with `arguments` after "--port 0": the
+/// child and the port it announced (0 when it announced none within 10 s).
+struct ServerChild {
+  explicit ServerChild(const std::string& exe, std::vector<std::string> arguments)
+      : child([&] {
+          std::vector<std::string> line{exe, "--port", "0"};
+          line.insert(line.end(), arguments.begin(), arguments.end());
+          return line;
+        }()) {
+    announced = child.readLine(std::chrono::seconds(10));
+    const ServerAddress address = announcedAddress(announced);
+    host = address.host;
+    port = std::atoi(address.port.c_str());
+  }
+  Child child;
+  std::string announced;
+  std::string host;
+  int port = 0;
+};
 
 }  // namespace demlink::integration

@@ -7,7 +7,6 @@
 #include <unistd.h>
 
 #include <chrono>
-#include <cstdlib>
 #include <filesystem>
 #include <string>
 
@@ -20,16 +19,16 @@ TEST(ModelicaSequenceRealServer, CAbiCallSequenceRunsAgainstDemlinkServer) {
   const std::filesystem::path out =
       std::filesystem::temp_directory_path() / ("demlink_e2e_modelica_" + std::to_string(::getpid()));
   std::filesystem::remove_all(out);
-  Child server({DEMLINK_SERVER_EXE, "--port", "0", "--once", "--output", out.string()});
-  const std::string announced = server.readLine(std::chrono::seconds(10));
-  const auto [host, port] = announcedAddress(announced);
-  ASSERT_GT(std::atoi(port.c_str()), 0) << announced;
+  ServerChild server(DEMLINK_SERVER_EXE, {"--once", "--output", out.string()});
+  ASSERT_GT(server.port, 0) << server.announced;
+  const std::string host = server.host;
+  const std::string port = std::to_string(server.port);
 
   Child program({DEMLINK_MODELICA_SEQUENCE_EXE, host, port, "20"});
   const std::string summary = program.readLine(std::chrono::seconds(60));
   EXPECT_EQ(program.waitForExit(std::chrono::seconds(60)), 0) << summary;
   EXPECT_NE(summary.find("20 samples"), std::string::npos) << summary;
-  EXPECT_EQ(server.waitForExit(std::chrono::seconds(10)), 0) << "--once: the server exits after the simulation";
+  EXPECT_EQ(server.child.waitForExit(std::chrono::seconds(10)), 0) << "--once: the server exits after the simulation";
   const std::filesystem::path sim = out / "sim_001";
   EXPECT_TRUE(std::filesystem::exists(sim / "checkpoint_final.bin")) << sim;
   EXPECT_TRUE(std::filesystem::exists(sim / "run_log.csv")) << sim;

@@ -228,6 +228,25 @@ class SampleGrid(unittest.TestCase):
         self.assertTrue(all(kind == ("rigid_body_input" if n == "rb" else None) for _, n, kind in sent))
 
 
+class DeclarationsDone(unittest.TestCase):
+    def test_declarations_done_follows_the_declares_as_an_empty_field_5(self):
+        received = []
+
+        def script(server):
+            for _ in range(2):
+                received.append(server.receive_frame())
+
+        fake = FakeServer(script)
+        with dc.Client("127.0.0.1", fake.port, timeout=TIMEOUT_S) as client:
+            client.declare(scene_pb2.ComponentDeclaration(name="steel", material=scene_pb2.Material()))
+            client.declarations_done()
+            fake.join()
+        self.assertEqual(protocol_pb2.ClientMessage.FromString(received[0]).WhichOneof("message"), "declare")
+        self.assertEqual(received[1].hex(), "2a00")  # field 5, length-delimited, empty
+        self.assertEqual(protocol_pb2.ClientMessage.FromString(received[1]).WhichOneof("message"),
+                         "declarations_done")
+
+
 class ServerErrors(unittest.TestCase):
     def test_an_error_answer_is_raised_with_its_code_and_field(self):
         def refuse(server):

@@ -80,6 +80,10 @@
  *   simulation_box : reals[0..2] new gravity [m/s^2] (omitted or NaN: unchanged);
  *                    reals[3..14] room frame: linear acceleration, angular velocity,
  *                    angular acceleration, origin (when nReals >= 15).
+ *   region_sensor  : each omitted or NaN: unchanged; reals[0..2] centre [m], [3..6]
+ *                    orientation w x y z, [7..9] box size [m], [10] sphere radius [m].
+ *   particle_source: reals[0] on (1) / off (0), [1] rate in the declared unit (NaN: unchanged).
+ *   particle_sink  : reals[0] on (1) / off (0), [1..3] centre [m] (NaN: unchanged).
  *   others         : no reals (the empty package says "go on").
  *
  *  Output package (dl_recv_package, dl_get_outputs): strings[0] = kind, strings[1] = name;
@@ -95,8 +99,10 @@
  *                    mean velocity(3) [m/s] (NaN when empty).
  *   flow_sensor    : ints[2..5] crossings: positive interval, negative interval, positive
  *                    total, negative total; reals = the corresponding masses [kg].
- *   particle_view  : ints[2] particles in the world, ints[3] stride, ints[4..] ids;
- *                    reals = positions x y z per particle [m], then radii [m].
+ *   particle_view  : ints[2] particles in the world, ints[3] stride, ints[4..] ids (the
+ *                    particles whose id is a multiple of the stride, increasing);
+ *                    reals = positions x y z per particle [m], then radii [m], then
+ *                    velocities x y z per particle [m/s].
  *   (others are never exchanged)
  */
 #ifndef DEMLINK_DEMLINK_C_H
@@ -108,9 +114,15 @@
 #define DL_API
 #endif
 
+#include <stdint.h>
+
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+/* Version of the library, e.g. "0.1.0" (the project's); the ABI version is the SONAME's
+ * number (libdemlink_c.so.1). ABI 1 changed the seed arguments from int to uint64_t. */
+DL_API const char* dl_version(void);
 
 typedef void dl_client;  /* one connection and its components */
 typedef void dl_package; /* a generic send/receive buffer: ints, reals, strings */
@@ -133,7 +145,9 @@ DL_API dl_client* dl_client_create(void); /* NULL only when out of memory */
 DL_API void dl_client_destroy(dl_client* client); /* closes the connection; NULL is ignored */
 /* Bound of every blocking call [s]; default 30. */
 DL_API int dl_set_timeout(dl_client* client, double seconds);
-/* Connects, Hello -> Welcome. token may be NULL or "" (no token). */
+/* Connects, Hello -> Welcome. token may be NULL or "" (no token). Calling it again on a
+ * connected client with the same host, port and name is a no-op (a tool that repeats its
+ * initialisation); with others it is DL_ERR_STATE. */
 DL_API int dl_connect_to_host(dl_client* client, const char* host, int port, const char* client_name,
                               const char* token);
 /* Message of the last failure on this client ("" when none); valid until the next call. */
@@ -165,6 +179,11 @@ DL_API int dl_recv_package(dl_client* client, dl_package* package);
 DL_API int dl_get_outputs(dl_client* client, int component, dl_package* package);
 
 /* --- Session --------------------------------------------------------------------------- */
+/* This client declares nothing more (DeclarationsDone). Once every client of the
+ * simulation has called it, the server compiles: no expected component count and no quiet
+ * period. Does not wait; idempotent; a no-op after the compile. A client with all the
+ * model's components calls it at the end of its initialisation. */
+DL_API int dl_declarations_done(dl_client* client);
 DL_API int dl_wait_compiled(dl_client* client); /* no-op once compiled */
 DL_API int dl_time_step(dl_client* client, double* seconds);
 DL_API int dl_component_interval_steps(dl_client* client, int component, long long* steps);
@@ -180,17 +199,31 @@ DL_API const char* dl_finished_reason(const dl_client* client); /* "" until fini
 /* --- Typed declarations (send Declare at once; *component receives the handle) ------------
  * interval: communication interval [s], 0: never exchanged. NaN or a negative value in an
  * optional physical argument means "not given" (the server's default). Vectors are
- * x y z; poses are x y z qw qx qy qz. Pointers to optional vectors may be NULL. */
+ * x y z; poses are x y z qw qx qy qz. Pointers to optional vectors may be NULL.
+ * Declaring a component again with the same name and the same values (a tool repeating
+ * its initialisation) returns the first handle and sends nothing, even after the compile;
+ * the same name with other values is DL_ERR_STATE.
+ * simulation box: endTime NaN or <= 0: no end time, the run ends when every client has
+ * called dl_finish (Bye); expectedCount <= 0: none (use dl_declarations_done). */
 DL_API int dl_declare_simulation_box(dl_client* client, const char* name, double interval, double timeStep,
                                      double endTime, const double gravity[3], const double boundsLower[3],
                                      const double boundsUpper[3], int expectedCount, int* component);
-/* As dl_declare_simulation_box, plus the largest restitution error the server's time-step
- * limit allows [-] (NaN or negative: the server's default 0.01; a larger value accepts a
- * larger time step, trading accuracy for speed). */
+/* The simulation box with the speed/accuracy settings (docs/physics.md): contactModel
+ * 0 default, 1 Hertz-Mindlin, 2 linear spring-dashpot; integrator 0 default, 1 velocity
+ * Verlet, 2 explicit Euler; maxImpactVelocity [m/s] (NaN or <= 0: default 2);
+ * restitutionTolerance: the largest restitution error the server's time-step limit allows [-]
+ * (NaN or negative: the server's default 0.01; larger accepts a larger time step, trading
+ * accuracy for speed); vtkInterval
+ * [s] (NaN or negative: default, 0: first and last frame only); threads (negative: default 1,
+ * 0: all cores); frame = the room's linear acceleration(3) [m/s^2], angular velocity(3)
+ * [rad/s], angular acceleration(3) [rad/s^2], origin(3) [m] (NULL: inertial room). No
+ * expected count: use dl_declarations_done. */
 DL_API int dl_declare_simulation_box_ex(dl_client* client, const char* name, double interval, double timeStep,
                                         double endTime, const double gravity[3], const double boundsLower[3],
-                                        const double boundsUpper[3], int expectedCount, double restitutionTolerance,
-                                        int* component);
+                                        const double boundsUpper[3], int contactModel, int integrator,
+                                        double maxImpactVelocity, double restitutionTolerance,
+                                        double vtkInterval, int threads,
+                                        const double frame[12], int* component);
 DL_API int dl_declare_material(dl_client* client, const char* name, const char* databaseName, double density,
                                double youngsModulus, double poissonRatio, double restitution,
                                double slidingFriction, double rollingFriction, int* component);
@@ -219,12 +252,12 @@ DL_API int dl_declare_particle_source_box(dl_client* client, const char* name, d
                                           const char* material, const double centre[3],
                                           const double halfExtents[3], double rMin, double rMax,
                                           double ratePerSecond, double rateKgPerSecond, const double velocity[3],
-                                          int seed, int* component);
+                                          uint64_t seed, int* component);
 DL_API int dl_declare_particle_sink_box(dl_client* client, const char* name, double interval,
                                         const double centre[3], const double size[3], int* component);
 DL_API int dl_declare_pit_generator(dl_client* client, const char* name, const char* material,
                                     const double lower[3], const double upper[3], double rMin, double rMax,
-                                    double targetHeight, int seed, int* component);
+                                    double targetHeight, uint64_t seed, int* component);
 DL_API int dl_declare_particle_view(dl_client* client, const char* name, double interval, int maxCount,
                                     int* component);
 /* Deformable bodies (docs/deformable.md). springs = total mass [kg], stiffness [N/m],
@@ -272,10 +305,37 @@ DL_API int dl_particle_sink_read(dl_client* client, int component, int counts[2]
 DL_API int dl_deformable_body_exchange(dl_client* client, int component, const double pose[7],
                                        const double twist[6], double reactionsOut[12], int capacity,
                                        double* displacements, int* count, int* broken);
+/* --- Run-time inputs (one-shot: sent with the component's NEXT package, i.e. by the next
+ * dl_<kind>_read or dl_send_package; the server applies them from that package's step on).
+ * Call them BEFORE the read of sample k to change the component from sample k on. */
+/* Region sensor: each NULL (radius: NaN) is unchanged. centre [m] and orientation w x y z
+ * in the frame it was declared in (world, or the attached body's); size = box side lengths
+ * [m] (box only), radius [m] (sphere only). */
+DL_API int dl_region_sensor_set_region(dl_client* client, int component, const double centre[3],
+                                       const double orientation[4], const double size[3], double radius);
+/* Simulation box: the room's motion from the next package on (as frame in
+ * dl_declare_simulation_box_ex; origin may be NULL: (0, 0, 0)). */
+DL_API int dl_simulation_box_set_frame(dl_client* client, int component, const double linearAcceleration[3],
+                                       const double angularVelocity[3], const double angularAcceleration[3],
+                                       const double origin[3]);
+/* Particle source: on = 0 stops inserting, 1 resumes; rate in the declared unit (particles/s
+ * or kg/s), >= 0. The request accumulated so far is kept (no burst when switched on). */
+DL_API int dl_particle_source_set_enabled(dl_client* client, int component, int on);
+DL_API int dl_particle_source_set_rate(dl_client* client, int component, double rate);
+/* Particle sink: on = 0 removes nothing, 1 resumes; move: new centre [m]. */
+DL_API int dl_particle_sink_set_enabled(dl_client* client, int component, int on);
+DL_API int dl_particle_sink_move(dl_client* client, int component, const double centre[3]);
+
 /* positions: 3 * capacity reals, radii: capacity reals; *count = particles listed (at most
  * capacity are copied). */
 DL_API int dl_particle_view_read(dl_client* client, int component, int capacity, double* positions,
                                  double* radii, int* count);
+/* As dl_particle_view_read, plus velocities: 3 * capacity reals [m/s], and the particles'
+ * stable ids (capacity values); either may be NULL. The listed particles are those whose id
+ * is a multiple of the view's stride, in increasing id order: the same particles from
+ * sample to sample whatever the engine's storage order. */
+DL_API int dl_particle_view_read_ex(dl_client* client, int component, int capacity, double* positions,
+                                    double* velocities, double* radii, uint64_t* ids, int* count);
 
 #ifdef __cplusplus
 }

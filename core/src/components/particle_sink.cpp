@@ -23,7 +23,12 @@ void ParticleSink::initialize(World& world) {
   publish({world.time(), 0.0, 0.0, 0.0, 0.0});
 }
 
+void ParticleSink::changeRegion(const World& world, const RegionChange& change, const std::string& fieldPrefix) {
+  applyRegionChange(change, world.time(), shape_, placement_, fieldPrefix);
+}
+
 void ParticleSink::insertAndRemove(World& world) {
+  if (!enabled_) return;
   const RegionPose pose = placement_.poseAt(world);
   const std::vector<Vec3>& position = world.particles().position;
   RemovalTally removed;

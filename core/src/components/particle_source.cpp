@@ -271,13 +271,15 @@ void ParticleSource::insertAndRemove(World& world) {
     }
     if (!place(world, *placement, shape)) noteShortfall(shape, world.time());
   };
+  // Without a run-time change this is rate x active time exactly (the segment starts at 0).
+  const double requested = requestedUntil(world.time() + dt);
   if (spec_.rate_particles_per_s) {
-    report_.requested_count = *spec_.rate_particles_per_s * active;
+    report_.requested_count = requested;
     report_.requested_mass = report_.requested_count * mean_mass_;
     const double target = std::floor(report_.requested_count);
     while (static_cast<double>(report_.inserted_count + report_.shortfall_count) < target) placeOrCount(draw());
   } else {
-    report_.requested_mass = *spec_.rate_kg_per_s * active;
+    report_.requested_mass = requested;
     report_.requested_count = report_.requested_mass / mean_mass_;
     for (;;) {
       if (!next_) next_ = draw();
@@ -287,6 +289,38 @@ void ParticleSource::insertAndRemove(World& world) {
       next_.reset();
       placeOrCount(shape);
     }
+  }
+}
+
+double ParticleSource::rate() const {
+  return spec_.rate_particles_per_s ? *spec_.rate_particles_per_s : spec_.rate_kg_per_s.value_or(0.0);
+}
+
+double ParticleSource::requestedUntil(double t) const {
+  const double activeSince = activeTime(t, spec_.start_time, spec_.stop_time) -
+                             activeTime(segment_start_, spec_.start_time, spec_.stop_time);
+  return requested_before_ + (enabled_ ? rate() : 0.0) * activeSince;
+}
+
+void ParticleSource::closeSegment(double t) {
+  requested_before_ = requestedUntil(t);
+  segment_start_ = t;
+}
+
+void ParticleSource::setEnabled(const World& world, bool enabled) {
+  if (enabled == enabled_) return;
+  closeSegment(world.time());
+  enabled_ = enabled;
+}
+
+void ParticleSource::setRate(const World& world, double rate, const std::string& field) {
+  requireFinite(field, rate);
+  if (rate < 0.0) throw InputError(field, formatValue(rate), "must be >= 0");
+  closeSegment(world.time());
+  if (spec_.rate_particles_per_s) {
+    spec_.rate_particles_per_s = rate;
+  } else {
+    spec_.rate_kg_per_s = rate;
   }
 }
 

@@ -27,6 +27,10 @@ void RegionSensor::initialize(World& world) {
   sample(world);
 }
 
+void RegionSensor::changeRegion(const World& world, const RegionChange& change, const std::string& fieldPrefix) {
+  applyRegionChange(change, world.time(), shape_, placement_, fieldPrefix);
+}
+
 void RegionSensor::observe(const World& world) {
   if (sampleDue(world)) sample(world);
 }

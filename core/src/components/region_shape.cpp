@@ -63,6 +63,30 @@ double RegionPlacement::speedBound(const World& world, double extent) const {
   return body.linearVelocity().norm() + body.angularVelocity().norm() * arm;
 }
 
+void applyRegionChange(const RegionChange& change, double time, VolumeShape& shape, RegionPlacement& placement,
+                       const std::string& fieldPrefix) {
+  VolumeShape newShape = shape;
+  if (change.size) {
+    if (shape.kind() != VolumeShape::Kind::Box) {
+      throw InputError(fieldPrefix + ".size", formatVector(*change.size), "the region is a sphere; give a radius");
+    }
+    newShape = VolumeShape::box(*change.size, fieldPrefix);
+  }
+  if (change.radius) {
+    if (shape.kind() != VolumeShape::Kind::Sphere) {
+      throw InputError(fieldPrefix + ".radius", formatValue(*change.radius), "the region is a box; give a size");
+    }
+    newShape = VolumeShape::sphere(*change.radius, fieldPrefix);
+  }
+  RegionPlacement newPlacement = placement;
+  // A region moving at a constant velocity is placed by its centre at t = 0.
+  if (change.centre) newPlacement.centre = *change.centre - time * placement.velocity;
+  if (change.orientation) newPlacement.orientation = *change.orientation;
+  newPlacement.validate(fieldPrefix);
+  shape = newShape;
+  placement = newPlacement;
+}
+
 VolumeShape VolumeShape::box(const Vec3& sides, const std::string& fieldPrefix) {
   static constexpr const char* kAxes[3] = {"x", "y", "z"};
   for (int k = 0; k < 3; ++k) requirePositive(fieldPrefix + ".size." + kAxes[k], sides[k]);

@@ -10,6 +10,7 @@
 /// "components[i]..." path and is renamed to "<name>...".
 #include "demlink/server/cosim/cosim_compiler.hpp"
 
+#include <google/protobuf/util/message_differencer.h>
 #include <spdlog/fmt/fmt.h>
 
 #include <algorithm>
@@ -198,6 +199,13 @@ void CosimCompiler::reset() { declared_.resize(base_count_); }
 
 void CosimCompiler::withdraw(ConnectionId owner) {
   std::erase_if(declared_, [&](const DeclaredComponent& d) { return d.owner == owner; });
+}
+
+bool CosimCompiler::isRepeat(ConnectionId owner, const v1::ComponentDeclaration& declaration) const {
+  return std::any_of(declared_.begin(), declared_.end(), [&](const DeclaredComponent& d) {
+    return d.owner == owner && d.declaration.name() == declaration.name() &&
+           google::protobuf::util::MessageDifferencer::Equals(d.declaration, declaration);
+  });
 }
 
 std::size_t CosimCompiler::remoteCount() const { return declared_.size() - base_count_; }

@@ -35,6 +35,7 @@ constexpr std::size_t kLogMessageMaxBytes = 4096;
 struct Connection {
   std::string name;
   bool declared = false;  ///< declared at least one component
+  bool declarations_done = false;  ///< sent DeclarationsDone
   bool said_bye = false;  ///< got its Finished already
 };
 
@@ -287,6 +288,24 @@ struct CosimHost::Impl {
     return true;
   }
 
+  /// Some connection announced DeclarationsDone: it promises to say when it is done, so
+  /// the quiet period (a guess) no longer decides the compile.
+  [[nodiscard]] bool anyDeclarationsDone() const {
+    return std::any_of(connections.begin(), connections.end(),
+                       [](const auto& entry) { return entry.second.declarations_done; });
+  }
+
+  [[nodiscard]] bool usesQuietPeriod() const { return compiler.usesQuietPeriod() && !anyDeclarationsDone(); }
+
+  /// The declared set is complete: the SimulationBox's expected set, or every connection
+  /// of the pending simulation said DeclarationsDone.
+  [[nodiscard]] bool readyToCompile() const {
+    if (connections.empty()) return false;
+    if (compiler.expectedSetComplete()) return true;
+    return std::all_of(connections.begin(), connections.end(),
+                       [](const auto& entry) { return entry.second.declarations_done; });
+  }
+
   // --- events --------------------------------------------------------------------
   void onDeclare(std::vector<Outgoing>& out, ConnectionId from, const v1::Declare& declare,
                  SteadyClock::time_point now) {
@@ -298,6 +317,12 @@ struct CosimHost::Impl {
                       declare.component().name(), "declare"));
       return;
     }
+    if (compiler.isRepeat(from, declare.component())) {
+      // A tool that runs its initialisation twice declares the same component again.
+      spdlog::info("client {} repeated the declaration of {} (ignored)", clientName(from),
+                   core::quotedLogText(declare.component().name()));
+      return;
+    }
     if (std::optional<v1::Error> refused = compiler.declare(from, declare.component())) {
       spdlog::warn("client {}: declaration refused: {}", clientName(from),
                    core::logText(refused->message(), kLogMessageMaxBytes));
@@ -307,7 +332,16 @@ struct CosimHost::Impl {
     connections[from].declared = true;
     quiet_since = now;
     spdlog::info("client {} declared {}", clientName(from), core::quotedLogText(declare.component().name()));
-    if (compiler.expectedSetComplete()) compile(out, now);
+    if (readyToCompile()) compile(out, now);
+  }
+
+  void onDeclarationsDone(std::vector<Outgoing>& out, ConnectionId from, SteadyClock::time_point now) {
+    if (sim) return;  // a repeat after the compile: nothing left to decide
+    Connection& connection = connections[from];
+    if (connection.declarations_done) return;
+    connection.declarations_done = true;
+    spdlog::info("client {}: declarations done", clientName(from));
+    if (readyToCompile()) compile(out, now);
   }
 
   void onData(std::vector<Outgoing>& out, ConnectionId from, const v1::DataPackage& package,
@@ -346,7 +380,7 @@ struct CosimHost::Impl {
     if (!sim) {
       sendFinished(out, from, "said Bye before the simulation was compiled");
       leaveAssembly(from);
-      if (!connections.empty() && compiler.expectedSetComplete()) compile(out, now);
+      if (readyToCompile()) compile(out, now);
       return;
     }
     Connection& connection = connections[from];
@@ -366,13 +400,16 @@ struct CosimHost::Impl {
     if (sim->scheduler().complete()) run(out, now);
   }
 
-  void onDisconnect(std::vector<Outgoing>& out, ConnectionId id, const std::string& why) {
+  void onDisconnect(std::vector<Outgoing>& out, ConnectionId id, const std::string& why,
+                    SteadyClock::time_point now) {
     const auto it = connections.find(id);
     if (it == connections.end()) return;
     const Connection connection = it->second;
     if (!sim) {
       spdlog::info("client {} left before the compile ({})", clientName(id), why);
       leaveAssembly(id);
+      // The one not done may have left: the others' DeclarationsDone now completes the set.
+      if (anyDeclarationsDone() && readyToCompile()) compile(out, now);
       return;
     }
     if (connection.said_bye) {
@@ -585,6 +622,7 @@ std::vector<Outgoing> CosimHost::received(ConnectionId from, const v1::ClientMes
       case v1::ClientMessage::kDeclare: s.onDeclare(out, from, message.declare(), now); break;
       case v1::ClientMessage::kData: s.onData(out, from, message.data(), now); break;
       case v1::ClientMessage::kBye: s.onBye(out, from, message.bye(), now); break;
+      case v1::ClientMessage::kDeclarationsDone: s.onDeclarationsDone(out, from, now); break;
       case v1::ClientMessage::MESSAGE_NOT_SET:
         s.fault(out, from, makeError(v1::Error::BAD_FRAME, "an empty ClientMessage", "", "message"));
         break;
@@ -593,15 +631,15 @@ std::vector<Outgoing> CosimHost::received(ConnectionId from, const v1::ClientMes
 }
 
 std::vector<Outgoing> CosimHost::disconnected(ConnectionId id, const std::string& why,
-                                                     SteadyClock::time_point /*now*/) {
+                                                     SteadyClock::time_point now) {
   Impl& s = *impl_;
   s.record(v1::SessionEvent::DISCONNECTED, id, nullptr, why);
-  return s.guarded([&](std::vector<Outgoing>& out) { s.onDisconnect(out, id, why); });
+  return s.guarded([&](std::vector<Outgoing>& out) { s.onDisconnect(out, id, why, now); });
 }
 
 std::vector<Outgoing> CosimHost::poll(SteadyClock::time_point now) {
   Impl& s = *impl_;
-  if (!s.sim && s.quiet_since && !s.connections.empty() && s.compiler.usesQuietPeriod() &&
+  if (!s.sim && s.quiet_since && !s.connections.empty() && s.usesQuietPeriod() &&
       now >= *s.quiet_since + seconds(s.options.quiet_period_s)) {
     return compileNow(now);
   }
@@ -646,7 +684,7 @@ std::optional<SteadyClock::time_point> CosimHost::nextDeadline() const {
   const auto consider = [&next](SteadyClock::time_point t) {
     if (!next || t < *next) next = t;
   };
-  if (!s.sim && s.quiet_since && !s.connections.empty() && s.compiler.usesQuietPeriod()) {
+  if (!s.sim && s.quiet_since && !s.connections.empty() && s.usesQuietPeriod()) {
     consider(*s.quiet_since + seconds(s.options.quiet_period_s));
   }
   if (const std::optional<SteadyClock::time_point> deadline = s.assemblyDeadline()) consider(*deadline);

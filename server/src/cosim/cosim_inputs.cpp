@@ -3,8 +3,13 @@
 
 #include <cmath>
 #include <string>
+#include <tuple>
 
+#include "demlink/core/components/particle_sink.hpp"
+#include "demlink/core/components/particle_source.hpp"
+#include "demlink/core/components/region_sensor.hpp"
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/world.hpp"
 #include "demlink/core/unit_quaternion.hpp"
 #include "demlink/server/scene/proto_convert.hpp"
 
@@ -13,6 +18,7 @@ namespace {
 
 using google::protobuf::FieldDescriptor;
 using google::protobuf::Message;
+using Kind = v1::ComponentDeclaration;
 
 /// The first non-finite double/float in `message` (recursively), as (path, value).
 std::optional<std::pair<std::string, double>> firstNonFinite(const Message& message, const std::string& path) {
@@ -65,6 +71,46 @@ std::optional<v1::Error> notUnit(const CosimComponent& component, const v1::Quat
   const double norm = core::quaternionNorm(toQuat(q));  // scaled: no overflow for huge components
   if (std::abs(norm - 1.0) <= 1.0e-6) return std::nullopt;
   return invalid(component, field, "norm " + core::formatValue(norm), "must be a unit quaternion (within 1e-6)");
+}
+
+core::RegionChange regionChangeOf(const v1::RegionInput& input) {
+  core::RegionChange change;
+  if (input.has_centre()) change.centre = toVec3(input.centre());
+  if (input.has_orientation()) change.orientation = toQuat(input.orientation());
+  if (input.has_size()) change.size = toVec3(input.size());
+  if (input.has_radius()) change.radius = input.radius();
+  return change;
+}
+
+/// The engine's shape and placement of a region sensor or sink.
+template <class Region>
+std::optional<v1::Error> checkRegion(const CosimComponent& component, const Region* engine,
+                                     const v1::RegionInput& input, const std::string& field) {
+  if (engine == nullptr) return invalid(component, field, "(given)", "the component has no engine region");
+  if (input.has_orientation()) {
+    if (auto bad = notUnit(component, input.orientation(), field + ".orientation")) return bad;
+  }
+  core::VolumeShape shape = engine->shape();
+  core::RegionPlacement placement = engine->placement();
+  try {
+    core::applyRegionChange(regionChangeOf(input), 0.0, shape, placement, field);
+  } catch (const core::InputError& error) {
+    return invalid(component, error.field(), error.value(), error.reason());
+  }
+  return std::nullopt;
+}
+
+/// Error{INVALID_INPUT} for an input of another kind than the component's, or with a
+/// non-finite value.
+std::optional<v1::Error> kindAndFinite(const CosimComponent& component, Kind::KindCase kind, const Message& input,
+                                       const std::string& field) {
+  if (component.kind_case != kind) {
+    return invalid(component, field, "(given)", "a " + component.kind + " takes no " + field);
+  }
+  if (auto bad = firstNonFinite(input, field)) {
+    return invalid(component, bad->first, core::formatValue(bad->second), "must be finite");
+  }
+  return std::nullopt;
 }
 
 }  // namespace
@@ -122,6 +168,43 @@ std::optional<v1::Error> checkInput(const CosimComponent& component, const v1::D
       }
       return std::nullopt;
     }
+    case v1::DataPackage::kRegionSensorInput: {
+      const std::string field = "region_sensor_input";
+      if (auto bad = kindAndFinite(component, Kind::kRegionSensor, package.region_sensor_input(), field)) return bad;
+      return checkRegion(component, dynamic_cast<const core::RegionSensor*>(component.engine),
+                         package.region_sensor_input(), field);
+    }
+    case v1::DataPackage::kParticleSinkInput: {
+      const std::string field = "particle_sink_input";
+      if (auto bad = kindAndFinite(component, Kind::kParticleSink, package.particle_sink_input(), field)) return bad;
+      if (!package.particle_sink_input().has_region()) return std::nullopt;
+      return checkRegion(component, dynamic_cast<const core::ParticleSink*>(component.engine),
+                         package.particle_sink_input().region(), field + ".region");
+    }
+    case v1::DataPackage::kParticleSourceInput: {
+      const std::string field = "particle_source_input";
+      const v1::ParticleSourceInput& input = package.particle_source_input();
+      if (auto bad = kindAndFinite(component, Kind::kParticleSource, input, field)) return bad;
+      const auto* source = dynamic_cast<const core::ParticleSource*>(component.engine);
+      if (source == nullptr) return invalid(component, field, "(given)", "the component has no engine source");
+      const bool perParticle = source->spec().rate_particles_per_s.has_value();
+      if (input.has_rate_particles_per_s() && !perParticle) {
+        return invalid(component, field + ".rate_particles_per_s", core::formatValue(input.rate_particles_per_s()),
+                       "the source was declared with a mass rate; give rate_kg_per_s");
+      }
+      if (input.has_rate_kg_per_s() && perParticle) {
+        return invalid(component, field + ".rate_kg_per_s", core::formatValue(input.rate_kg_per_s()),
+                       "the source was declared with a count rate; give rate_particles_per_s");
+      }
+      for (const auto& [name, given, value] :
+           {std::tuple{"rate_particles_per_s", input.has_rate_particles_per_s(), input.rate_particles_per_s()},
+            std::tuple{"rate_kg_per_s", input.has_rate_kg_per_s(), input.rate_kg_per_s()}}) {
+        if (given && value < 0.0) {
+          return invalid(component, field + "." + name, core::formatValue(value), "must be >= 0");
+        }
+      }
+      return std::nullopt;
+    }
     case v1::DataPackage::INPUT_NOT_SET:
       if (isBody) return invalid(component, "rigid_body_input", "(missing)", "a rigid_body package needs its pose");
       return std::nullopt;
@@ -145,6 +228,33 @@ core::RigidPose poseOf(const v1::DeformableBodyInput& input) {
 
 core::RigidTwist twistOf(const v1::DeformableBodyInput& input) {
   return {toVec3(input.linear_velocity()), toVec3(input.angular_velocity())};
+}
+
+void applyComponentInput(const CosimComponent& component, const v1::DataPackage& package, core::World& world) {
+  switch (package.input_case()) {
+    case v1::DataPackage::kRegionSensorInput:
+      dynamic_cast<core::RegionSensor&>(*component.engine)
+          .changeRegion(world, regionChangeOf(package.region_sensor_input()), "region_sensor_input");
+      break;
+    case v1::DataPackage::kParticleSinkInput: {
+      auto& sink = dynamic_cast<core::ParticleSink&>(*component.engine);
+      const v1::ParticleSinkInput& input = package.particle_sink_input();
+      if (input.has_region()) sink.changeRegion(world, regionChangeOf(input.region()), "particle_sink_input.region");
+      if (input.has_enabled()) sink.setEnabled(input.enabled());
+      break;
+    }
+    case v1::DataPackage::kParticleSourceInput: {
+      auto& source = dynamic_cast<core::ParticleSource&>(*component.engine);
+      const v1::ParticleSourceInput& input = package.particle_source_input();
+      if (input.has_rate_particles_per_s()) {
+        source.setRate(world, input.rate_particles_per_s(), "particle_source_input.rate_particles_per_s");
+      }
+      if (input.has_rate_kg_per_s()) source.setRate(world, input.rate_kg_per_s(), "particle_source_input.rate_kg_per_s");
+      if (input.has_enabled()) source.setEnabled(world, input.enabled());
+      break;
+    }
+    default: break;
+  }
 }
 
 core::FrameMotion frameOf(const v1::SimulationBox::Frame& frame) {

@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -181,17 +182,26 @@ v1::DataPackage CosimOutputs::outputOf(std::size_t index, const CosimComponent& 
       break;
     }
     case v1::ComponentDeclaration::kParticleView: {
+      // Decimated by id, not by slot: the engine re-sorts slots, ids stay. At most
+      // largest id / stride <= max_count ids are multiples of the stride.
       const core::ParticleArrays& p = world.particles();
       const std::size_t n = p.size();
-      const std::size_t maxCount = std::max<std::size_t>(1, component.view_max_count);
-      const std::size_t stride = std::max<std::size_t>(1, (n + maxCount - 1) / maxCount);
+      const std::uint64_t maxCount = std::max<std::uint64_t>(1, component.view_max_count);
+      const std::uint64_t largestId = n == 0 ? 0 : *std::max_element(p.id.begin(), p.id.end());
+      const std::uint64_t stride = std::max<std::uint64_t>(1, (largestId + maxCount - 1) / maxCount);
+      std::vector<std::pair<std::uint64_t, std::size_t>> listed;  // (id, slot)
+      for (std::size_t i = 0; i < n; ++i) {
+        if (p.id[i] % stride == 0) listed.emplace_back(p.id[i], i);
+      }
+      std::sort(listed.begin(), listed.end());
       v1::ParticleViewOutput& o = *out.mutable_particle_view();
       o.set_total_count(n);
-      o.set_stride(static_cast<std::uint32_t>(stride));
-      for (std::size_t i = 0; i < n; i += stride) {
+      o.set_stride(static_cast<std::uint32_t>(std::min<std::uint64_t>(stride, UINT32_MAX)));
+      for (const auto& [id, i] : listed) {
         for (int k = 0; k < 3; ++k) o.add_positions(static_cast<float>(p.position[i][k]));
+        for (int k = 0; k < 3; ++k) o.add_velocities(static_cast<float>(p.velocity[i][k]));
         o.add_radii(static_cast<float>(p.radius[i]));
-        o.add_ids(p.id[i]);
+        o.add_ids(id);
       }
       break;
     }

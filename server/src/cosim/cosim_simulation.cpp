@@ -151,6 +151,8 @@ CosimSimulation::Advance CosimSimulation::advance() {
         w.setGravity({input.gravity().x(), input.gravity().y(), input.gravity().z()});
       }
       if (input.has_frame()) w.setFrameMotion(frameOf(input.frame()));
+    } else {
+      applyComponentInput(c, package, w);
     }
   }
   inputs_.clear();

@@ -67,7 +67,8 @@ TEST(CosimCompile, DeclareTimeRefusalsNameTheComponent) {
   h.declare(1, boxJson(1e-5, 0.0));
   h.declare(1, R"({"name": "nothing"})");
   h.declare(1, smallBedJson()[0]);
-  h.declare(1, smallBedJson()[0]);
+  h.declare(1, smallBedJson()[0]);  // the same declaration again (a repeated initialisation): ignored
+  h.declare(1, R"({"name": "glass", "material": {"density": 1234}})");  // same name, other content
   h.declare(1, R"({"name": "", "material": {}})");
   h.declare(1, R"({"name": "box2", "simulation_box": {}})");
   const std::vector<v1::Error> errors = h.errors(1);

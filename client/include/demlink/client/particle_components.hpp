@@ -3,6 +3,7 @@
 /// or disc), ParticleSink (removes what enters a volume), PitGenerator (a settled bed at
 /// step 0). Sources and sinks report counts and masses per interval and in total.
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "demlink/client/component.hpp"
@@ -26,9 +27,20 @@ class ParticleSource : public Component {
   ParticleSource& attachTo(const std::string& meshComponent);  ///< region in that body's frame
   [[nodiscard]] v1::ParticleSource& message() { return *declaration().mutable_particle_source(); }
 
+  // Run-time inputs: one-shot, sent with the next package (omitted: unchanged).
+  void setEnabled(bool on);      ///< an off source inserts nothing
+  void changeRate(double rate);  ///< in the declared unit: [1/s] or [kg/s], >= 0
+
   [[nodiscard]] CountAndMass insertedInterval() const;  ///< during the latest interval
   [[nodiscard]] CountAndMass insertedTotal() const;     ///< since step 0
   [[nodiscard]] CountAndMass shortfallTotal() const;    ///< requested but not placed, since step 0
+
+ protected:
+  void writeInputs(v1::DataPackage& package) const override;
+  void inputsSent() override { pending_.reset(); }
+
+ private:
+  std::optional<v1::ParticleSourceInput> pending_;
 };
 
 class ParticleSink : public Component {
@@ -41,11 +53,20 @@ class ParticleSink : public Component {
   ParticleSink& setSampleInterval(double seconds);
   [[nodiscard]] v1::ParticleSink& message() { return *declaration().mutable_particle_sink(); }
 
+  // Run-time inputs: one-shot, sent with the next package (omitted: unchanged).
+  void setEnabled(bool on);             ///< an off sink removes nothing
+  void moveTo(const Vec3& centre);      ///< [m], frame as declared
+
   [[nodiscard]] CountAndMass removedInterval() const;
   [[nodiscard]] CountAndMass removedTotal() const;
 
  protected:
   void prepareDeclaration() override;
+  void writeInputs(v1::DataPackage& package) const override;
+  void inputsSent() override { pending_.reset(); }
+
+ private:
+  std::optional<v1::ParticleSinkInput> pending_;
 };
 
 class PitGenerator : public Component {

@@ -7,6 +7,7 @@
 /// reports, and a coupled client almost always wants those at its communication interval;
 /// an explicit setSampleInterval() wins.
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,13 @@ class RegionSensor : public Component {
   RegionSensor& setSampleInterval(double seconds);  ///< [s]
   [[nodiscard]] v1::RegionSensor& message() { return *declaration().mutable_region_sensor(); }
 
+  // Run-time inputs: one-shot, sent with the next package; the server applies them from
+  // that package's step on (omitted: unchanged). Frame as declared (world or the body's).
+  void moveTo(const Vec3& centre);          ///< [m]
+  void turnTo(const Quat& orientation);     ///< box axes [-]
+  void resizeBox(const Vec3& size);         ///< side lengths [m] (box only)
+  void resizeSphere(double radius);         ///< [m] (sphere only)
+
   [[nodiscard]] std::uint64_t count() const;   ///< particles inside [-]
   [[nodiscard]] double mass() const;           ///< [kg]
   [[nodiscard]] Vec3 centreOfMass() const;     ///< [m]; NaN when empty
@@ -31,6 +39,12 @@ class RegionSensor : public Component {
 
  protected:
   void prepareDeclaration() override;
+  void writeInputs(v1::DataPackage& package) const override;
+  void inputsSent() override { pending_.reset(); }
+
+ private:
+  v1::RegionInput& pending();
+  std::optional<v1::RegionInput> pending_;
 };
 
 class FlowSensor : public Component {
@@ -60,8 +74,11 @@ class ParticleView : public Component {
   [[nodiscard]] v1::ParticleView& message() { return *declaration().mutable_particle_view(); }
 
   [[nodiscard]] std::uint64_t totalCount() const;  ///< particles in the world [-]
-  [[nodiscard]] std::uint32_t stride() const;      ///< every stride-th particle is listed [-]
-  [[nodiscard]] std::vector<Vec3> positions() const;  ///< [m]
+  /// Particles whose id is a multiple of stride() are listed, in increasing id order [-].
+  [[nodiscard]] std::uint32_t stride() const;
+  [[nodiscard]] std::vector<Vec3> positions() const;   ///< [m]
+  [[nodiscard]] std::vector<Vec3> velocities() const;  ///< [m/s]
+  [[nodiscard]] std::vector<std::uint64_t> ids() const;
   [[nodiscard]] const v1::ParticleViewOutput& view() const { return outputs().particle_view(); }
 };
 

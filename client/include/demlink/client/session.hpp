@@ -59,6 +59,16 @@ class Session {
 
   /// Sends a Declare for every component not declared yet (order of add()).
   void declare();
+  /// Takes `component` and declares it, unless this session already has one of that name:
+  /// then an identical declaration (a tool repeating its initialisation) returns the one
+  /// already declared and sends nothing, a different one throws StateError. `index`
+  /// receives the component's position (the C ABI's handle).
+  Component& declareOnce(std::unique_ptr<Component> component, std::size_t& index);
+  /// Declares what is pending, then tells the server this connection declares nothing more
+  /// (DeclarationsDone): once every connection has, the server compiles without an expected
+  /// count or a quiet period. Idempotent; after the compile it sends nothing.
+  void declarationsDone();
+  [[nodiscard]] bool declarationsDoneSent() const { return done_sent_; }
   /// Blocks until Compiled: assigns ids and intervals, stores the report and the initial
   /// outputs (a component's outputs() at step 0). Throws ServerError when the compiler
   /// refused the scene.
@@ -112,6 +122,7 @@ class Session {
   v1::Compiled compiled_;
   std::uint64_t current_ = 0;
   bool bye_sent_ = false;
+  bool done_sent_ = false;
   bool finished_flag_ = false;
   v1::Finished finished_;
 };

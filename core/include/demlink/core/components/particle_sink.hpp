@@ -35,6 +35,11 @@ class ParticleSink final : public SampledComponent {
   [[nodiscard]] const RemovalTally& total() const { return total_; }
   /// Removed during the last complete sample interval.
   [[nodiscard]] const RemovalTally& lastInterval() const { return last_interval_; }
+  /// Run-time control from the world's current time on (not in checkpoints): an off sink
+  /// removes nothing; changeRegion() as RegionSensor::changeRegion.
+  void setEnabled(bool enabled) { enabled_ = enabled; }
+  [[nodiscard]] bool enabled() const { return enabled_; }
+  void changeRegion(const World& world, const RegionChange& change, const std::string& fieldPrefix);
   [[nodiscard]] const VolumeShape& shape() const { return shape_; }
   [[nodiscard]] const RegionPlacement& placement() const { return placement_; }
 
@@ -44,6 +49,7 @@ class ParticleSink final : public SampledComponent {
   RemovalTally total_;
   RemovalTally since_sample_;
   RemovalTally last_interval_;
+  bool enabled_ = true;
 };
 
 }  // namespace demlink::core

@@ -115,6 +115,16 @@ class ParticleSource final : public WorldComponent {
   void saveState(StateWriter& out) const override;
   void loadState(StateReader& in) override;
 
+  /// Run-time control from the world's current time on (a co-simulation client's
+  /// ParticleSourceInput; not in checkpoints). The request accumulated so far is kept and
+  /// the new state applies to the active time that follows: an off source requests
+  /// nothing. The rate is in the declared unit (particles/s or kg/s), >= 0; throws
+  /// InputError naming `field` otherwise.
+  void setEnabled(const World& world, bool enabled);
+  void setRate(const World& world, double rate, const std::string& field);
+  [[nodiscard]] bool enabled() const { return enabled_; }
+  /// The current rate in the declared unit [1/s or kg/s].
+  [[nodiscard]] double rate() const;
   [[nodiscard]] const SourceReport& report() const { return report_; }
   [[nodiscard]] const ParticleSourceSpec& spec() const { return spec_; }
   /// One line for logs: inserted count and mass, shortfall, requested.
@@ -137,6 +147,10 @@ class ParticleSource final : public WorldComponent {
   /// Adds one clump of the template, COM at `position`, random orientation.
   void insertClump(World& world, const Vec3& position, const Vec3& velocity);
   void noteShortfall(const Drawn& shape, double time);
+  /// The request (count or kg) accumulated up to time `t` [s] at the current rate.
+  [[nodiscard]] double requestedUntil(double t) const;
+  /// Ends the current rate segment at time `t` [s] (before a change of rate or state).
+  void closeSegment(double t);
 
   ParticleSourceSpec spec_;
   std::string field_prefix_;
@@ -150,6 +164,9 @@ class ParticleSource final : public WorldComponent {
   double consumed_mass_ = 0.0;  ///< kg/s only: drawn mass inserted or counted as shortfall [kg]
   SourceReport report_;
   std::uint64_t shortfall_logged_ = 0;
+  bool enabled_ = true;
+  double requested_before_ = 0.0;  ///< request (count or kg) up to segment_start_
+  double segment_start_ = 0.0;     ///< [s] since when the current rate and state hold
 };
 
 /// Validates `spec`, declares its smallest radius (a clump's smallest member radius) as

@@ -44,6 +44,9 @@ class RegionSensor final : public SampledComponent {
   [[nodiscard]] RegionReading measure(const World& world) const;
   /// The last sample.
   [[nodiscard]] const RegionReading& latest() const { return latest_; }
+  /// Moves or resizes the region from the world's current time on (not in checkpoints).
+  /// Throws InputError naming `fieldPrefix`.<field>; nothing changes then.
+  void changeRegion(const World& world, const RegionChange& change, const std::string& fieldPrefix);
   [[nodiscard]] const VolumeShape& shape() const { return shape_; }
   [[nodiscard]] const RegionPlacement& placement() const { return placement_; }
 

@@ -89,6 +89,22 @@ class VolumeShape {
   double radius_ = 0.0;
 };
 
+/// A run-time change of a volume region (a co-simulation client's RegionInput); each given
+/// value replaces the current one. Centre and orientation are in the placement's frame
+/// (world, or the attached body's).
+struct RegionChange {
+  std::optional<Vec3> centre;       ///< [m]; a region moving at a constant velocity: its centre now
+  std::optional<Quat> orientation;  ///< [-], unit within 1e-6
+  std::optional<Vec3> size;         ///< box side lengths [m]
+  std::optional<double> radius;     ///< sphere radius [m]
+};
+
+/// Applies `change` at world time `time` [s] to `shape` and `placement`, all or nothing.
+/// Throws InputError naming fieldPrefix + ".centre", ".orientation", ".size" or ".radius"
+/// (a size for a sphere or a radius for a box is refused too).
+void applyRegionChange(const RegionChange& change, double time, VolumeShape& shape, RegionPlacement& placement,
+                       const std::string& fieldPrefix);
+
 /// A flat surface in the local z = 0 plane (normal +z): a rectangle or a disc.
 class SurfaceShape {
  public:

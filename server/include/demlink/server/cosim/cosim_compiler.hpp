@@ -79,6 +79,9 @@ class CosimCompiler {
   /// Stores a client's declaration, or returns the Error refusing it (UNKNOWN_COMPONENT_KIND,
   /// DUPLICATE_NAME, INVALID_DECLARATION for a second simulation_box); nothing is stored then.
   std::optional<v1::Error> declare(ConnectionId owner, const v1::ComponentDeclaration& declaration);
+  /// `owner` already declared exactly this component (same name, equal message): a repeated
+  /// initialisation, to be ignored rather than refused as a duplicate name.
+  [[nodiscard]] bool isRepeat(ConnectionId owner, const v1::ComponentDeclaration& declaration) const;
   /// Forgets every declaration of `owner` (it left before the compile).
   void withdraw(ConnectionId owner);
   /// Back to the scene file's declarations only.

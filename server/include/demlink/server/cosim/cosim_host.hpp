@@ -10,7 +10,8 @@
 ///
 /// One simulation at a time. It collects declarations (the scene file's plus the clients'
 /// that named the same Hello.simulation as the first one), compiles when the
-/// SimulationBox's expected set is complete or after the quiet period (or gives up after
+/// SimulationBox's expected set is complete, when every connection said DeclarationsDone,
+/// or after the quiet period (or gives up after
 /// the assembly timeout),
 /// answers every connection with Compiled, then runs the sample grid: at each step where
 /// components are due it waits for exactly those, advances the world to the next due step

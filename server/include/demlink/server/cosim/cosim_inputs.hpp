@@ -26,6 +26,10 @@ namespace demlink::server {
 /// Pose (quaternion normalised) and twist of a checked DeformableBodyInput.
 [[nodiscard]] core::RigidPose poseOf(const v1::DeformableBodyInput& input);
 [[nodiscard]] core::RigidTwist twistOf(const v1::DeformableBodyInput& input);
+/// Applies a checked run-time input of a region sensor (region_sensor_input), particle
+/// source (particle_source_input) or sink (particle_sink_input) to its engine component,
+/// from the world's current step on; other packages are left alone.
+void applyComponentInput(const CosimComponent& component, const v1::DataPackage& package, core::World& world);
 /// The room motion of a checked SimulationBox.Frame.
 [[nodiscard]] core::FrameMotion frameOf(const v1::SimulationBox::Frame& frame);
 

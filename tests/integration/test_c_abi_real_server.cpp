@@ -1,0 +1,286 @@
+/// The C ABI against the real demlink-server (a child process: the C ABI's shared library
+/// carries its own protobuf messages and cannot share a process with the server's). One
+/// client declares a whole scene with the typed calls, says dl_declarations_done (the
+/// server's quiet period is far away and no count is given), exchanges every exchanged kind
+/// and changes a source, a sink and a sensor at run time. Every value checked has a closed
+/// form: free fall, particle masses, the STL's bounds, crossings along the normal.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "child_process.hpp"
+#include "demlink/demlink_c.h"
+
+namespace demlink::integration {
+namespace {
+
+constexpr double kDt = 1.0e-5;            // [s]
+constexpr int kSteps = 100;               // steps per communication interval
+constexpr double kInterval = kSteps * kDt;  // [s]
+constexpr double kDensity = 2500.0;       // [kg/m^3]
+constexpr double kG = 9.81;               // [m/s^2]
+
+double sphereMass(double radius) { return kDensity * 4.0 / 3.0 * std::numbers::pi * radius * radius * radius; }
+
+struct ClientGuard {
+  dl_client* client = dl_client_create();
+  ~ClientGuard() { dl_client_destroy(client); }
+};
+
+class CAbiRealServer : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    root_ = std::filesystem::temp_directory_path() / ("demlink_c_abi_real_" + std::to_string(::getpid()));
+    std::filesystem::remove_all(root_);
+    std::filesystem::create_directories(root_ / "data");
+    std::filesystem::copy_file(std::filesystem::path(DEMLINK_SOURCE_DIR) / "examples/scenes/meshes/paddle.stl",
+                               root_ / "data" / "paddle.stl");
+    server_ = std::make_unique<ServerChild>(
+        DEMLINK_SERVER_EXE, std::vector<std::string>{"--once", "--output", (root_ / "out").string(), "--data-root",
+                                                     (root_ / "data").string(), "--quiet-period", "1000"});
+  }
+  void TearDown() override {
+    if (!HasFailure()) std::filesystem::remove_all(root_);
+  }
+  std::filesystem::path root_;
+  std::unique_ptr<ServerChild> server_;
+};
+
+TEST_F(CAbiRealServer, EveryTypedCallAgainstTheServerWithDeclarationsDoneAndRunTimeInputs) {
+  ASSERT_GT(server_->port, 0) << server_->announced;
+  ClientGuard g;
+  dl_client* c = g.client;
+  ASSERT_EQ(dl_set_timeout(c, 30.0), DL_OK);
+  ASSERT_EQ(dl_connect_to_host(c, server_->host.c_str(), server_->port, "c_abi", nullptr), DL_OK) << dl_last_error(c);
+  // A tool repeating its initialisation: the same connect is a no-op, another is refused.
+  EXPECT_EQ(dl_connect_to_host(c, server_->host.c_str(), server_->port, "c_abi", nullptr), DL_OK) << dl_last_error(c);
+  EXPECT_EQ(dl_connect_to_host(c, server_->host.c_str(), server_->port, "other", nullptr), DL_ERR_STATE);
+
+  const double nan = std::nan("");
+  const double gravity[3] = {0.0, 0.0, -kG};
+  const double lower[3] = {-0.3, -0.3, -0.05};
+  const double upper[3] = {0.3, 0.3, 0.6};
+  int box = -1, glass = -1, floor = -1, ball = -1, bed = -1, feed = -1, drain = -1, gate = -1, probe = -1;
+  int view = -1, paddle = -1;
+  // No end time (NaN) and no count: the run ends with dl_finish, the compile with dl_declarations_done.
+  ASSERT_EQ(dl_declare_simulation_box(c, "box", kInterval, kDt, nan, gravity, lower, upper, 0, &box), DL_OK)
+      << dl_last_error(c);
+  ASSERT_EQ(dl_declare_material(c, "glass", "", kDensity, 5e6, 0.3, 0.5, 0.5, 0.0, &glass), DL_OK) << dl_last_error(c);
+  const double origin[3] = {0.0, 0.0, 0.0};
+  const double up[3] = {0.0, 0.0, 1.0};
+  ASSERT_EQ(dl_declare_plane(c, "floor", origin, up, "glass", &floor), DL_OK) << dl_last_error(c);
+  const double ballStart[3] = {0.2, 0.2, 0.4};
+  const double still[3] = {0.0, 0.0, 0.0};
+  ASSERT_EQ(dl_declare_single_particle(c, "ball", "glass", ballStart, still, 0.01, &ball), DL_OK) << dl_last_error(c);
+  const double bedLower[3] = {-0.05, -0.05, 0.0};
+  const double bedUpper[3] = {0.05, 0.05, 0.05};
+  ASSERT_EQ(dl_declare_pit_generator(c, "bed", "glass", bedLower, bedUpper, 0.004, 0.004, 0.012, 7, &bed), DL_OK)
+      << dl_last_error(c);
+  const double feedCentre[3] = {0.0, 0.0, 0.17};
+  const double feedHalf[3] = {0.03, 0.03, 0.005};
+  const double down[3] = {0.0, 0.0, -2.0};
+  ASSERT_EQ(dl_declare_particle_source_box(c, "feed", kInterval, "glass", feedCentre, feedHalf, 0.002, 0.002, 4000.0,
+                                           -1.0, down, 3, &feed),
+            DL_OK)
+      << dl_last_error(c);
+  const double drainCentre[3] = {-0.2, -0.2, 0.4};
+  const double drainSize[3] = {0.03, 0.03, 0.03};
+  ASSERT_EQ(dl_declare_particle_sink_box(c, "drain", kInterval, drainCentre, drainSize, &drain), DL_OK)
+      << dl_last_error(c);
+  const double gateCentre[3] = {0.0, 0.0, 0.15};
+  ASSERT_EQ(dl_declare_flow_sensor_disc(c, "gate", kInterval, gateCentre, up, 0.06, "", &gate), DL_OK)
+      << dl_last_error(c);
+  ASSERT_EQ(dl_declare_region_sensor_sphere(c, "probe", kInterval, ballStart, 0.03, "", &probe), DL_OK)
+      << dl_last_error(c);
+  ASSERT_EQ(dl_declare_particle_view(c, "view", kInterval, 50, &view), DL_OK) << dl_last_error(c);
+  const double paddlePose[7] = {0.2, -0.2, 0.4, 1.0, 0.0, 0.0, 0.0};
+  ASSERT_EQ(dl_declare_rigid_body_stl(c, "paddle", kInterval, "paddle.stl", "glass", origin, paddlePose, 2, &paddle),
+            DL_OK)
+      << dl_last_error(c);
+
+  // Declared again with the same values: the same handle, nothing sent; other values: refused.
+  int again = -1;
+  EXPECT_EQ(dl_declare_material(c, "glass", "", kDensity, 5e6, 0.3, 0.5, 0.5, 0.0, &again), DL_OK) << dl_last_error(c);
+  EXPECT_EQ(again, glass);
+  EXPECT_EQ(dl_declare_material(c, "glass", "", 1000.0, 5e6, 0.3, 0.5, 0.5, 0.0, &again), DL_ERR_STATE);
+
+  ASSERT_EQ(dl_declarations_done(c), DL_OK) << dl_last_error(c);
+  ASSERT_EQ(dl_declarations_done(c), DL_OK) << "idempotent";
+  ASSERT_EQ(dl_wait_compiled(c), DL_OK) << dl_last_error(c);
+  double dt = 0.0;
+  ASSERT_EQ(dl_time_step(c, &dt), DL_OK);
+  EXPECT_EQ(dt, kDt);
+  const std::string report = dl_compile_report(c);
+  EXPECT_NE(report.find("end step: none"), std::string::npos) << report;
+  EXPECT_NE(report.find("paddle (rigid_body) remote: every 100 steps"), std::string::npos) << report;
+
+  int boxCount = 0;
+  double boxOut[4];
+  const auto exchangeAll = [&](int sample) {
+    SCOPED_TRACE("sample " + std::to_string(sample));
+    ASSERT_EQ(dl_simulation_box_exchange(c, box, nullptr, boxOut, &boxCount), DL_OK) << dl_last_error(c);
+  };
+
+  // Sample 0: the initial outputs; the bed is settled in place, the ball in the probe.
+  exchangeAll(0);
+  const int bedCount = boxCount - 1;
+  ASSERT_GT(bedCount, 10);
+  int probeCount = 0;
+  double probeOut[7];
+  ASSERT_EQ(dl_region_sensor_read(c, probe, &probeCount, probeOut), DL_OK) << dl_last_error(c);
+  EXPECT_EQ(probeCount, 1);
+  EXPECT_NEAR(probeOut[0], sphereMass(0.005), 1e-12);
+  int counts3[3];
+  double masses3[3];
+  int counts2[2];
+  double masses2[2];
+  int counts4[4];
+  double masses4[4];
+  double wrench[12];
+  const double twist[6] = {0, 0, 0, 0, 0, 0};
+  std::vector<double> positions(150), radii(50);
+  int listed = 0;
+  const auto readRest = [&](int sample) {
+    SCOPED_TRACE("sample " + std::to_string(sample));
+    ASSERT_EQ(dl_particle_source_read(c, feed, counts3, masses3), DL_OK) << dl_last_error(c);
+    ASSERT_EQ(dl_particle_sink_read(c, drain, counts2, masses2), DL_OK) << dl_last_error(c);
+    ASSERT_EQ(dl_flow_sensor_read(c, gate, counts4, masses4), DL_OK) << dl_last_error(c);
+    ASSERT_EQ(dl_particle_view_read(c, view, 50, positions.data(), radii.data(), &listed), DL_OK) << dl_last_error(c);
+    ASSERT_EQ(dl_rigid_body_exchange(c, paddle, paddlePose, twist, wrench), DL_OK) << dl_last_error(c);
+  };
+  readRest(0);
+  EXPECT_EQ(counts3[1], 0);
+  EXPECT_EQ(counts2[1], 0);
+
+  // Free fall of the ball for 10 samples (symplectic Euler: within g dt t of the closed form).
+  for (int k = 1; k <= 10; ++k) {
+    exchangeAll(k);
+    ASSERT_EQ(dl_region_sensor_read(c, probe, &probeCount, probeOut), DL_OK) << dl_last_error(c);
+    readRest(k);
+  }
+  const double t = 10 * kInterval;
+  EXPECT_EQ(probeCount, 1);
+  EXPECT_NEAR(probeOut[3], ballStart[2] - 0.5 * kG * t * t, kG * kDt * t) << "ball height";
+  EXPECT_NEAR(probeOut[6], -kG * t, 1e-9) << "ball velocity";
+  EXPECT_NEAR(boxOut[0], t, 1e-12);
+  // The source: 4000/s over 10 ms within one particle, each of its mass.
+  EXPECT_NEAR(counts3[1], 4000.0 * t, 1.0);
+  EXPECT_NEAR(masses3[1], counts3[1] * sphereMass(0.002), 1e-12);
+  EXPECT_EQ(boxCount, bedCount + 1 + counts3[1]);
+  // The view lists at most 50 particles, each with a radius of one of the three kinds.
+  EXPECT_GT(listed, 0);
+  EXPECT_LE(listed, 50);
+  for (int i = 0; i < std::min(listed, 50); ++i) {
+    const double r = radii[static_cast<std::size_t>(i)];
+    EXPECT_TRUE(std::abs(r - 0.004) < 1e-6 || std::abs(r - 0.002) < 1e-6 || std::abs(r - 0.005) < 1e-6) << r;
+  }
+  // The paddle (the server's STL) is far from every particle: no force on it; LAGGED, it
+  // stands exactly on the pose sent.
+  for (double w : wrench) EXPECT_EQ(w, 0.0);
+  dl_package* outputs = dl_package_create();
+  ASSERT_EQ(dl_get_outputs(c, paddle, outputs), DL_OK) << dl_last_error(c);
+  double bodyOut[19];
+  int n = 0;
+  ASSERT_EQ(dl_get_reals(outputs, bodyOut, 19, &n), DL_OK);
+  dl_package_destroy(outputs);
+  for (int k = 0; k < 7; ++k) EXPECT_EQ(bodyOut[12 + k], paddlePose[k]) << "pose " << k;
+
+  // Run-time inputs, sent with the packages of sample 11 (the calls of sample 10 already
+  // sent theirs): the source off, the sink onto the ball, the probe moved into the bed.
+  ASSERT_EQ(dl_particle_source_set_enabled(c, feed, 0), DL_OK) << dl_last_error(c);
+  const double ballNow[3] = {probeOut[1], probeOut[2], probeOut[3]};
+  ASSERT_EQ(dl_particle_sink_move(c, drain, ballNow), DL_OK) << dl_last_error(c);
+  const double bedCentre[3] = {0.0, 0.0, 0.0};  // with radius 0.075 m: the bed, none of the fed particles
+  ASSERT_EQ(dl_region_sensor_set_region(c, probe, bedCentre, nullptr, nullptr, 0.075), DL_OK) << dl_last_error(c);
+  int fedBefore = 0;
+  for (int k = 11; k <= 30; ++k) {
+    exchangeAll(k);
+    ASSERT_EQ(dl_region_sensor_read(c, probe, &probeCount, probeOut), DL_OK) << dl_last_error(c);
+    readRest(k);
+    if (k == 11) {
+      fedBefore = counts3[1];  // the interval (10, 11] still ran with the source on
+      continue;
+    }
+    EXPECT_EQ(counts3[0], 0) << "an off source inserts nothing, sample " << k;
+    EXPECT_EQ(counts3[1], fedBefore);
+  }
+  EXPECT_NEAR(fedBefore, 4000.0 * 11 * kInterval, 1.0);
+  EXPECT_EQ(counts2[1], 1) << "the sink removed the ball";
+  EXPECT_NEAR(masses2[1], sphereMass(0.005), 1e-12);
+  EXPECT_EQ(probeCount, bedCount) << "the moved probe holds the bed";
+  // Every fed particle crosses the gate downwards (2 m/s over at most 0.025 m: within
+  // 12.5 ms of its insertion, all by 23.5 ms < 30 ms); none upwards.
+  EXPECT_EQ(counts4[3], fedBefore) << "negative total";
+  EXPECT_EQ(counts4[2], 0) << "positive total";
+  EXPECT_NEAR(masses4[3], fedBefore * sphereMass(0.002), 1e-12);
+
+  EXPECT_EQ(dl_finish(c, "tool finished"), DL_OK);
+  EXPECT_EQ(dl_wait_finished(c), DL_OK) << dl_last_error(c);
+  EXPECT_STREQ(dl_finished_reason(c), "said Bye");
+  EXPECT_EQ(server_->child.waitForExit(std::chrono::seconds(20)), 0) << "--once: the server exits after the run";
+}
+
+// The typed speed/accuracy declaration and the room's motion as an input: in a room
+// accelerating upwards at a [m/s^2] with no gravity, a free particle accelerates at -a;
+// the room's acceleration reversed at run time brings its velocity back to zero. The view
+// reports the particle by id with its velocity.
+TEST_F(CAbiRealServer, SettingsDeclarationAndRoomMotionInput) {
+  ASSERT_GT(server_->port, 0) << server_->announced;
+  ClientGuard g;
+  dl_client* c = g.client;
+  ASSERT_EQ(dl_connect_to_host(c, server_->host.c_str(), server_->port, "room", nullptr), DL_OK) << dl_last_error(c);
+  const double nan = std::nan("");
+  const double zero[3] = {0.0, 0.0, 0.0};
+  constexpr double kA = 5.0;  // [m/s^2]
+  const double frame[12] = {0.0, 0.0, kA, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+  int box = -1, glass = -1, ball = -1, probe = -1, view = -1;
+  ASSERT_EQ(dl_declare_simulation_box_ex(c, "box", kInterval, kDt, nan, zero, nullptr, nullptr, 2, 1, 3.0, 0.05, 0.0, 1,
+                                         frame, &box),
+            DL_OK)
+      << dl_last_error(c);
+  EXPECT_EQ(dl_declare_simulation_box_ex(c, "box2", kInterval, kDt, nan, zero, nullptr, nullptr, 3, 1, nan, nan, nan, -1,
+                                         nullptr, &box),
+            DL_ERR_ARGUMENT)
+      << "contact model 3 does not exist";
+  ASSERT_EQ(dl_declare_material(c, "glass", "", kDensity, 5e6, 0.3, 0.5, 0.5, 0.0, &glass), DL_OK);
+  ASSERT_EQ(dl_declare_single_particle(c, "ball", "glass", zero, zero, 0.01, &ball), DL_OK) << dl_last_error(c);
+  ASSERT_EQ(dl_declare_region_sensor_sphere(c, "probe", kInterval, zero, 1.0, "", &probe), DL_OK);
+  ASSERT_EQ(dl_declare_particle_view(c, "view", kInterval, 10, &view), DL_OK);
+  ASSERT_EQ(dl_declarations_done(c), DL_OK) << dl_last_error(c);
+
+  int count = 0;
+  double out[7];
+  double boxOut[4];
+  double position[3], velocity[3], radius = 0.0;
+  uint64_t id = 0;
+  int listed = 0;
+  const auto sample = [&] {
+    ASSERT_EQ(dl_simulation_box_exchange(c, box, nullptr, boxOut, &count), DL_OK) << dl_last_error(c);
+    ASSERT_EQ(dl_region_sensor_read(c, probe, &count, out), DL_OK) << dl_last_error(c);
+    ASSERT_EQ(dl_particle_view_read_ex(c, view, 1, position, velocity, &radius, &id, &listed), DL_OK)
+        << dl_last_error(c);
+  };
+  for (int k = 0; k <= 10; ++k) sample();
+  const double t = 10 * kInterval;
+  EXPECT_NEAR(out[6], -kA * t, 1e-9) << "v_z = -a t";
+  EXPECT_EQ(listed, 1);
+  EXPECT_EQ(id, 1u);
+  EXPECT_FLOAT_EQ(static_cast<float>(velocity[2]), static_cast<float>(out[6]));
+  EXPECT_FLOAT_EQ(static_cast<float>(radius), 0.005F);
+
+  const double down[3] = {0.0, 0.0, -kA};
+  ASSERT_EQ(dl_simulation_box_set_frame(c, box, down, zero, zero, nullptr), DL_OK) << dl_last_error(c);
+  // Sent with the box's package of sample 11 (the call for sample 10 already sent its
+  // package): -a over 11 ms, then +a over 11 ms.
+  for (int k = 11; k <= 22; ++k) sample();
+  EXPECT_NEAR(out[6], 0.0, 1e-9) << "the reversed acceleration took the velocity back";
+  EXPECT_EQ(dl_finish(c, "done"), DL_OK);
+  EXPECT_EQ(server_->child.waitForExit(std::chrono::seconds(20)), 0);
+}
+
+}  // namespace
+}  // namespace demlink::integration
