@@ -249,7 +249,7 @@ int main(int argc, char** argv) {
   Knobs couplingKnobs;
   couplingKnobs.dt_fraction = 0.5;
   const std::vector<CouplingResult> coupling =
-      runCoupling(couplingKnobs, smoke ? 150 : 600, smoke ? 0.15 : 0.3, smoke ? 0.05 : 0.2, cases, budget.wall_limit);
+      runCoupling(couplingKnobs, smoke ? 150 : 500, smoke ? 0.15 : 0.25, smoke ? 0.05 : 0.2, cases, budget.wall_limit);
   for (std::thread& t : threads) t.join();
   for (const CouplingResult& r : coupling) {
     std::printf("coupling %-18s m %5.3g kg interval %4llu steps (%.3g s): %s depth %.3g mm osc %.3g mm wall %.1f s\n",

@@ -40,14 +40,14 @@ struct Knobs {
 
 /// Sizes and durations: the full atlas or the CI smoke run.
 struct Budget {
-  std::size_t bed_grains = 800;      ///< grains (before coarse graining) [-]
-  std::size_t heap_grains = 800;
-  std::size_t hopper_grains = 1000;
-  double bed_settle = 0.3;           ///< [s]
-  double drag_time = 0.15;           ///< [s]
-  double heap_time = 0.5;            ///< [s]
-  double hopper_fill = 0.3;          ///< [s]
-  double hopper_flow = 0.3;          ///< [s]
+  std::size_t bed_grains = 500;      ///< grains (before coarse graining) [-]
+  std::size_t heap_grains = 500;
+  std::size_t hopper_grains = 700;
+  double bed_settle = 0.25;          ///< [s]
+  double drag_time = 0.12;           ///< [s]
+  double heap_time = 0.4;            ///< [s]
+  double hopper_fill = 0.25;         ///< [s]
+  double hopper_flow = 0.2;          ///< [s]
   double wall_limit = 600.0;         ///< a scene that runs longer is abandoned [s]
 };
 
