@@ -113,7 +113,8 @@ const char* toString(ClientOrder order) {
 }
 
 std::vector<CouplingResult> runCoupling(const Knobs& knobs, std::size_t grains, double settle, double duration,
-                                        const std::vector<CouplingCase>& cases, double wallLimit) {
+                                        const std::vector<CouplingCase>& cases, double wallLimit,
+                                        const std::function<void(const CouplingResult&)>& done) {
   World world = bedWorld(knobs, grains);
   world.initialize();
   SceneResult cost;
@@ -130,6 +131,7 @@ std::vector<CouplingResult> runCoupling(const Knobs& knobs, std::size_t grains, 
       failed.status = std::string("broke: ") + error.what();
       results.push_back(failed);
     }
+    if (done) done(results.back());
   }
   return results;
 }

@@ -12,6 +12,7 @@
 ///                   interval that ended, integrate [t_k, t_k+1] with it, send: the force
 ///                   the body feels lags the motion by one interval.
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -42,9 +43,10 @@ struct CouplingResult {
 };
 
 /// Settles one bed (`grains` grains, `knobs`), then runs every case from that state for
-/// `duration` seconds.
+/// `duration` seconds, handing each result to `done` as it finishes.
 [[nodiscard]] std::vector<CouplingResult> runCoupling(const Knobs& knobs, std::size_t grains, double settle,
                                                       double duration, const std::vector<CouplingCase>& cases,
-                                                      double wallLimit);
+                                                      double wallLimit,
+                                                      const std::function<void(const CouplingResult&)>& done = {});
 
 }  // namespace demlink::study

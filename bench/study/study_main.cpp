@@ -16,6 +16,8 @@
 /// J scene workers run beside one thread for the coupling sweep (J = 1 keeps two cores busy).
 /// --smoke runs a small subset in seconds and checks the files' structure and that every
 /// value is sane (exit code 1 otherwise): the CI test. No timing is checked.
+#include <time.h>
+
 #include <atomic>
 #include <cmath>
 #include <cstdio>
@@ -113,53 +115,76 @@ struct Row {
   const Setting* setting;
   double dt;
   SceneResult result;
+  double cpu = 0.0;  ///< CPU seconds of the scene's thread: the cost on a shared machine [s]
 };
 
+/// CPU seconds this thread has used (a scene runs on one thread).
+double threadCpuSeconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+constexpr const char* kAtlasHeader =
+    "knob,value,dt_fraction,dt_s,law,integrator,skin_factor,modulus_scale,coarse,seed,scene,status,"
+    "simulated_s,wall_s,cpu_s,wall_per_simulated,particle_steps_per_s,metric,metric_value,reference_value,"
+    "relative_error\n";
+constexpr const char* kCouplingHeader =
+    "interval_steps,interval_s,mass_kg,order,status,depth_m,oscillation_m,reference_depth_m,depth_error_m,"
+    "wall_s,simulated_s,particle_steps_per_s\n";
+
+/// The CSV lines of one scene run; `reference` maps "scene/metric" to the finest run's
+/// value (empty while the sweep runs: the columns stay NaN).
+std::string atlasLines(const Row& row, const std::map<std::string, double>& reference) {
+  const Knobs& k = row.setting->knobs;
+  const SceneResult& r = row.result;
+  const std::string head = field(row.setting->knob) + "," + field(row.setting->value) + "," + text(k.dt_fraction) +
+                           "," + text(row.dt) + "," + std::string(core::toString(k.law)) + "," +
+                           std::string(core::toString(k.integrator)) + "," + text(k.skin_factor) + "," +
+                           text(k.modulus_scale) + "," + text(k.coarse) + "," + std::to_string(k.seed) + "," +
+                           r.scene + "," + field(r.status) + "," + text(r.simulated) + "," + text(r.wall) + "," + text(row.cpu) + "," +
+                           text(r.simulated > 0 ? r.wall / r.simulated : std::nan("")) + "," +
+                           text(r.wall > 0 ? r.particle_steps / r.wall : std::nan(""));
+  if (r.metrics.empty()) return head + ",,,,\n";
+  std::string lines;
+  for (const auto& [name, value] : r.metrics) {
+    const auto it = reference.find(r.scene + "/" + name);
+    const double ref = it == reference.end() ? std::nan("") : it->second;
+    lines += head + "," + name + "," + text(value) + "," + text(ref) + "," + text((value - ref) / ref) + "\n";
+  }
+  return lines;
+}
+
+/// The final atlas.csv, with every error against the finest run.
 void writeAtlas(const std::filesystem::path& path, const std::vector<Row>& rows) {
-  std::map<std::string, double> reference;  // "scene/metric" -> value of the finest run
+  std::map<std::string, double> reference;
   for (const Row& row : rows) {
     if (row.setting->knob != "reference") continue;
     for (const auto& [name, value] : row.result.metrics) reference[row.result.scene + "/" + name] = value;
   }
   std::ofstream out(path);
-  out << "knob,value,dt_fraction,dt_s,law,integrator,skin_factor,modulus_scale,coarse,seed,scene,status,"
-         "simulated_s,wall_s,wall_per_simulated,particle_steps_per_s,metric,metric_value,reference_value,"
-         "relative_error\n";
-  for (const Row& row : rows) {
-    const Knobs& k = row.setting->knobs;
-    const SceneResult& r = row.result;
-    std::string head = field(row.setting->knob) + "," + field(row.setting->value) + "," + text(k.dt_fraction) + "," +
-                       text(row.dt) + "," + std::string(core::toString(k.law)) + "," +
-                       std::string(core::toString(k.integrator)) + "," + text(k.skin_factor) + "," +
-                       text(k.modulus_scale) + "," + text(k.coarse) + "," + std::to_string(k.seed) + "," + r.scene +
-                       "," + field(r.status) + "," + text(r.simulated) + "," + text(r.wall) + "," +
-                       text(r.simulated > 0 ? r.wall / r.simulated : std::nan("")) + "," +
-                       text(r.wall > 0 ? r.particle_steps / r.wall : std::nan(""));
-    if (r.metrics.empty()) out << head << ",,,,\n";
-    for (const auto& [name, value] : r.metrics) {
-      const auto it = reference.find(r.scene + "/" + name);
-      const double ref = it == reference.end() ? std::nan("") : it->second;
-      out << head << "," << name << "," << text(value) << "," << text(ref) << "," << text((value - ref) / ref)
-          << "\n";
-    }
-  }
+  out << kAtlasHeader;
+  for (const Row& row : rows) out << atlasLines(row, reference);
 }
 
+std::string couplingLine(const CouplingResult& r, double referenceDepth) {
+  return std::to_string(r.c.interval_steps) + "," + text(r.interval) + "," + text(r.c.mass) + "," +
+         toString(r.c.order) + "," + field(r.status) + "," + text(r.depth) + "," + text(r.oscillation) + "," +
+         text(referenceDepth) + "," + text(r.depth - referenceDepth) + "," + text(r.wall) + "," + text(r.simulated) +
+         "," + text(r.wall > 0 ? r.particle_steps / r.wall : std::nan("")) + "\n";
+}
+
+/// The final coupling.csv, with every depth against the one-step interval's.
 void writeCoupling(const std::filesystem::path& path, const std::vector<CouplingResult>& results) {
   std::map<std::pair<double, int>, double> reference;  // (mass, order) -> depth at one step
   for (const CouplingResult& r : results) {
     if (r.c.interval_steps == 1 && r.status == "ok") reference[{r.c.mass, static_cast<int>(r.c.order)}] = r.depth;
   }
   std::ofstream out(path);
-  out << "interval_steps,interval_s,mass_kg,order,status,depth_m,oscillation_m,reference_depth_m,depth_error_m,"
-         "wall_s,simulated_s,particle_steps_per_s\n";
+  out << kCouplingHeader;
   for (const CouplingResult& r : results) {
     const auto it = reference.find({r.c.mass, static_cast<int>(r.c.order)});
-    const double ref = it == reference.end() ? std::nan("") : it->second;
-    out << r.c.interval_steps << "," << text(r.interval) << "," << text(r.c.mass) << "," << toString(r.c.order)
-        << "," << field(r.status) << "," << text(r.depth) << "," << text(r.oscillation) << "," << text(ref) << ","
-        << text(r.depth - ref) << "," << text(r.wall) << "," << text(r.simulated) << ","
-        << text(r.wall > 0 ? r.particle_steps / r.wall : std::nan("")) << "\n";
+    out << couplingLine(r, it == reference.end() ? std::nan("") : it->second);
   }
 }
 
@@ -205,17 +230,35 @@ int main(int argc, char** argv) {
   demlink::cli::addText(app, "--out", outDir, "output directory (default out/atlas)")->type_name("DIR");
   demlink::cli::addWholeNumber<std::uint32_t>(app, "--jobs", jobs, 1, 64, "scene workers (default 1); the coupling sweep runs on one more thread");
   app.add_flag("--smoke", smoke, "a small subset in seconds, with sanity checks (the CI test)");
+  std::string knobFilter;
+  demlink::cli::addText(app, "--knobs", knobFilter,
+                        "run only these sweeps, comma-separated (reference, seed, dt_fraction, integrator, law, "
+                        "skin_factor, modulus_scale, coarse); default all")
+      ->type_name("LIST");
+  bool skipCoupling = false;
+  app.add_flag("--skip-coupling", skipCoupling, "leave out the coupled-plate sweep");
   if (const std::optional<int> exitCode = demlink::cli::parse(app, argc, argv)) return *exitCode;
   spdlog::set_level(spdlog::level::err);  // the unsafe time steps warn on purpose
   std::filesystem::create_directories(outDir);
 
   const Budget budget = smoke ? smokeBudget() : Budget{};
-  const std::vector<Setting> sweep = settings(smoke);
+  std::vector<Setting> sweep = settings(smoke);
+  if (!knobFilter.empty()) {
+    std::erase_if(sweep, [&](const Setting& setting) {
+      return ("," + knobFilter + ",").find("," + setting.knob + ",") == std::string::npos;
+    });
+  }
   const std::vector<std::string> scenes{"impact", "bed", "heap", "hopper"};
   std::vector<Row> rows;
   for (const Setting& s : sweep) {
     for (const std::string& scene : scenes) rows.push_back({&s, 0.0, SceneResult(scene)});
   }
+  // Rows go to the files as they finish (errors NaN), so a stopped sweep keeps what it
+  // measured; the files are rewritten with the errors at the end.
+  std::ofstream partialAtlas(std::filesystem::path(outDir) / "atlas.csv");
+  partialAtlas << kAtlasHeader;
+  std::ofstream partialCoupling(std::filesystem::path(outDir) / "coupling.csv");
+  partialCoupling << kCouplingHeader;
   std::atomic<std::size_t> next{0};
   std::mutex printing;
   const auto start = std::chrono::steady_clock::now();
@@ -223,8 +266,11 @@ int main(int argc, char** argv) {
     for (std::size_t i = next++; i < rows.size(); i = next++) {
       Row& row = rows[i];
       row.dt = row.setting->knobs.dt_fraction * criticalLimit(row.setting->knobs);
+      const double cpuStart = threadCpuSeconds();
       row.result = runScene(row.result.scene, row.setting->knobs, budget);
+      row.cpu = threadCpuSeconds() - cpuStart;
       const std::lock_guard lock(printing);
+      partialAtlas << atlasLines(row, {}) << std::flush;
       std::printf("%-14s %-22s %-7s %-40.40s wall %7.1f s", row.setting->knob.c_str(), row.setting->value.c_str(),
                   row.result.scene.c_str(), row.result.status.c_str(), row.result.wall);
       for (const auto& [name, value] : row.result.metrics) std::printf("  %s %.4g", name.c_str(), value);
@@ -241,6 +287,7 @@ int main(int argc, char** argv) {
                                                      : std::vector<std::uint64_t>{1, 10, 100, 300, 1000};
   const std::vector<double> masses = smoke ? std::vector<double>{0.2} : std::vector<double>{0.02, 0.2, 2.0};
   for (ClientOrder order : {ClientOrder::Exchange, ClientOrder::ReceiveThenSend}) {
+    if (skipCoupling) break;
     if (smoke && order == ClientOrder::ReceiveThenSend) continue;
     for (double m : masses) {
       for (std::uint64_t n : intervals) cases.push_back({n, m, order});
@@ -249,8 +296,11 @@ int main(int argc, char** argv) {
   Knobs couplingKnobs;
   couplingKnobs.dt_fraction = 0.5;
   const std::vector<CouplingResult> coupling =
-      runCoupling(couplingKnobs, smoke ? 150 : 500, smoke ? 0.15 : 0.25, smoke ? 0.05 : 0.2, cases, budget.wall_limit);
+      cases.empty() ? std::vector<CouplingResult>{} : runCoupling(couplingKnobs, smoke ? 150 : 500, smoke ? 0.15 : 0.25, smoke ? 0.05 : 0.2, cases, budget.wall_limit,
+                  [&](const CouplingResult& r) { partialCoupling << couplingLine(r, std::nan("")) << std::flush; });
   for (std::thread& t : threads) t.join();
+  partialAtlas.close();
+  partialCoupling.close();
   for (const CouplingResult& r : coupling) {
     std::printf("coupling %-18s m %5.3g kg interval %4llu steps (%.3g s): %s depth %.3g mm osc %.3g mm wall %.1f s\n",
                 toString(r.c.order), r.c.mass, static_cast<unsigned long long>(r.c.interval_steps), r.interval,
