@@ -39,19 +39,18 @@ World bedWorld(const Knobs& knobs, std::size_t grains) {
   return world;
 }
 
-/// Height of the bed's surface under the plate: the highest sphere top near the centre
-/// among the lowest 95 % [m].
+/// Height of the bed's surface under the plate: the highest sphere top below its
+/// footprint, so that the plate starts clear of every grain [m].
 double surfaceHeight(const core::ParticleArrays& p) {
-  std::vector<double> tops;
+  double top = 0.0;
   for (std::size_t i = 0; i < p.size(); ++i) {
     const Vec3& x = p.position[i];
-    if (std::abs(x.x() - 0.5 * kSide) < kPlateHalf && std::abs(x.y() - 0.5 * kSide) < kPlateHalf) {
-      tops.push_back(x.z() + p.radius[i]);
+    if (std::abs(x.x() - 0.5 * kSide) < kPlateHalf + p.radius[i] &&
+        std::abs(x.y() - 0.5 * kSide) < kPlateHalf + p.radius[i]) {
+      top = std::max(top, x.z() + p.radius[i]);
     }
   }
-  if (tops.empty()) return 0.0;
-  std::sort(tops.begin(), tops.end());
-  return tops[static_cast<std::size_t>(0.95 * static_cast<double>(tops.size() - 1))];
+  return top;
 }
 
 CouplingResult runCase(const Knobs& knobs, std::size_t grains, const std::string& settled, double surface,
