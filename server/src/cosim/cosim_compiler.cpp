@@ -173,6 +173,9 @@ std::string reportText(const CompiledSimulation& out, const core::World& world) 
                                              : std::string("not exchanged"));
   }
   for (const std::string& line : deformableReportLines(world)) text += line + "\n";
+  for (const std::string& line : fidelityReportLines(out.scene->fidelity, world)) {
+    if (!line.starts_with("warning: ")) text += line + "\n";
+  }
   for (const std::string& warning : out.report.warnings()) text += "warning: " + warning + "\n";
   return text;
 }
@@ -444,6 +447,9 @@ CompiledSimulation CosimCompiler::compile(const std::filesystem::path& sceneDire
   out.report.set_particle_count(world.particles().size());
   for (const core::MeshBody& mesh : world.meshes()) {
     for (const std::string& warning : mesh.loadWarnings()) out.report.add_warnings(mesh.name() + ": " + warning);
+  }
+  for (const std::string& line : fidelityReportLines(out.scene->fidelity, world)) {
+    if (line.starts_with("warning: ")) out.report.add_warnings(line.substr(9));
   }
   out.report.set_text(reportText(out, world));
   return out;

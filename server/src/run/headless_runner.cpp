@@ -43,8 +43,8 @@ std::string formatDuration(double seconds) {
 /// world.initialize(), with the engine's "simulation_box.<field>" errors renamed
 /// to the SimulationBox's path in the scene.
 
-void logCompileReport(const core::World& world, std::uint64_t endStep, std::uint64_t frameEvery,
-                      const std::string& directory) {
+void logCompileReport(const core::World& world, const FidelityChoice& fidelity, std::uint64_t endStep,
+                      std::uint64_t frameEvery, const std::string& directory) {
   const core::TimeStepReport& report = world.timeStepReport();
   const core::SimulationSettings& settings = world.settings();
   std::string stages;
@@ -59,6 +59,13 @@ void logCompileReport(const core::World& world, std::uint64_t endStep, std::uint
                  settings.time_step, percent);
   } else {
     spdlog::info("time step: {:.4g} s = {:.1f} % of the limit", settings.time_step, percent);
+  }
+  for (const std::string& line : fidelityReportLines(fidelity, world)) {
+    if (line.starts_with("warning: ")) {
+      spdlog::warn("{}", line.substr(9));
+    } else {
+      spdlog::info("{}", line);
+    }
   }
   for (const std::string& line : deformableReportLines(world)) spdlog::info("{}", line);
   spdlog::info("neighbour skin: {:.4g} m; gravity ({}, {}, {}) m/s^2", world.neighbourSkin(), settings.gravity.x(),
@@ -139,7 +146,7 @@ RunSummary runHeadless(TranslatedScene& scene) {
   }
   RunDriver driver(world, run, plan, run.output_directory, box + ".output.directory");
   driver.setInitialiseSeconds(initialiseSeconds);
-  logCompileReport(world, endStep, plan.frame_every > 0 ? plan.frame_every : endStep,
+  logCompileReport(world, scene.fidelity, endStep, plan.frame_every > 0 ? plan.frame_every : endStep,
                    driver.directory().string());
   for (const std::filesystem::path& csv : driver.sensorFiles()) spdlog::info("sensor output: {}", csv.string());
 

@@ -22,6 +22,7 @@
 #include "demlink/core/input_error.hpp"
 #include "demlink/core/log_text.hpp"
 #include "demlink/core/names.hpp"
+#include "demlink/server/scene/fidelity_preset.hpp"
 #include "demlink/server/scene/input_limits.hpp"
 #include "demlink/server/scene/particle_file_reader.hpp"
 #include "demlink/server/scene/particle_lattice.hpp"
@@ -88,7 +89,8 @@ int checkStructure(const v1::Scene& scene) {
   return boxes.front();
 }
 
-core::SimulationSettings toSettings(const v1::SimulationBox& box, const std::string& prefix) {
+core::SimulationSettings toSettings(const v1::SimulationBox& box, const std::string& prefix,
+                                    FidelityChoice& fidelity) {
   core::SimulationSettings settings;
   if (box.has_time_step()) settings.time_step = box.time_step();
   if (box.has_gravity()) settings.gravity = toVec3(box.gravity());
@@ -140,6 +142,7 @@ core::SimulationSettings toSettings(const v1::SimulationBox& box, const std::str
     if (w.has_max_energy_growth()) out.max_energy_growth = w.max_energy_growth();
     if (w.has_max_speed_factor()) out.max_speed_factor = w.max_speed_factor();
   }
+  fidelity = applyFidelity(box, prefix, settings);  // after the explicit fields: they win
   settings.validate(prefix);
   return settings;
 }
@@ -253,7 +256,10 @@ TranslatedScene translateScene(const v1::Scene& scene, const FileScope& files, S
   const int boxIndex = checkStructure(scene);
   const std::string boxPrefix = componentPath(boxIndex) + ".simulation_box";
   const v1::SimulationBox& box = scene.components(boxIndex).simulation_box();
-  TranslatedScene out{core::World(toSettings(box, boxPrefix), boxPrefix), toRunOptions(box, boxPrefix, use)};
+  FidelityChoice fidelity;
+  core::SimulationSettings settings = toSettings(box, boxPrefix, fidelity);
+  TranslatedScene out{core::World(std::move(settings), boxPrefix), toRunOptions(box, boxPrefix, use),
+                      std::move(fidelity)};
 
   const MaterialNames materials = addMaterials(scene, out.world);
   addMaterialPairs(scene, materials, out.world);

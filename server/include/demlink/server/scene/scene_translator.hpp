@@ -16,6 +16,7 @@
 
 #include "demlink/core/world.hpp"
 #include "demlink/server/run/run_options.hpp"
+#include "demlink/server/scene/fidelity_preset.hpp"
 #include "demlink/server/scene/translate_mesh_body.hpp"
 #include "demlink/v1/scene.pb.h"
 
@@ -25,6 +26,7 @@ namespace demlink::server {
 struct TranslatedScene {
   core::World world;
   RunOptions run;
+  FidelityChoice fidelity;  ///< what SimulationBox.fidelity chose, for the compile report
 };
 
 /// What the scene is translated for. A co-simulation may run without an end time

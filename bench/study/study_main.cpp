@@ -1,0 +1,314 @@
+/// demlink-study: the speed-for-accuracy atlas (docs/accuracy.md).
+///
+/// Sweeps one knob at a time against the finest setting (time step 0.1 of the critical
+/// limit, velocity Verlet, Hertz-Mindlin, skin half the smallest radius, the reference
+/// modulus, no coarse graining) and measures, for every setting, the cost (wall seconds per
+/// simulated second, particle-steps per second) and bulk quantities (study_scenes.hpp):
+/// restitution of a binary impact, packing fraction of a settled bed, drag on a blade pushed
+/// through it, angle of repose of a heap, hopper discharge rate. A second sweep couples a
+/// plate whose dynamics a client integrates (study_coupling.hpp) at several communication
+/// intervals and masses. Errors are relative to the finest run; a second seed of the finest
+/// setting gives the noise floor (a bulk quantity of a few hundred grains changes with the
+/// initial jitter alone).
+///
+/// Writes <out>/atlas.csv and <out>/coupling.csv; scripts/plot_atlas.py draws them.
+///   demlink-study [--out DIR] [--jobs J] [--smoke]
+/// J scene workers run beside one thread for the coupling sweep (J = 1 keeps two cores busy).
+/// --smoke runs a small subset in seconds and checks the files' structure and that every
+/// value is sane (exit code 1 otherwise): the CI test. No timing is checked.
+#include <time.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <spdlog/spdlog.h>
+
+#include "demlink/cli/command_line.hpp"
+#include "study_coupling.hpp"
+#include "study_scenes.hpp"
+
+namespace {
+
+using namespace demlink::study;
+namespace core = demlink::core;
+
+struct Setting {
+  std::string knob;   ///< the swept knob ("reference" for the finest run)
+  std::string value;  ///< its value as text
+  Knobs knobs;
+};
+
+std::string text(double value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%g", value);
+  return buffer;
+}
+
+std::vector<Setting> settings(bool smoke) {
+  std::vector<Setting> out{{"reference", "finest", Knobs{}}};
+  auto add = [&](const std::string& knob, const std::string& value, auto change) {
+    Knobs k;
+    change(k);
+    out.push_back({knob, value, k});
+  };
+  if (smoke) {
+    add("dt_fraction", "1", [](Knobs& k) { k.dt_fraction = 1.0; });
+    add("modulus_scale", "0.1", [](Knobs& k) { k.modulus_scale = 0.1; });
+    add("coarse", "1.5", [](Knobs& k) { k.coarse = 1.5; });
+    return out;
+  }
+  add("seed", "2", [](Knobs& k) { k.seed = 2; });
+  for (double f : {0.2, 0.5, 1.0, 1.5, 2.0, 3.0}) add("dt_fraction", text(f), [f](Knobs& k) { k.dt_fraction = f; });
+  add("integrator", "explicit_euler", [](Knobs& k) { k.integrator = core::IntegratorKind::ExplicitEuler; });
+  add("law", "linear_spring_dashpot", [](Knobs& k) { k.law = core::ContactModel::LinearSpringDashpot; });
+  for (double s : {0.25, 1.0, 2.0}) add("skin_factor", text(s), [s](Knobs& k) { k.skin_factor = s; });
+  for (double e : {0.1, 0.01, 0.001}) add("modulus_scale", text(e), [e](Knobs& k) { k.modulus_scale = e; });
+  for (double a : {1.5, 2.0, 3.0}) add("coarse", text(a), [a](Knobs& k) { k.coarse = a; });
+  return out;
+}
+
+Budget smokeBudget() {
+  Budget b;
+  b.bed_grains = 150;
+  b.heap_grains = 300;
+  b.hopper_grains = 200;
+  b.bed_settle = 0.15;
+  b.drag_time = 0.05;
+  b.heap_time = 0.3;
+  b.hopper_fill = 0.15;
+  b.hopper_flow = 0.08;
+  b.wall_limit = 60.0;
+  return b;
+}
+
+SceneResult runScene(const std::string& scene, const Knobs& knobs, const Budget& budget) {
+  try {
+    if (scene == "impact") return runImpact(knobs);
+    if (scene == "bed") return runBed(knobs, budget);
+    if (scene == "heap") return runHeap(knobs, budget);
+    return runHopper(knobs, budget);
+  } catch (const std::exception& error) {
+    SceneResult failed(scene);
+    failed.status = std::string("broke: ") + error.what();
+    return failed;
+  }
+}
+
+/// CSV field: quoted when it holds a comma or a quote.
+std::string field(const std::string& value) {
+  if (value.find_first_of(",\"") == std::string::npos) return value;
+  std::string quoted = "\"";
+  for (char c : value) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return quoted + "\"";
+}
+
+struct Row {
+  const Setting* setting;
+  double dt;
+  SceneResult result;
+  double cpu = 0.0;  ///< CPU seconds of the scene's thread: the cost on a shared machine [s]
+};
+
+/// CPU seconds this thread has used (a scene runs on one thread).
+double threadCpuSeconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+constexpr const char* kAtlasHeader =
+    "knob,value,dt_fraction,dt_s,law,integrator,skin_factor,modulus_scale,coarse,seed,scene,status,"
+    "simulated_s,wall_s,cpu_s,wall_per_simulated,particle_steps_per_s,metric,metric_value,reference_value,"
+    "relative_error\n";
+constexpr const char* kCouplingHeader =
+    "interval_steps,interval_s,mass_kg,order,status,depth_m,oscillation_m,reference_depth_m,depth_error_m,"
+    "wall_s,simulated_s,particle_steps_per_s\n";
+
+/// The CSV lines of one scene run; `reference` maps "scene/metric" to the finest run's
+/// value (empty while the sweep runs: the columns stay NaN).
+std::string atlasLines(const Row& row, const std::map<std::string, double>& reference) {
+  const Knobs& k = row.setting->knobs;
+  const SceneResult& r = row.result;
+  const std::string head = field(row.setting->knob) + "," + field(row.setting->value) + "," + text(k.dt_fraction) +
+                           "," + text(row.dt) + "," + std::string(core::toString(k.law)) + "," +
+                           std::string(core::toString(k.integrator)) + "," + text(k.skin_factor) + "," +
+                           text(k.modulus_scale) + "," + text(k.coarse) + "," + std::to_string(k.seed) + "," +
+                           r.scene + "," + field(r.status) + "," + text(r.simulated) + "," + text(r.wall) + "," + text(row.cpu) + "," +
+                           text(r.simulated > 0 ? r.wall / r.simulated : std::nan("")) + "," +
+                           text(r.wall > 0 ? r.particle_steps / r.wall : std::nan(""));
+  if (r.metrics.empty()) return head + ",,,,\n";
+  std::string lines;
+  for (const auto& [name, value] : r.metrics) {
+    const auto it = reference.find(r.scene + "/" + name);
+    const double ref = it == reference.end() ? std::nan("") : it->second;
+    lines += head + "," + name + "," + text(value) + "," + text(ref) + "," + text((value - ref) / ref) + "\n";
+  }
+  return lines;
+}
+
+/// The final atlas.csv, with every error against the finest run.
+void writeAtlas(const std::filesystem::path& path, const std::vector<Row>& rows) {
+  std::map<std::string, double> reference;
+  for (const Row& row : rows) {
+    if (row.setting->knob != "reference") continue;
+    for (const auto& [name, value] : row.result.metrics) reference[row.result.scene + "/" + name] = value;
+  }
+  std::ofstream out(path);
+  out << kAtlasHeader;
+  for (const Row& row : rows) out << atlasLines(row, reference);
+}
+
+std::string couplingLine(const CouplingResult& r, double referenceDepth) {
+  return std::to_string(r.c.interval_steps) + "," + text(r.interval) + "," + text(r.c.mass) + "," +
+         toString(r.c.order) + "," + field(r.status) + "," + text(r.depth) + "," + text(r.oscillation) + "," +
+         text(referenceDepth) + "," + text(r.depth - referenceDepth) + "," + text(r.wall) + "," + text(r.simulated) +
+         "," + text(r.wall > 0 ? r.particle_steps / r.wall : std::nan("")) + "\n";
+}
+
+/// The final coupling.csv, with every depth against the one-step interval's.
+void writeCoupling(const std::filesystem::path& path, const std::vector<CouplingResult>& results) {
+  std::map<std::pair<double, int>, double> reference;  // (mass, order) -> depth at one step
+  for (const CouplingResult& r : results) {
+    if (r.c.interval_steps == 1 && r.status == "ok") reference[{r.c.mass, static_cast<int>(r.c.order)}] = r.depth;
+  }
+  std::ofstream out(path);
+  out << kCouplingHeader;
+  for (const CouplingResult& r : results) {
+    const auto it = reference.find({r.c.mass, static_cast<int>(r.c.order)});
+    out << couplingLine(r, it == reference.end() ? std::nan("") : it->second);
+  }
+}
+
+/// The smoke run's checks: every scene of every setting ran and its values are sane.
+int check(const std::vector<Row>& rows, const std::vector<CouplingResult>& coupling) {
+  int failures = 0;
+  auto require = [&](bool ok, const std::string& what) {
+    if (!ok) {
+      std::fprintf(stderr, "check failed: %s\n", what.c_str());
+      ++failures;
+    }
+  };
+  const std::map<std::string, std::pair<double, double>> sane{
+      {"restitution_ratio", {0.8, 1.2}},  {"packing_fraction", {0.35, 0.72}}, {"drag_force", {1e-4, 100.0}},
+      {"repose_angle_deg", {1.0, 60.0}},  {"heap_height", {0.005, 0.2}},      {"discharge_rate", {1e-4, 10.0}}};
+  for (const Row& row : rows) {
+    const std::string name = row.setting->knob + "=" + row.setting->value + " " + row.result.scene;
+    require(row.result.status == "ok", name + " ran (" + row.result.status + ")");
+    require(row.result.wall > 0.0 && row.result.particle_steps > 0.0, name + " counted its cost");
+    for (const auto& [metric, value] : row.result.metrics) {
+      const auto [low, high] = sane.at(metric);
+      require(std::isfinite(value) && value >= low && value <= high,
+              name + " " + metric + " = " + text(value) + " in [" + text(low) + ", " + text(high) + "]");
+    }
+  }
+  for (const CouplingResult& r : coupling) {
+    const std::string name = "coupling interval " + std::to_string(r.c.interval_steps);
+    require(r.status == "ok", name + " ran (" + r.status + ")");
+    // The plate rests in the bed: below its surface, by less than its own half side.
+    require(std::isfinite(r.depth) && r.depth > -0.002 && r.depth < 0.015, name + " depth " + text(r.depth));
+  }
+  return failures == 0 ? 0 : 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string outDir = "out/atlas";
+  std::uint32_t jobs = 1;
+  bool smoke = false;
+  CLI::App app("The speed-for-accuracy atlas: cost and bulk error of each knob against the finest setting.",
+               "demlink-study");
+  demlink::cli::addText(app, "--out", outDir, "output directory (default out/atlas)")->type_name("DIR");
+  demlink::cli::addWholeNumber<std::uint32_t>(app, "--jobs", jobs, 1, 64, "scene workers (default 1); the coupling sweep runs on one more thread");
+  app.add_flag("--smoke", smoke, "a small subset in seconds, with sanity checks (the CI test)");
+  std::string knobFilter;
+  demlink::cli::addText(app, "--knobs", knobFilter,
+                        "run only these sweeps, comma-separated (reference, seed, dt_fraction, integrator, law, "
+                        "skin_factor, modulus_scale, coarse); default all")
+      ->type_name("LIST");
+  bool skipCoupling = false;
+  app.add_flag("--skip-coupling", skipCoupling, "leave out the coupled-plate sweep");
+  if (const std::optional<int> exitCode = demlink::cli::parse(app, argc, argv)) return *exitCode;
+  spdlog::set_level(spdlog::level::err);  // the unsafe time steps warn on purpose
+  std::filesystem::create_directories(outDir);
+
+  const Budget budget = smoke ? smokeBudget() : Budget{};
+  std::vector<Setting> sweep = settings(smoke);
+  if (!knobFilter.empty()) {
+    std::erase_if(sweep, [&](const Setting& setting) {
+      return ("," + knobFilter + ",").find("," + setting.knob + ",") == std::string::npos;
+    });
+  }
+  const std::vector<std::string> scenes{"impact", "bed", "heap", "hopper"};
+  std::vector<Row> rows;
+  for (const Setting& s : sweep) {
+    for (const std::string& scene : scenes) rows.push_back({&s, 0.0, SceneResult(scene)});
+  }
+  // Rows go to the files as they finish (errors NaN), so a stopped sweep keeps what it
+  // measured; the files are rewritten with the errors at the end.
+  std::ofstream partialAtlas(std::filesystem::path(outDir) / "atlas.csv");
+  partialAtlas << kAtlasHeader;
+  std::ofstream partialCoupling(std::filesystem::path(outDir) / "coupling.csv");
+  partialCoupling << kCouplingHeader;
+  std::atomic<std::size_t> next{0};
+  std::mutex printing;
+  const auto start = std::chrono::steady_clock::now();
+  auto worker = [&] {
+    for (std::size_t i = next++; i < rows.size(); i = next++) {
+      Row& row = rows[i];
+      row.dt = row.setting->knobs.dt_fraction * criticalLimit(row.setting->knobs);
+      const double cpuStart = threadCpuSeconds();
+      row.result = runScene(row.result.scene, row.setting->knobs, budget);
+      row.cpu = threadCpuSeconds() - cpuStart;
+      const std::lock_guard lock(printing);
+      partialAtlas << atlasLines(row, {}) << std::flush;
+      std::printf("%-14s %-22s %-7s %-40.40s wall %7.1f s", row.setting->knob.c_str(), row.setting->value.c_str(),
+                  row.result.scene.c_str(), row.result.status.c_str(), row.result.wall);
+      for (const auto& [name, value] : row.result.metrics) std::printf("  %s %.4g", name.c_str(), value);
+      std::printf("\n");
+      std::fflush(stdout);
+    }
+  };
+  std::vector<std::thread> threads;
+  for (std::uint32_t j = 0; j < jobs; ++j) threads.emplace_back(worker);
+
+  // The coupling sweep runs beside the scenes on the calling thread.
+  std::vector<CouplingCase> cases;
+  const std::vector<std::uint64_t> intervals = smoke ? std::vector<std::uint64_t>{1, 10}
+                                                     : std::vector<std::uint64_t>{1, 10, 100, 300, 1000};
+  const std::vector<double> masses = smoke ? std::vector<double>{0.2} : std::vector<double>{0.02, 0.2, 2.0};
+  for (ClientOrder order : {ClientOrder::Exchange, ClientOrder::ReceiveThenSend}) {
+    if (skipCoupling) break;
+    if (smoke && order == ClientOrder::ReceiveThenSend) continue;
+    for (double m : masses) {
+      for (std::uint64_t n : intervals) cases.push_back({n, m, order});
+    }
+  }
+  Knobs couplingKnobs;
+  couplingKnobs.dt_fraction = 0.5;
+  const std::vector<CouplingResult> coupling =
+      cases.empty() ? std::vector<CouplingResult>{} : runCoupling(couplingKnobs, smoke ? 150 : 500, smoke ? 0.15 : 0.25, smoke ? 0.05 : 0.2, cases, budget.wall_limit,
+                  [&](const CouplingResult& r) { partialCoupling << couplingLine(r, std::nan("")) << std::flush; });
+  for (std::thread& t : threads) t.join();
+  partialAtlas.close();
+  partialCoupling.close();
+  for (const CouplingResult& r : coupling) {
+    std::printf("coupling %-18s m %5.3g kg interval %4llu steps (%.3g s): %s depth %.3g mm osc %.3g mm wall %.1f s\n",
+                toString(r.c.order), r.c.mass, static_cast<unsigned long long>(r.c.interval_steps), r.interval,
+                r.status.c_str(), 1e3 * r.depth, 1e3 * r.oscillation, r.wall);
+  }
+  writeAtlas(std::filesystem::path(outDir) / "atlas.csv", rows);
+  writeCoupling(std::filesystem::path(outDir) / "coupling.csv", coupling);
+  std::printf("wall %.1f s -> %s/atlas.csv, coupling.csv\n",
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), outDir.c_str());
+  return smoke ? check(rows, coupling) : 0;
+}

@@ -1,0 +1,360 @@
+#include "study_scenes.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <stdexcept>
+
+#include "demlink/core/particles/coarse_graining.hpp"
+#include "demlink/core/walls/mesh_body.hpp"
+
+namespace demlink::study {
+namespace {
+
+using core::Vec3;
+using core::World;
+using Clock = std::chrono::steady_clock;
+
+constexpr double kReferenceModulus = 1.0e8;  ///< [Pa]
+constexpr double kRadiusSpread = 1.2;        ///< largest / smallest radius [-]
+/// Mean of r^3 for r uniform in [1, 1.2] [-]: (1.2^4 - 1) / (4 * 0.2).
+constexpr double kMeanCube = (1.2 * 1.2 * 1.2 * 1.2 - 1.0) / 0.8;
+
+double grainVolume() { return 4.0 / 3.0 * std::numbers::pi * kMeanCube * std::pow(kGrainRadius, 3); }
+
+double parcelRadius(const Knobs& knobs) { return core::CoarseGraining{knobs.coarse}.radius(kGrainRadius); }
+
+std::size_t parcels(const Knobs& knobs, std::size_t grains) { return core::CoarseGraining{knobs.coarse}.count(grains); }
+
+double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+/// Least-squares slope of y over x.
+double slope(const std::vector<double>& x, const std::vector<double>& y) {
+  const auto n = static_cast<double>(x.size());
+  double sx = 0.0, sy = 0.0, sxx = 0.0, sxy = 0.0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    sx += x[i];
+    sy += y[i];
+    sxx += x[i] * x[i];
+    sxy += x[i] * y[i];
+  }
+  const double denominator = n * sxx - sx * sx;
+  return denominator > 0.0 ? (n * sxy - sx * sy) / denominator : std::nan("");
+}
+
+/// Solid fraction of the box [lo, hi]: the share of a 24^3 grid of points inside a sphere.
+double solidFraction(const core::ParticleArrays& p, const Vec3& lo, const Vec3& hi) {
+  constexpr int kPoints = 24;
+  std::vector<std::size_t> near;
+  double rMax = 0.0;
+  for (double r : p.radius) rMax = std::max(rMax, r);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const Vec3& x = p.position[i];
+    if ((x.array() > (lo.array() - rMax)).all() && (x.array() < (hi.array() + rMax)).all()) near.push_back(i);
+  }
+  std::size_t inside = 0;
+  for (int a = 0; a < kPoints; ++a) {
+    for (int b = 0; b < kPoints; ++b) {
+      for (int c = 0; c < kPoints; ++c) {
+        const Vec3 f((a + 0.5) / kPoints, (b + 0.5) / kPoints, (c + 0.5) / kPoints);
+        const Vec3 point = lo + (hi - lo).cwiseProduct(f);
+        for (std::size_t i : near) {
+          if ((p.position[i] - point).squaredNorm() < p.radius[i] * p.radius[i]) {
+            ++inside;
+            break;
+          }
+        }
+      }
+    }
+  }
+  return static_cast<double>(inside) / (kPoints * kPoints * kPoints);
+}
+
+/// Height below which `share` of the particle centres lie [m].
+double centreQuantile(const core::ParticleArrays& p, double share) {
+  std::vector<double> z;
+  z.reserve(p.size());
+  for (const Vec3& x : p.position) z.push_back(x.z());
+  if (z.empty()) return 0.0;
+  const auto k = static_cast<std::size_t>(share * static_cast<double>(z.size() - 1));
+  std::nth_element(z.begin(), z.begin() + static_cast<std::ptrdiff_t>(k), z.end());
+  return z[k];
+}
+
+/// A square plate [0, side]^2 at z = 0 with the square hole side/2 +- hole/2 (normal +z).
+core::MeshBody orificePlate(double side, double hole, std::uint32_t material) {
+  const double a = 0.5 * (side - hole), b = 0.5 * (side + hole);
+  // Outer corners 0-3, inner corners 4-7, both counter-clockwise seen from above.
+  std::vector<Vec3> v{{0, 0, 0}, {side, 0, 0}, {side, side, 0}, {0, side, 0},
+                      {a, a, 0}, {b, a, 0},    {b, b, 0},       {a, b, 0}};
+  std::vector<std::array<std::uint32_t, 3>> t;
+  for (std::uint32_t k = 0; k < 4; ++k) {
+    const std::uint32_t o0 = k, o1 = (k + 1) % 4, i0 = 4 + k, i1 = 4 + (k + 1) % 4;
+    t.push_back({o0, o1, i1});
+    t.push_back({o0, i1, i0});
+  }
+  return core::MeshBody("orifice_plate", std::move(v), std::move(t), material);
+}
+
+core::MeshBody boxBody(const std::string& name, const Vec3& lo, const Vec3& hi, std::uint32_t material) {
+  core::TriangleMesh box = core::axisAlignedBoxMesh(lo, hi);
+  return core::MeshBody(name, std::move(box.vertices), std::move(box.triangles), material);
+}
+
+void addWalls(World& world, double side) {
+  world.addPlane({"x0", Vec3::Zero(), Vec3::UnitX(), 0});
+  world.addPlane({"x1", Vec3::Constant(side), -Vec3::UnitX(), 0});
+  world.addPlane({"y0", Vec3::Zero(), Vec3::UnitY(), 0});
+  world.addPlane({"y1", Vec3::Constant(side), -Vec3::UnitY(), 0});
+}
+
+void finish(SceneResult& result, const World& world, Clock::time_point start) {
+  result.wall = secondsSince(start);
+  result.simulated = world.time();
+}
+
+}  // namespace
+
+core::Material studyMaterial(const Knobs& knobs) {
+  core::Material m;
+  m.name = "grains";
+  m.density = 2500.0;
+  m.youngs_modulus = kReferenceModulus * knobs.modulus_scale;
+  m.poisson_ratio = 0.3;
+  m.restitution = 0.5;
+  m.sliding_friction = 0.5;
+  m.rolling_friction = 0.1;
+  return m;
+}
+
+double criticalLimit(const Knobs& knobs) {
+  core::SimulationSettings s;
+  s.contact_model = knobs.law;
+  s.integrator = knobs.integrator;
+  s.max_impact_velocity = kImpactSpeed;
+  s.restitution_tolerance = kRestitutionTolerance;
+  s.time_step = 1e-9;
+  World world(s);
+  world.addMaterial(studyMaterial(knobs));
+  core::ParticleSpec p;
+  p.radius = parcelRadius(knobs);
+  world.addParticle(p);
+  world.initialize();
+  return world.timeStepReport().limit;
+}
+
+core::SimulationSettings studySettings(const Knobs& knobs) {
+  core::SimulationSettings s;
+  s.contact_model = knobs.law;
+  s.integrator = knobs.integrator;
+  s.max_impact_velocity = kImpactSpeed;
+  s.restitution_tolerance = kRestitutionTolerance;
+  s.time_step = knobs.dt_fraction * criticalLimit(knobs);
+  s.allow_unsafe_time_step = true;  // the atlas probes past the limit on purpose
+  s.neighbour_skin = knobs.skin_factor * parcelRadius(knobs);
+  return s;
+}
+
+void advance(World& world, double until, SceneResult& result, double wallLimit,
+             const std::function<void()>& afterStep) {
+  const auto start = Clock::now();
+  const double dt = world.settings().time_step;
+  long n = 0;
+  while (world.time() < until - 0.5 * dt) {
+    world.step();
+    result.particle_steps += static_cast<double>(world.particles().size());
+    if (afterStep) afterStep();
+    if (++n % 2048 == 0 && secondsSince(start) > wallLimit) {
+      throw std::runtime_error("wall-time limit reached at t = " + std::to_string(world.time()) + " s");
+    }
+  }
+  for (const Vec3& x : world.particles().position) {
+    if (!x.allFinite()) throw std::runtime_error("non-finite position");
+  }
+}
+
+double addLattice(World& world, std::size_t count, double radius, const Vec3& lo, const Vec3& hi,
+                  std::uint64_t seed, const std::function<bool(const Vec3&)>& free) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const double rMax = kRadiusSpread * radius;
+  const double spacing = 2.2 * rMax;
+  const double jitter = 0.08 * radius;
+  const auto nx = static_cast<std::size_t>(std::max(1.0, std::floor((hi.x() - lo.x()) / spacing)));
+  const auto ny = static_cast<std::size_t>(std::max(1.0, std::floor((hi.y() - lo.y()) / spacing)));
+  double top = lo.z();
+  for (std::size_t k = 0, placed = 0; placed < count; ++k) {
+    const auto i = static_cast<double>(k % nx);
+    const auto j = static_cast<double>((k / nx) % ny);
+    const auto layer = static_cast<double>(k / (nx * ny));
+    const Vec3 point(lo.x() + (i + 0.5) * spacing + jitter * (2.0 * u(rng) - 1.0),
+                     lo.y() + (j + 0.5) * spacing + jitter * (2.0 * u(rng) - 1.0), lo.z() + (layer + 0.5) * spacing);
+    const double r = radius * (1.0 + (kRadiusSpread - 1.0) * u(rng));
+    if (free && !free(point)) continue;
+    core::ParticleSpec p;
+    p.radius = r;
+    p.position = point;
+    world.addParticle(p);
+    top = std::max(top, point.z());
+    ++placed;
+  }
+  return top;
+}
+
+SceneResult runImpact(const Knobs& knobs) {
+  SceneResult result("impact");
+  const auto start = Clock::now();
+  core::SimulationSettings s = studySettings(knobs);
+  s.gravity = Vec3::Zero();
+  World world(s);
+  world.addMaterial(studyMaterial(knobs));
+  const double r = parcelRadius(knobs);
+  core::ParticleSpec a;
+  a.radius = r;
+  a.position = Vec3(-(r + 1e-5), 0.0, 0.0);
+  a.velocity = Vec3(0.5, 0.0, 0.0);
+  core::ParticleSpec b = a;
+  b.position = -a.position;
+  b.velocity = -a.velocity;
+  world.addParticle(a);
+  world.addParticle(b);
+  world.initialize();
+  const auto& p = world.particles();
+  // Until the spheres separate; a contact lasts far less than 10 ms.
+  for (int n = 0; n < 10'000'000 && world.time() < 0.01; ++n) {
+    world.step();
+    result.particle_steps += 2.0;
+    if ((p.position[1] - p.position[0]).norm() > 2.0 * r + 3e-5) break;
+  }
+  const double requested = studyMaterial(knobs).restitution;
+  result.metrics.emplace_back("restitution_ratio", std::abs(p.velocity[1].x() - p.velocity[0].x()) / requested);
+  finish(result, world, start);
+  return result;
+}
+
+SceneResult runBed(const Knobs& knobs, const Budget& budget) {
+  SceneResult result("bed");
+  const auto start = Clock::now();
+  constexpr double kSide = 0.05;  // [m]
+  constexpr double kBladeSpeed = 0.1;  // [m/s]
+  World world(studySettings(knobs));
+  world.addMaterial(studyMaterial(knobs));
+  world.addPlane({"floor", Vec3::Zero(), Vec3::UnitZ(), 0});
+  addWalls(world, kSide);
+  // The blade stands in the box while the bed forms around it, so it never appears inside
+  // particles; its size follows the bed the grains make (the same for every knob).
+  const double height = static_cast<double>(budget.bed_grains) * grainVolume() / (0.6 * kSide * kSide);
+  const double bladeX = 0.3 * kSide;
+  world.addMesh(boxBody("blade", Vec3(-0.0015, -0.35 * kSide, 0.3 * height), Vec3(0.0015, 0.35 * kSide, 3.0 * height),
+                        0));
+  world.mesh(0).setPose(Vec3(bladeX, 0.5 * kSide, 0.0), core::Quat::Identity());
+  const double r = parcelRadius(knobs);
+  const double clearance = 0.0015 + 1.1 * kRadiusSpread * r;
+  addLattice(world, parcels(knobs, budget.bed_grains), r, Vec3(0.0, 0.0, 0.0), Vec3(kSide, kSide, 0.0), knobs.seed,
+             [&](const Vec3& x) { return std::abs(x.x() - bladeX) > clearance || x.z() < 0.3 * height - clearance; });
+  auto& p = world.particles();
+  world.initialize();
+  advance(world, budget.bed_settle, result, budget.wall_limit);
+  const double bedTop = centreQuantile(p, 0.95);
+  result.metrics.emplace_back("packing_fraction",
+                              solidFraction(p, Vec3(0.45 * kSide, 0.1 * kSide, 0.2 * bedTop),
+                                            Vec3(0.9 * kSide, 0.9 * kSide, 0.7 * bedTop)));
+  world.mesh(0).setVelocity(Vec3(kBladeSpeed, 0.0, 0.0), Vec3::Zero());
+  const double dragStart = world.time() + 0.5 * budget.drag_time;
+  double impulse = 0.0, counted = 0.0;
+  const double dt = world.settings().time_step;
+  advance(world, budget.bed_settle + budget.drag_time, result, budget.wall_limit, [&] {
+    if (world.time() > dragStart) {
+      impulse += -world.meshes()[0].force().x() * dt;
+      counted += dt;
+    }
+  });
+  result.metrics.emplace_back("drag_force", counted > 0.0 ? impulse / counted : std::nan(""));
+  finish(result, world, start);
+  return result;
+}
+
+SceneResult runHeap(const Knobs& knobs, const Budget& budget) {
+  SceneResult result("heap");
+  const auto start = Clock::now();
+  constexpr double kFootprint = 0.04;  // [m]
+  World world(studySettings(knobs));
+  world.addMaterial(studyMaterial(knobs));
+  world.addPlane({"floor", Vec3::Zero(), Vec3::UnitZ(), 0});
+  const double r = parcelRadius(knobs);
+  addLattice(world, parcels(knobs, budget.heap_grains), r, Vec3(-0.5 * kFootprint, -0.5 * kFootprint, 0.0),
+             Vec3(0.5 * kFootprint, 0.5 * kFootprint, 0.0), knobs.seed);
+  world.initialize();
+  advance(world, budget.heap_time, result, budget.wall_limit);
+  // Heap surface: the highest sphere top in rings about the centre; the angle is the
+  // slope of a line through the rings between 20 % and 80 % of the heap's radius.
+  const auto& p = world.particles();
+  Vec3 centre = Vec3::Zero();
+  for (const Vec3& x : p.position) centre += x;
+  centre /= static_cast<double>(p.size());
+  std::vector<double> distance;
+  for (const Vec3& x : p.position) distance.push_back(std::hypot(x.x() - centre.x(), x.y() - centre.y()));
+  std::vector<double> sorted = distance;
+  std::sort(sorted.begin(), sorted.end());
+  const double radius = sorted[static_cast<std::size_t>(0.98 * static_cast<double>(sorted.size() - 1))];
+  constexpr int kRings = 10;
+  std::vector<double> top(kRings, 0.0);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const auto ring = static_cast<int>(distance[i] / radius * kRings);
+    if (ring < kRings) top[static_cast<std::size_t>(ring)] = std::max(top[static_cast<std::size_t>(ring)], p.position[i].z() + p.radius[i]);
+  }
+  std::vector<double> x, y;
+  for (int ring = 2; ring < 8; ++ring) {
+    x.push_back((ring + 0.5) / kRings * radius);
+    y.push_back(top[static_cast<std::size_t>(ring)]);
+  }
+  result.metrics.emplace_back("repose_angle_deg", std::atan(-slope(x, y)) * 180.0 / std::numbers::pi);
+  result.metrics.emplace_back("heap_height", std::max(top[0], top[1]));
+  finish(result, world, start);
+  return result;
+}
+
+SceneResult runHopper(const Knobs& knobs, const Budget& budget) {
+  SceneResult result("hopper");
+  const auto start = Clock::now();
+  constexpr double kSide = 0.06;     // [m]
+  constexpr double kOrifice = 0.025; // [m], 4.5 mean grain diameters
+  core::SimulationSettings s = studySettings(knobs);
+  s.bounds = core::DomainBounds{Vec3(-0.01, -0.01, -0.05), Vec3(kSide + 0.01, kSide + 0.01, 2.0)};
+  World world(s);
+  world.addMaterial(studyMaterial(knobs));
+  addWalls(world, kSide);
+  world.addMesh(orificePlate(kSide, kOrifice, 0));
+  core::TriangleMesh gateShape = core::rectangleMesh(Vec3(0.5 * kSide, 0.5 * kSide, 0.0), 0.5 * kOrifice + 0.002,
+                                                     0.5 * kOrifice + 0.002, 1, 1);
+  core::MeshBody gate("gate", std::move(gateShape.vertices), std::move(gateShape.triangles), 0);
+  gate.setCollisionWindow(0.0, budget.hopper_fill);
+  world.addMesh(std::move(gate));
+  addLattice(world, parcels(knobs, budget.hopper_grains), parcelRadius(knobs), Vec3(0.0, 0.0, 0.002),
+             Vec3(kSide, kSide, 0.0), knobs.seed);
+  world.initialize();
+  advance(world, budget.hopper_fill, result, budget.wall_limit);
+  const auto& p = world.particles();
+  auto heldMass = [&] {
+    double mass = 0.0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      if (p.position[i].z() > 0.0) mass += p.mass[i];
+    }
+    return mass;
+  };
+  std::vector<double> times, masses;
+  const double sampleEvery = 0.01;  // [s]
+  const double firstSample = budget.hopper_fill + std::min(0.05, 0.25 * budget.hopper_flow);
+  for (double t = firstSample; t < budget.hopper_fill + budget.hopper_flow + 1e-9; t += sampleEvery) {
+    advance(world, t, result, budget.wall_limit);
+    times.push_back(world.time());
+    masses.push_back(heldMass());
+  }
+  result.metrics.emplace_back("discharge_rate", -slope(times, masses));
+  finish(result, world, start);
+  return result;
+}
+
+}  // namespace demlink::study

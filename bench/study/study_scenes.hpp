@@ -1,0 +1,99 @@
+#pragma once
+/// The scenes of the speed-for-accuracy atlas (demlink-study, docs/accuracy.md) and the
+/// bulk quantity each one measures. Every scene is built from one Knobs value, so a sweep
+/// changes one knob and keeps the others at the finest setting.
+///
+/// Scenes (all with one material, spheres with radii uniform in [r, 1.2 r]):
+///   impact  two spheres head-on at 1 m/s, no gravity: delivered / requested restitution;
+///   bed     spheres rain into a square box around a still blade and settle: packing
+///           fraction of the bed's core; then the blade moves through the bed at a
+///           constant speed: mean drag force;
+///   heap    a block of spheres collapses on a rough floor: angle of repose of the heap;
+///   hopper  a box with a square orifice in its floor, closed by a gate while it fills:
+///           mass discharge rate once the gate opens.
+/// Hook for a cohesive blade-drag case: runBed takes its material from studyMaterial and
+/// its law from Knobs::law, so a cohesive law (ContactModel) and a material with a surface
+/// energy are all such a case needs; CoarseGraining::cohesionEnergy scales the energy.
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "demlink/core/world.hpp"
+
+namespace demlink::study {
+
+using demlink::core::ContactModel;
+using demlink::core::IntegratorKind;
+
+/// One point of a sweep: the engine's speed/accuracy knobs.
+struct Knobs {
+  double dt_fraction = 0.1;  ///< time step / critical limit [-]
+  ContactModel law = ContactModel::HertzMindlin;
+  IntegratorKind integrator = IntegratorKind::VelocityVerlet;
+  double skin_factor = 0.5;    ///< neighbour skin / smallest radius [-]
+  double modulus_scale = 1.0;  ///< Young's modulus / the reference modulus [-]
+  double coarse = 1.0;         ///< coarse-graining factor alpha (core::CoarseGraining) [-]
+  std::uint64_t seed = 1;      ///< jitter of the initial lattices [-]
+};
+
+/// Sizes and durations: the full atlas or the CI smoke run.
+struct Budget {
+  std::size_t bed_grains = 500;      ///< grains (before coarse graining) [-]
+  std::size_t heap_grains = 500;
+  std::size_t hopper_grains = 700;
+  double bed_settle = 0.25;          ///< [s]
+  double drag_time = 0.12;           ///< [s]
+  double heap_time = 0.4;            ///< [s]
+  double hopper_fill = 0.25;         ///< [s]
+  double hopper_flow = 0.2;          ///< [s]
+  double wall_limit = 600.0;         ///< a scene that runs longer is abandoned [s]
+};
+
+/// The reference material: glass-like grains with a "real" modulus of 1e8 Pa (scaled by
+/// Knobs::modulus_scale). Rolling friction keeps a heap of spheres standing.
+[[nodiscard]] demlink::core::Material studyMaterial(const Knobs& knobs);
+/// Grain radius before coarse graining [m].
+inline constexpr double kGrainRadius = 0.0025;
+/// Largest impact speed the time-step limit is validated for [m/s].
+inline constexpr double kImpactSpeed = 2.0;
+/// Restitution tolerance of the limit: a scene file's default (docs/physics.md), so
+/// dt_fraction 1 is the largest step a scene accepts without allow_unsafe_time_step.
+inline constexpr double kRestitutionTolerance = 0.1;
+
+/// Settings for `knobs`: the time step is dt_fraction times the critical limit of the
+/// scene's smallest particle (unsafe steps allowed: the atlas probes past the limit).
+[[nodiscard]] demlink::core::SimulationSettings studySettings(const Knobs& knobs);
+/// The critical limit for `knobs` [s].
+[[nodiscard]] double criticalLimit(const Knobs& knobs);
+
+/// What a scene run measured and what it cost.
+struct SceneResult {
+  explicit SceneResult(std::string name = {}) : scene(std::move(name)) {}
+  std::string scene;
+  std::string status = "ok";  ///< "ok", or why the run broke
+  double simulated = 0.0;     ///< [s]
+  double wall = 0.0;          ///< [s]
+  double particle_steps = 0.0;
+  std::vector<std::pair<std::string, double>> metrics;  ///< name, value (SI or [-])
+};
+
+[[nodiscard]] SceneResult runImpact(const Knobs& knobs);
+[[nodiscard]] SceneResult runBed(const Knobs& knobs, const Budget& budget);
+[[nodiscard]] SceneResult runHeap(const Knobs& knobs, const Budget& budget);
+[[nodiscard]] SceneResult runHopper(const Knobs& knobs, const Budget& budget);
+
+/// Steps `world` to `until` [s], counting particle-steps into `result`; throws
+/// std::runtime_error if the wall time passes `wallLimit` or a position is not finite.
+void advance(demlink::core::World& world, double until, SceneResult& result, double wallLimit,
+             const std::function<void()>& afterStep = {});
+
+/// A cubic lattice of `count` spheres of material 0 over the footprint of [lo, hi] (x
+/// fastest, filling upward from lo.z), radii uniform in [r, 1.2 r], jittered; lattice
+/// points where `free` is false are skipped. Returns the highest centre [m].
+double addLattice(demlink::core::World& world, std::size_t count, double radius, const demlink::core::Vec3& lo,
+                  const demlink::core::Vec3& hi, std::uint64_t seed,
+                  const std::function<bool(const demlink::core::Vec3&)>& free = {});
+
+}  // namespace demlink::study
