@@ -15,7 +15,7 @@
 ///   (1 + b Omega^2) z^2 - (2 - (1 - 2b) Omega^2) z + (1 + b Omega^2) = 0;
 /// the product of its roots is 1 and they are complex for every Omega when b >= 1/4, so
 /// |z| = 1 exactly (spectral radius 1, no growth, no numerical damping) at any step; Rayleigh
-/// damping only moves the roots inside. A1 is factorised once (sparse LDL^T).
+/// damping only moves the roots inside. A1 is factorised once (sparse Cholesky, below).
 ///
 /// Loads. F+ (the contact forces at the new positions) is not known when U+ is solved for;
 /// the latest contact forces stand in for it (a one-step lag: F+ := F), so the right-hand side
@@ -35,6 +35,9 @@
 
 #include <Eigen/SparseCholesky>
 #include <algorithm>
+#ifdef DEMLINK_HAVE_CHOLMOD
+#include <Eigen/CholmodSupport>
+#endif
 #include <cmath>
 #include <limits>
 
@@ -48,6 +51,20 @@ namespace demlink::core {
 
 using SparseMatrix = Eigen::SparseMatrix<double>;
 using Eigen::VectorXd;
+
+// The factorisation of A1 (three-level scheme) and of K (solveStatic). CHOLMOD's supernodal
+// Cholesky with its own ordering (the better of AMD and METIS nested dissection) keeps the fill
+// of stocky 3D meshes bounded where Eigen's simplicial LDL^T with AMD does not (docs/deformable.md,
+// "Cost"); without SuiteSparse the build falls back to the latter.
+#ifdef DEMLINK_HAVE_CHOLMOD
+using Factorisation = Eigen::CholmodSupernodalLLT<SparseMatrix>;
+bool positiveDefinite(const Factorisation& f, Eigen::Index) { return f.info() == Eigen::Success; }
+#else
+using Factorisation = Eigen::SimplicialLDLT<SparseMatrix>;
+bool positiveDefinite(const Factorisation& f, Eigen::Index size) {
+  return f.info() == Eigen::Success && (size == 0 || f.vectorD().minCoeff() > 0.0);
+}
+#endif
 
 namespace {
 
@@ -135,7 +152,7 @@ struct FemBody::Impl {
   SparseMatrix kFixed, mFixed, cFixed, kDriven, mDriven, cDriven;  // rows of K, M, C
 
   // Integrator.
-  Eigen::SimplicialLDLT<SparseMatrix> a1;
+  Factorisation a1;
   VectorXd lumpedFree;  // central differences: M diagonal on the free DOFs
   double omegaMax = 0.0;
 
@@ -339,8 +356,9 @@ void FemBody::Impl::factorise() {
   if (integrator == FemIntegrator::kThreeLevel) {
     SparseMatrix a = m / (dt * dt) + k / 3.0;
     a += (explicitDamping ? c : SparseMatrix(alpha * k + beta * m)) / (2.0 * dt);
+    if (nf == 0) return;  // everything prescribed: nothing to solve for
     a1.compute(block(a, freeIndex, nf));
-    if (a1.info() != Eigen::Success || (nf > 0 && !(a1.vectorD().minCoeff() > 0.0))) {
+    if (!positiveDefinite(a1, static_cast<Eigen::Index>(nf))) {
       throw InputError(prefix, "A1 = M/dt^2 + C/(2 dt) + K/3",
                        "is not positive definite on the free DOFs (check M, K and the damping)");
     }
@@ -470,7 +488,7 @@ void FemBody::beginStep(double dt, const Vec3& gravity) {
           b.gravityLoad + (2.0 * b.fc1 + b.fc0) / 3.0;
     VectorXd rf(static_cast<Eigen::Index>(b.freeDofs.size()));
     for (std::size_t i = 0; i < b.freeDofs.size(); ++i) rf[static_cast<Eigen::Index>(i)] = rhs[b.freeDofs[i]];
-    const VectorXd xf = b.a1.solve(rf);
+    const VectorXd xf = rf.size() > 0 ? VectorXd(b.a1.solve(rf)) : rf;
     for (std::size_t i = 0; i < b.freeDofs.size(); ++i)
       next[b.freeDofs[i]] = xf[static_cast<Eigen::Index>(i)];
   } else {
@@ -530,9 +548,12 @@ void FemBody::solveStatic(const Vec3& gravity) {
   const VectorXd rhs = b.gravityLoad + fc - b.k * u;
   VectorXd rf(static_cast<Eigen::Index>(b.freeDofs.size()));
   for (std::size_t i = 0; i < b.freeDofs.size(); ++i) rf[static_cast<Eigen::Index>(i)] = rhs[b.freeDofs[i]];
-  Eigen::SimplicialLDLT<SparseMatrix> kff(block(b.k, b.freeIndex, b.freeDofs.size()));
-  if (kff.info() != Eigen::Success) throw InputError(b.prefix, "K", "cannot be factorised on the free DOFs");
-  const VectorXd xf = kff.solve(rf);
+  Factorisation kff;
+  if (rf.size() > 0) kff.compute(block(b.k, b.freeIndex, b.freeDofs.size()));
+  if (rf.size() > 0 && kff.info() != Eigen::Success) {
+    throw InputError(b.prefix, "K", "cannot be factorised on the free DOFs");
+  }
+  const VectorXd xf = rf.size() > 0 ? VectorXd(kff.solve(rf)) : rf;
   for (std::size_t i = 0; i < b.freeDofs.size(); ++i) u[b.freeDofs[i]] = xf[static_cast<Eigen::Index>(i)];
   b.u = b.u1 = b.u2 = u;
   b.v.setZero();
