@@ -1,8 +1,9 @@
 /// Deformable bodies through the C ABI (tests/client/deformable_sequence.c) against the real
 /// demlink-server, both as child processes (child_process.hpp says why): a 10 kg mass-spring
-/// sheet hung by its driven corners and an FEM beam clamped at one end, both at rest under
-/// gravity after 4 s. Static equilibrium: the reaction at the driven corners is the sheet's
-/// weight, the clamp's the beam's, each within 1 %.
+/// sheet hung by its driven corners and an FEM beam clamped at one end, under gravity for
+/// 8 s. Momentum balance: the mean reaction over the last 4 s (the sheet, without shear
+/// springs, still swings; its momentum changes by less than 1 N s in that time) is the
+/// weight, at the driven corners the sheet's, at the clamp the beam's, each within 1 %.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -35,7 +36,7 @@ TEST(DeformableCAbiRealServer, DrivenAndFixedReactionsCarryTheWeights) {
   const auto [host, port] = announcedAddress(announced);
   ASSERT_GT(std::atoi(port.c_str()), 0) << announced;
 
-  Child program({DEMLINK_DEFORMABLE_SEQUENCE_EXE, host, port, "beam.msh", "4"});
+  Child program({DEMLINK_DEFORMABLE_SEQUENCE_EXE, host, port, "beam.msh", "8"});
   const std::string line = program.readLine(std::chrono::seconds(120));
   EXPECT_EQ(program.waitForExit(std::chrono::seconds(30)), 0) << line;
   double sheet = 0.0;
