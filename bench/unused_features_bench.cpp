@@ -7,16 +7,22 @@
 ///   watchdog        off (every_steps 0) vs every 100 steps (the default)
 ///   stage timing    off vs on (sampled: two clock reads per stage call on ~1 step in 64)
 ///   idle mesh       none vs a mesh body whose collision window never opens
+///   idle deformable none vs a small mass-spring sheet far from the bed: the deformable
+///                   stages run (motion, near lists, contacts, forces) but find nothing.
+///                   A scene without deformable bodies runs none of these stages at all,
+///                   so B / A bounds what the deformable code can cost it.
 /// Usage: demlink-bench-unused [--repeats N] [--steps N]
 #include <algorithm>
 #include <ctime>
 #include <cstdio>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <random>
 #include <vector>
 
 #include "demlink/cli/command_line.hpp"
+#include "demlink/core/deformable/mass_spring_body.hpp"
 #include "demlink/core/world.hpp"
 
 namespace {
@@ -27,6 +33,7 @@ struct Variant {
   bool watchdog = true;
   bool timing = false;
   bool idle_mesh = false;
+  bool idle_deformable = false;
 };
 
 /// CPU seconds of this thread: on a machine shared with other jobs, wall time mostly
@@ -51,6 +58,15 @@ double runBed(const Variant& v, int steps) {
     MeshBody mesh("idle", {Vec3(0, 0, 1), Vec3(1, 0, 1), Vec3(0, 1, 1)}, {{0, 1, 2}}, 0);
     mesh.setCollisionWindow(1e9, 1e9);
     world.addMesh(std::move(mesh));
+  }
+  if (v.idle_deformable) {
+    MassSpringSpec sheet;
+    sheet.name = "idle";
+    sheet.total_mass = 0.01;
+    sheet.stiffness = 1.0;
+    sheet.box = MassSpringSpec::Box{Vec3(1.0, 1.0, 1.0), Vec3(1.02, 1.02, 1.001), 0.01};
+    sheet.fixed_nodes = {0, 1, 2, 3, 4, 5, 6, 7, 8};
+    world.addDeformableBody(std::make_unique<MassSpringBody>(sheet, "idle"), "idle");
   }
   std::mt19937_64 rng(1);
   std::uniform_real_distribution<double> jitter(-0.0005, 0.0005);
@@ -87,7 +103,8 @@ int main(int argc, char** argv) {
     Variant b;
   } pairs[] = {{"watchdog off / every 100 steps", {.watchdog = false}, {.watchdog = true}},
                {"stage timing off / on", {.timing = false}, {.timing = true}},
-               {"no mesh / idle mesh", {.idle_mesh = false}, {.idle_mesh = true}}};
+               {"no mesh / idle mesh", {.idle_mesh = false}, {.idle_mesh = true}},
+               {"no deformable / idle sheet", {.idle_deformable = false}, {.idle_deformable = true}}};
   std::printf("| A / B | median A [CPU s] | median B [CPU s] | B / A | median of pair ratios |\n|---|---|---|---|---|\n");
   for (const auto& pair : pairs) {
     std::vector<double> a;

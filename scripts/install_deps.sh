@@ -8,6 +8,9 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libasio-dev libprotobuf-dev protobuf-compiler
   libeigen3-dev libspdlog-dev libfmt-dev
+  # FEM bodies: CHOLMOD's supernodal Cholesky for large meshes (optional: without it the
+  # build falls back to Eigen's SimplicialLDLT)
+  libsuitesparse-dev
   # every program's command line (server/cli/): header-only CLI11
   libcli11-dev
   googletest libgtest-dev libgmock-dev libbenchmark-dev

@@ -6,8 +6,10 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 
+#include "demlink/core/deformable/tet_mesh.hpp"
 #include "integration_support.hpp"
 
 namespace demlink::integration {
@@ -66,6 +68,53 @@ TEST(DeformableOverTcp, DrivenCornersCarryTheWeightThenSpringsBreakUnderOverload
     ASSERT_TRUE(session.exchange());
   }
   EXPECT_GT(sheet.brokenSprings(), 0u) << "a 100 g load tears the corner springs";
+  session.finish("test over");
+  connection.close();
+  server.stop();
+  if (!::testing::Test::HasFailure()) std::filesystem::remove_all(root);
+}
+
+// An FEM beam (client::FemBody) whose end x = 0 a client drives with a pose held where the
+// beam was built: once the beam rests (Rayleigh beta damps it within a second), the reaction at
+// the driven end is the beam's weight (0.5 kg, within 1 %) and nothing is fixed.
+TEST(DeformableOverTcp, DrivenEndOfAnFemBeamCarriesItsWeight) {
+  const std::filesystem::path root =
+      std::filesystem::temp_directory_path() / ("demlink_e2e_fem_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(root);
+  std::filesystem::create_directories(root / "data");
+  core::writeGmsh((root / "data" / "beam.msh").string(),
+                  core::boxTetMesh(core::Vec3::Zero(), core::Vec3(0.2, 0.05, 0.05), 8, 2, 2, 1), "4.1");
+  const double weight = 1000.0 * 0.2 * 0.05 * 0.05 * kG;
+  server::CosimOptions options = hostOptions(root / "out");
+  options.data_root = root / "data";
+  InProcessServer server(options);
+
+  client::Connection connection;
+  connect(connection, server.port(), "beam model");
+  client::Session session(connection);
+  auto& box = session.add<client::SimulationBox>("box");
+  box.setTimeStep(kDt).setEndTime(0.0).setInitialGravity({0.0, 0.0, -kG}).setExpectedCount(3);
+  box.setCommunicationInterval(kInterval);
+  session.add<client::Material>("steel").setDensity(7800.0).setYoungsModulus(2e8);
+  auto& beam = session.add<client::FemBody>("beam");
+  beam.setMesh("beam.msh", 1e8, 0.3, 1000.0).setRayleigh(1e-5, 200.0).setMaterial("steel");
+  const client::Vec3 end{0.0, 0.025, 0.025};
+  beam.addDrivenRegion({-1e-6, -1.0, -1.0}, {1e-6, 1.0, 1.0}).setDrivenReference(end);
+  beam.setCommunicationInterval(kInterval);
+  session.declare();
+  session.waitCompiled();
+  EXPECT_NE(session.report().text().find("deformable beam (fem)"), std::string::npos) << session.report().text();
+  while (box.time() < 1.0 - 0.5 * kInterval) {
+    beam.setDrivenPose(end, {});
+    ASSERT_TRUE(session.exchange());
+  }
+  EXPECT_NEAR(beam.drivenForce().z / weight, 1.0, 0.01);
+  EXPECT_LT(std::abs(beam.drivenForce().x), 1e-3 * weight);
+  EXPECT_EQ(beam.fixedForce().z, 0.0);
+  double lowest = 0.0;
+  for (const client::Vec3& d : beam.displacements()) lowest = std::min(lowest, d.z);
+  EXPECT_LT(lowest, -1e-6) << "the free end sags";
+  EXPECT_EQ(beam.brokenSprings(), 0u);
   session.finish("test over");
   connection.close();
   server.stop();

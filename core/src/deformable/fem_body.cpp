@@ -15,7 +15,7 @@
 ///   (1 + b Omega^2) z^2 - (2 - (1 - 2b) Omega^2) z + (1 + b Omega^2) = 0;
 /// the product of its roots is 1 and they are complex for every Omega when b >= 1/4, so
 /// |z| = 1 exactly (spectral radius 1, no growth, no numerical damping) at any step; Rayleigh
-/// damping only moves the roots inside. A1 is factorised once (sparse LDL^T).
+/// damping only moves the roots inside. A1 is factorised once (sparse Cholesky, below).
 ///
 /// Loads. F+ (the contact forces at the new positions) is not known when U+ is solved for;
 /// the latest contact forces stand in for it (a one-step lag: F+ := F), so the right-hand side
@@ -28,11 +28,16 @@
 /// recurrence; 2/omega_max undamped), omega_max from Lanczos iteration on the free DOFs.
 ///
 /// Velocities (surface, kinetic energy): (3U+ - 4U + U-)/(2 dt), second order at the new time
-/// level; driven nodes take the twist of the driving pose, fixed nodes 0.
+/// level; driven nodes take the twist of the driving pose, fixed nodes 0. Driven nodes: beginStep
+/// carries the pose by its twist to t + dt (NodeConstraints::advance, as the mass-spring body
+/// does) and prescribes U+ there.
 #include "demlink/core/deformable/fem_body.hpp"
 
 #include <Eigen/SparseCholesky>
 #include <algorithm>
+#ifdef DEMLINK_HAVE_CHOLMOD
+#include <Eigen/CholmodSupport>
+#endif
 #include <cmath>
 #include <limits>
 
@@ -47,9 +52,21 @@ namespace demlink::core {
 using SparseMatrix = Eigen::SparseMatrix<double>;
 using Eigen::VectorXd;
 
-namespace {
+// The factorisation of A1 (three-level scheme) and of K (solveStatic). CHOLMOD's supernodal
+// Cholesky with its own ordering (the better of AMD and METIS nested dissection) keeps the fill
+// of stocky 3D meshes bounded where Eigen's simplicial LDL^T with AMD does not (docs/deformable.md,
+// "Cost"); without SuiteSparse the build falls back to the latter.
+#ifdef DEMLINK_HAVE_CHOLMOD
+using Factorisation = Eigen::CholmodSupernodalLLT<SparseMatrix>;
+bool positiveDefinite(const Factorisation& f, Eigen::Index) { return f.info() == Eigen::Success; }
+#else
+using Factorisation = Eigen::SimplicialLDLT<SparseMatrix>;
+bool positiveDefinite(const Factorisation& f, Eigen::Index size) {
+  return f.info() == Eigen::Success && (size == 0 || f.vectorD().minCoeff() > 0.0);
+}
+#endif
 
-enum class NodeKind : std::uint8_t { kFree, kFixed, kDriven };
+namespace {
 
 /// Renumbers DOFs: new DOF 3 newOf[n] + i for old DOF 3 n + i.
 SparseMatrix permuted(const SparseMatrix& a, const std::vector<std::uint32_t>& newOf) {
@@ -101,10 +118,6 @@ VectorXd fromStd(StateReader& in, const std::vector<double>& v, Eigen::Index siz
   return Eigen::Map<const VectorXd>(v.data(), size);
 }
 
-bool inside(const Vec3& x, const FemSpec::Region& r) {
-  return (x.array() >= r.lo.array()).all() && (x.array() <= r.hi.array()).all();
-}
-
 }  // namespace
 
 struct FemBody::Impl {
@@ -131,16 +144,15 @@ struct FemBody::Impl {
   double mass = 0.0;
 
   // Constraints.
-  std::vector<NodeKind> kind;
+  NodeConstraints constraints;
   std::vector<std::uint32_t> freeDofs;
   std::vector<std::uint32_t> fixedDofs;
   std::vector<std::uint32_t> drivenDofs;
   std::vector<std::int32_t> freeIndex;                             // per DOF: position in freeDofs or -1
   SparseMatrix kFixed, mFixed, cFixed, kDriven, mDriven, cDriven;  // rows of K, M, C
-  Vec3 drivenReference = Vec3::Zero();
 
   // Integrator.
-  Eigen::SimplicialLDLT<SparseMatrix> a1;
+  Factorisation a1;
   VectorXd lumpedFree;  // central differences: M diagonal on the free DOFs
   double omegaMax = 0.0;
 
@@ -148,12 +160,6 @@ struct FemBody::Impl {
   VectorXd u, u1, u2, v, fc1, fc0;
   Vec3 gravity = Vec3::Zero();
   VectorXd gravityLoad;
-  Vec3 drivenPosition = Vec3::Zero();
-  Quat drivenOrientation = Quat::Identity();
-  Vec3 drivenLinear = Vec3::Zero();
-  Vec3 drivenAngular = Vec3::Zero();
-  NodeReaction fixedReaction;
-  NodeReaction drivenReaction;
 
   [[nodiscard]] std::size_t nodes() const { return static_cast<std::size_t>(x0.size() / 3); }
   [[nodiscard]] Vec3 at(const VectorXd& a, std::size_t node) const {
@@ -300,54 +306,31 @@ void FemBody::Impl::buildFromMatrices(const FemSpec& spec) {
 void FemBody::Impl::constrain(const FemSpec& spec, const std::vector<std::uint32_t>& newOf,
                               const std::vector<std::uint64_t>& inputIds) {
   const std::size_t n = nodes();
-  kind.assign(n, NodeKind::kFree);
   std::vector<std::pair<std::uint64_t, std::uint32_t>> byId;  // input id -> body node
   byId.reserve(n);
   for (std::size_t i = 0; i < inputIds.size(); ++i) byId.emplace_back(inputIds[i], newOf[i]);
   std::sort(byId.begin(), byId.end());
-  const auto mark = [&](const std::vector<std::uint32_t>& ids, const std::vector<FemSpec::Region>& regions,
-                        NodeKind target, const std::string& field) {
-    for (std::size_t i = 0; i < ids.size(); ++i) {
-      const auto it =
-          std::lower_bound(byId.begin(), byId.end(), std::pair<std::uint64_t, std::uint32_t>{ids[i], 0});
-      if (it == byId.end() || it->first != ids[i]) {
-        throw InputError(prefix + "." + field + "_nodes[" + std::to_string(i) + "]", std::to_string(ids[i]),
-                         "no such node (a Gmsh node tag of a tetrahedron, or a 0-based node-file index)");
-      }
-      if (kind[it->second] != NodeKind::kFixed) kind[it->second] = target;
-    }
-    for (std::size_t r = 0; r < regions.size(); ++r) {
-      const std::string f = prefix + "." + field + "_regions[" + std::to_string(r) + "]";
-      for (int a = 0; a < 3; ++a) {
-        requireFinite(f + ".lo", regions[r].lo[a]);
-        requireFinite(f + ".hi", regions[r].hi[a]);
-      }
-      if (!(regions[r].lo.array() <= regions[r].hi.array()).all())
-        throw InputError(f, "lo > hi", "lo must not exceed hi");
-      bool any = false;
-      for (std::size_t i = 0; i < n; ++i) {
-        if (inside(at(x0, i), regions[r])) {
-          any = true;
-          if (kind[i] != NodeKind::kFixed) kind[i] = target;
-        }
-      }
-      if (!any) throw InputError(f, "0 nodes", "the region holds no node of the body");
-    }
-  };
-  mark(spec.fixed_nodes, spec.fixed_regions, NodeKind::kFixed, "fixed");
-  mark(spec.driven_nodes, spec.driven_regions, NodeKind::kDriven, "driven");
-  for (int a = 0; a < 3; ++a) requireFinite(prefix + ".driven_reference", spec.driven_reference[a]);
-  drivenReference = spec.driven_reference;
-  drivenPosition = spec.driven_reference;
+  std::vector<Vec3> positions(n);
+  for (std::size_t i = 0; i < n; ++i) positions[i] = at(x0, i);
+  constraints = NodeConstraints(
+      spec, positions,
+      [&](std::uint32_t id) -> std::optional<std::uint32_t> {
+        const auto it = std::lower_bound(byId.begin(), byId.end(), std::pair<std::uint64_t, std::uint32_t>{id, 0});
+        if (it == byId.end() || it->first != id) return std::nullopt;
+        return it->second;
+      },
+      "no such node (a Gmsh node tag of a tetrahedron, or a 0-based node-file index)", ConstraintOverlap::kFixedWins,
+      prefix);
   freeIndex.assign(3 * n, -1);
   for (std::size_t i = 0; i < n; ++i) {
     for (std::uint32_t a = 0; a < 3; ++a) {
       const auto dof = static_cast<std::uint32_t>(3 * i) + a;
-      if (kind[i] == NodeKind::kFree) {
+      const NodeRole role = constraints.role(i);
+      if (role == NodeRole::kFree) {
         freeIndex[dof] = static_cast<std::int32_t>(freeDofs.size());
         freeDofs.push_back(dof);
       } else {
-        (kind[i] == NodeKind::kFixed ? fixedDofs : drivenDofs).push_back(dof);
+        (role == NodeRole::kFixed ? fixedDofs : drivenDofs).push_back(dof);
       }
     }
   }
@@ -373,8 +356,9 @@ void FemBody::Impl::factorise() {
   if (integrator == FemIntegrator::kThreeLevel) {
     SparseMatrix a = m / (dt * dt) + k / 3.0;
     a += (explicitDamping ? c : SparseMatrix(alpha * k + beta * m)) / (2.0 * dt);
+    if (nf == 0) return;  // everything prescribed: nothing to solve for
     a1.compute(block(a, freeIndex, nf));
-    if (a1.info() != Eigen::Success || (nf > 0 && !(a1.vectorD().minCoeff() > 0.0))) {
+    if (!positiveDefinite(a1, static_cast<Eigen::Index>(nf))) {
       throw InputError(prefix, "A1 = M/dt^2 + C/(2 dt) + K/3",
                        "is not positive definite on the free DOFs (check M, K and the damping)");
     }
@@ -439,20 +423,15 @@ FemBody::~FemBody() = default;
 // Stepping
 
 void FemBody::Impl::prescribe(VectorXd& target, VectorXd* velocity) const {
-  const Mat3 r = drivenOrientation.toRotationMatrix();
-  for (std::size_t i = 0; i < nodes(); ++i) {
-    if (kind[i] == NodeKind::kFree) continue;
-    const auto s = 3 * static_cast<Eigen::Index>(i);
-    if (kind[i] == NodeKind::kFixed) {
-      target.segment<3>(s).setZero();
-      if (velocity != nullptr) velocity->segment<3>(s).setZero();
-      continue;
-    }
-    const Vec3 x = at(x0, i);
-    const Vec3 arm = r * (x - drivenReference);
-    target.segment<3>(s) = drivenPosition + arm - x;
-    if (velocity != nullptr) velocity->segment<3>(s) = drivenLinear + drivenAngular.cross(arm);
+  for (const std::uint32_t node : constraints.fixed()) {
+    target.segment<3>(3 * static_cast<Eigen::Index>(node)).setZero();
+    if (velocity != nullptr) velocity->segment<3>(3 * static_cast<Eigen::Index>(node)).setZero();
   }
+  constraints.forEachDriven([&](std::uint32_t node, const Vec3& position, const Vec3& nodeVelocity) {
+    const auto s = 3 * static_cast<Eigen::Index>(node);
+    target.segment<3>(s) = position - at(x0, node);
+    if (velocity != nullptr) velocity->segment<3>(s) = nodeVelocity;
+  });
 }
 
 void FemBody::Impl::updateGravity(const Vec3& g) {
@@ -498,6 +477,7 @@ void FemBody::beginStep(double dt, const Vec3& gravity) {
                      "differs from the step the FEM body was built for (" + formatValue(b.dt) + " s)");
   }
   b.updateGravity(gravity);
+  b.constraints.advance(dt);
   VectorXd next = VectorXd::Zero(b.u.size());
   b.prescribe(next, nullptr);
   VectorXd rhs;
@@ -508,7 +488,7 @@ void FemBody::beginStep(double dt, const Vec3& gravity) {
           b.gravityLoad + (2.0 * b.fc1 + b.fc0) / 3.0;
     VectorXd rf(static_cast<Eigen::Index>(b.freeDofs.size()));
     for (std::size_t i = 0; i < b.freeDofs.size(); ++i) rf[static_cast<Eigen::Index>(i)] = rhs[b.freeDofs[i]];
-    const VectorXd xf = b.a1.solve(rf);
+    const VectorXd xf = rf.size() > 0 ? VectorXd(b.a1.solve(rf)) : rf;
     for (std::size_t i = 0; i < b.freeDofs.size(); ++i)
       next[b.freeDofs[i]] = xf[static_cast<Eigen::Index>(i)];
   } else {
@@ -548,10 +528,10 @@ void FemBody::endStep(double dt, const Vec3& gravity) {
     }
     return r;
   };
-  b.fixedReaction =
-      b.reaction(b.fixedDofs, residual(b.kFixed, b.mFixed, b.cFixed, b.fixedDofs), Vec3::Zero());
-  b.drivenReaction =
-      b.reaction(b.drivenDofs, residual(b.kDriven, b.mDriven, b.cDriven, b.drivenDofs), b.drivenPosition);
+  b.constraints.setReactions(
+      b.reaction(b.fixedDofs, residual(b.kFixed, b.mFixed, b.cFixed, b.fixedDofs), Vec3::Zero()),
+      b.reaction(b.drivenDofs, residual(b.kDriven, b.mDriven, b.cDriven, b.drivenDofs),
+                 b.constraints.pose().position));
   b.fc0 = std::move(b.fc1);
   b.fc1 = fc;
 }
@@ -568,9 +548,12 @@ void FemBody::solveStatic(const Vec3& gravity) {
   const VectorXd rhs = b.gravityLoad + fc - b.k * u;
   VectorXd rf(static_cast<Eigen::Index>(b.freeDofs.size()));
   for (std::size_t i = 0; i < b.freeDofs.size(); ++i) rf[static_cast<Eigen::Index>(i)] = rhs[b.freeDofs[i]];
-  Eigen::SimplicialLDLT<SparseMatrix> kff(block(b.k, b.freeIndex, b.freeDofs.size()));
-  if (kff.info() != Eigen::Success) throw InputError(b.prefix, "K", "cannot be factorised on the free DOFs");
-  const VectorXd xf = kff.solve(rf);
+  Factorisation kff;
+  if (rf.size() > 0) kff.compute(block(b.k, b.freeIndex, b.freeDofs.size()));
+  if (rf.size() > 0 && kff.info() != Eigen::Success) {
+    throw InputError(b.prefix, "K", "cannot be factorised on the free DOFs");
+  }
+  const VectorXd xf = rf.size() > 0 ? VectorXd(kff.solve(rf)) : rf;
   for (std::size_t i = 0; i < b.freeDofs.size(); ++i) u[b.freeDofs[i]] = xf[static_cast<Eigen::Index>(i)];
   b.u = b.u1 = b.u2 = u;
   b.v.setZero();
@@ -582,8 +565,9 @@ void FemBody::solveStatic(const Vec3& gravity) {
       r[static_cast<Eigen::Index>(j)] -= b.gravityLoad[dofs[j]] + fc[dofs[j]];
     return r;
   };
-  b.fixedReaction = b.reaction(b.fixedDofs, reactionRows(b.kFixed, b.fixedDofs), Vec3::Zero());
-  b.drivenReaction = b.reaction(b.drivenDofs, reactionRows(b.kDriven, b.drivenDofs), b.drivenPosition);
+  b.constraints.setReactions(b.reaction(b.fixedDofs, reactionRows(b.kFixed, b.fixedDofs), Vec3::Zero()),
+                             b.reaction(b.drivenDofs, reactionRows(b.kDriven, b.drivenDofs),
+                                        b.constraints.pose().position));
   b.writeSurface();
 }
 
@@ -612,15 +596,12 @@ std::string FemBody::criticalTimeStepReason() const {
 
 void FemBody::setDrivenPose(const Vec3& position, const Quat& orientation, const Vec3& linearVelocity,
                             const Vec3& angularVelocity) {
-  impl_->drivenPosition = position;
-  impl_->drivenOrientation = orientation.normalized();
-  impl_->drivenLinear = linearVelocity;
-  impl_->drivenAngular = angularVelocity;
+  impl_->constraints.setPose({position, orientation, linearVelocity, angularVelocity}, impl_->prefix);
 }
 
 bool FemBody::hasDrivenNodes() const { return !impl_->drivenDofs.empty(); }
-NodeReaction FemBody::drivenReaction() const { return impl_->drivenReaction; }
-NodeReaction FemBody::fixedReaction() const { return impl_->fixedReaction; }
+NodeReaction FemBody::drivenReaction() const { return impl_->constraints.drivenReaction(); }
+NodeReaction FemBody::fixedReaction() const { return impl_->constraints.fixedReaction(); }
 std::size_t FemBody::nodeCount() const { return impl_->nodes(); }
 Vec3 FemBody::nodePosition(std::size_t node) const {
   return impl_->at(impl_->x0, node) + impl_->at(impl_->u, node);
@@ -649,14 +630,7 @@ void FemBody::save(StateWriter& out) const {
   out.write<std::uint8_t>(static_cast<std::uint8_t>(b.integrator));
   out.write(b.dt);
   for (const VectorXd* vec : {&b.u, &b.u1, &b.u2, &b.v, &b.fc1, &b.fc0}) out.writeVector(toStd(*vec));
-  out.write(b.drivenPosition);
-  out.write(b.drivenOrientation);
-  out.write(b.drivenLinear);
-  out.write(b.drivenAngular);
-  for (const NodeReaction* r : {&b.fixedReaction, &b.drivenReaction}) {
-    out.write(r->force);
-    out.write(r->torque);
-  }
+  b.constraints.save(out);
 }
 
 void FemBody::restore(StateReader& in) {
@@ -673,28 +647,13 @@ void FemBody::restore(StateReader& in) {
   requireEqual(in, "time step of FEM body \"" + name + "\"", dt, b.dt);
   std::array<VectorXd, 6> vecs;
   for (VectorXd& vec : vecs) vec = fromStd(in, in.readVector<double>(), b.u.size(), "FEM state vector");
-  const Vec3 position = in.read<Vec3>();
-  const Quat orientation = in.read<Quat>();
-  const Vec3 linear = in.read<Vec3>();
-  const Vec3 angular = in.read<Vec3>();
-  if (!(std::abs(orientation.norm() - 1.0) < 1.0e-9)) in.fail("driven orientation", "not a unit quaternion");
-  std::array<NodeReaction, 2> reactions;
-  for (NodeReaction& r : reactions) {
-    r.force = in.read<Vec3>();
-    r.torque = in.read<Vec3>();
-  }
+  b.constraints.restore(in);
   b.u = std::move(vecs[0]);
   b.u1 = std::move(vecs[1]);
   b.u2 = std::move(vecs[2]);
   b.v = std::move(vecs[3]);
   b.fc1 = std::move(vecs[4]);
   b.fc0 = std::move(vecs[5]);
-  b.drivenPosition = position;
-  b.drivenOrientation = orientation;
-  b.drivenLinear = linear;
-  b.drivenAngular = angular;
-  b.fixedReaction = reactions[0];
-  b.drivenReaction = reactions[1];
   b.writeSurface();
 }
 

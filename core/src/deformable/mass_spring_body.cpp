@@ -46,58 +46,6 @@ struct StateCodec<BrokenSpring> {
   }
 };
 
-namespace {
-
-constexpr char kFree = 0;
-constexpr char kFixed = 1;
-constexpr char kDriven = 2;
-
-std::string vecText(const Vec3& v) {
-  return "(" + formatValue(v.x()) + ", " + formatValue(v.y()) + ", " + formatValue(v.z()) + ")";
-}
-
-/// Marks the nodes listed or inside a region as `kind`; every index and region is checked.
-void markConstrained(std::vector<char>& constraint, const std::vector<Vec3>& nodes,
-                     const std::vector<std::uint32_t>& indices, const std::vector<MassSpringSpec::Region>& regions,
-                     char kind, const std::string& prefix, const std::string& what) {
-  const auto mark = [&](std::uint32_t node, const std::string& field) {
-    if (constraint[node] != kFree && constraint[node] != kind) {
-      throw InputError(field, std::to_string(node), "node is both fixed and driven");
-    }
-    constraint[node] = kind;
-  };
-  for (std::size_t k = 0; k < indices.size(); ++k) {
-    const std::string field = prefix + "." + what + "_nodes[" + std::to_string(k) + "]";
-    if (indices[k] >= nodes.size()) {
-      throw InputError(field, std::to_string(indices[k]),
-                       "node index out of range (the body has " + std::to_string(nodes.size()) + " nodes)");
-    }
-    mark(indices[k], field);
-  }
-  for (std::size_t k = 0; k < regions.size(); ++k) {
-    const MassSpringSpec::Region& region = regions[k];
-    const std::string field = prefix + "." + what + "_regions[" + std::to_string(k) + "]";
-    if (!region.lo.allFinite() || !region.hi.allFinite()) {
-      throw InputError(field, vecText(region.lo) + " .. " + vecText(region.hi), "must be finite");
-    }
-    if ((region.lo.array() > region.hi.array()).any()) {
-      throw InputError(field + ".hi", vecText(region.hi), "must not be below lo " + vecText(region.lo));
-    }
-    bool any = false;
-    for (std::uint32_t n = 0; n < nodes.size(); ++n) {
-      if ((nodes[n].array() >= region.lo.array()).all() && (nodes[n].array() <= region.hi.array()).all()) {
-        mark(n, field);
-        any = true;
-      }
-    }
-    if (!any) {
-      throw InputError(field, vecText(region.lo) + " .. " + vecText(region.hi), "contains no node of the body");
-    }
-  }
-}
-
-}  // namespace
-
 MassSpringBody::MassSpringBody(const MassSpringSpec& spec, const std::string& fieldPrefix) : name_(spec.name) {
   if (spec.name.empty()) throw InputError(fieldPrefix + ".name", "\"\"", "a deformable body needs a name");
   requirePositive(fieldPrefix + ".total_mass", spec.total_mass);
@@ -107,9 +55,6 @@ MassSpringBody::MassSpringBody(const MassSpringSpec& spec, const std::string& fi
   }
   if (std::isnan(spec.break_strain) || !(spec.break_strain > 0.0)) {
     throw InputError(fieldPrefix + ".break_strain", formatValue(spec.break_strain), "must be positive (or infinite)");
-  }
-  if (!spec.driven_reference.allFinite()) {
-    throw InputError(fieldPrefix + ".driven_reference", vecText(spec.driven_reference), "must be finite");
   }
   MassSpringTopology topology = buildMassSpringTopology(spec, fieldPrefix);
   const std::size_t n = topology.nodes.size();
@@ -125,17 +70,10 @@ MassSpringBody::MassSpringBody(const MassSpringSpec& spec, const std::string& fi
   break_force_ = spec.break_force;
   break_strain_ = spec.break_strain;
 
-  constraint_.assign(n, kFree);
-  markConstrained(constraint_, reference_, spec.fixed_nodes, spec.fixed_regions, kFixed, fieldPrefix, "fixed");
-  markConstrained(constraint_, reference_, spec.driven_nodes, spec.driven_regions, kDriven, fieldPrefix, "driven");
-  for (std::uint32_t node = 0; node < n; ++node) {
-    if (constraint_[node] == kFixed) fixed_.push_back(node);
-    if (constraint_[node] == kDriven) {
-      driven_.push_back(node);
-      driven_offset_.push_back(reference_[node] - spec.driven_reference);
-    }
-  }
-  driven_position_ = spec.driven_reference;
+  constraints_ = NodeConstraints(
+      spec, reference_, [](std::uint32_t id) { return std::optional<std::uint32_t>(id); },
+      "node index out of range (the body has " + std::to_string(n) + " nodes)", ConstraintOverlap::kError,
+      fieldPrefix);
 
   // Which triangles each spring supports: a spring along one of a triangle's edges.
   std::map<std::pair<std::uint32_t, std::uint32_t>, std::vector<std::uint32_t>> trianglesOfEdge;
@@ -160,23 +98,15 @@ void MassSpringBody::beginStep(double dt, const Vec3& gravity) {
   std::vector<Vec3>& v = surface_.velocities();
   const double halfStepPerMass = 0.5 * dt / node_mass_;
   for (std::size_t node = 0; node < x.size(); ++node) {
-    if (constraint_[node] != kFree) continue;
+    if (constraints_.role(node) != NodeRole::kFree) continue;
     v[node] += halfStepPerMass * node_force_[node] + 0.5 * dt * gravity;
     x[node] += v[node] * dt;
   }
-  if (driven_.empty()) return;
-  driven_position_ += driven_velocity_ * dt;
-  const double angle = driven_angular_velocity_.norm() * dt;
-  if (angle > 0.0) {
-    driven_orientation_ =
-        (Quat(Eigen::AngleAxisd(angle, driven_angular_velocity_.normalized())) * driven_orientation_).normalized();
-  }
-  const Mat3 rotation = driven_orientation_.toRotationMatrix();
-  for (std::size_t k = 0; k < driven_.size(); ++k) {
-    const std::uint32_t node = driven_[k];
-    x[node] = driven_position_ + rotation * driven_offset_[k];
-    v[node] = driven_velocity_ + driven_angular_velocity_.cross(x[node] - driven_position_);
-  }
+  constraints_.advance(dt);
+  constraints_.forEachDriven([&](std::uint32_t node, const Vec3& position, const Vec3& velocity) {
+    x[node] = position;
+    v[node] = velocity;
+  });
 }
 
 void MassSpringBody::addSpringForces(bool tear, double time) {
@@ -216,29 +146,32 @@ void MassSpringBody::endStep(double dt, const Vec3& gravity) {
   addSpringForces(true, static_cast<double>(steps_) * dt);
   if (node_damping_ > 0.0) {
     for (std::size_t node = 0; node < x.size(); ++node) {
-      if (constraint_[node] == kFree) node_force_[node] -= node_damping_ * node_mass_ * v[node];
+      if (constraints_.role(node) == NodeRole::kFree) node_force_[node] -= node_damping_ * node_mass_ * v[node];
     }
   }
   const double halfStepPerMass = 0.5 * dt / node_mass_;
-  fixed_reaction_ = {};
-  driven_reaction_ = {};
+  NodeReaction fixed;
+  NodeReaction driven;
+  const DrivenPose& pose = constraints_.pose();
   for (std::size_t node = 0; node < x.size(); ++node) {
-    if (constraint_[node] == kFree) {
+    const NodeRole role = constraints_.role(node);
+    if (role == NodeRole::kFree) {
       v[node] += halfStepPerMass * node_force_[node] + 0.5 * dt * gravity;
       continue;
     }
-    if (constraint_[node] == kFixed) {
+    if (role == NodeRole::kFixed) {
       const Vec3 r = -node_force_[node] - node_mass_ * gravity;
-      fixed_reaction_.force += r;
-      fixed_reaction_.torque += x[node].cross(r);
+      fixed.force += r;
+      fixed.torque += x[node].cross(r);
     } else {
-      const Vec3 arm = x[node] - driven_position_;
-      const Vec3 acceleration = driven_angular_velocity_.cross(driven_angular_velocity_.cross(arm));
+      const Vec3 arm = x[node] - pose.position;
+      const Vec3 acceleration = pose.angular_velocity.cross(pose.angular_velocity.cross(arm));
       const Vec3 r = node_mass_ * acceleration - node_force_[node] - node_mass_ * gravity;
-      driven_reaction_.force += r;
-      driven_reaction_.torque += arm.cross(r);
+      driven.force += r;
+      driven.torque += arm.cross(r);
     }
   }
+  constraints_.setReactions(fixed, driven);
 }
 
 MassSpringBody::StableStep MassSpringBody::stableStep() const {
@@ -254,7 +187,7 @@ MassSpringBody::StableStep MassSpringBody::stableStep() const {
   StableStep out;
   double largestDamping = 0.0;
   for (std::size_t node = 0; node < stiffnessSum.size(); ++node) {
-    if (constraint_[node] != kFree) continue;
+    if (constraints_.role(node) != NodeRole::kFree) continue;
     if (stiffnessSum[node] > out.stiffness_sum) {
       out.stiffness_sum = stiffnessSum[node];
       out.node = node;
@@ -282,25 +215,12 @@ std::string MassSpringBody::criticalTimeStepReason() const {
 
 void MassSpringBody::setDrivenPose(const Vec3& position, const Quat& orientation, const Vec3& linearVelocity,
                                    const Vec3& angularVelocity) {
-  if (!position.allFinite()) throw InputError(name_ + ".pose.position", vecText(position), "must be finite");
-  if (!orientation.coeffs().allFinite() || !(orientation.norm() > 0.0)) {
-    throw InputError(name_ + ".pose.orientation", "(non-finite or zero)", "must be a finite non-zero quaternion");
-  }
-  if (!linearVelocity.allFinite()) {
-    throw InputError(name_ + ".velocity.linear", vecText(linearVelocity), "must be finite");
-  }
-  if (!angularVelocity.allFinite()) {
-    throw InputError(name_ + ".velocity.angular", vecText(angularVelocity), "must be finite");
-  }
-  driven_position_ = position;
-  driven_orientation_ = orientation.normalized();
-  driven_velocity_ = linearVelocity;
-  driven_angular_velocity_ = angularVelocity;
+  constraints_.setPose({position, orientation, linearVelocity, angularVelocity}, name_);
 }
 
-bool MassSpringBody::hasDrivenNodes() const { return !driven_.empty(); }
-NodeReaction MassSpringBody::drivenReaction() const { return driven_reaction_; }
-NodeReaction MassSpringBody::fixedReaction() const { return fixed_reaction_; }
+bool MassSpringBody::hasDrivenNodes() const { return !constraints_.driven().empty(); }
+NodeReaction MassSpringBody::drivenReaction() const { return constraints_.drivenReaction(); }
+NodeReaction MassSpringBody::fixedReaction() const { return constraints_.fixedReaction(); }
 std::size_t MassSpringBody::nodeCount() const { return reference_.size(); }
 Vec3 MassSpringBody::nodePosition(std::size_t node) const { return surface_.positions().at(node); }
 Vec3 MassSpringBody::nodeDisplacement(std::size_t node) const {
@@ -334,14 +254,7 @@ void MassSpringBody::save(StateWriter& out) const {
   out.writeVector(node_force_);
   out.writeVector(intact_);
   out.writeVector(broken_);
-  out.write(driven_position_);
-  out.write(driven_orientation_);
-  out.write(driven_velocity_);
-  out.write(driven_angular_velocity_);
-  for (const NodeReaction& r : {fixed_reaction_, driven_reaction_}) {
-    out.write(r.force);
-    out.write(r.torque);
-  }
+  constraints_.save(out);
 }
 
 void MassSpringBody::restore(StateReader& in) {
@@ -361,15 +274,7 @@ void MassSpringBody::restore(StateReader& in) {
       in.fail(std::to_string(b.spring), "mass-spring body " + name_ + ": broken spring not marked broken");
     }
   }
-  const auto position = in.read<Vec3>();
-  const auto orientation = in.read<Quat>();
-  const auto velocity = in.read<Vec3>();
-  const auto angularVelocity = in.read<Vec3>();
-  NodeReaction reactions[2];
-  for (NodeReaction& r : reactions) {
-    r.force = in.read<Vec3>();
-    r.torque = in.read<Vec3>();
-  }
+  constraints_.restore(in);
   steps_ = steps;
   surface_.positions() = std::move(positions);
   surface_.velocities() = std::move(velocities);
@@ -382,12 +287,6 @@ void MassSpringBody::restore(StateReader& in) {
     if (intact_[s] != 0) continue;
     deactivateTrianglesOf(s);
   }
-  driven_position_ = position;
-  driven_orientation_ = orientation;
-  driven_velocity_ = velocity;
-  driven_angular_velocity_ = angularVelocity;
-  fixed_reaction_ = reactions[0];
-  driven_reaction_ = reactions[1];
 }
 
 }  // namespace demlink::core

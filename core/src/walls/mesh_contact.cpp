@@ -51,6 +51,8 @@ void collectSphereMeshContacts(const Vec3& centre, double radius,
       kMeshContactUlpFactor * std::numeric_limits<double>::epsilon() * coordScale;
   const double tol = kMeshContactRelTolerance * radius + distSlack;
   const double tolDiff = 0.25 * tol;
+  const double reject = (radius + distSlack) * (1.0 + 1e-12);
+  const double reject2 = reject * reject;
 
   // Stage 0: raw contacts, one per distinct candidate triangle within reach.
   for (const std::uint32_t index : candidateTriangles) {
@@ -61,6 +63,14 @@ void collectSphereMeshContacts(const Vec3& centre, double radius,
     const Vec3& a = worldVertices[tri[0]];
     const Vec3& b = worldVertices[tri[1]];
     const Vec3& c = worldVertices[tri[2]];
+    // Cheap rejection before the exact test: the closest point lies in the triangle's
+    // bounding box, so a box farther than the radius (plus the rounding of computed
+    // distances, distSlack) from the centre cannot give a contact. Each component of
+    // `outside` is one subtraction (relative error eps/2), so no contact the exact test
+    // would find is lost and the results are unchanged.
+    const Vec3 outside =
+        (a.cwiseMin(b).cwiseMin(c) - centre).cwiseMax(centre - a.cwiseMax(b).cwiseMax(c)).cwiseMax(0.0);
+    if (outside.squaredNorm() > reject2) continue;
     const ClosestPoint cp = closestPointOnTriangle(centre, a, b, c);
     const Vec3 toCentre = centre - cp.point;
     const double dist2 = toCentre.squaredNorm();

@@ -107,6 +107,20 @@ std::vector<std::pair<std::string, std::string*>> filePathsOf(v1::ComponentDecla
   if (c.has_particle_system() && c.particle_system().has_checkpoint_file()) {
     out.emplace_back("particle_system.checkpoint_file", c.mutable_particle_system()->mutable_checkpoint_file());
   }
+  if (c.has_mass_spring_body() && c.mass_spring_body().has_stl_file()) {
+    out.emplace_back("mass_spring_body.stl_file", c.mutable_mass_spring_body()->mutable_stl_file());
+  }
+  if (c.has_fem_body() && c.fem_body().has_mesh()) {
+    out.emplace_back("fem_body.mesh.msh_file", c.mutable_fem_body()->mutable_mesh()->mutable_msh_file());
+  }
+  if (c.has_fem_body() && c.fem_body().has_matrices()) {
+    v1::FemMatrices& m = *c.mutable_fem_body()->mutable_matrices();
+    out.emplace_back("fem_body.matrices.mass_matrix_file", m.mutable_mass_matrix_file());
+    out.emplace_back("fem_body.matrices.stiffness_matrix_file", m.mutable_stiffness_matrix_file());
+    out.emplace_back("fem_body.matrices.damping_matrix_file", m.mutable_damping_matrix_file());
+    out.emplace_back("fem_body.matrices.nodes_file", m.mutable_nodes_file());
+    out.emplace_back("fem_body.matrices.triangles_file", m.mutable_triangles_file());
+  }
   return out;
 }
 

@@ -33,15 +33,14 @@ void readCorners(const Given& given, const std::string& prefix, Box& out) {
   }
 }
 
-template <class Region>
-std::vector<Region> regionsOf(const v1::NodeSet& set, const std::string& prefix) {
-  std::vector<Region> out;
+std::vector<core::NodeRegion> regionsOf(const v1::NodeSet& set, const std::string& prefix) {
+  std::vector<core::NodeRegion> out;
   for (int k = 0; k < set.regions_size(); ++k) {
     const v1::NodeRegion& region = set.regions(k);
     const std::string field = indexed(prefix + ".regions", k);
     if (!region.has_lo()) throw InputError(field + ".lo", "(missing)", "a node region needs lo and hi");
     if (!region.has_hi()) throw InputError(field + ".hi", "(missing)", "a node region needs lo and hi");
-    Region r;
+    core::NodeRegion r;
     readCorners(region, field, r);
     out.push_back(r);
   }
@@ -49,13 +48,12 @@ std::vector<Region> regionsOf(const v1::NodeSet& set, const std::string& prefix)
 }
 
 /// Fixed and driven sets, the driving reference; shared by both kinds.
-template <class Spec>
 void readConstraints(const v1::NodeSet& fixed, const v1::NodeSet& driven, const v1::Vector3& reference,
-                     const std::string& prefix, Spec& spec) {
+                     const std::string& prefix, core::NodeConstraintSpec& spec) {
   spec.fixed_nodes.assign(fixed.nodes().begin(), fixed.nodes().end());
-  spec.fixed_regions = regionsOf<typename Spec::Region>(fixed, prefix + ".fixed");
+  spec.fixed_regions = regionsOf(fixed, prefix + ".fixed");
   spec.driven_nodes.assign(driven.nodes().begin(), driven.nodes().end());
-  spec.driven_regions = regionsOf<typename Spec::Region>(driven, prefix + ".driven");
+  spec.driven_regions = regionsOf(driven, prefix + ".driven");
   spec.driven_reference = toFiniteVec3(reference, prefix + ".driven_reference");
 }
 

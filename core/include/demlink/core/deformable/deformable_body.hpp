@@ -55,7 +55,10 @@ class DeformableBody {
   [[nodiscard]] virtual std::string criticalTimeStepReason() const = 0;
 
   /// Pose of the driven node set (world position of the driving reference point,
-  /// orientation, twist). Bodies without driven nodes ignore it.
+  /// orientation, twist) at the start of the coming step; beginStep carries it by the twist
+  /// to the step's end and puts the driven nodes there (one rule for every kind of body:
+  /// NodeConstraints, node_constraints.hpp). Throws InputError for non-finite values.
+  /// Bodies without driven nodes ignore it.
   virtual void setDrivenPose(const Vec3& position, const Quat& orientation, const Vec3& linearVelocity,
                              const Vec3& angularVelocity) = 0;
   [[nodiscard]] virtual bool hasDrivenNodes() const = 0;

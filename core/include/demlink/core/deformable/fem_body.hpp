@@ -19,6 +19,7 @@
 #include <Eigen/SparseCore>
 
 #include "demlink/core/deformable/deformable_body.hpp"
+#include "demlink/core/deformable/node_constraints.hpp"
 #include "demlink/core/math_types.hpp"
 
 namespace demlink::core {
@@ -26,7 +27,10 @@ namespace demlink::core {
 enum class FemIntegrator : std::uint8_t { kThreeLevel, kCentralDifference };
 enum class FemMass : std::uint8_t { kLumped, kConsistent };
 
-struct FemSpec {
+/// Constraints (node_constraints.hpp): for a .msh, Gmsh node tags; for imported matrices,
+/// 0-based indices into the node file; regions apply to positions with the offset. A node
+/// both fixed and driven is fixed.
+struct FemSpec : NodeConstraintSpec {
   std::string name;
   std::uint32_t material = 0;  ///< contact material of the surface
   FemIntegrator integrator = FemIntegrator::kThreeLevel;
@@ -48,19 +52,6 @@ struct FemSpec {
   std::string damping_matrix_path;  ///< optional; replaces the Rayleigh C
   std::string nodes_path;
   std::string triangles_path;
-
-  /// Constraints: nodes (for a .msh, Gmsh node tags; for imported matrices, 0-based indices
-  /// into the node file), or every node whose position (offset applied) is inside a box
-  /// [lo, hi]. A node both fixed and driven is fixed.
-  struct Region {
-    Vec3 lo = Vec3::Zero();
-    Vec3 hi = Vec3::Zero();
-  };
-  std::vector<std::uint32_t> fixed_nodes;
-  std::vector<Region> fixed_regions;
-  std::vector<std::uint32_t> driven_nodes;
-  std::vector<Region> driven_regions;
-  Vec3 driven_reference = Vec3::Zero();  ///< reference point of the driving pose [m]
 };
 
 class FemBody final : public DeformableBody {

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "demlink/core/deformable/deformable_body.hpp"
+#include "demlink/core/deformable/node_constraints.hpp"
 #include "demlink/core/math_types.hpp"
 
 namespace demlink::core {
@@ -31,8 +32,9 @@ struct SpringSpec {
   double rest_length = -1.0;  ///< [m]; < 0: the initial distance
 };
 
-/// Where a mass-spring body's nodes and springs come from (exactly one of the three).
-struct MassSpringSpec {
+/// Where a mass-spring body's nodes and springs come from (exactly one of the three); the
+/// constraints (node_constraints.hpp) take node indices, and a node cannot be both fixed and driven.
+struct MassSpringSpec : NodeConstraintSpec {
   std::string name;
   std::uint32_t material = 0;
   double total_mass = 0.0;  ///< [kg], spread equally over the nodes
@@ -65,18 +67,6 @@ struct MassSpringSpec {
   /// Tearing thresholds (infinity: never).
   double break_force = std::numeric_limits<double>::infinity();   ///< [N]
   double break_strain = std::numeric_limits<double>::infinity();  ///< [-]
-
-  /// Constraints: node indices, or every node inside a box.
-  struct Region {
-    Vec3 lo = Vec3::Zero();
-    Vec3 hi = Vec3::Zero();
-  };
-  std::vector<std::uint32_t> fixed_nodes;
-  std::vector<Region> fixed_regions;
-  std::vector<std::uint32_t> driven_nodes;
-  std::vector<Region> driven_regions;
-  /// Reference point of the driving pose at the initial configuration [m].
-  Vec3 driven_reference = Vec3::Zero();
 };
 
 /// One broken spring, for the CSV and the VTK output.
@@ -149,16 +139,7 @@ class MassSpringBody final : public DeformableBody {
   std::vector<Vec3> reference_;       ///< positions as built [m]
   std::vector<Vec3> node_force_;      ///< spring + contact force of the last endStep [N]
   double node_mass_ = 0.0;            ///< [kg], equal for every node
-  std::vector<char> constraint_;      ///< per node: kFree, kFixed or kDriven (mass_spring_body.cpp)
-  std::vector<std::uint32_t> fixed_;  ///< fixed nodes, ascending
-  std::vector<std::uint32_t> driven_; ///< driven nodes, ascending
-  std::vector<Vec3> driven_offset_;   ///< per driven node: position - driven_reference as built [m]
-  Vec3 driven_position_ = Vec3::Zero();
-  Quat driven_orientation_ = Quat::Identity();
-  Vec3 driven_velocity_ = Vec3::Zero();
-  Vec3 driven_angular_velocity_ = Vec3::Zero();
-  NodeReaction fixed_reaction_;
-  NodeReaction driven_reaction_;
+  NodeConstraints constraints_;       ///< fixed and driven nodes, driving pose, reactions
   /// Triangles each spring supports (CSR: spring s -> triangles [offsets[s], offsets[s+1])).
   std::vector<std::uint32_t> spring_triangle_offsets_;
   std::vector<std::uint32_t> spring_triangles_;
