@@ -121,9 +121,26 @@ void CellGrid::buildLevel(Level& l, std::span<const Vec3> positions, std::span<c
 std::vector<std::uint32_t> CellGrid::spatialOrder(std::span<const Vec3> positions) const {
   std::vector<std::uint32_t> order;
   if (levels_.empty()) return order;
+  // Cells of the largest level (2 r_max + skin) from the particles' lowest corner, by
+  // division: the order the dense grid gave, so a scene's slot order, and with it its
+  // trajectory's bits, did not change with the sparse grid. Far outliers below the rest
+  // move the corner no further than 2^20 cells from the median (they share the border).
+  const double cell = levels_.back().cell_size;
+  constexpr double kHalf = static_cast<double>(kCoordLimit / 2);
+  Vec3 lo = origin_;
+  for (const Vec3& x : positions) {
+    for (int d = 0; d < 3; ++d) {
+      if (std::isfinite(x[d])) lo[d] = std::min(lo[d], x[d]);
+    }
+  }
+  for (int d = 0; d < 3; ++d) lo[d] = std::max(lo[d], origin_[d] - kHalf * cell);
   std::vector<KeyedSlot> keyed(positions.size());
   for (std::size_t i = 0; i < positions.size(); ++i) {
-    const auto c = coords(levels_.front(), positions[i]);
+    std::array<std::int64_t, 3> c{};
+    for (int d = 0; d < 3; ++d) {
+      const double k = std::floor((positions[i][d] - lo[d]) / cell);
+      c[d] = !(k > 0.0) ? 0 : (k >= 2.0 * kHalf - 1.0 ? kCoordLimit - 1 : static_cast<std::int64_t>(k));
+    }
     keyed[i] = {pack(c[0], c[1], c[2]), static_cast<std::uint32_t>(i)};
   }
   std::sort(keyed.begin(), keyed.end());

@@ -14,9 +14,13 @@ constexpr std::size_t kMaxChunksPlanned = 4096;
 void PairLoopPartition::plan(std::span<const std::uint32_t> offsets, std::span<const std::uint32_t> partners) {
   const std::size_t rows = offsets.empty() ? 0 : offsets.size() - 1;
   const std::uint64_t pairs = offsets.empty() ? 0 : offsets.back();
-  std::uint64_t perChunk = std::max<std::uint64_t>(kPairsPerChunk, (pairs + kMaxChunksPlanned - 1) / kMaxChunksPlanned);
+  // About kPairsPerChunk pairs per chunk, but at least 16 chunks of >= 64 rows, so a
+  // small scene still has chunks to share; fewer when the windows grow too wide.
+  std::size_t wanted = std::max<std::size_t>(static_cast<std::size_t>(pairs / kPairsPerChunk),
+                                             std::min<std::size_t>(16, rows / 64));
+  wanted = std::clamp<std::size_t>(wanted, 1, kMaxChunksPlanned);
   for (;;) {
-    const std::size_t chunks = rows == 0 ? 0 : static_cast<std::size_t>(std::max<std::uint64_t>(1, pairs / perChunk));
+    const std::size_t chunks = rows == 0 ? 0 : wanted;
     row_begin_.assign(chunks + 1, rows);
     row_begin_[0] = 0;
     for (std::size_t c = 1; c < chunks; ++c) {
@@ -40,7 +44,7 @@ void PairLoopPartition::plan(std::span<const std::uint32_t> offsets, std::span<c
       buffer_start_[c + 1] = buffer_start_[c] + (reach - row_begin_[c]);
     }
     if (kept <= 1 || buffer_start_[kept] <= kWindowSlotsPerRow * rows + 4096) break;
-    perChunk *= 2;
+    wanted = (wanted + 1) / 2;
   }
   const std::size_t chunks = row_begin_.size() - 1;
   first_covering_.assign(chunks, 0);

@@ -97,7 +97,7 @@ class CellGrid {
     }
   }
 
-  /// Slots ordered by cell of the finest level (z, then y, then x): a locality-friendly
+  /// Slots ordered by cells of the largest level (z, then y, then x): a locality-friendly
   /// permutation of the particles that keeps neighbours close in slot order.
   [[nodiscard]] std::vector<std::uint32_t> spatialOrder(std::span<const Vec3> positions) const;
 
