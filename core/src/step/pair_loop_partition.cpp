@@ -5,8 +5,9 @@
 namespace demlink::core {
 namespace {
 
-/// The chunk windows together may hold this many slots per row (plus a constant) [-].
-constexpr std::size_t kWindowSlotsPerRow = 3;
+/// The chunk windows together may hold 3/2 slots per row (plus a constant): with force
+/// and torque that is at most ~72 bytes per particle.
+constexpr std::size_t kWindowSlotsPerTwoRows = 3;
 constexpr std::size_t kMaxChunksPlanned = 4096;
 
 }  // namespace
@@ -43,7 +44,7 @@ void PairLoopPartition::plan(std::span<const std::uint32_t> offsets, std::span<c
       reach_[c] = reach;
       buffer_start_[c + 1] = buffer_start_[c] + (reach - row_begin_[c]);
     }
-    if (kept <= 1 || buffer_start_[kept] <= kWindowSlotsPerRow * rows + 4096) break;
+    if (kept <= 1 || 2 * buffer_start_[kept] <= kWindowSlotsPerTwoRows * rows + 8192) break;
     wanted = (wanted + 1) / 2;
   }
   const std::size_t chunks = row_begin_.size() - 1;
@@ -56,6 +57,10 @@ void PairLoopPartition::plan(std::span<const std::uint32_t> offsets, std::span<c
   }
   force_.resize(buffer_start_.back());
   torque_.resize(buffer_start_.back());
+  if (force_.capacity() > 2 * force_.size() + 4096) {
+    force_.shrink_to_fit();
+    torque_.shrink_to_fit();
+  }
 }
 
 void PairLoopPartition::clear(std::uint32_t chunk) {
