@@ -298,8 +298,9 @@ int run(const Options& o) {
   const double setupSeconds = std::chrono::duration<double>(Clock::now() - setupStart).count();
 
   const auto& report = world.timeStepReport();
+  const std::string source = o.generate > 0 ? "--generate --sizes " + o.sizes : o.init_file;
   std::printf("DEMLink deposition bench: %zu particles from %s, %llu steps, dt %g s, skin %g m, %u thread(s)\n",
-              world.particles().size(), o.generate > 0 ? ("--generate --sizes " + o.sizes).c_str() : o.init_file.c_str(), static_cast<unsigned long long>(o.steps),
+              world.particles().size(), source.c_str(), static_cast<unsigned long long>(o.steps),
               world.settings().time_step, world.neighbourList().skin(), world.settings().threads);
   std::printf("time step limit %.4g s (%s; Rayleigh %.4g s, contact %.4g s at %g m/s); stages:",
               report.limit, report.limited_by.c_str(), report.rayleigh_time_step, report.contact_duration,

@@ -171,7 +171,8 @@ void NeighbourList::build(const ParticleArrays& particles, std::span<const std::
 
 std::size_t NeighbourList::bytes() const {
   return grid_.bytes() + (offsets_.capacity() + partners_.capacity()) * sizeof(std::uint32_t) +
-         (history_.capacity() + position_at_build_.capacity()) * sizeof(Vec3) + reduced_.capacity() * sizeof(ReducedPair);
+         (history_.capacity() + position_at_build_.capacity()) * sizeof(Vec3) +
+         reduced_.capacity() * sizeof(ReducedPair);
 }
 
 template <>

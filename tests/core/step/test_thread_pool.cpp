@@ -58,7 +58,9 @@ TEST(ThreadPool, ChunkOrderedReductionIsIndependentOfThreadCount) {
   // (a sum in thread order would differ in the last bits: the terms span 1e-9..1e9).
   const std::size_t n = 200000;
   std::vector<double> terms(n);
-  for (std::size_t i = 0; i < n; ++i) terms[i] = std::pow(10.0, static_cast<double>(i % 19) - 9.0) * (1.0 + 1e-3 * static_cast<double>(i));
+  for (std::size_t i = 0; i < n; ++i) {
+    terms[i] = std::pow(10.0, static_cast<double>(i % 19) - 9.0) * (1.0 + 1e-3 * static_cast<double>(i));
+  }
   const auto total = [&](ThreadPool* pool) {
     const std::uint32_t chunks = chunkCount(n);
     std::vector<double> partial(chunks, 0.0);
