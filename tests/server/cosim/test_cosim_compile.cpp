@@ -200,7 +200,7 @@ TEST(CosimCompile, ReportSaysWhichThreadCountAutoPicked) {
   ScratchDir dir;
   CosimHarness h(dir.path());
   h.hello(1);
-  h.declare(1, boxJson(1e-5, 0.0, R"("threads": 0, "coupling": {"expected_count": 2})"));
+  h.declare(1, boxJson(1e-5, 1e-3, R"("threads": 0, "coupling": {"expected_count": 2})"));
   h.declare(1, smallBedJson()[0]);
   const std::optional<v1::Compiled> c = h.compiled(1);
   ASSERT_TRUE(c);
