@@ -4,6 +4,21 @@
 ///
 ///   demlink-bench-deposition init_N.txt [--steps S] [--thermo K] [--threads T] [--dt DT]
 ///                            [--skin M] [--vmax V]
+///   demlink-bench-deposition --generate N [--sizes mono|ratio10|cont5] [...]
+///
+/// --generate N builds the bed in memory instead (for the size-distribution and
+/// large-N benchmarks): N spheres placed at random without overlap (biggest first)
+/// in a square box, at a solid fraction of 0.25, with random velocities of up to
+/// 0.5 m/s per component, so they collide while they settle. The box side is 0.1 m
+/// up to 5,000 spheres and grows as N^(1/3) beyond. Radii (--sizes): mono, all 2 mm;
+/// ratio10, one sphere in 20 of 5 mm, the others 0.5 mm (1:10); cont5, uniform in
+/// [1, 5] mm (1:5). The skin is then the engine's default (half the smallest
+/// radius) unless --skin is given, dt defaults to 2e-6 s, and the watchdog warns
+/// instead of stopping (soft small spheres squeezed under large ones overlap deeply).
+///
+/// The summary reports bytes per particle (particle columns, neighbour list and grid,
+/// pair-loop buffers) and how the thread pool ran (loops offered to the workers, loops
+/// run on the caller alone because threading did not pay).
 ///
 /// Scene (identical to in.deposition): spheres read from init_N.txt (id x y z r,
 /// written by bench/deposition/make_particles.py), one material (rho 2500, E 5e6, nu 0.3, e 0.5,
@@ -17,11 +32,16 @@
 /// --threads T is given.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
 #include <fstream>
+#include <functional>
+#include <numbers>
+#include <random>
+#include <unordered_map>
 #include <limits>
 #include <optional>
 #include <sstream>
@@ -43,6 +63,10 @@ constexpr double kBox = 0.1;  // [m] side of the square box (make_particles.py's
 
 struct Options {
   std::string init_file;
+  std::size_t generate = 0;
+  std::string sizes = "mono";
+  bool skin_given = false;
+  bool dt_given = false;
   std::uint64_t steps = 50000;
   std::uint64_t thermo = 5000;
   double time_step = 1.0e-5;
@@ -56,27 +80,103 @@ struct Options {
 std::optional<int> parseOptions(int argc, char** argv, Options& o) {
   CLI::App app("The deposition benchmark scene on DEMLink's engine, side by side with LIGGGHTS.",
                "demlink-bench-deposition");
-  app.add_option("init_file", o.init_file, "particles, 'id x y z r' per line (bench/deposition/make_particles.py); "
-                                           "'#' lines are comments")
-      ->required()
-      ->type_name("init_N.txt");
+  auto* init = app.add_option("init_file", o.init_file,
+                               "particles, 'id x y z r' per line (bench/deposition/make_particles.py); "
+                               "'#' lines are comments")
+                    ->type_name("init_N.txt");
+  auto* generate = cli::addWholeNumber<std::size_t>(app, "--generate", o.generate, 1, 100000000,
+                                                    "build a random bed of N spheres instead of reading a file");
+  init->excludes(generate);
+  app.add_option("--sizes", o.sizes, "radii of --generate: mono (2 mm), ratio10 (5 % of 5 mm, 0.5 mm), "
+                                     "cont5 (uniform 1-5 mm)")
+      ->check(CLI::IsMember({"mono", "ratio10", "cont5"}));
   cli::addWholeNumber<std::uint64_t>(app, "--steps", o.steps, 0, std::numeric_limits<std::uint64_t>::max(),
                                      "time steps to run (default 50000)");
   cli::addWholeNumber<std::uint64_t>(app, "--thermo", o.thermo, 0, std::numeric_limits<std::uint64_t>::max(),
                                      "thermo line every K steps (default 5000; 0 = only first and last)");
   cli::addWholeNumber<std::uint32_t>(app, "--threads", o.threads, 1, 1024,
                                      "engine threads (SimulationSettings::threads; default 1)");
-  cli::addNumber(app, "--dt", o.time_step, {0.0, true}, "time step [s] (default 1e-5, as the LIGGGHTS input)");
-  cli::addNumber(app, "--skin", o.skin, {0.0}, "neighbour skin [m] (default 1e-3, as `neighbor 0.001`)");
+  auto* dt = cli::addNumber(app, "--dt", o.time_step, {0.0, true},
+                            "time step [s] (default 1e-5, as the LIGGGHTS input; 2e-6 with --generate)");
+  auto* skin = cli::addNumber(app, "--skin", o.skin, {0.0}, "neighbour skin [m] (default 1e-3, as `neighbor 0.001`)");
   cli::addNumber(app, "--vmax", o.max_impact_velocity, {0.0, true},
                  "max_impact_velocity for the time-step check [m/s] (default 6)");
-  return cli::parse(app, argc, argv);
+  if (const std::optional<int> exitCode = cli::parse(app, argc, argv)) return exitCode;
+  if (o.init_file.empty() && o.generate == 0) {
+    std::fprintf(stderr, "give init_N.txt or --generate N\n");
+    return 2;
+  }
+  o.skin_given = skin->count() > 0;
+  o.dt_given = dt->count() > 0;
+  return std::nullopt;
 }
 
 struct InitParticle {
   Vec3 position;
   double radius;
+  Vec3 velocity = Vec3::Zero();
 };
+
+/// Box side [m] of a generated bed of n spheres: 0.1 m up to 5,000, then growing as
+/// n^(1/3) so the column keeps its aspect.
+double generatedBoxSide(std::size_t n) { return kBox * std::max(1.0, std::cbrt(static_cast<double>(n) / 5000.0)); }
+
+/// The --generate bed (see the file comment): random sequential placement without
+/// overlap, biggest spheres first, found through a hash of cells of the largest diameter.
+std::vector<InitParticle> generateBed(std::size_t n, const std::string& sizes, double box) {
+  std::mt19937_64 rng(20261124);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<double> radii(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    if (sizes == "ratio10") {
+      radii[k] = k % 20 == 0 ? 5.0e-3 : 0.5e-3;
+    } else if (sizes == "cont5") {
+      radii[k] = 1.0e-3 + 4.0e-3 * u(rng);
+    } else {
+      radii[k] = 2.0e-3;
+    }
+  }
+  std::sort(radii.begin(), radii.end(), std::greater<>());
+  double volume = 0.0;
+  for (const double r : radii) volume += 4.0 / 3.0 * std::numbers::pi * r * r * r;
+  const double height = volume / (0.25 * box * box);
+  const double cell = 2.0 * radii.front();
+  const auto keyOf = [&](const Vec3& x) {
+    const auto c = [&](double v) { return static_cast<std::uint64_t>(std::max(0.0, std::floor(v / cell)) + 1.0); };
+    return (c(x.z()) << 40) | (c(x.y()) << 20) | c(x.x());
+  };
+  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> cells;
+  std::vector<InitParticle> out;
+  out.reserve(n);
+  for (const double r : radii) {
+    for (;;) {
+      const Vec3 x(r + (box - 2.0 * r) * u(rng), r + (box - 2.0 * r) * u(rng), r + (height - 2.0 * r) * u(rng));
+      bool free = true;
+      const std::uint64_t key = keyOf(x);
+      for (std::uint64_t dz = 0; dz < 3 && free; ++dz) {
+        for (std::uint64_t dy = 0; dy < 3 && free; ++dy) {
+          for (std::uint64_t dx = 0; dx < 3 && free; ++dx) {
+            const auto it = cells.find(key + (dz << 40) + (dy << 20) + dx - (1ull << 40) - (1ull << 20) - 1);
+            if (it == cells.end()) continue;
+            for (const std::uint32_t j : it->second) {
+              const double reach = r + out[j].radius;
+              if ((out[j].position - x).squaredNorm() < reach * reach) {
+                free = false;
+                break;
+              }
+            }
+          }
+        }
+      }
+      if (!free) continue;
+      cells[key].push_back(static_cast<std::uint32_t>(out.size()));
+      const Vec3 v = (Vec3(u(rng), u(rng), u(rng)) - Vec3::Constant(0.5)) * 1.0;
+      out.push_back({x, r, v});
+      break;
+    }
+  }
+  return out;
+}
 
 std::vector<InitParticle> readInit(const std::string& path) {
   std::ifstream in(path);
@@ -108,7 +208,7 @@ struct Thermo {
   std::size_t outside = 0;        ///< centres outside the box walls or below the floor
 };
 
-Thermo measure(const World& world) {
+Thermo measure(const World& world, double box) {
   const auto& p = world.particles();
   Thermo t;
   t.max_z = p.size() > 0 ? p.position[0].z() : 0.0;
@@ -119,7 +219,7 @@ Thermo measure(const World& world) {
     t.ke_rotational += 0.5 / p.inv_inertia[i] * p.angular_velocity[i].squaredNorm();
     t.max_z = std::max(t.max_z, x.z());
     sumZ += x.z();
-    if (x.x() < 0.0 || x.x() > kBox || x.y() < 0.0 || x.y() > kBox || x.z() < 0.0) ++t.outside;
+    if (x.x() < 0.0 || x.x() > box || x.y() < 0.0 || x.y() > box || x.z() < 0.0) ++t.outside;
   }
   t.mean_z = p.size() > 0 ? sumZ / static_cast<double>(p.size()) : 0.0;
   return t;
@@ -130,8 +230,8 @@ void printThermoHeader() {
               "MeanZ", "Wall", "Outside");
 }
 
-void printThermo(const World& world, double wallSeconds) {
-  const Thermo t = measure(world);
+void printThermo(const World& world, double box, double wallSeconds) {
+  const Thermo t = measure(world, box);
   std::printf("%10llu %12.6g %8zu %14.8g %14.8g %12.8g %12.8g %10.3f %8zu\n",
               static_cast<unsigned long long>(world.stepCount()), world.time(), world.particles().size(),
               t.ke_translational, t.ke_rotational, t.max_z, t.mean_z, wallSeconds, t.outside);
@@ -141,17 +241,21 @@ void printThermo(const World& world, double wallSeconds) {
 int run(const Options& o) {
   using Clock = std::chrono::steady_clock;
   const auto setupStart = Clock::now();
-  const std::vector<InitParticle> init = readInit(o.init_file);
+  const double box = o.generate > 0 ? generatedBoxSide(o.generate) : kBox;
+  const std::vector<InitParticle> init = o.generate > 0 ? generateBed(o.generate, o.sizes, box) : readInit(o.init_file);
 
   demlink::core::SimulationSettings settings;
-  settings.time_step = o.time_step;
+  settings.time_step = o.generate > 0 && !o.dt_given ? 2.0e-6 : o.time_step;
   settings.gravity = Vec3(0.0, 0.0, -9.81);
   settings.contact_model = demlink::core::ContactModel::HertzMindlin;
   settings.integrator = demlink::core::IntegratorKind::VelocityVerlet;
-  settings.neighbour_skin = o.skin;
+  settings.neighbour_skin = o.generate > 0 && !o.skin_given ? 0.0 : o.skin;
   settings.max_impact_velocity = o.max_impact_velocity;
   settings.allow_unsafe_time_step = false;
   settings.threads = o.threads;
+  // Generated beds are for timing: soft spheres of 1:10 squeezed under large ones may
+  // overlap beyond the watchdog's 0.5 of the smaller radius; warn instead of stopping.
+  if (o.generate > 0) settings.watchdog.policy = demlink::core::GuardPolicy::Warn;
   World world(settings);
 
   demlink::core::Material material;
@@ -168,6 +272,7 @@ int run(const Options& o) {
     demlink::core::ParticleSpec spec;
     spec.position = init[k].position;
     spec.radius = init[k].radius;
+    spec.velocity = init[k].velocity;
     spec.material = mat;
     world.addParticle(spec, "particles[" + std::to_string(k) + "]");
   }
@@ -178,8 +283,8 @@ int run(const Options& o) {
   };
   const PlaneDef planes[] = {
       {"floor", Vec3(0.0, 0.0, 0.0), Vec3(0.0, 0.0, 1.0)},  {"x0", Vec3(0.0, 0.0, 0.0), Vec3(1.0, 0.0, 0.0)},
-      {"x1", Vec3(kBox, 0.0, 0.0), Vec3(-1.0, 0.0, 0.0)},   {"y0", Vec3(0.0, 0.0, 0.0), Vec3(0.0, 1.0, 0.0)},
-      {"y1", Vec3(0.0, kBox, 0.0), Vec3(0.0, -1.0, 0.0)},
+      {"x1", Vec3(box, 0.0, 0.0), Vec3(-1.0, 0.0, 0.0)},    {"y0", Vec3(0.0, 0.0, 0.0), Vec3(0.0, 1.0, 0.0)},
+      {"y1", Vec3(0.0, box, 0.0), Vec3(0.0, -1.0, 0.0)},
   };
   for (const PlaneDef& def : planes) {
     demlink::core::PlaneSpec plane;
@@ -193,8 +298,9 @@ int run(const Options& o) {
   const double setupSeconds = std::chrono::duration<double>(Clock::now() - setupStart).count();
 
   const auto& report = world.timeStepReport();
+  const std::string source = o.generate > 0 ? "--generate --sizes " + o.sizes : o.init_file;
   std::printf("DEMLink deposition bench: %zu particles from %s, %llu steps, dt %g s, skin %g m, %u thread(s)\n",
-              world.particles().size(), o.init_file.c_str(), static_cast<unsigned long long>(o.steps),
+              world.particles().size(), source.c_str(), static_cast<unsigned long long>(o.steps),
               world.settings().time_step, world.neighbourList().skin(), world.settings().threads);
   std::printf("time step limit %.4g s (%s; Rayleigh %.4g s, contact %.4g s at %g m/s); stages:",
               report.limit, report.limited_by.c_str(), report.rayleigh_time_step, report.contact_duration,
@@ -206,16 +312,16 @@ int run(const Options& o) {
 
   const std::uint64_t buildsBefore = world.neighbourList().buildCount();
   const auto loopStart = Clock::now();
-  printThermo(world, 0.0);
+  printThermo(world, box, 0.0);
   for (std::uint64_t s = 1; s <= o.steps; ++s) {
     world.step();
     if ((o.thermo > 0 && s % o.thermo == 0) || s == o.steps) {
-      printThermo(world, std::chrono::duration<double>(Clock::now() - loopStart).count());
+      printThermo(world, box, std::chrono::duration<double>(Clock::now() - loopStart).count());
     }
   }
   const double wall = std::chrono::duration<double>(Clock::now() - loopStart).count();
 
-  const Thermo t = measure(world);
+  const Thermo t = measure(world, box);
   const double n = static_cast<double>(world.particles().size());
   double maxFloorOverlap = 0.0;
   for (std::size_t i = 0; i < world.particles().size(); ++i) {
@@ -258,6 +364,25 @@ int run(const Options& o) {
   std::printf("final_ke %.8g\n", t.ke_translational + t.ke_rotational);
   std::printf("final_outside_box %zu\n", t.outside);
   std::printf("final_max_floor_overlap %.6g\n", maxFloorOverlap);
+  // Memory the step keeps per particle (capacities): particle columns, neighbour list
+  // with its grid, pair-loop chunk buffers.
+  std::size_t columnBytes = 0;
+  world.particles().forEachColumn(
+      [&](const char*, const auto& column) { columnBytes += column.capacity() * sizeof(column[0]); });
+  const std::size_t listBytes = world.neighbourList().bytes();
+  const std::size_t pairLoopBytes = world.pairLoopPartition().bytes();
+  std::printf("bytes_per_particle %.1f (columns %.1f, neighbour list and grid %.1f, pair-loop buffers %.1f)\n",
+              static_cast<double>(columnBytes + listBytes + pairLoopBytes) / n, static_cast<double>(columnBytes) / n,
+              static_cast<double>(listBytes) / n, static_cast<double>(pairLoopBytes) / n);
+  std::printf("pair_chunks %u\n", world.pairLoopPartition().chunks());
+  std::printf("grid_levels %zu\n", world.neighbourList().grid().levelCount());
+  std::printf("seconds_per_step %.6e\n", o.steps > 0 ? wall / static_cast<double>(o.steps) : 0.0);
+  if (const demlink::core::ThreadPool* pool = world.threadPool()) {
+    const demlink::core::ThreadPoolStats stats = pool->stats();
+    std::printf("pool_parallel_loops %llu\npool_serial_loops %llu\npool_fallbacks %llu\n",
+                static_cast<unsigned long long>(stats.parallel_runs),
+                static_cast<unsigned long long>(stats.serial_runs), static_cast<unsigned long long>(stats.fallbacks));
+  }
   return 0;
 }
 

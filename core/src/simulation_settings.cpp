@@ -35,7 +35,7 @@ void SimulationSettings::validate(const std::string& fieldPrefix) const {
   if (threads < 1 || threads > maxThreads()) {
     throw InputError(fieldPrefix + ".threads", std::to_string(threads),
                      "must be between 1 and " + std::to_string(maxThreads()) +
-                         " (this machine's hardware threads; 0 in a scene picks them all)");
+                         " (this machine's hardware threads; 0 in a scene picks a count automatically)");
   }
   if (bounds) {
     requireFiniteVector(fieldPrefix + ".bounds.lower", bounds->lower);

@@ -579,7 +579,7 @@ void World::computeForces() {
   if constexpr (kPasses.recording) {
     const std::uint64_t every = contact_output_.every_steps;
     snapshot = every > 0 && (force_weight_ == 0.0 || force_step_ % every == 0);
-    part_records_.resize(parts.parts());
+    part_records_.resize(parts.chunks());
     for (auto& records : part_records_) records.clear();
     if (snapshot) {
       contact_snapshot_.contacts.clear();
@@ -597,8 +597,8 @@ void World::computeForces() {
       }
     }
   }
-  auto partRecords = [&](std::uint32_t part) -> std::vector<ContactRecord>* {
-    return snapshot ? &part_records_[part] : nullptr;
+  auto chunkRecords = [&](std::uint32_t chunk) -> std::vector<ContactRecord>* {
+    return snapshot ? &part_records_[chunk] : nullptr;
   };
   auto recording = [&](ContactKind kind, std::size_t index, std::vector<TriangleLoad>* loads) {
     ContactRecording r;
@@ -609,42 +609,21 @@ void World::computeForces() {
     r.index = index;
     return r;
   };
-  // Clear; pair rows (part 0 into the arrays, other parts into their own
-  // buffers); add the buffers in fixed part order; then planes and meshes, in
-  // order (the passes of stage forces in stage_table.hpp).
+  // Pair chunks, each into its own buffer; then every slot sums the buffers covering
+  // it in chunk order (PairLoopPartition); then planes and meshes, in order (the
+  // passes of stage forces in stage_table.hpp).
   ThreadPool* pool = pool_.get();
-  parallelChunks(pool, p.size(), [&](std::size_t begin, std::size_t end) {
-    std::fill(p.force.begin() + static_cast<std::ptrdiff_t>(begin), p.force.begin() + static_cast<std::ptrdiff_t>(end),
-              Vec3::Zero());
-    std::fill(p.torque.begin() + static_cast<std::ptrdiff_t>(begin),
-              p.torque.begin() + static_cast<std::ptrdiff_t>(end), Vec3::Zero());
+  parallelParts(pool, parts.chunks(), [&](std::uint32_t chunk) {
+    parts.clear(chunk);
+    particleContactRows<Law, kPasses>(p, neighbours_, pair_table_, dt, parts.rowBegin(chunk), parts.rowEnd(chunk),
+                                      parts.force(chunk), parts.torque(chunk), parts.rowBegin(chunk),
+                                      chunkRecords(chunk));
   });
-  parallelParts(pool, parts.parts(), [&](std::uint32_t part) {
-    const std::size_t rowBegin = parts.rowBegin(part);
-    const std::size_t rowEnd = parts.rowEnd(part);
-    if (part == 0) {
-      particleContactRows<Law, kPasses>(p, neighbours_, pair_table_, dt, rowBegin, rowEnd, p.force.data(),
-                                        p.torque.data(), 0, partRecords(part));
-      return;
-    }
-    std::vector<Vec3>& f = parts.force(part);
-    std::vector<Vec3>& t = parts.torque(part);
-    std::fill(f.begin(), f.end(), Vec3::Zero());
-    std::fill(t.begin(), t.end(), Vec3::Zero());
-    particleContactRows<Law, kPasses>(p, neighbours_, pair_table_, dt, rowBegin, rowEnd, f.data(), t.data(),
-                                      rowBegin, partRecords(part));
-  });
-  if (parts.parts() > 1) {
-    parallelChunks(pool, p.size(), [&](std::size_t begin, std::size_t end) {
-      for (std::uint32_t part = 1; part < parts.parts(); ++part) {
-        const std::size_t base = parts.rowBegin(part);
-        for (std::size_t k = std::max(begin, base); k < end; ++k) {
-          p.force[k] += parts.force(part)[k - base];
-          p.torque[k] += parts.torque(part)[k - base];
-        }
-      }
-    });
-  }
+  parallelParts(pool, parts.chunks(), [&](std::uint32_t chunk) { parts.gather(chunk, p.force, p.torque); });
+  // Slots the list has no rows for yet (none between rebuilds, kept for safety).
+  const std::size_t listed = std::min(p.size(), parts.chunks() > 0 ? parts.rowEnd(parts.chunks() - 1) : 0);
+  std::fill(p.force.begin() + static_cast<std::ptrdiff_t>(listed), p.force.end(), Vec3::Zero());
+  std::fill(p.torque.begin() + static_cast<std::ptrdiff_t>(listed), p.torque.end(), Vec3::Zero());
   if (snapshot) {
     for (const auto& records : part_records_) {
       contact_snapshot_.contacts.insert(contact_snapshot_.contacts.end(), records.begin(), records.end());
@@ -798,12 +777,11 @@ void World::rebuildNeighbours() {
   if (every > 0 && neighbours_.buildCount() % every == 0 && particles_.size() > 1) {
     // Cell-ordered slots keep neighbours close in memory for the force loop.
     CellGrid grid;
-    grid.build(particles_.position, 2.0 * *std::max_element(particles_.radius.begin(), particles_.radius.end()) +
-                                        neighbours_.skin());
-    applySlotMapping(grid.sortedSlots());
+    grid.build(particles_.position, particles_.radius, neighbours_.skin());
+    applySlotMapping(grid.spatialOrder(particles_.position));
   }
   neighbours_.build(particles_, pending_new_slot_of_old_, pool_.get(), !clumps_.empty());
-  partition_.plan(neighbours_.offsets(), settings_.threads);
+  partition_.plan(neighbours_.offsets(), neighbours_.partners());
   for (PlaneWall& wall : planes_) wall.buildNearList(particles_, neighbours_.skin(), pending_new_slot_of_old_);
   for (std::size_t m = 0; m < meshes_.size(); ++m) {
     if (mesh_colliding_[m] != 0) {

@@ -1,61 +1,161 @@
 #include "demlink/core/particles/cell_grid.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <utility>
 
 namespace demlink::core {
+namespace {
 
-void CellGrid::build(std::span<const Vec3> positions, double minCellSize) {
-  const std::size_t n = positions.size();
-  Vec3 lo = Vec3::Constant(0.0);
-  Vec3 hi = Vec3::Constant(0.0);
-  if (n > 0) {
-    lo = hi = positions[0];
-    for (const Vec3& x : positions) {
-      lo = lo.cwiseMin(x);
-      hi = hi.cwiseMax(x);
-    }
+/// Median of one coordinate (robust to a few far particles, unlike the bounding box).
+double medianOf(std::span<const Vec3> positions, int axis) {
+  std::vector<double> values;
+  values.reserve(positions.size());
+  for (const Vec3& x : positions) {
+    if (std::isfinite(x[axis])) values.push_back(x[axis]);
   }
-  origin_ = lo;
-  cell_size_ = minCellSize;
-  const double maxCells = 4.0 * static_cast<double>(n) + 64.0;
-  // Cell counts are found in double precision first: particles spread over an absurd
-  // extent (found by fuzzing: a lattice spacing of 1e175 m) must grow the cells, not
-  // overflow the integer conversion. An extent that is not even finite as a double
-  // gets one cell along that axis (every particle clamps into it: slow but correct).
-  std::array<double, 3> counts{};
-  for (;;) {
-    for (int d = 0; d < 3; ++d) {
-      const double extent = hi[d] - lo[d];
-      counts[d] = std::isfinite(extent) ? std::floor(extent / cell_size_) + 1.0 : 1.0;
-    }
-    if (counts[0] * counts[1] * counts[2] <= maxCells) break;
-    cell_size_ *= 1.5;
-  }
-  for (int d = 0; d < 3; ++d) dims_[d] = static_cast<std::int64_t>(counts[d]);
-  const std::size_t cells = static_cast<std::size_t>(dims_[0] * dims_[1] * dims_[2]);
-  cell_start_.assign(cells + 1, 0);
-  cell_of_slot_.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const auto c = cellCoords(positions[i]);
-    cell_of_slot_[i] = static_cast<std::uint32_t>(cellIndex(c[0], c[1], c[2]));
-    ++cell_start_[cell_of_slot_[i] + 1];
-  }
-  for (std::size_t c = 0; c < cells; ++c) cell_start_[c + 1] += cell_start_[c];
-  sorted_slots_.resize(n);
-  std::vector<std::uint32_t> fill(cell_start_.begin(), cell_start_.end() - 1);
-  for (std::size_t i = 0; i < n; ++i) sorted_slots_[fill[cell_of_slot_[i]]++] = static_cast<std::uint32_t>(i);
+  if (values.empty()) return 0.0;
+  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), middle, values.end());
+  return *middle;
 }
 
-std::array<std::int64_t, 3> CellGrid::cellCoords(const Vec3& x) const {
+struct KeyedSlot {
+  std::uint64_t key;
+  std::uint32_t slot;
+  bool operator<(const KeyedSlot& other) const {
+    return key != other.key ? key < other.key : slot < other.slot;
+  }
+};
+
+}  // namespace
+
+std::array<std::int64_t, 3> CellGrid::coords(const Level& l, const Vec3& x) const {
+  constexpr double kHalf = static_cast<double>(kCoordLimit / 2);
   std::array<std::int64_t, 3> c{};
   for (int d = 0; d < 3; ++d) {
-    // Clamped in double before the conversion (an out-of-range double -> int64 is UB).
-    const double k = std::floor((x[d] - origin_[d]) / cell_size_);
-    const auto last = static_cast<double>(dims_[d] - 1);
-    c[d] = !(k > 0.0) ? 0 : static_cast<std::int64_t>(std::min(k, last));
+    // Saturated in double before the conversion (an out-of-range double -> int64 is UB;
+    // NaN lands in the lowest cell).
+    const double k = std::floor((x[d] - origin_[d]) * l.inv_cell_size);
+    c[d] = !(k > -kHalf) ? 0 : (k >= kHalf - 1.0 ? kCoordLimit - 1 : static_cast<std::int64_t>(k + kHalf));
   }
   return c;
+}
+
+void CellGrid::build(std::span<const Vec3> positions, std::span<const double> radii, double skin) {
+  const std::size_t n = positions.size();
+  origin_ = Vec3(medianOf(positions, 0), medianOf(positions, 1), medianOf(positions, 2));
+  double smallest = 0.0;
+  for (const double r : radii) {
+    if (r > 0.0 && std::isfinite(r)) smallest = smallest > 0.0 ? std::min(smallest, r) : r;
+  }
+  // Radius class of every slot; radii that are not positive and finite join the smallest.
+  std::array<double, kMaxLevels> largest{};
+  std::array<std::uint32_t, kMaxLevels> members{};
+  std::vector<std::uint8_t> classOf(n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double r = radii[i];
+    int k = 0;
+    if (smallest > 0.0 && r > smallest && std::isfinite(r)) {
+      k = std::min(kMaxLevels - 1, static_cast<int>(std::floor(std::log2(r / smallest))));
+    }
+    classOf[i] = static_cast<std::uint8_t>(k);
+    if (std::isfinite(r)) largest[k] = std::max(largest[k], r);
+    ++members[k];
+  }
+  std::array<std::uint8_t, kMaxLevels> levelOfClass{};
+  levels_.clear();
+  for (int k = 0; k < kMaxLevels; ++k) {
+    if (members[k] == 0) continue;
+    levelOfClass[k] = static_cast<std::uint8_t>(levels_.size());
+    Level& l = levels_.emplace_back();
+    const double edge = 2.0 * largest[k] + skin;
+    l.cell_size = edge > 0.0 && std::isfinite(edge) ? edge : 1.0;
+    l.inv_cell_size = 1.0 / l.cell_size;
+  }
+  level_of_slot_.resize(n);
+  std::vector<std::vector<std::uint32_t>> slotsOf(levels_.size());
+  for (std::size_t i = 0; i < n; ++i) {
+    level_of_slot_[i] = levelOfClass[classOf[i]];
+    slotsOf[level_of_slot_[i]].push_back(static_cast<std::uint32_t>(i));
+  }
+  for (std::size_t level = 0; level < levels_.size(); ++level) buildLevel(levels_[level], positions, slotsOf[level]);
+}
+
+void CellGrid::buildLevel(Level& l, std::span<const Vec3> positions, std::span<const std::uint32_t> members) {
+  std::vector<KeyedSlot> keyed(members.size());
+  for (std::size_t k = 0; k < members.size(); ++k) {
+    const auto c = coords(l, positions[members[k]]);
+    keyed[k] = {pack(c[0], c[1], c[2]), members[k]};
+  }
+  std::sort(keyed.begin(), keyed.end());
+  l.keys.clear();
+  l.start.clear();
+  l.slots.resize(keyed.size());
+  l.lowest = {kCoordLimit, kCoordLimit, kCoordLimit};
+  l.highest = {-1, -1, -1};
+  for (std::size_t k = 0; k < keyed.size(); ++k) {
+    l.slots[k] = keyed[k].slot;
+    if (k > 0 && keyed[k].key == keyed[k - 1].key) continue;
+    l.keys.push_back(keyed[k].key);
+    l.start.push_back(static_cast<std::uint32_t>(k));
+    const auto c = unpack(keyed[k].key);
+    for (int d = 0; d < 3; ++d) {
+      l.lowest[d] = std::min(l.lowest[d], c[d]);
+      l.highest[d] = std::max(l.highest[d], c[d]);
+    }
+  }
+  l.start.push_back(static_cast<std::uint32_t>(keyed.size()));
+  // At most half full: short probe sequences.
+  const std::size_t size = std::bit_ceil(std::max<std::size_t>(2, 2 * l.keys.size()));
+  l.mask = size - 1;
+  l.table.assign(size, kNoCell);
+  for (std::uint32_t cell = 0; cell < l.keys.size(); ++cell) {
+    std::uint64_t h = hash(l.keys[cell]) & l.mask;
+    while (l.table[h] != kNoCell) h = (h + 1) & l.mask;
+    l.table[h] = cell;
+  }
+}
+
+std::vector<std::uint32_t> CellGrid::spatialOrder(std::span<const Vec3> positions) const {
+  std::vector<std::uint32_t> order;
+  if (levels_.empty()) return order;
+  // Cells of the largest level (2 r_max + skin) from the particles' lowest corner, by
+  // division: the order the dense grid gave, so a scene's slot order, and with it its
+  // trajectory's bits, did not change with the sparse grid. Far outliers below the rest
+  // move the corner no further than 2^20 cells from the median (they share the border).
+  const double cell = levels_.back().cell_size;
+  constexpr double kHalf = static_cast<double>(kCoordLimit / 2);
+  Vec3 lo = origin_;
+  for (const Vec3& x : positions) {
+    for (int d = 0; d < 3; ++d) {
+      if (std::isfinite(x[d])) lo[d] = std::min(lo[d], x[d]);
+    }
+  }
+  for (int d = 0; d < 3; ++d) lo[d] = std::max(lo[d], origin_[d] - kHalf * cell);
+  std::vector<KeyedSlot> keyed(positions.size());
+  for (std::size_t i = 0; i < positions.size(); ++i) {
+    std::array<std::int64_t, 3> c{};
+    for (int d = 0; d < 3; ++d) {
+      const double k = std::floor((positions[i][d] - lo[d]) / cell);
+      c[d] = !(k > 0.0) ? 0 : (k >= 2.0 * kHalf - 1.0 ? kCoordLimit - 1 : static_cast<std::int64_t>(k));
+    }
+    keyed[i] = {pack(c[0], c[1], c[2]), static_cast<std::uint32_t>(i)};
+  }
+  std::sort(keyed.begin(), keyed.end());
+  order.reserve(keyed.size());
+  for (const KeyedSlot& k : keyed) order.push_back(k.slot);
+  return order;
+}
+
+std::size_t CellGrid::bytes() const {
+  std::size_t total = levels_.capacity() * sizeof(Level) + level_of_slot_.capacity();
+  for (const Level& l : levels_) {
+    total += l.keys.capacity() * sizeof(std::uint64_t) +
+             (l.start.capacity() + l.slots.capacity() + l.table.capacity()) * sizeof(std::uint32_t);
+  }
+  return total;
 }
 
 }  // namespace demlink::core

@@ -11,14 +11,13 @@ namespace demlink::core {
 bool NeighbourList::needsRebuild(std::span<const Vec3> positions, ThreadPool* pool) const {
   if (positions.size() != position_at_build_.size()) return true;
   const double limit2 = 0.25 * skin_ * skin_;
-  const std::uint32_t parts = pool != nullptr ? pool->size() : 1;
-  std::vector<char> moved(parts, 0);
-  parallelParts(pool, parts, [&](std::uint32_t part) {
-    const std::size_t begin = positions.size() * part / parts;
-    const std::size_t end = positions.size() * (part + 1) / parts;
-    for (std::size_t i = begin; i < end; ++i) {
+  const std::size_t n = positions.size();
+  const std::uint32_t chunks = chunkCount(n);
+  std::vector<char> moved(chunks, 0);
+  parallelParts(pool, chunks, [&](std::uint32_t chunk) {
+    for (std::size_t i = chunkBegin(n, chunks, chunk); i < chunkBegin(n, chunks, chunk + 1); ++i) {
       if ((positions[i] - position_at_build_[i]).squaredNorm() > limit2) {
-        moved[part] = 1;
+        moved[chunk] = 1;
         return;
       }
     }
@@ -28,35 +27,43 @@ bool NeighbourList::needsRebuild(std::span<const Vec3> positions, ThreadPool* po
 
 namespace {
 
-/// Appends to `out` the partners j > i of rows [begin, end) and writes each
-/// row's partner count to counts[i]. kClumps: skip partners of the same clump.
+/// A pair found from its higher slot: it belongs to row `row` (< partner).
+struct ForeignPair {
+  std::uint32_t row;
+  std::uint32_t partner;
+  bool operator<(const ForeignPair& other) const {
+    return row != other.row ? row < other.row : partner < other.partner;
+  }
+};
+
+/// Searches the pairs of rows [begin, end): particle i looks in its own level for
+/// partners j > i and in every larger level for all partners (pairs of two levels
+/// are found from the smaller particle only, see CellGrid). Partners j > i go to
+/// `out` (row by row, ascending; counts[i] per row), the others to `foreign`.
+/// kClumps: skip partners of the same clump.
 template <bool kClumps>
 void findPartners(const CellGrid& grid, std::span<const Vec3> x, std::span<const double> r,
                   std::span<const std::uint64_t> clump, double skin, std::size_t begin, std::size_t end,
-                  std::vector<std::uint32_t>& out, std::vector<std::uint32_t>& counts) {
-  const auto& dims = grid.dims();
+                  std::vector<std::uint32_t>& out, std::vector<std::uint32_t>& counts,
+                  std::vector<ForeignPair>& foreign) {
   for (std::size_t i = begin; i < end; ++i) {
     const std::size_t rowStart = out.size();
-    const auto c = grid.cellCoords(x[i]);
-    for (std::int64_t dz = -1; dz <= 1; ++dz) {
-      const std::int64_t iz = c[2] + dz;
-      if (iz < 0 || iz >= dims[2]) continue;
-      for (std::int64_t dy = -1; dy <= 1; ++dy) {
-        const std::int64_t iy = c[1] + dy;
-        if (iy < 0 || iy >= dims[1]) continue;
-        for (std::int64_t dx = -1; dx <= 1; ++dx) {
-          const std::int64_t ix = c[0] + dx;
-          if (ix < 0 || ix >= dims[0]) continue;
-          for (const std::uint32_t j : grid.cell(grid.cellIndex(ix, iy, iz))) {
-            if (j <= i) continue;
-            if constexpr (kClumps) {
-              if (clump[i] != 0 && clump[i] == clump[j]) continue;
-            }
-            const double cutoff = r[i] + r[j] + skin;
-            if ((x[j] - x[i]).squaredNorm() < cutoff * cutoff) out.push_back(j);
-          }
+    const std::uint32_t own = grid.levelOfSlot(i);
+    const auto self = static_cast<std::uint32_t>(i);
+    for (std::size_t level = own; level < grid.levelCount(); ++level) {
+      grid.forEachNear(level, x[i], [&](std::uint32_t j) {
+        if (level == own && j <= self) return;
+        if constexpr (kClumps) {
+          if (clump[i] != 0 && clump[i] == clump[j]) return;
         }
-      }
+        const double cutoff = r[i] + r[j] + skin;
+        if ((x[j] - x[i]).squaredNorm() >= cutoff * cutoff) return;
+        if (j > self) {
+          out.push_back(j);
+        } else {
+          foreign.push_back({j, self});
+        }
+      });
     }
     // Ascending partners: deterministic order independent of cell traversal.
     std::sort(out.begin() + static_cast<std::ptrdiff_t>(rowStart), out.end());
@@ -71,8 +78,7 @@ void NeighbourList::build(const ParticleArrays& particles, std::span<const std::
   const std::size_t n = particles.size();
   const std::span<const Vec3> x = particles.position;
   const std::span<const double> r = particles.radius;
-  const double maxRadius = n > 0 ? *std::max_element(r.begin(), r.end()) : 0.0;
-  grid_.build(x, 2.0 * maxRadius + skin_);
+  grid_.build(x, r, skin_);
 
   std::vector<std::uint32_t> oldOffsets;
   std::vector<std::uint32_t> oldPartners;
@@ -81,30 +87,50 @@ void NeighbourList::build(const ParticleArrays& particles, std::span<const std::
   oldPartners.swap(partners_);
   oldHistory.swap(history_);
 
-  // Rows are independent: each part finds its rows' partners into its own
-  // buffer; the buffers are then laid end to end in part order.
-  const std::uint32_t parts = pool != nullptr ? pool->size() : 1;
+  // Rows are independent: each chunk finds its rows' partners into its own
+  // buffer; the buffers are then laid end to end in chunk order.
+  // Rows per chunk: a row's search costs ~27 cells, far more than a kick.
+  const std::uint32_t parts = chunkCount(n, 512);
   std::vector<std::vector<std::uint32_t>> found(parts);
+  std::vector<std::vector<ForeignPair>> foreignOf(parts);
   std::vector<std::uint32_t> counts(n);
   parallelParts(pool, parts, [&](std::uint32_t part) {
     found[part].reserve(oldPartners.size() / parts + 16);
-    const std::size_t begin = n * part / parts;
-    const std::size_t end = n * (part + 1) / parts;
+    const std::size_t begin = chunkBegin(n, parts, part);
+    const std::size_t end = chunkBegin(n, parts, part + 1);
     if (excludeSameClump) {
-      findPartners<true>(grid_, x, r, particles.clump_id, skin_, begin, end, found[part], counts);
+      findPartners<true>(grid_, x, r, particles.clump_id, skin_, begin, end, found[part], counts, foreignOf[part]);
     } else {
-      findPartners<false>(grid_, x, r, particles.clump_id, skin_, begin, end, found[part], counts);
+      findPartners<false>(grid_, x, r, particles.clump_id, skin_, begin, end, found[part], counts, foreignOf[part]);
     }
   });
+  // Pairs found from their higher slot (a smaller particle before a larger one),
+  // sorted by row: foreignStart[i] .. foreignStart[i+1] are row i's.
+  std::vector<ForeignPair> foreign;
+  for (const auto& list : foreignOf) foreign.insert(foreign.end(), list.begin(), list.end());
+  std::sort(foreign.begin(), foreign.end());
+  std::vector<std::uint32_t> foreignStart(n + 1, 0);
+  for (const ForeignPair& pair : foreign) ++foreignStart[pair.row + 1];
+  for (std::size_t i = 0; i < n; ++i) foreignStart[i + 1] += foreignStart[i];
   offsets_.assign(n + 1, 0);
-  for (std::size_t i = 0; i < n; ++i) offsets_[i + 1] = offsets_[i] + counts[i];
+  for (std::size_t i = 0; i < n; ++i) {
+    offsets_[i + 1] = offsets_[i] + counts[i] + (foreignStart[i + 1] - foreignStart[i]);
+  }
   partners_.resize(offsets_[n]);
   history_.assign(partners_.size(), Vec3::Zero());
   reduced_.resize(partners_.size());
   parallelParts(pool, parts, [&](std::uint32_t part) {
-    const std::size_t begin = n * part / parts;
-    const std::size_t end = n * (part + 1) / parts;
-    std::copy(found[part].begin(), found[part].end(), partners_.begin() + offsets_[begin]);
+    const std::size_t begin = chunkBegin(n, parts, part);
+    const std::size_t end = chunkBegin(n, parts, part + 1);
+    auto own = found[part].begin();
+    for (std::size_t i = begin; i < end; ++i) {
+      // The row's own partners and its foreign ones, both ascending, merged.
+      auto out = partners_.begin() + offsets_[i];
+      out = std::copy(own, own + counts[i], out);
+      own += counts[i];
+      for (std::uint32_t f = foreignStart[i]; f < foreignStart[i + 1]; ++f) *out++ = foreign[f].partner;
+      std::inplace_merge(partners_.begin() + offsets_[i], partners_.begin() + offsets_[i] + counts[i], out);
+    }
     for (std::size_t i = begin; i < end; ++i) {
       for (std::uint32_t k = offsets_[i]; k < offsets_[i + 1]; ++k) {
         const std::uint32_t j = partners_[k];
@@ -116,8 +142,9 @@ void NeighbourList::build(const ParticleArrays& particles, std::span<const std::
   // Carry the history of pairs that were touching (non-zero spring) over. Each
   // new pair has at most one old pair, so parts write disjoint entries.
   const std::size_t oldCount = oldOffsets.empty() ? 0 : oldOffsets.size() - 1;
-  parallelParts(pool, parts, [&](std::uint32_t part) {
-    for (std::size_t oi = oldCount * part / parts; oi < oldCount * (part + 1) / parts; ++oi) {
+  const std::uint32_t oldChunks = chunkCount(oldCount);
+  parallelParts(pool, oldChunks, [&](std::uint32_t part) {
+    for (std::size_t oi = chunkBegin(oldCount, oldChunks, part); oi < chunkBegin(oldCount, oldChunks, part + 1); ++oi) {
       const std::uint32_t a0 = newSlotOfOld.empty() ? static_cast<std::uint32_t>(oi) : newSlotOfOld[oi];
       if (a0 == kRemovedSlot) continue;
       for (std::uint32_t k = oldOffsets[oi]; k < oldOffsets[oi + 1]; ++k) {
@@ -140,6 +167,12 @@ void NeighbourList::build(const ParticleArrays& particles, std::span<const std::
   });
   position_at_build_.assign(x.begin(), x.end());
   ++builds_;
+}
+
+std::size_t NeighbourList::bytes() const {
+  return grid_.bytes() + (offsets_.capacity() + partners_.capacity()) * sizeof(std::uint32_t) +
+         (history_.capacity() + position_at_build_.capacity()) * sizeof(Vec3) +
+         reduced_.capacity() * sizeof(ReducedPair);
 }
 
 template <>

@@ -386,7 +386,7 @@ void World::restoreCheckpoint(std::string_view bytes, const std::string& source)
   state_.removed_at_bounds = clock.removed;
   rebuild_pending_ = clock.rebuild_pending;
   pending_new_slot_of_old_ = clock.pending;
-  partition_.plan(neighbours_.offsets(), settings_.threads);
+  partition_.plan(neighbours_.offsets(), neighbours_.partners());
 }
 
 std::string readCheckpointBytes(const std::filesystem::path& path) {

@@ -3,25 +3,95 @@
 #include <algorithm>
 
 namespace demlink::core {
+namespace {
 
-void PairLoopPartition::plan(std::span<const std::uint32_t> offsets, std::uint32_t parts) {
+/// The chunk windows together may hold 3/2 slots per row (plus a constant): with force
+/// and torque that is at most ~72 bytes per particle.
+constexpr std::size_t kWindowSlotsPerTwoRows = 3;
+constexpr std::size_t kMaxChunksPlanned = 4096;
+
+}  // namespace
+
+void PairLoopPartition::plan(std::span<const std::uint32_t> offsets, std::span<const std::uint32_t> partners) {
   const std::size_t rows = offsets.empty() ? 0 : offsets.size() - 1;
   const std::uint64_t pairs = offsets.empty() ? 0 : offsets.back();
-  parts = std::max<std::uint32_t>(1, parts);
-  row_begin_.assign(parts + 1, rows);
-  row_begin_[0] = 0;
-  for (std::uint32_t t = 1; t < parts; ++t) {
-    // First row whose pair offset reaches t/parts of all pairs.
-    const std::uint64_t target = pairs * t / parts;
-    const auto it = std::lower_bound(offsets.begin(), offsets.begin() + static_cast<std::ptrdiff_t>(rows), target);
-    row_begin_[t] = std::max(row_begin_[t - 1], static_cast<std::size_t>(it - offsets.begin()));
+  // About kPairsPerChunk pairs per chunk, but at least 16 chunks of >= 64 rows, so a
+  // small scene still has chunks to share; fewer when the windows grow too wide.
+  std::size_t wanted = std::max<std::size_t>(static_cast<std::size_t>(pairs / kPairsPerChunk),
+                                             std::min<std::size_t>(16, rows / 64));
+  wanted = std::clamp<std::size_t>(wanted, 1, kMaxChunksPlanned);
+  for (;;) {
+    const std::size_t chunks = rows == 0 ? 0 : wanted;
+    row_begin_.assign(chunks + 1, rows);
+    row_begin_[0] = 0;
+    for (std::size_t c = 1; c < chunks; ++c) {
+      // First row whose pair offset reaches c/chunks of all pairs.
+      const std::uint64_t target = pairs * c / chunks;
+      const auto it = std::lower_bound(offsets.begin(), offsets.begin() + static_cast<std::ptrdiff_t>(rows), target);
+      row_begin_[c] = std::max(row_begin_[c - 1], static_cast<std::size_t>(it - offsets.begin()));
+    }
+    // Chunks left without rows by a row holding many pairs are dropped.
+    row_begin_.erase(std::unique(row_begin_.begin(), row_begin_.end()), row_begin_.end());
+    if (row_begin_.size() < 2 && rows > 0) row_begin_.push_back(rows);
+    const std::size_t kept = row_begin_.size() - 1;
+    reach_.assign(kept, 0);
+    buffer_start_.assign(kept + 1, 0);
+    for (std::size_t c = 0; c < kept; ++c) {
+      std::size_t reach = row_begin_[c + 1];
+      const auto first = partners.begin() + offsets[row_begin_[c]];
+      const auto last = partners.begin() + offsets[row_begin_[c + 1]];
+      if (first != last) reach = std::max<std::size_t>(reach, *std::max_element(first, last) + 1);
+      reach_[c] = reach;
+      buffer_start_[c + 1] = buffer_start_[c] + (reach - row_begin_[c]);
+    }
+    if (kept <= 1 || 2 * buffer_start_[kept] <= kWindowSlotsPerTwoRows * rows + 8192) break;
+    wanted = (wanted + 1) / 2;
   }
-  force_.resize(parts);
-  torque_.resize(parts);
-  for (std::uint32_t t = 1; t < parts; ++t) {
-    force_[t].resize(rows - row_begin_[t]);
-    torque_[t].resize(rows - row_begin_[t]);
+  const std::size_t chunks = row_begin_.size() - 1;
+  first_covering_.assign(chunks, 0);
+  // The lowest chunk whose window passes rowBegin(c) never decreases with c.
+  std::uint32_t lowest = 0;
+  for (std::uint32_t c = 0; c < chunks; ++c) {
+    while (reach_[lowest] <= row_begin_[c]) ++lowest;
+    first_covering_[c] = lowest;
   }
+  force_.resize(buffer_start_.back());
+  torque_.resize(buffer_start_.back());
+  if (force_.capacity() > 2 * force_.size() + 4096) {
+    force_.shrink_to_fit();
+    torque_.shrink_to_fit();
+  }
+}
+
+void PairLoopPartition::clear(std::uint32_t chunk) {
+  std::fill(force_.begin() + static_cast<std::ptrdiff_t>(buffer_start_[chunk]),
+            force_.begin() + static_cast<std::ptrdiff_t>(buffer_start_[chunk + 1]), Vec3::Zero());
+  std::fill(torque_.begin() + static_cast<std::ptrdiff_t>(buffer_start_[chunk]),
+            torque_.begin() + static_cast<std::ptrdiff_t>(buffer_start_[chunk + 1]), Vec3::Zero());
+}
+
+void PairLoopPartition::gather(std::uint32_t chunk, std::span<Vec3> force, std::span<Vec3> torque) const {
+  const std::size_t begin = row_begin_[chunk];
+  const std::size_t end = row_begin_[chunk + 1];
+  std::fill(force.begin() + static_cast<std::ptrdiff_t>(begin), force.begin() + static_cast<std::ptrdiff_t>(end),
+            Vec3::Zero());
+  std::fill(torque.begin() + static_cast<std::ptrdiff_t>(begin), torque.begin() + static_cast<std::ptrdiff_t>(end),
+            Vec3::Zero());
+  for (std::uint32_t c = first_covering_[chunk]; c <= chunk; ++c) {
+    const std::size_t stop = std::min(end, reach_[c]);
+    const Vec3* f = force_.data() + buffer_start_[c];
+    const Vec3* t = torque_.data() + buffer_start_[c];
+    for (std::size_t s = begin; s < stop; ++s) {
+      force[s] += f[s - row_begin_[c]];
+      torque[s] += t[s - row_begin_[c]];
+    }
+  }
+}
+
+std::size_t PairLoopPartition::bytes() const {
+  return (force_.capacity() + torque_.capacity()) * sizeof(Vec3) +
+         (row_begin_.capacity() + reach_.capacity() + buffer_start_.capacity()) * sizeof(std::size_t) +
+         first_covering_.capacity() * sizeof(std::uint32_t);
 }
 
 }  // namespace demlink::core

@@ -57,7 +57,7 @@ constexpr std::array<StageInfo, kStageCount> kTable{{
      "positions, velocities, contact histories", "forces, torques, contact histories", "always",
      [](const F&) { return true; }},
     {Stage::kParticleContacts, "particle_contacts:<law>", true,
-     "particle pairs, threaded by row parts added in fixed part order", "neighbour list, pair table",
+     "particle pairs, threaded by row chunks whose buffers are summed in chunk order", "neighbour list, pair table",
      "forces, torques, pair histories", "always", [](const F&) { return true; }},
     {Stage::kPlaneContacts, "plane_contacts", true, "particles on planes", "plane near lists",
      "forces, torques, plane wrenches", "scene has planes", [](const F& f) { return f.planes; }},

@@ -28,7 +28,6 @@ void MeshNearList::build(const ParticleArrays& particles, std::span<const Vec3> 
   if (n > 0) {
     const double maxRadius = *std::max_element(particles.radius.begin(), particles.radius.end());
     const double reach = maxRadius + skin;
-    const auto& dims = grid.dims();
     for (std::uint32_t t = 0; t < tris.size(); ++t) {
       if (!active.empty() && active[t] == 0) continue;
       const Vec3& a = vertices[tris[t][0]];
@@ -36,23 +35,11 @@ void MeshNearList::build(const ParticleArrays& particles, std::span<const Vec3> 
       const Vec3& c = vertices[tris[t][2]];
       const Vec3 lo = a.cwiseMin(b).cwiseMin(c) - Vec3::Constant(reach);
       const Vec3 hi = a.cwiseMax(b).cwiseMax(c) + Vec3::Constant(reach);
-      // cellCoords clamps to the grid, so a box entirely outside it maps to its
-      // border cells; the exact distance test below rejects those particles.
-      const auto cLo = grid.cellCoords(lo);
-      const auto cHi = grid.cellCoords(hi);
-      for (std::int64_t iz = cLo[2]; iz <= cHi[2] && iz < dims[2]; ++iz) {
-        for (std::int64_t iy = cLo[1]; iy <= cHi[1] && iy < dims[1]; ++iy) {
-          for (std::int64_t ix = cLo[0]; ix <= cHi[0] && ix < dims[0]; ++ix) {
-            for (const std::uint32_t i : grid.cell(grid.cellIndex(ix, iy, iz))) {
-              const Vec3& x = particles.position[i];
-              const double limit = particles.radius[i] + skin;
-              if ((x - closestPointOnTriangle(x, a, b, c).point).squaredNorm() < limit * limit) {
-                candidatesOf[i].push_back(t);
-              }
-            }
-          }
-        }
-      }
+      grid.forEachInBox(lo, hi, [&](std::uint32_t i) {
+        const Vec3& x = particles.position[i];
+        const double limit = particles.radius[i] + skin;
+        if ((x - closestPointOnTriangle(x, a, b, c).point).squaredNorm() < limit * limit) candidatesOf[i].push_back(t);
+      });
     }
   }
 

@@ -174,6 +174,9 @@ std::string reportText(const CompiledSimulation& out, const core::World& world) 
   std::string stages;
   for (const std::string& stage : world.activeStages()) stages += (stages.empty() ? "" : ", ") + stage;
   text += "active stages: " + stages + "\n";
+  const core::SimulationSettings& settings = world.settings();
+  text += fmt::format("threads: {}{}\n", settings.threads,
+                      settings.threads_choice.empty() ? std::string() : " (" + settings.threads_choice + ")");
   text += fmt::format("time step: {:.6g} s = {:.1f} % of the critical {:.6g} s (limited by {})\n", out.time_step,
                       100.0 * out.time_step / limit.limit, limit.limit, limit.limited_by);
   for (const std::string& line : limit.describe()) text += line + "\n";

@@ -22,6 +22,7 @@
 #include "demlink/core/input_error.hpp"
 #include "demlink/core/log_text.hpp"
 #include "demlink/core/names.hpp"
+#include "demlink/core/step/thread_pool.hpp"
 #include "demlink/server/scene/fidelity_preset.hpp"
 #include "demlink/server/scene/input_limits.hpp"
 #include "demlink/server/scene/particle_file_reader.hpp"
@@ -115,7 +116,13 @@ core::SimulationSettings toSettings(const v1::SimulationBox& box, const std::str
   if (box.has_restitution_tolerance()) settings.restitution_tolerance = box.restitution_tolerance();
   settings.allow_unsafe_time_step = box.allow_unsafe_time_step();
   if (box.has_threads()) {
-    settings.threads = box.threads() == 0 ? core::maxThreads() : box.threads();
+    if (box.threads() == 0) {
+      const core::AutoThreadChoice choice = core::chooseAutoThreads();
+      settings.threads = std::min(choice.threads, core::maxThreads());
+      settings.threads_choice = choice.reason;
+    } else {
+      settings.threads = box.threads();
+    }
   }
   if (box.has_bounds()) {
     const v1::SimulationBox::Bounds& bounds = box.bounds();

@@ -41,8 +41,10 @@ std::set<IdPair> checkedListContacts(const World& world) {
   return test::listedContacts(world);
 }
 
-/// Random polydisperse spheres in a cube of side `box` with random velocities.
-World randomWorld(std::size_t n, double box, std::uint64_t seed, std::uint32_t threads = 1) {
+/// Random spheres in a cube of side `box` with random velocities; radiusOf(u) maps a
+/// uniform draw in [0, 1) to a radius [m] (default: uniform in [0.5, 1.5] mm).
+World randomWorld(std::size_t n, double box, std::uint64_t seed, std::uint32_t threads = 1,
+                  double (*radiusOf)(double) = [](double u) { return 0.001 * (0.5 + u); }) {
   SimulationSettings s = test::fineSettings(2e-6, 3.0);
   s.watchdog.every_steps = 0;  // deliberately dense, deep overlaps: the list is what is tested
   s.sort_every_builds = 3;  // exercise reordering often
@@ -53,7 +55,7 @@ World randomWorld(std::size_t n, double box, std::uint64_t seed, std::uint32_t t
   std::uniform_real_distribution<double> u(0.0, 1.0);
   for (std::size_t i = 0; i < n; ++i) {
     ParticleSpec p;
-    p.radius = 0.001 * (0.5 + u(rng));
+    p.radius = radiusOf(u(rng));
     p.position = Vec3(u(rng), u(rng), u(rng)) * box;
     p.velocity = (Vec3(u(rng), u(rng), u(rng)) - Vec3::Constant(0.5)) * 2.0;
     world.addParticle(p);
@@ -83,6 +85,96 @@ TEST(NeighbourList, SparseConfigurationMatchesBruteForce) {
 TEST(NeighbourList, DenseConfigurationMatchesBruteForce) {
   World world = randomWorld(400, 0.012, 2);  // heavily overlapping start
   expectListMatchesBruteForce(world, 300);
+}
+
+/// Slot pairs (i < j) within r_i + r_j + skin, by brute force, with the list's own
+/// floating-point test.
+std::set<std::pair<std::uint32_t, std::uint32_t>> bruteForceListPairs(const ParticleArrays& p, double skin) {
+  std::set<std::pair<std::uint32_t, std::uint32_t>> pairs;
+  for (std::uint32_t i = 0; i < p.size(); ++i) {
+    for (std::uint32_t j = i + 1; j < p.size(); ++j) {
+      const double cutoff = p.radius[i] + p.radius[j] + skin;
+      if ((p.position[j] - p.position[i]).squaredNorm() < cutoff * cutoff) pairs.emplace(i, j);
+    }
+  }
+  return pairs;
+}
+
+/// The listed slot pairs (each held once, by its lower slot).
+std::set<std::pair<std::uint32_t, std::uint32_t>> listPairs(const World& world) {
+  const auto offsets = world.neighbourList().offsets();
+  const auto partners = world.neighbourList().partners();
+  std::set<std::pair<std::uint32_t, std::uint32_t>> pairs;
+  for (std::uint32_t i = 0; i + 1 < offsets.size(); ++i) {
+    for (std::uint32_t k = offsets[i]; k < offsets[i + 1]; ++k) pairs.emplace(i, partners[k]);
+  }
+  return pairs;
+}
+
+/// After initialize and after every step that rebuilt the list, the list holds exactly
+/// the brute-force pairs within r_i + r_j + skin (positions are those of the build);
+/// in between, the contacts match brute force.
+void expectExactPairsAtEveryBuild(World& world, int steps) {
+  const double skin = world.neighbourList().skin();
+  std::uint64_t builds = world.neighbourList().buildCount();
+  int checkedBuilds = 0;
+  for (int s = 0; s <= steps; ++s) {
+    if (s == 0 || world.neighbourList().buildCount() != builds) {
+      builds = world.neighbourList().buildCount();
+      const auto expected = bruteForceListPairs(world.particles(), skin);
+      ASSERT_EQ(listPairs(world), expected) << "build at step " << s;
+      ++checkedBuilds;
+    }
+    ASSERT_EQ(checkedListContacts(world), bruteForceContacts(world.particles())) << "step " << s;
+    if (s < steps) world.step();
+  }
+  EXPECT_GE(checkedBuilds, 3) << "rebuilds must have happened";
+}
+
+TEST(NeighbourList, OneToTenRadiusRatioMatchesBruteForce) {
+  // One sphere in ten is ten times larger: two grid levels, pairs between them found
+  // from the small sphere whatever the slot order.
+  World world = randomWorld(500, 0.03, 11, 1, [](double u) { return u < 0.1 ? 0.004 : 0.0004; });
+  ASSERT_GE(world.neighbourList().grid().levelCount(), 2u);
+  expectExactPairsAtEveryBuild(world, 200);
+}
+
+TEST(NeighbourList, ContinuousOneToFiveRadiiMatchBruteForce) {
+  World world = randomWorld(500, 0.02, 12, 2, [](double u) { return 0.0004 * (1.0 + 4.0 * u); });
+  ASSERT_GE(world.neighbourList().grid().levelCount(), 3u);
+  expectExactPairsAtEveryBuild(world, 200);
+}
+
+TEST(NeighbourList, OneFarParticleMatchesBruteForceWithoutEmptyCells) {
+  // Without domain bounds one particle far away must neither grow the cells nor
+  // allocate the space in between: the grid holds only occupied cells.
+  SimulationSettings s = test::fineSettings(2e-6, 3.0);
+  s.watchdog.every_steps = 0;
+  s.sort_every_builds = 3;
+  World world(s);
+  world.addMaterial(test::testMaterial(0.5, 0.3));
+  std::mt19937_64 rng(13);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int i = 0; i < 400; ++i) {
+    ParticleSpec p;
+    p.radius = 0.001 * (0.5 + u(rng));
+    p.position = Vec3(u(rng), u(rng), u(rng)) * 0.012;
+    p.velocity = (Vec3(u(rng), u(rng), u(rng)) - Vec3::Constant(0.5)) * 2.0;
+    world.addParticle(p);
+  }
+  ParticleSpec far;
+  far.radius = 0.001;
+  far.position = Vec3(3.0e5, -2.0e5, 1.0e5);
+  world.addParticle(far);
+  world.initialize();
+  const CellGrid& grid = world.neighbourList().grid();
+  std::size_t cells = 0;
+  for (std::size_t level = 0; level < grid.levelCount(); ++level) {
+    cells += grid.cellCount(level);
+    EXPECT_LT(grid.cellSize(level), 0.004) << "the cell edge follows the radii, not the extent";
+  }
+  EXPECT_LE(cells, world.particles().size());
+  expectExactPairsAtEveryBuild(world, 200);
 }
 
 TEST(NeighbourList, ThreadedBuildMatchesBruteForce) {

@@ -197,6 +197,20 @@ TEST(CosimCompile, NonMultipleIntervalIsRoundedWithAWarning) {
   EXPECT_NE(c->report().text().find("warning"), std::string::npos);
 }
 
+TEST(CosimCompile, ReportSaysWhichThreadCountAutoPicked) {
+  ScratchDir dir;
+  CosimHarness h(dir.path());
+  h.hello(1);
+  h.declare(1, boxJson(1e-5, 1e-3, R"("threads": 0, "coupling": {"expected_count": 2})"));
+  h.declare(1, smallBedJson()[0]);
+  const std::optional<v1::Compiled> c = h.compiled(1);
+  ASSERT_TRUE(c);
+  const std::string& text = c->report().text();
+  EXPECT_NE(text.find("threads: "), std::string::npos) << text;
+  EXPECT_NE(text.find("(auto: "), std::string::npos) << text;
+  EXPECT_NE(text.find("load average"), std::string::npos) << text;
+}
+
 TEST(CosimCompile, ReportHasStagesCriticalStepAndInitialOutputs) {
   ScratchDir dir;
   CosimHarness h(dir.path());

@@ -87,9 +87,11 @@ TEST(InputLimits, ThreadsAboveTheHardwareAreRefusedNamingTheCap) {
   EXPECT_EQ(error.field(), "components[0].simulation_box.threads");
   EXPECT_NE(error.reason().find("between 1 and " + std::to_string(core::maxThreads())), std::string::npos)
       << error.what();
-  // 0 picks every hardware thread and is accepted.
+  // 0 (auto) is accepted: at least 1 and at most the hardware threads, and says why.
   const TranslatedScene all = translateScene(sceneOf({boxWith(R"("threads": 0)"), kGlass}), {});
-  EXPECT_EQ(all.world.settings().threads, core::maxThreads());
+  EXPECT_GE(all.world.settings().threads, 1u);
+  EXPECT_LE(all.world.settings().threads, core::maxThreads());
+  EXPECT_EQ(all.world.settings().threads_choice.rfind("auto: ", 0), 0u) << all.world.settings().threads_choice;
 }
 
 TEST(InputLimits, ThreadsAndLatticeUnderAnAddressSpaceLimitExitTwoNamingTheField) {

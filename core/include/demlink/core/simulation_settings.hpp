@@ -61,6 +61,8 @@ struct SimulationSettings {
   /// are deterministic for a fixed thread count; 1 runs everything serially. At most
   /// maxThreads(): more threads than cores only slow the step down.
   std::uint32_t threads = 1;
+  /// How `threads: 0` (auto) was resolved (chooseAutoThreads); empty when given.
+  std::string threads_choice;
   /// The run-time watchdog's period, checks and policies (step/watchdog.hpp).
   WatchdogSettings watchdog;
   /// Re-sort particle slots by grid cell every this many neighbour builds (0: never).

@@ -181,6 +181,10 @@ class World {
   [[nodiscard]] const ContactPairTable& pairTable() const { return pair_table_; }
   [[nodiscard]] const RemovalTally& removedAtBounds() const { return state_.removed_at_bounds; }
   [[nodiscard]] const NeighbourList& neighbourList() const { return neighbours_; }
+  /// The pair loop's chunks and their force buffers (memory reports).
+  [[nodiscard]] const PairLoopPartition& pairLoopPartition() const { return partition_; }
+  /// The step's thread pool; null when running on one thread.
+  [[nodiscard]] const ThreadPool* threadPool() const { return pool_.get(); }
   /// Names of the stages this scene runs, in step order, for the compile report:
   /// the selected rows of stageTable(), the law in "particle_contacts:<law>", and
   /// each component as "<kind>:<name>" in the stages it runs in.

@@ -1,9 +1,23 @@
 #pragma once
-/// Uniform cell grid over the particles' bounding box (the solver paper's
-/// cell-linked list), stored as cells sorted by a counting sort: cell_start[c] ..
-/// cell_start[c+1] index into sorted_slots. Building is O(N + cells) and the
-/// number of cells is capped at ~4N (the cell edge grows if a stray particle
-/// stretches the box), so memory and time stay linear in N.
+/// Sparse multi-level cell grid (the solver paper's cell-linked list, extended to
+/// wide size distributions).
+///
+/// Levels: particles are sorted into radius classes a factor 2 apart (level k holds
+/// radii in [2^k r_min, 2^(k+1) r_min)); each non-empty level bins its particles in
+/// cells of edge 2 r_max(level) + skin. A particle of level a finds every partner of
+/// a level b >= a in the 27 cells around it in level b's grid (r_i <= r_max(b), so
+/// r_i + r_j + skin <= edge of b); pairs of two levels are therefore searched from
+/// the smaller particle, and a few large particles no longer make the cells of all
+/// the small ones large.
+///
+/// Sparse cells: a cell is the key of its integer coordinates relative to the
+/// particles' median position, particles are sorted by key, and an open-addressing
+/// hash finds a cell's particles. Only occupied cells cost memory or time, so a
+/// particle far from the rest (no domain bounds) neither grows the cells nor
+/// allocates the empty space in between. Coordinates saturate at +-2^20 cells from
+/// the median: beyond that, particles share the border cells (slower, still exact,
+/// because saturation never moves two particles further apart in cells).
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <span>
@@ -15,28 +29,125 @@ namespace demlink::core {
 
 class CellGrid {
  public:
-  /// Bins positions into cells of edge >= minCellSize [m].
-  void build(std::span<const Vec3> positions, double minCellSize);
+  /// Levels with radii a factor 2 apart; a scene uses the few its radii need.
+  static constexpr int kMaxLevels = 32;
 
-  [[nodiscard]] std::array<std::int64_t, 3> cellCoords(const Vec3& x) const;
-  [[nodiscard]] std::size_t cellIndex(std::int64_t ix, std::int64_t iy, std::int64_t iz) const {
-    return static_cast<std::size_t>((iz * dims_[1] + iy) * dims_[0] + ix);
+  /// Bins positions by radius class; skin [m] widens every cell.
+  void build(std::span<const Vec3> positions, std::span<const double> radii, double skin);
+
+  [[nodiscard]] std::size_t levelCount() const { return levels_.size(); }
+  /// Index into the levels (0 = smallest radii) of slot `slot`.
+  [[nodiscard]] std::uint32_t levelOfSlot(std::size_t slot) const { return level_of_slot_[slot]; }
+  [[nodiscard]] double cellSize(std::size_t level) const { return levels_[level].cell_size; }
+  /// Occupied cells of a level.
+  [[nodiscard]] std::size_t cellCount(std::size_t level) const { return levels_[level].keys.size(); }
+
+  /// Calls visit(j) for every slot j of level `level` in the 27 cells around x.
+  template <class Visit>
+  void forEachNear(std::size_t level, const Vec3& x, const Visit& visit) const {
+    const Level& l = levels_[level];
+    const auto c = coords(l, x);
+    for (std::int64_t dz = -1; dz <= 1; ++dz) {
+      for (std::int64_t dy = -1; dy <= 1; ++dy) {
+        for (std::int64_t dx = -1; dx <= 1; ++dx) {
+          const std::uint32_t cell = find(l, c[0] + dx, c[1] + dy, c[2] + dz);
+          if (cell == kNoCell) continue;
+          for (std::uint32_t k = l.start[cell]; k < l.start[cell + 1]; ++k) visit(l.slots[k]);
+        }
+      }
+    }
   }
-  [[nodiscard]] const std::array<std::int64_t, 3>& dims() const { return dims_; }
-  [[nodiscard]] std::span<const std::uint32_t> cell(std::size_t c) const {
-    return {sorted_slots_.data() + cell_start_[c], sorted_slots_.data() + cell_start_[c + 1]};
+
+  /// Calls visit(j) for every slot j, of every level, whose cell meets the box [lo, hi]
+  /// (a superset of the particles with centres in it). Costs at most the smaller of the
+  /// box's cells and the occupied cells.
+  template <class Visit>
+  void forEachInBox(const Vec3& lo, const Vec3& hi, const Visit& visit) const {
+    for (const Level& l : levels_) {
+      auto a = coords(l, lo);
+      auto b = coords(l, hi);
+      double boxCells = 1.0;
+      for (int d = 0; d < 3; ++d) {
+        a[d] = std::max(a[d], l.lowest[d]);
+        b[d] = std::min(b[d], l.highest[d]);
+        if (a[d] > b[d]) boxCells = 0.0;
+        boxCells *= static_cast<double>(b[d] - a[d] + 1);
+      }
+      if (boxCells <= 0.0) continue;
+      const auto visitCell = [&](std::uint32_t cell) {
+        for (std::uint32_t k = l.start[cell]; k < l.start[cell + 1]; ++k) visit(l.slots[k]);
+      };
+      if (boxCells > static_cast<double>(l.keys.size())) {
+        for (std::uint32_t cell = 0; cell < l.keys.size(); ++cell) {
+          const auto k = unpack(l.keys[cell]);
+          if (k[0] >= a[0] && k[0] <= b[0] && k[1] >= a[1] && k[1] <= b[1] && k[2] >= a[2] && k[2] <= b[2]) {
+            visitCell(cell);
+          }
+        }
+        continue;
+      }
+      for (std::int64_t z = a[2]; z <= b[2]; ++z) {
+        for (std::int64_t y = a[1]; y <= b[1]; ++y) {
+          for (std::int64_t x = a[0]; x <= b[0]; ++x) {
+            const std::uint32_t cell = find(l, x, y, z);
+            if (cell != kNoCell) visitCell(cell);
+          }
+        }
+      }
+    }
   }
-  /// Slots in cell order: a locality-friendly permutation of the particles.
-  [[nodiscard]] const std::vector<std::uint32_t>& sortedSlots() const { return sorted_slots_; }
-  [[nodiscard]] double cellSize() const { return cell_size_; }
+
+  /// Slots ordered by cells of the largest level (z, then y, then x): a locality-friendly
+  /// permutation of the particles that keeps neighbours close in slot order.
+  [[nodiscard]] std::vector<std::uint32_t> spatialOrder(std::span<const Vec3> positions) const;
+
+  /// Bytes held (capacity of every array).
+  [[nodiscard]] std::size_t bytes() const;
 
  private:
+  static constexpr std::uint32_t kNoCell = 0xFFFFFFFFu;
+  static constexpr std::int64_t kCoordBits = 21;
+  static constexpr std::int64_t kCoordLimit = std::int64_t{1} << kCoordBits;  ///< coordinates in [0, limit)
+
+  struct Level {
+    double cell_size = 1.0;  ///< [m]
+    double inv_cell_size = 1.0;
+    std::vector<std::uint64_t> keys;     ///< occupied cells, ascending
+    std::vector<std::uint32_t> start;    ///< cell c holds slots[start[c] .. start[c+1])
+    std::vector<std::uint32_t> slots;    ///< this level's slots by cell, then slot
+    std::vector<std::uint32_t> table;    ///< open addressing: cell index or kNoCell
+    std::uint64_t mask = 0;
+    std::array<std::int64_t, 3> lowest{0, 0, 0};   ///< occupied coordinate range
+    std::array<std::int64_t, 3> highest{-1, -1, -1};
+  };
+
+  [[nodiscard]] std::array<std::int64_t, 3> coords(const Level& l, const Vec3& x) const;
+  static std::uint64_t pack(std::int64_t x, std::int64_t y, std::int64_t z) {
+    return (static_cast<std::uint64_t>(z) << (2 * kCoordBits)) | (static_cast<std::uint64_t>(y) << kCoordBits) |
+           static_cast<std::uint64_t>(x);
+  }
+  static std::array<std::int64_t, 3> unpack(std::uint64_t key) {
+    const std::uint64_t m = kCoordLimit - 1;
+    return {static_cast<std::int64_t>(key & m), static_cast<std::int64_t>((key >> kCoordBits) & m),
+            static_cast<std::int64_t>(key >> (2 * kCoordBits))};
+  }
+  static std::uint64_t hash(std::uint64_t key) { return (key * 0x9E3779B97F4A7C15ull) >> 17; }
+  static std::uint32_t find(const Level& l, std::int64_t x, std::int64_t y, std::int64_t z) {
+    if (x < l.lowest[0] || x > l.highest[0] || y < l.lowest[1] || y > l.highest[1] || z < l.lowest[2] ||
+        z > l.highest[2]) {
+      return kNoCell;
+    }
+    const std::uint64_t key = pack(x, y, z);
+    for (std::uint64_t h = hash(key) & l.mask;; h = (h + 1) & l.mask) {
+      const std::uint32_t cell = l.table[h];
+      if (cell == kNoCell || l.keys[cell] == key) return cell;
+    }
+  }
+  void buildLevel(Level& l, std::span<const Vec3> positions, std::span<const std::uint32_t> members);
+
   Vec3 origin_ = Vec3::Zero();
-  double cell_size_ = 1.0;
-  std::array<std::int64_t, 3> dims_{1, 1, 1};
-  std::vector<std::uint32_t> cell_start_;
-  std::vector<std::uint32_t> sorted_slots_;
-  std::vector<std::uint32_t> cell_of_slot_;
+  std::vector<Level> levels_;
+  std::vector<std::uint8_t> level_of_slot_;
 };
 
 }  // namespace demlink::core

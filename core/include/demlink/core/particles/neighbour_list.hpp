@@ -53,6 +53,8 @@ class NeighbourList {
   [[nodiscard]] std::size_t rowCount() const { return offsets_.empty() ? 0 : offsets_.size() - 1; }
   [[nodiscard]] std::uint64_t buildCount() const { return builds_; }
   [[nodiscard]] const CellGrid& grid() const { return grid_; }
+  /// Bytes held by the list and its grid (capacities).
+  [[nodiscard]] std::size_t bytes() const;
 
   /// Checkpoint payload (section NBRL): skin, build count (decides the next
   /// re-sort), offsets, partners, tangential histories, reduced pair data and the

@@ -1,7 +1,10 @@
 #pragma once
-/// Parallel loops over the ThreadPool. Work is always cut the same way for a
-/// given pool size, so results are bit-identical run to run for that size. A null
-/// pool (or a pool of one) runs the loop serially.
+/// Parallel loops over the ThreadPool. The work is cut into chunks that depend only
+/// on the loop's size, never on the pool's size or on which thread runs which chunk:
+/// a loop whose chunks write disjoint data, or whose per-chunk partial results are
+/// combined in chunk order, gives bit-identical results for any thread count. A null
+/// pool (or a pool of one) runs the same chunks serially.
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 
@@ -9,15 +12,32 @@
 
 namespace demlink::core {
 
-/// Calls body(begin, end) on one contiguous chunk of [0, n) per pool thread.
+/// Elements per chunk of the element-wise loops (kick, drift, clearing): large enough
+/// that claiming a chunk costs far less than running it, small enough that a 5,000-
+/// particle loop still gives a free thread something to claim [-].
+inline constexpr std::size_t kChunkElements = 1024;
+
+/// Chunks of a loop of n elements: ceil(n / grain), at least 1 and at most
+/// ThreadPool::kMaxChunks.
+[[nodiscard]] inline std::uint32_t chunkCount(std::size_t n, std::size_t grain = kChunkElements) {
+  const std::size_t chunks = (n + grain - 1) / grain;
+  return static_cast<std::uint32_t>(std::clamp<std::size_t>(chunks, 1, ThreadPool::kMaxChunks));
+}
+
+/// First element of chunk c of `chunks` over [0, n) (n * c fits 64 bits below 2^48 elements).
+[[nodiscard]] inline std::size_t chunkBegin(std::size_t n, std::uint32_t chunks, std::uint32_t c) {
+  return n * c / chunks;
+}
+
+/// Calls body(begin, end) once per chunk of [0, n) (chunkCount(n) chunks).
 template <class Body>
 void parallelChunks(ThreadPool* pool, std::size_t n, const Body& body) {
-  const std::uint32_t parts = pool != nullptr ? pool->size() : 1;
-  if (parts == 1 || n < 4 * static_cast<std::size_t>(parts)) {
+  const std::uint32_t chunks = chunkCount(n);
+  if (pool == nullptr || chunks == 1) {
     body(std::size_t{0}, n);
     return;
   }
-  pool->run(parts, [&](std::uint32_t part) { body(n * part / parts, n * (part + 1) / parts); });
+  pool->run(chunks, [&](std::uint32_t c) { body(chunkBegin(n, chunks, c), chunkBegin(n, chunks, c + 1)); });
 }
 
 /// Calls body(part) for part in [0, parts), spread over the pool.
