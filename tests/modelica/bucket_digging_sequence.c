@@ -33,7 +33,7 @@ int main(int argc, char** argv) {
   ok = sequence_connect(clients, kNames, kCount, argv[1], atoi(argv[2]), 120.0);
   if (ok) { /* initial algorithms: declare in the generic layout, as the components do */
     const int boxInts[2] = {kCount, -1};
-    const double boxReals[14] = {kTc, nan, 0.0, 0.0, 0.0, -9.81, -0.4, -0.2, -0.05, 0.4, 0.2, 0.4, nan, 0.01};
+    const double boxReals[14] = {kTc, nan, 0.0, 0.0, 0.0, -9.81, -0.6, -0.4, -0.05, 0.6, 0.4, 0.6, nan, 0.01};
     const char* boxStrings[2] = {"simulation_box", "simBox"};
     const double gravelReals[7] = {0.0, nan, nan, nan, nan, nan, nan};
     const char* gravelStrings[3] = {"material", "gravel", "gravel"};
@@ -110,10 +110,11 @@ int main(int argc, char** argv) {
   if (!(particles > 100 && fabs(mass - initialMass) <= 1e-9 * initialMass)) {
     ok = sequence_check(DL_ERR_INTERNAL, NULL, "the bed's mass is conserved");
   }
-  /* The view lists every stride-th particle, stride = ceil(n / maxCount). */
-  if (!(listed == (particles + (particles + kMaxCount - 1) / kMaxCount - 1) / ((particles + kMaxCount - 1) / kMaxCount) &&
-        listed <= kMaxCount && badRadius == 0)) {
-    ok = sequence_check(DL_ERR_INTERNAL, NULL, "DEMPoints lists every stride-th particle with the pit's radii");
+  /* The view lists the particles whose id is a multiple of ceil(largest id / maxCount), a
+   * subset stable across re-sorting (tested in the server's tests); the pit keeps only some
+   * of the ids it generated, so here only the bounds are known: 1 to maxCount. */
+  if (!(listed > 0 && listed <= kMaxCount && badRadius == 0)) {
+    ok = sequence_check(DL_ERR_INTERNAL, NULL, "DEMPoints lists a stride-decimated subset with the pit's radii");
   }
   return ok ? 0 : 1;
 }

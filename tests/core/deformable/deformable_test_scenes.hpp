@@ -1,5 +1,6 @@
 #pragma once
 /// Mass-spring scenes shared by the deformable-body tests.
+#include <algorithm>
 #include <memory>
 #include <string>
 
@@ -7,6 +8,32 @@
 #include "demlink/core/world.hpp"
 
 namespace demlink::core::test {
+
+/// What settleInWindows saw in its last window.
+struct SettledWindow {
+  double motion_max = 0.0;     ///< largest motion() over the window
+  double mean_reaction = 0.0;  ///< reaction() averaged over the window
+  int steps = 0;               ///< steps taken in all
+};
+
+/// Steps `world` in windows of `window` steps until the largest value of motion() over a
+/// window is at most `settled`, or `maxWindows` windows have passed. Averaging the reaction
+/// over a whole settled window keeps a residual oscillation out of the figure.
+template <class Motion, class Reaction>
+SettledWindow settleInWindows(World& world, int window, double settled, int maxWindows, Motion motion,
+                              Reaction reaction) {
+  SettledWindow w;
+  do {
+    w.motion_max = 0.0;
+    w.mean_reaction = 0.0;
+    for (int k = 0; k < window; ++k, ++w.steps) {
+      world.step();
+      w.motion_max = std::max(w.motion_max, motion());
+      w.mean_reaction += reaction() / window;
+    }
+  } while (w.motion_max > settled && w.steps < maxWindows * window);
+  return w;
+}
 
 /// A square sheet in the plane z = height, side `side` [m] centred on the origin, nodes
 /// `spacing` apart, with shear and bending springs; nodes within `pin` of its edge fixed

@@ -156,21 +156,11 @@ TEST(DeformableWorld, PinsCarryTheBedAndTheSheetOnceSettled) {
   // 1e-7 of the bed's weight times the sheet's side; the reaction is averaged over that window.
   const double weight = (scene.bed_mass + scene.sheet->totalMass()) * kG;
   const double settled = 1e-7 * scene.bed_mass * kG * 0.2;
-  const int window = 2500;
-  double windowMax = 0.0;
-  double meanReaction = 0.0;
-  int n = 0;
-  do {
-    windowMax = 0.0;
-    meanReaction = 0.0;
-    for (int k = 0; k < window; ++k, ++n) {
-      world.step();
-      windowMax = std::max(windowMax, world.kineticEnergy() + scene.sheet->kineticEnergy());
-      meanReaction += scene.sheet->fixedReaction().force.z() / window;
-    }
-  } while (windowMax > settled && n < 60 * window);
-  ASSERT_LE(windowMax, settled) << n << " steps";
-  EXPECT_NEAR(meanReaction / weight, 1.0, 0.01) << "after " << n << " steps";
+  const test::SettledWindow w = test::settleInWindows(
+      world, 2500, settled, 60, [&] { return world.kineticEnergy() + scene.sheet->kineticEnergy(); },
+      [&] { return scene.sheet->fixedReaction().force.z(); });
+  ASSERT_LE(w.motion_max, settled) << w.steps << " steps";
+  EXPECT_NEAR(w.mean_reaction / weight, 1.0, 0.01) << "after " << w.steps << " steps";
   EXPECT_NEAR(scene.sheet->fixedReaction().force.z() / weight, 1.0, 0.01);
   // Each sphere rests on the sheet: its centre about a radius above the sheet's nearest node.
   for (std::size_t i = 0; i < world.particles().size(); ++i) {
@@ -183,7 +173,7 @@ TEST(DeformableWorld, PinsCarryTheBedAndTheSheetOnceSettled) {
     }
     EXPECT_GT(x.z(), scene.sheet->nodePosition(nearest).z() + 0.5 * 0.01) << "sphere " << i;
   }
-  std::printf("settled after %d steps; pins %.6g N, weight %.6g N\n", n, meanReaction, weight);
+  std::printf("settled after %d steps; pins %.6g N, weight %.6g N\n", w.steps, w.mean_reaction, weight);
 }
 
 TEST(DeformableWorld, CheckpointMidRunContinuesBitIdentically) {

@@ -68,25 +68,15 @@ TEST(FemWorld, EdgeReactionsOfAPlateCarryTheSphereAndThePlateOnceSettled) {
   const double weight = (world.particles().mass[0] + plate.totalMass()) * kG;
   // Settled: over a 0.02 s window the sphere's speed stayed below 1e-4 m/s; the reaction is
   // averaged over that window.
-  const int window = 1000;
-  double windowMax = 0.0;
-  double meanReaction = 0.0;
-  int n = 0;
-  do {
-    windowMax = 0.0;
-    meanReaction = 0.0;
-    for (int k = 0; k < window; ++k, ++n) {
-      world.step();
-      windowMax = std::max(windowMax, world.particles().velocity[0].norm());
-      meanReaction += plate.fixedReaction().force.z() / window;
-    }
-  } while (windowMax > 1e-4 && n < 100 * window);
-  ASSERT_LE(windowMax, 1e-4) << n << " steps; sphere at " << world.particles().position[0].transpose();
+  const test::SettledWindow w = test::settleInWindows(
+      world, 1000, 1e-4, 100, [&] { return world.particles().velocity[0].norm(); },
+      [&] { return plate.fixedReaction().force.z(); });
+  ASSERT_LE(w.motion_max, 1e-4) << w.steps << " steps; sphere at " << world.particles().position[0].transpose();
   EXPECT_GT(world.particles().position[0].z(), 0.5 * kRadius) << "the sphere rests on the plate";
-  EXPECT_NEAR(meanReaction / weight, 1.0, 0.01) << "after " << n << " steps";
+  EXPECT_NEAR(w.mean_reaction / weight, 1.0, 0.01) << "after " << w.steps << " steps";
   EXPECT_NEAR(plate.fixedReaction().force.z() / weight, 1.0, 0.01);
   EXPECT_LT(plate.fixedReaction().force.head<2>().norm(), 1e-3 * weight);
-  std::printf("settled after %d steps; edges %.6g N, sphere + plate %.6g N\n", n, meanReaction, weight);
+  std::printf("settled after %d steps; edges %.6g N, sphere + plate %.6g N\n", w.steps, w.mean_reaction, weight);
 }
 
 /// Rebound speed over impact speed of a sphere thrown at 1 m/s onto z = 0 (no gravity), off a

@@ -24,7 +24,7 @@ bool hasLine(const std::vector<std::string>& lines, const std::string& text) {
 
 TEST(FidelityPreset, NoPresetKeepsTheFieldDefaults) {
   TranslatedScene t = translateScene(sceneWith(""), {});
-  EXPECT_EQ(t.world.settings().restitution_tolerance, 0.1);
+  EXPECT_EQ(t.world.settings().restitution_tolerance, 0.01);
   EXPECT_EQ(t.world.settings().contact_model, core::ContactModel::HertzMindlin);
   EXPECT_TRUE(t.fidelity.preset.empty());
   t.world.initialize();
