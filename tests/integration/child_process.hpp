@@ -65,6 +65,25 @@ class Child {
     }
     return line;
   }
+  /// Everything the child writes to stdout until it closes it or the deadline passes.
+  std::string readOutput(std::chrono::milliseconds timeout) {
+    std::string text;
+    const Clock::time_point deadline = Clock::now() + timeout;
+    while (Clock::now() < deadline) {
+      fd_set readable;
+      FD_ZERO(&readable);
+      FD_SET(out_, &readable);
+      timeval wait{0, 50000};
+      if (select(out_ + 1, &readable, nullptr, nullptr, &wait) <= 0) continue;
+      char chunk[4096];
+      const ssize_t n = read(out_, chunk, sizeof chunk);
+      if (n <= 0) break;
+      text.append(chunk, static_cast<std::size_t>(n));
+    }
+    return text;
+  }
+  void signal(int number) const { kill(pid_, number); }
+  [[nodiscard]] pid_t pid() const { return pid_; }
   /// The exit code; -1 if it did not exit within `timeout` (it is then killed by the destructor).
   int waitForExit(std::chrono::milliseconds timeout) {
     const Clock::time_point deadline = Clock::now() + timeout;

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "demlink/server/scene/scene_loader.hpp"
+#include "child_process.hpp"
 #include "test_client.hpp"
 
 namespace demlink::server::test {
@@ -65,93 +66,25 @@ TEST(DemlinkServerCli, HelpExitsZero) {
   EXPECT_NE(result.output.find("--max-frame-bytes"), std::string::npos) << result.output;
 }
 
-/// demlink-server as a child process on an ephemeral port; the port is read from its first
-/// line with a bounded wait, so a server that never starts fails the test.
+/// demlink-server as a child process on an ephemeral port (integration::ServerChild); the
+/// port is read from its first line with a bounded wait, so a server that never starts fails
+/// the test.
 class ServerProcess {
  public:
-  explicit ServerProcess(const std::vector<std::string>& arguments) {
-    int fds[2];
-    if (pipe(fds) != 0) return;
-    std::vector<std::string> line = {DEMLINK_SERVER_EXE, "--port", "0"};
-    line.insert(line.end(), arguments.begin(), arguments.end());
-    std::vector<char*> argv;
-    for (std::string& argument : line) argv.push_back(argument.data());
-    argv.push_back(nullptr);
-    pid_ = fork();
-    if (pid_ == 0) {
-      dup2(fds[1], STDOUT_FILENO);
-      close(fds[0]);
-      close(fds[1]);
-      execv(DEMLINK_SERVER_EXE, argv.data());
-      _exit(127);
-    }
-    close(fds[1]);
-    out_ = fds[0];
-    const TestClock::time_point deadline = TestClock::now() + kTimeout;
-    while (first_line_.find('\n') == std::string::npos && TestClock::now() < deadline) {
-      fd_set readable;
-      FD_ZERO(&readable);
-      FD_SET(out_, &readable);
-      timeval wait{0, 100000};
-      if (select(out_ + 1, &readable, nullptr, nullptr, &wait) <= 0) continue;
-      char byte = 0;
-      if (read(out_, &byte, 1) != 1) break;
-      first_line_.push_back(byte);
-    }
-    const std::string prefix = "demlink-server listening on 127.0.0.1:";
-    if (first_line_.starts_with(prefix)) port_ = static_cast<std::uint16_t>(std::atoi(first_line_.c_str() + prefix.size()));
-  }
-  ~ServerProcess() {
-    if (pid_ > 0 && exit_status_ < 0) {
-      kill(pid_, SIGKILL);
-      waitpid(pid_, nullptr, 0);
-    }
-    if (out_ >= 0) close(out_);
-  }
-  ServerProcess(const ServerProcess&) = delete;
-  ServerProcess& operator=(const ServerProcess&) = delete;
+  explicit ServerProcess(std::vector<std::string> arguments) : server_(DEMLINK_SERVER_EXE, std::move(arguments)) {}
 
   /// 0 if the first line did not announce a port.
-  [[nodiscard]] std::uint16_t port() const { return port_; }
-  [[nodiscard]] const std::string& firstLine() const { return first_line_; }
-  void signal(int number) const { kill(pid_, number); }
-  [[nodiscard]] pid_t pid() const { return pid_; }
+  [[nodiscard]] std::uint16_t port() const { return static_cast<std::uint16_t>(server_.port); }
+  [[nodiscard]] const std::string& firstLine() const { return server_.announced; }
+  void signal(int number) const { server_.child.signal(number); }
+  [[nodiscard]] pid_t pid() const { return server_.child.pid(); }
   /// Everything the server printed after its first line, up to its exit (or the timeout).
-  std::string readOutput(std::chrono::milliseconds timeout) {
-    std::string text;
-    const TestClock::time_point deadline = TestClock::now() + timeout;
-    while (TestClock::now() < deadline) {
-      fd_set readable;
-      FD_ZERO(&readable);
-      FD_SET(out_, &readable);
-      timeval wait{0, 100000};
-      if (select(out_ + 1, &readable, nullptr, nullptr, &wait) <= 0) continue;
-      char chunk[4096];
-      const ssize_t n = read(out_, chunk, sizeof chunk);
-      if (n <= 0) break;
-      text.append(chunk, static_cast<std::size_t>(n));
-    }
-    return text;
-  }
-  /// The exit code, or -1 if the process did not exit within the timeout (it is killed).
-  int waitForExit() {
-    int status = 0;
-    for (int k = 0; k < 300; ++k) {
-      if (waitpid(pid_, &status, WNOHANG) == pid_) {
-        exit_status_ = WIFEXITED(status) ? WEXITSTATUS(status) : 128;
-        return exit_status_;
-      }
-      usleep(10000);
-    }
-    return -1;
-  }
+  std::string readOutput(std::chrono::milliseconds timeout) { return server_.child.readOutput(timeout); }
+  /// The exit code, or -1 if the process did not exit within 3 s (it is then killed).
+  int waitForExit() { return server_.child.waitForExit(std::chrono::seconds(3)); }
 
  private:
-  pid_t pid_ = -1;
-  int out_ = -1;
-  std::string first_line_;
-  std::uint16_t port_ = 0;
-  int exit_status_ = -1;
+  integration::ServerChild server_;
 };
 
 TEST(DemlinkServerCli, ListensOnAnEphemeralPortAndExitsZeroOnSigint) {
