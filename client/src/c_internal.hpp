@@ -11,6 +11,7 @@
 
 #include "demlink/client/client.hpp"
 #include "demlink/demlink_c.h"
+#include "demlink/v1/protocol.pb.h"
 
 namespace demlink::client::c_abi {
 

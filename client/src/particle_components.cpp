@@ -3,6 +3,8 @@
 
 #include <utility>
 
+#include "demlink/v1/protocol.pb.h"
+
 namespace demlink::client {
 namespace {
 
@@ -105,11 +107,11 @@ ParticleSink& ParticleSink::setSampleInterval(double seconds) {
   return *this;
 }
 void ParticleSource::setEnabled(bool on) {
-  if (!pending_) pending_.emplace();
+  if (!pending_) pending_.reset(new v1::ParticleSourceInput());
   pending_->set_enabled(on);
 }
 void ParticleSource::changeRate(double rate) {
-  if (!pending_) pending_.emplace();
+  if (!pending_) pending_.reset(new v1::ParticleSourceInput());
   if (message().has_rate_kg_per_s()) {
     pending_->set_rate_kg_per_s(rate);
   } else {
@@ -121,11 +123,11 @@ void ParticleSource::writeInputs(v1::DataPackage& package) const {
 }
 
 void ParticleSink::setEnabled(bool on) {
-  if (!pending_) pending_.emplace();
+  if (!pending_) pending_.reset(new v1::ParticleSinkInput());
   pending_->set_enabled(on);
 }
 void ParticleSink::moveTo(const Vec3& centre) {
-  if (!pending_) pending_.emplace();
+  if (!pending_) pending_.reset(new v1::ParticleSinkInput());
   *pending_->mutable_region()->mutable_centre() = toProto(centre);
 }
 void ParticleSink::writeInputs(v1::DataPackage& package) const {
@@ -168,5 +170,12 @@ PitGenerator& PitGenerator::setSeed(std::uint64_t seed) {
   message().set_seed(seed);
   return *this;
 }
+
+v1::ParticleSource& ParticleSource::message() { return *declaration().mutable_particle_source(); }
+v1::ParticleSink& ParticleSink::message() { return *declaration().mutable_particle_sink(); }
+v1::PitGenerator& PitGenerator::message() { return *declaration().mutable_pit_generator(); }
+
+void ParticleSource::inputsSent() { pending_.reset(); }
+void ParticleSink::inputsSent() { pending_.reset(); }
 
 }  // namespace demlink::client
