@@ -36,6 +36,28 @@ ParticleSource& ParticleSource::setRadiusRange(double rMin, double rMax) {
   range->set_r_max(rMax);
   return *this;
 }
+ParticleSource& ParticleSource::setLinearSizes(double rMin, double rMax, double weightAtMin, double weightAtMax) {
+  auto* linear = message().mutable_sizes()->mutable_linear();
+  linear->set_r_min(rMin);
+  linear->set_r_max(rMax);
+  linear->set_weight_at_min(weightAtMin);
+  linear->set_weight_at_max(weightAtMax);
+  return *this;
+}
+ParticleSource& ParticleSource::setNormalSizes(double mean, double std, double rMin, double rMax) {
+  auto* normal = message().mutable_sizes()->mutable_normal();
+  normal->set_mean(mean);
+  normal->set_std(std);
+  normal->set_r_min(rMin);
+  normal->set_r_max(rMax);
+  return *this;
+}
+ParticleSource& ParticleSource::setDiscreteSizes(const std::vector<double>& radii, const std::vector<double>& weights) {
+  auto* discrete = message().mutable_sizes()->mutable_discrete();
+  discrete->mutable_radii()->Assign(radii.begin(), radii.end());
+  discrete->mutable_weights()->Assign(weights.begin(), weights.end());
+  return *this;
+}
 ParticleSource& ParticleSource::setBox(const Vec3& centre, const Vec3& halfExtents, const Quat& orientation) {
   auto* box = message().mutable_box();
   *box->mutable_centre() = toProto(centre);

@@ -4,6 +4,7 @@
 /// step 0). Sources and sinks report counts and masses per interval and in total.
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "demlink/client/component.hpp"
 
@@ -15,6 +16,12 @@ class ParticleSource : public Component {
   ParticleSource& setMaterial(const std::string& material);
   ParticleSource& setRadius(double metres);                    ///< one radius [m]
   ParticleSource& setRadiusRange(double rMin, double rMax);    ///< uniform in [rMin, rMax] [m]
+  /// pdf linear from weightAtMin at rMin to weightAtMax at rMax [m], [-].
+  ParticleSource& setLinearSizes(double rMin, double rMax, double weightAtMin, double weightAtMax);
+  /// Normal(mean, std) truncated to [rMin, rMax] [m].
+  ParticleSource& setNormalSizes(double mean, double std, double rMin, double rMax);
+  /// One of `radii` [m] with probability proportional to `weights` [-] (empty: equal).
+  ParticleSource& setDiscreteSizes(const std::vector<double>& radii, const std::vector<double>& weights = {});
   ParticleSource& setBox(const Vec3& centre, const Vec3& halfExtents, const Quat& orientation = {});  ///< [m]
   ParticleSource& setDisc(const Vec3& centre, const Vec3& normal, double radius, double thickness = 0.0);  ///< [m]
   ParticleSource& setRateParticles(double perSecond);          ///< [1/s]
