@@ -11,6 +11,7 @@
 
 #include "demlink/client/client.hpp"
 #include "demlink/demlink_c.h"
+#include "demlink/v1/protocol.pb.h"
 
 namespace demlink::client::c_abi {
 
@@ -60,6 +61,9 @@ Component& componentOf(Client& client, int component);
 
 /// A component built from a declare package (generic layout, demlink_c.h).
 std::unique_ptr<Component> componentFromPackage(const Package& package);
+/// A source's size distribution in the layout of dl_declare_particle_source (sizeKind 0 one
+/// radius, 1 uniform, 2 linear, 3 normal, 4 discrete pairs); ArgumentError on a bad count.
+void setSourceSizes(ParticleSource& source, int kind, const std::vector<double>& params);
 /// Applies an input package's reals to the component.
 void applyInputs(Component& component, const Package& package);
 /// Writes the component's latest outputs in the output layout.

@@ -133,7 +133,22 @@ std::unique_ptr<Component> componentFromPackage(const Package& p) {
     out = std::move(c);
   } else if (kind == "particle_source") {
     auto c = std::make_unique<ParticleSource>(name);
-    c->setMaterial(r.text(2)).setBox(r.vec(1), r.vec(4)).setRadiusRange(r.real(7), r.real(8));
+    c->setMaterial(r.text(2));
+    const long long region = r.integer(1, 0);
+    if (region == 0) c->setBox(r.vec(1), r.vec(4));
+    else if (region == 1) c->setDisc(r.vec(1), r.vec(4), r.real(16), r.hasReal(17) ? r.real(17) : 0.0);
+    else throw ArgumentError("particle_source: ints[1] (region) must be 0 (box) or 1 (disc)");
+    // ints[2] size kind as in dl_declare_particle_source: r_min, r_max at [7], [8], the linear
+    // weights or the normal's mean and std at [18], [19], discrete (radius, weight) pairs from [20].
+    const long long sizeKind = r.integer(2, 1);
+    if (sizeKind < 0 || sizeKind > 4) throw ArgumentError("particle_source: ints[2] (size kind) must be 0..4");
+    std::vector<double> sizes;
+    if (sizeKind == 0) sizes = {r.real(7)};
+    else if (sizeKind == 1) sizes = {r.real(7), r.real(8)};
+    else if (sizeKind == 2) sizes = {r.real(7), r.real(8), r.real(18), r.real(19)};
+    else if (sizeKind == 3) sizes = {r.real(18), r.real(19), r.real(7), r.real(8)};
+    else if (p.reals.size() > 20) sizes.assign(p.reals.begin() + 20, p.reals.end());
+    setSourceSizes(*c, static_cast<int>(sizeKind), sizes);
     if (r.hasReal(9)) c->setRateParticles(r.real(9));
     if (r.hasReal(10)) c->setRateMass(r.real(10));
     if (r.hasReal(11)) c->setVelocity(r.vec(11));

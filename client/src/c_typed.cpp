@@ -118,6 +118,35 @@ std::unique_ptr<SimulationBox> simulationBox(const char* name, double timeStep, 
 }
 
 }  // namespace
+
+void setSourceSizes(ParticleSource& source, int kind, const std::vector<double>& params) {
+  static constexpr std::array<const char*, 5> kNames = {"one radius", "uniform", "linear", "normal", "discrete"};
+  static constexpr std::array<std::size_t, 4> kCounts = {1, 2, 4, 4};
+  if (kind < 0 || kind > 4) throw ArgumentError("sizeKind must be 0..4 (radius, uniform, linear, normal, discrete)");
+  const auto k = static_cast<std::size_t>(kind);
+  const bool countOk = k < kCounts.size() ? params.size() == kCounts[k] : !params.empty() && params.size() % 2 == 0;
+  if (!countOk) {
+    throw ArgumentError(std::string("sizeParams: ") + std::to_string(params.size()) + " values do not fit sizeKind " +
+                        std::to_string(kind) + " (" + kNames[k] + ")");
+  }
+  const auto& p = params;
+  switch (kind) {
+    case 0: source.setRadius(p[0]); break;
+    case 1: source.setRadiusRange(p[0], p[1]); break;
+    case 2: source.setLinearSizes(p[0], p[1], p[2], p[3]); break;
+    case 3: source.setNormalSizes(p[0], p[1], p[2], p[3]); break;
+    default: {
+      std::vector<double> radii;
+      std::vector<double> weights;
+      for (std::size_t i = 0; i + 1 < p.size(); i += 2) {
+        radii.push_back(p[i]);
+        weights.push_back(p[i + 1]);
+      }
+      source.setDiscreteSizes(radii, weights);
+    }
+  }
+}
+
 }  // namespace demlink::client::c_abi
 
 using namespace demlink::client;
@@ -278,6 +307,32 @@ int dl_declare_particle_source_box(dl_client* client, const char* name, double i
     auto s = std::make_unique<ParticleSource>(str(name));
     s->setMaterial(str(material)).setBox(vec(centre, "centre"), vec(halfExtents, "halfExtents"));
     s->setRadiusRange(rMin, rMax).setSeed(seed);
+    if (given(ratePerSecond)) s->setRateParticles(ratePerSecond);
+    if (given(rateKgPerSecond)) s->setRateMass(rateKgPerSecond);
+    if (velocity != nullptr) s->setVelocity(vec(velocity, "velocity"));
+    return declareComponent(c, std::move(s), interval, component);
+  });
+}
+
+int dl_declare_particle_source(dl_client* client, const char* name, double interval, const char* material, int region,
+                               const double* regionParams, int sizeKind, const double* sizeParams, int nSizeParams,
+                               double ratePerSecond, double rateKgPerSecond, const double velocity[3], uint64_t seed,
+                               int* component) {
+  return guarded(client, [&](Client& c) -> int {
+    if (regionParams == nullptr) throw ArgumentError("regionParams is NULL");
+    if (nSizeParams < 0 || (nSizeParams > 0 && sizeParams == nullptr)) {
+      throw ArgumentError("sizeParams: " + std::to_string(nSizeParams) + " values requested from a NULL array");
+    }
+    auto s = std::make_unique<ParticleSource>(str(name));
+    s->setMaterial(str(material)).setSeed(seed);
+    if (region == 0) {
+      s->setBox(vec(regionParams, "centre"), vec(regionParams + 3, "halfExtents"));
+    } else if (region == 1) {
+      s->setDisc(vec(regionParams, "centre"), vec(regionParams + 3, "normal"), regionParams[6], regionParams[7]);
+    } else {
+      throw ArgumentError("region must be 0 (box) or 1 (disc), not " + std::to_string(region));
+    }
+    setSourceSizes(*s, sizeKind, std::vector<double>(sizeParams, sizeParams + nSizeParams));
     if (given(ratePerSecond)) s->setRateParticles(ratePerSecond);
     if (given(rateKgPerSecond)) s->setRateMass(rateKgPerSecond);
     if (velocity != nullptr) s->setVelocity(vec(velocity, "velocity"));

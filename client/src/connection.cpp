@@ -9,6 +9,7 @@
 
 #include <asio.hpp>
 
+#include "demlink/v1/protocol.pb.h"
 #include "demlink/wire/frame_codec.hpp"
 
 namespace demlink::client {
@@ -77,7 +78,7 @@ struct Connection::Impl {
   }
 };
 
-Connection::Connection() = default;
+Connection::Connection() : welcome_(new v1::Welcome()) {}
 Connection::~Connection() { close(); }
 
 const v1::Welcome& Connection::connect(const std::string& host, std::uint16_t port, const ConnectOptions& options) {
@@ -114,8 +115,8 @@ const v1::Welcome& Connection::connect(const std::string& host, std::uint16_t po
     throw ConnectionError("expected Welcome after Hello, got message case " +
                           std::to_string(static_cast<int>(answer.message_case())));
   }
-  welcome_ = answer.welcome();
-  return welcome_;
+  *welcome_ = answer.welcome();
+  return *welcome_;
 }
 
 void Connection::send(const v1::ClientMessage& message) {
@@ -141,7 +142,7 @@ v1::ServerMessage Connection::receive() {
       // simulation's results are; anything else (or nothing) is not an error here.
       try {
         v1::ServerMessage next = readMessage(std::min<std::chrono::milliseconds>(options_.timeout, kFinishedGrace));
-        if (next.has_finished()) finished_after_error_ = next.finished();
+        if (next.has_finished()) finished_after_error_.reset(new v1::Finished(next.finished()));
       } catch (const std::exception&) {
       }
       impl_->closeSocket();

@@ -4,26 +4,63 @@
 #include <stdexcept>
 #include <utility>
 
+#include "demlink/v1/protocol.pb.h"
+
 namespace demlink::client {
-void DeformableBody::addRegion(v1::NodeSet& set, const Vec3& lo, const Vec3& hi) {
-  v1::NodeRegion& region = *set.add_regions();
-  *region.mutable_lo() = toProto(lo);
-  *region.mutable_hi() = toProto(hi);
+
+namespace {
+
+/// Calls `f` with the declared MassSpringBody or FemBody message (same field names).
+template <class F>
+void withBody(v1::ComponentDeclaration& declaration, F&& f) {
+  if (declaration.has_mass_spring_body()) {
+    f(*declaration.mutable_mass_spring_body());
+  } else {
+    f(*declaration.mutable_fem_body());
+  }
+}
+
+}  // namespace
+
+void DeformableBody::declareMaterial(const std::string& material) {
+  withBody(declaration(), [&](auto& body) { body.set_material(material); });
+}
+
+void DeformableBody::declareRegion(bool driven, const Vec3& lo, const Vec3& hi) {
+  withBody(declaration(), [&](auto& body) {
+    v1::NodeRegion& region = *(driven ? body.mutable_driven() : body.mutable_fixed())->add_regions();
+    *region.mutable_lo() = toProto(lo);
+    *region.mutable_hi() = toProto(hi);
+  });
+}
+
+void DeformableBody::declareDrivenReference(const Vec3& point) {
+  withBody(declaration(), [&](auto& body) { *body.mutable_driven_reference() = toProto(point); });
+}
+
+void DeformableBody::declareAttachedTo(const std::string& rigidBody) {
+  withBody(declaration(), [&](auto& body) { body.set_attached_to(rigidBody); });
+}
+
+void DeformableBody::declareOutputNodes(const std::vector<std::uint32_t>& nodes) {
+  withBody(declaration(), [&](auto& body) { body.mutable_output_nodes()->mutable_nodes()->Assign(nodes.begin(), nodes.end()); });
 }
 
 void DeformableBody::setDrivenPose(const Vec3& position, const Quat& orientation) {
-  *input_.mutable_position() = toProto(position);
-  *input_.mutable_orientation() = toProto(orientation);
+  if (!input_) input_.reset(new v1::DeformableBodyInput());
+  *input_->mutable_position() = toProto(position);
+  *input_->mutable_orientation() = toProto(orientation);
   pose_set_ = true;
 }
 
 void DeformableBody::setDrivenVelocity(const Vec3& linear, const Vec3& angular) {
-  *input_.mutable_linear_velocity() = toProto(linear);
-  *input_.mutable_angular_velocity() = toProto(angular);
+  if (!input_) input_.reset(new v1::DeformableBodyInput());
+  *input_->mutable_linear_velocity() = toProto(linear);
+  *input_->mutable_angular_velocity() = toProto(angular);
 }
 
 void DeformableBody::writeInputs(v1::DataPackage& package) const {
-  if (pose_set_) *package.mutable_deformable_body_input() = input_;
+  if (pose_set_) *package.mutable_deformable_body_input() = *input_;
 }
 
 std::vector<std::uint32_t> DeformableBody::nodes() const {
@@ -97,5 +134,8 @@ FemBody& FemBody::setRayleigh(double alpha, double beta) {
   message().set_rayleigh_beta(beta);
   return *this;
 }
+
+v1::MassSpringBody& MassSpringBody::message() { return *declaration().mutable_mass_spring_body(); }
+v1::FemBody& FemBody::message() { return *declaration().mutable_fem_body(); }
 
 }  // namespace demlink::client

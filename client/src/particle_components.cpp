@@ -3,6 +3,8 @@
 
 #include <utility>
 
+#include "demlink/v1/protocol.pb.h"
+
 namespace demlink::client {
 namespace {
 
@@ -32,6 +34,28 @@ ParticleSource& ParticleSource::setRadiusRange(double rMin, double rMax) {
   auto* range = message().mutable_sizes()->mutable_uniform();
   range->set_r_min(rMin);
   range->set_r_max(rMax);
+  return *this;
+}
+ParticleSource& ParticleSource::setLinearSizes(double rMin, double rMax, double weightAtMin, double weightAtMax) {
+  auto* linear = message().mutable_sizes()->mutable_linear();
+  linear->set_r_min(rMin);
+  linear->set_r_max(rMax);
+  linear->set_weight_at_min(weightAtMin);
+  linear->set_weight_at_max(weightAtMax);
+  return *this;
+}
+ParticleSource& ParticleSource::setNormalSizes(double mean, double std, double rMin, double rMax) {
+  auto* normal = message().mutable_sizes()->mutable_normal();
+  normal->set_mean(mean);
+  normal->set_std(std);
+  normal->set_r_min(rMin);
+  normal->set_r_max(rMax);
+  return *this;
+}
+ParticleSource& ParticleSource::setDiscreteSizes(const std::vector<double>& radii, const std::vector<double>& weights) {
+  auto* discrete = message().mutable_sizes()->mutable_discrete();
+  discrete->mutable_radii()->Assign(radii.begin(), radii.end());
+  discrete->mutable_weights()->Assign(weights.begin(), weights.end());
   return *this;
 }
 ParticleSource& ParticleSource::setBox(const Vec3& centre, const Vec3& halfExtents, const Quat& orientation) {
@@ -105,11 +129,11 @@ ParticleSink& ParticleSink::setSampleInterval(double seconds) {
   return *this;
 }
 void ParticleSource::setEnabled(bool on) {
-  if (!pending_) pending_.emplace();
+  if (!pending_) pending_.reset(new v1::ParticleSourceInput());
   pending_->set_enabled(on);
 }
 void ParticleSource::changeRate(double rate) {
-  if (!pending_) pending_.emplace();
+  if (!pending_) pending_.reset(new v1::ParticleSourceInput());
   if (message().has_rate_kg_per_s()) {
     pending_->set_rate_kg_per_s(rate);
   } else {
@@ -121,11 +145,11 @@ void ParticleSource::writeInputs(v1::DataPackage& package) const {
 }
 
 void ParticleSink::setEnabled(bool on) {
-  if (!pending_) pending_.emplace();
+  if (!pending_) pending_.reset(new v1::ParticleSinkInput());
   pending_->set_enabled(on);
 }
 void ParticleSink::moveTo(const Vec3& centre) {
-  if (!pending_) pending_.emplace();
+  if (!pending_) pending_.reset(new v1::ParticleSinkInput());
   *pending_->mutable_region()->mutable_centre() = toProto(centre);
 }
 void ParticleSink::writeInputs(v1::DataPackage& package) const {
@@ -168,5 +192,12 @@ PitGenerator& PitGenerator::setSeed(std::uint64_t seed) {
   message().set_seed(seed);
   return *this;
 }
+
+v1::ParticleSource& ParticleSource::message() { return *declaration().mutable_particle_source(); }
+v1::ParticleSink& ParticleSink::message() { return *declaration().mutable_particle_sink(); }
+v1::PitGenerator& PitGenerator::message() { return *declaration().mutable_pit_generator(); }
+
+void ParticleSource::inputsSent() { pending_.reset(); }
+void ParticleSink::inputsSent() { pending_.reset(); }
 
 }  // namespace demlink::client

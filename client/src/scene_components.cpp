@@ -5,6 +5,8 @@
 
 #include <utility>
 
+#include "demlink/v1/protocol.pb.h"
+
 namespace demlink::client {
 
 SimulationBox::SimulationBox(std::string name) : Component(std::move(name)) {
@@ -49,13 +51,13 @@ SimulationBox& SimulationBox::setOutputDirectory(const std::string& directory) {
 }
 
 void SimulationBox::setGravity(const Vec3& g) {
-  if (!pending_) pending_.emplace();
+  if (!pending_) pending_.reset(new v1::SimulationBoxInput());
   *pending_->mutable_gravity() = toProto(g);
 }
 
 void SimulationBox::setFrame(const Vec3& linearAcceleration, const Vec3& angularVelocity,
                              const Vec3& angularAcceleration, const Vec3& origin) {
-  if (!pending_) pending_.emplace();
+  if (!pending_) pending_.reset(new v1::SimulationBoxInput());
   auto* frame = pending_->mutable_frame();
   *frame->mutable_linear_acceleration() = toProto(linearAcceleration);
   *frame->mutable_angular_velocity() = toProto(angularVelocity);
@@ -152,5 +154,13 @@ ParticleSystem& ParticleSystem::setCheckpointFile(const std::string& path) {
   message().set_checkpoint_file(path);
   return *this;
 }
+
+v1::SimulationBox& SimulationBox::message() { return *declaration().mutable_simulation_box(); }
+v1::Material& Material::message() { return *declaration().mutable_material(); }
+v1::Plane& Plane::message() { return *declaration().mutable_plane(); }
+v1::SingleParticle& SingleParticle::message() { return *declaration().mutable_single_particle(); }
+v1::ParticleSystem& ParticleSystem::message() { return *declaration().mutable_particle_system(); }
+
+void SimulationBox::inputsSent() { pending_.reset(); }
 
 }  // namespace demlink::client

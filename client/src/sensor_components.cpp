@@ -4,6 +4,8 @@
 #include <limits>
 #include <utility>
 
+#include "demlink/v1/protocol.pb.h"
+
 namespace demlink::client {
 namespace {
 
@@ -41,7 +43,7 @@ void RegionSensor::prepareDeclaration() {
   }
 }
 v1::RegionInput& RegionSensor::pending() {
-  if (!pending_) pending_.emplace();
+  if (!pending_) pending_.reset(new v1::RegionInput());
   return *pending_;
 }
 void RegionSensor::moveTo(const Vec3& centre) { *pending().mutable_centre() = toProto(centre); }
@@ -128,5 +130,12 @@ std::vector<Vec3> triples(const google::protobuf::RepeatedField<float>& p) {
 std::vector<Vec3> ParticleView::positions() const { return triples(view().positions()); }
 std::vector<Vec3> ParticleView::velocities() const { return triples(view().velocities()); }
 std::vector<std::uint64_t> ParticleView::ids() const { return {view().ids().begin(), view().ids().end()}; }
+
+v1::RegionSensor& RegionSensor::message() { return *declaration().mutable_region_sensor(); }
+v1::FlowSensor& FlowSensor::message() { return *declaration().mutable_flow_sensor(); }
+v1::ParticleView& ParticleView::message() { return *declaration().mutable_particle_view(); }
+
+void RegionSensor::inputsSent() { pending_.reset(); }
+const v1::ParticleViewOutput& ParticleView::view() const { return outputs().particle_view(); }
 
 }  // namespace demlink::client

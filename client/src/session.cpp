@@ -8,7 +8,18 @@
 #include <algorithm>
 #include <limits>
 
+#include "demlink/v1/protocol.pb.h"
+
 namespace demlink::client {
+
+Session::Session(Connection& connection)
+    : connection_(connection), compiled_(new v1::Compiled()), finished_(new v1::Finished()) {}
+
+double Session::timeStep() const { return compiled_->time_step(); }
+std::uint64_t Session::endStep() const { return compiled_->end_step(); }
+const v1::CompileReport& Session::report() const { return compiled_->report(); }
+std::string Session::reportText() const { return compiled_->report().text(); }
+std::string Session::finishedReason() const { return finished_->reason(); }
 
 Component* Session::find(const std::string& name) {
   for (auto& c : components_) {
@@ -32,7 +43,7 @@ void Session::declare() {
     if (c->declared_) continue;
     c->prepareDeclaration();
     v1::ClientMessage message;
-    *message.mutable_declare()->mutable_component() = c->declaration_;
+    *message.mutable_declare()->mutable_component() = *c->declaration_;
     connection_.send(message);
     c->declared_ = true;
   }
@@ -43,7 +54,7 @@ Component& Session::declareOnce(std::unique_ptr<Component> component, std::size_
   for (std::size_t i = 0; i < components_.size(); ++i) {
     Component& existing = *components_[i];
     if (existing.name() != component->name()) continue;
-    if (!google::protobuf::util::MessageDifferencer::Equals(existing.declaration_, component->declaration_)) {
+    if (!google::protobuf::util::MessageDifferencer::Equals(*existing.declaration_, *component->declaration_)) {
       throw StateError("component '" + component->name() +
                        "' is already declared on this connection with a different declaration");
     }
@@ -69,11 +80,11 @@ void Session::declarationsDone() {
 const v1::Compiled& Session::waitCompiled() {
   while (!compiled_flag_) {
     if (finished_flag_) {
-      throw StateError("the simulation ended before it was compiled: " + finished_.reason());
+      throw StateError("the simulation ended before it was compiled: " + finished_->reason());
     }
     pump();
   }
-  return compiled_;
+  return *compiled_;
 }
 
 void Session::applyCompiled(const v1::Compiled& compiled) {
@@ -92,10 +103,10 @@ void Session::applyCompiled(const v1::Compiled& compiled) {
   }
   for (const auto& initial : compiled.initial_outputs()) {
     for (auto& c : components_) {
-      if (c->id_ == initial.component_id()) c->outputs_ = initial;
+      if (c->id_ == initial.component_id()) *c->outputs_ = initial;
     }
   }
-  compiled_ = compiled;
+  *compiled_ = compiled;
   compiled_flag_ = true;
   current_ = 0;
 }
@@ -114,7 +125,7 @@ Component* Session::applyData(const v1::DataPackage& package) {
     throw StateError("unexpected answer for '" + target->name() + "' at step " + std::to_string(package.step()) +
                      (target->awaiting_ ? " (expected step " + std::to_string(expected) + ")" : " (no package sent)"));
   }
-  target->outputs_ = package;
+  *target->outputs_ = package;
   target->awaiting_ = false;
   target->next_send_step_ = package.step();  // due again where its interval ended
   return target;
@@ -127,7 +138,7 @@ Component* Session::pump() {
   } catch (const ServerError&) {
     // A fatal error ends the simulation: keep its Finished (where the results are).
     if (connection_.finishedAfterError()) {
-      finished_ = *connection_.finishedAfterError();
+      *finished_ = *connection_.finishedAfterError();
       finished_flag_ = true;
     }
     throw;
@@ -139,7 +150,7 @@ Component* Session::pump() {
     case v1::ServerMessage::kData:
       return applyData(message.data());
     case v1::ServerMessage::kFinished:
-      finished_ = message.finished();
+      *finished_ = message.finished();
       finished_flag_ = true;
       connection_.close();  // the server ends the connection after Finished; hang up at once
       return nullptr;
@@ -235,11 +246,11 @@ void Session::sendBye(const std::string& reason) {
 
 const v1::Finished& Session::waitFinished() {
   while (!finished_flag_) pump();
-  return finished_;
+  return *finished_;
 }
 
 const v1::Finished& Session::finish(const std::string& reason) {
-  if (finished_flag_) return finished_;
+  if (finished_flag_) return *finished_;
   sendBye(reason);
   return waitFinished();
 }

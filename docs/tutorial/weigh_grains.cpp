@@ -43,7 +43,7 @@ int main(int argc, char** argv) {
     // An open-top tray 8 x 8 x 4 cm whose centre is 5 cm above the floor.
     auto& tray = session.add<dc::RigidBody>("tray");
     tray.setBox({0.08, 0.08, 0.04}, /*openTop=*/true).setMaterial("grain").setInitialPose({0, 0, 0.05});
-    tray.setMotion(demlink::v1::RigidBody::PREDICTED);
+    tray.setMotion(dc::RigidBodyMotion::kPredicted);
     tray.setCommunicationInterval(kInterval);
 
     auto& source = session.add<dc::ParticleSource>("pour");
@@ -56,7 +56,7 @@ int main(int argc, char** argv) {
 
     session.declare();
     session.waitCompiled();
-    std::printf("%s", session.report().text().c_str());
+    std::printf("%s", session.reportText().c_str());
     while (session.exchange()) {
       tray.setPose({0, 0, 0.05}, {});  // held still (the pose is re-sent anyway)
       tray.setVelocity({}, {});
@@ -68,7 +68,7 @@ int main(int argc, char** argv) {
     const double weight = inside.mass() * kGravity;
     const double force = -tray.meanForce().z;  // ON the tray BY the grains: downwards
     std::printf("%s at t = %.3f s: %llu grains, weight %.5f N, force on the tray %.5f N\n",
-                session.finishedInfo().reason().c_str(), session.time(),
+                session.finishedReason().c_str(), session.time(),
                 static_cast<unsigned long long>(inside.count()), weight, force);
     session.finish();
     return inside.count() > 0 && std::abs(force - weight) < 0.03 * weight ? 0 : 1;

@@ -31,6 +31,7 @@
 #include "demlink/client/rigid_body.hpp"
 #include "demlink/client/sensor_components.hpp"
 #include "demlink/client/session.hpp"
+#include "demlink/v1/protocol.pb.h"
 #include "excavator_model.hpp"
 #include "excavator_operator.hpp"
 #include "site_layout.hpp"

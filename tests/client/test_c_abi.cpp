@@ -272,6 +272,50 @@ TEST(ClientCAbi, GenericSimulationBoxCarriesOutputThreadsAndNames) {
   EXPECT_NE(std::string(dl_last_error(other.client)).find("reals[12]"), std::string::npos);
 }
 
+// The source's generic layout as the Modelica ParticleSource fills it: a disc with discrete
+// sizes (pairs from reals[20]) and a box with a truncated normal (mean, std at [18], [19]).
+TEST(ClientCAbi, GenericParticleSourceCarriesDiscRegionAndSizeDistributions) {
+  const std::string log = logFile("generic_source");
+  FakeServerProcess server(1, 2, log);
+  ASSERT_NE(server.port(), 0);
+  ClientGuard c;
+  PackageGuard pkg;
+  ASSERT_EQ(dl_connect_to_host(c.client, "127.0.0.1", server.port(), "feed", nullptr), DL_OK) << dl_last_error(c.client);
+  const double nan = std::nan("");
+  const char* discStrings[] = {"particle_source", "hopper", "glass", ""};
+  const long long discInts[] = {5, 1, 4};  // seed, disc, discrete
+  const double discReals[] = {0.0, 0.0, 0.0, 0.5, 0.0, 0.0, 1.0, 0.003, 0.005, 100.0, nan, 0.0,   0.0, 0.0,
+                              0.0, nan, 0.1, 0.02, 1.0, 1.0, 0.003, 1.0, 0.005, 3.0};
+  ASSERT_EQ(dl_set_data(pkg.package, discInts, 3, discReals, 24, discStrings, 4), DL_OK);
+  ASSERT_EQ(dl_send_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
+  const char* boxStrings[] = {"particle_source", "chute", "glass", ""};
+  const long long boxInts[] = {6, 0, 3};  // seed, box, normal
+  const double boxReals[] = {0.0, 0.0, 0.0, 1.0, 0.1, 0.1, 0.1, 0.003, 0.005, nan, 2.0, 0.0, 0.0, 0.0,
+                             0.0, nan, 0.2, 0.0, 0.004, 0.001};
+  ASSERT_EQ(dl_set_data(pkg.package, boxInts, 3, boxReals, 20, boxStrings, 4), DL_OK);
+  ASSERT_EQ(dl_send_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
+  ASSERT_EQ(dl_wait_compiled(c.client), DL_OK) << dl_last_error(c.client);
+  EXPECT_EQ(dl_finish(c.client, "done"), DL_OK);  // declared only (interval 0): nothing to exchange
+  ASSERT_EQ(server.wait(), 0);
+
+  const auto lines = readLines(log);
+  EXPECT_TRUE(contains(lines, "DECL hopper", "disc { centre { z: 0.5 } normal { z: 1 } radius: 0.1 thickness: 0.02 }"));
+  EXPECT_TRUE(contains(lines, "DECL hopper", "discrete { radii: 0.003 radii: 0.005 weights: 1 weights: 3 }"));
+  EXPECT_TRUE(contains(lines, "DECL hopper", "rate_particles_per_s: 100"));
+  EXPECT_TRUE(contains(lines, "DECL chute", "box { centre { z: 1 } half_extents { x: 0.1 y: 0.1 z: 0.1 }"));
+  EXPECT_TRUE(contains(lines, "DECL chute", "normal { mean: 0.004 std: 0.001 r_min: 0.003 r_max: 0.005 }"));
+  EXPECT_TRUE(contains(lines, "DECL chute", "rate_kg_per_s: 2"));
+
+  // Discrete sizes must come in pairs; an unknown size kind is refused by name.
+  ClientGuard other;
+  ASSERT_EQ(dl_set_data(pkg.package, discInts, 3, discReals, 23, discStrings, 4), DL_OK);
+  EXPECT_EQ(dl_send_package(other.client, pkg.package), DL_ERR_ARGUMENT);
+  const long long badKind[] = {5, 1, 7};
+  ASSERT_EQ(dl_set_data(pkg.package, badKind, 3, discReals, 24, discStrings, 4), DL_OK);
+  EXPECT_EQ(dl_send_package(other.client, pkg.package), DL_ERR_ARGUMENT);
+  EXPECT_NE(std::string(dl_last_error(other.client)).find("ints[2]"), std::string::npos) << dl_last_error(other.client);
+}
+
 // The C program that makes the Modelica package's calls, against the fake scheduler with
 // one connection per component.
 TEST(ClientCAbi, ModelicaSequenceProgramRunsAgainstTheFakeServer) {

@@ -2,13 +2,16 @@
 # Installs the C ABI component of a DEMLink build into a temporary prefix, then builds and
 # runs a program against the installed tree twice: a CMake project with
 # find_package(DEMLink), and a C program compiled with pkg-config's flags; then installs
-# the Python client and imports it from there (when DEMLINK_PYTHON names a python3 with
-# google.protobuf).
-# Usage: run_install_test.sh BUILD_DIR SOURCE_DIR VERSION
+# the C++ client and builds a C++ project against it (find_package(DEMLink COMPONENTS
+# client)), runs it alone and, when SERVER_EXE is given, against a real server; then
+# installs the Python client and imports it from there (when DEMLINK_PYTHON names a
+# python3 with google.protobuf).
+# Usage: run_install_test.sh BUILD_DIR SOURCE_DIR VERSION [SERVER_EXE]
 set -eu
 build=$1
 source=$2
 version=$3
+server_exe=${4:-}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cmake --install "$build" --prefix "$work/prefix" --component c_abi > "$work/install.log"
@@ -30,7 +33,23 @@ cc -std=c99 -Wall -Werror -o "$work/consumer_pc" "$source/tests/install/consumer
   $(pkg-config --cflags --libs demlink_c)
 LD_LIBRARY_PATH="$libdir" "$work/consumer_pc" "$version"
 
-# 3. The Python client from its install location (Debian's python3-protobuf).
+# 3. The C++ client: its headers must compile without protoc's output, so the consumer
+#    sees only the installed include directory.
+cmake --install "$build" --prefix "$work/prefix" --component client >> "$work/install.log"
+test -f "$work/prefix/include/demlink/client/client.hpp"
+if ls "$work"/prefix/include/demlink/v1 > /dev/null 2>&1; then
+  echo "generated protobuf headers were installed" >&2
+  exit 1
+fi
+cmake -S "$source/tests/install/cpp_consumer" -B "$work/cpp_consumer" -G Ninja -DCMAKE_PREFIX_PATH="$work/prefix" \
+  > "$work/cpp_configure.log"
+cmake --build "$work/cpp_consumer" > "$work/cpp_build.log" || { cat "$work/cpp_build.log"; exit 1; }
+"$work/cpp_consumer/cpp_consumer"
+if [ -n "$server_exe" ]; then
+  DEMLINK_TEST_TIMEOUT=60 bash "$source/tests/python/run_with_server.sh" "$server_exe" env "$work/cpp_consumer/cpp_consumer"
+fi
+
+# 4. The Python client from its install location (Debian's python3-protobuf).
 if [ -n "${DEMLINK_PYTHON:-}" ]; then
   cmake --install "$build" --prefix "$work/prefix" --component python >> "$work/install.log"
   PYTHONPATH="$work/prefix/lib/python3/dist-packages" "$DEMLINK_PYTHON" -c "

@@ -6,6 +6,7 @@
 /// form: free fall, particle masses, the STL's bounds, crossings along the normal.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <numbers>
@@ -278,6 +279,97 @@ TEST_F(CAbiRealServer, SettingsDeclarationAndRoomMotionInput) {
   // package): -a over 11 ms, then +a over 11 ms.
   for (int k = 11; k <= 22; ++k) sample();
   EXPECT_NEAR(out[6], 0.0, 1e-9) << "the reversed acceleration took the velocity back";
+  EXPECT_EQ(dl_finish(c, "done"), DL_OK);
+  EXPECT_EQ(server_->child.waitForExit(std::chrono::seconds(20)), 0);
+}
+
+// The general source declaration: a disc region with a discrete size distribution and a
+// box with a truncated normal one. Without gravity the inserted grains stay where they were
+// placed, so every one must lie inside its region (radius - r of the axis, |axial| <=
+// thickness / 2 - r), have one of the declared radii (or one within [r_min, r_max]), and the
+// source's reported mass must be the sum of their sphere masses. The view reports single
+// precision: radii and positions are compared within 1e-7 m, masses within 1e-6.
+TEST_F(CAbiRealServer, SourceWithADiscRegionAndSizeDistributions) {
+  ASSERT_GT(server_->port, 0) << server_->announced;
+  ClientGuard g;
+  dl_client* c = g.client;
+  ASSERT_EQ(dl_connect_to_host(c, server_->host.c_str(), server_->port, "sources", nullptr), DL_OK) << dl_last_error(c);
+  const double nan = std::nan("");
+  const double zero[3] = {0.0, 0.0, 0.0};
+  const double lower[3] = {-0.2, -0.2, -0.2};
+  const double upper[3] = {0.2, 0.2, 0.2};
+  int box = -1, glass = -1, disc = -1, cube = -1, view = -1;
+  ASSERT_EQ(dl_declare_simulation_box(c, "box", kInterval, kDt, nan, zero, lower, upper, 0, &box), DL_OK)
+      << dl_last_error(c);
+  ASSERT_EQ(dl_declare_material(c, "glass", "", kDensity, 5e6, 0.3, 0.5, 0.5, 0.0, &glass), DL_OK) << dl_last_error(c);
+  constexpr double kDiscRadius = 0.05, kThickness = 0.02, kDiscZ = 0.1;  // [m]
+  const double discRegion[8] = {0.0, 0.0, kDiscZ, 0.0, 0.0, 1.0, kDiscRadius, kThickness};
+  const double discrete[4] = {0.003, 1.0, 0.005, 3.0};
+  ASSERT_EQ(dl_declare_particle_source(c, "disc", kInterval, "glass", 1, discRegion, 4, discrete, 4, 5000.0, -1.0,
+                                       nullptr, 11, &disc),
+            DL_OK)
+      << dl_last_error(c);
+  const double cubeRegion[6] = {0.0, 0.0, -0.1, 0.04, 0.04, 0.04};
+  const double normal[4] = {0.004, 0.001, 0.003, 0.005};
+  ASSERT_EQ(dl_declare_particle_source(c, "cube", kInterval, "glass", 0, cubeRegion, 3, normal, 4, 5000.0, -1.0,
+                                       nullptr, 12, &cube),
+            DL_OK)
+      << dl_last_error(c);
+  int bad = -1;
+  EXPECT_EQ(dl_declare_particle_source(c, "odd", kInterval, "glass", 1, discRegion, 4, discrete, 3, 1.0, -1.0, nullptr,
+                                       1, &bad),
+            DL_ERR_ARGUMENT)
+      << "discrete sizes come in (radius, weight) pairs";
+  EXPECT_EQ(dl_declare_particle_source(c, "cone", kInterval, "glass", 2, discRegion, 0, discrete, 1, 1.0, -1.0, nullptr,
+                                       1, &bad),
+            DL_ERR_ARGUMENT)
+      << "region 2 does not exist";
+  ASSERT_EQ(dl_declare_particle_view(c, "view", kInterval, 1000, &view), DL_OK) << dl_last_error(c);
+  ASSERT_EQ(dl_declarations_done(c), DL_OK) << dl_last_error(c);
+
+  int count = 0;
+  double boxOut[4];
+  int discCounts[3], cubeCounts[3];
+  double discMasses[3], cubeMasses[3];
+  std::vector<double> positions(3000), radii(1000);
+  int listed = 0;
+  for (int k = 0; k <= 10; ++k) {
+    SCOPED_TRACE("sample " + std::to_string(k));
+    ASSERT_EQ(dl_simulation_box_exchange(c, box, nullptr, boxOut, &count), DL_OK) << dl_last_error(c);
+    ASSERT_EQ(dl_particle_source_read(c, disc, discCounts, discMasses), DL_OK) << dl_last_error(c);
+    ASSERT_EQ(dl_particle_source_read(c, cube, cubeCounts, cubeMasses), DL_OK) << dl_last_error(c);
+    ASSERT_EQ(dl_particle_view_read(c, view, 1000, positions.data(), radii.data(), &listed), DL_OK)
+        << dl_last_error(c);
+  }
+  // 5000 per second each for 10 ms: 50 grains per source, all placed.
+  EXPECT_NEAR(discCounts[1], 50, 1);
+  EXPECT_NEAR(cubeCounts[1], 50, 1);
+  EXPECT_EQ(discCounts[2] + cubeCounts[2], 0) << "no shortfall";
+  ASSERT_EQ(listed, discCounts[1] + cubeCounts[1]);
+  double discMass = 0.0, cubeMass = 0.0;
+  int small = 0;
+  constexpr double kTol = 1e-7;  // [m], a float's resolution at 0.1 m
+  const auto near = [](double a, double b) { return std::abs(a - b) < 1e-9; };
+  for (int i = 0; i < listed; ++i) {
+    const double x = positions[3 * i], y = positions[3 * i + 1], z = positions[3 * i + 2], r = radii[i];
+    SCOPED_TRACE("grain " + std::to_string(i) + " r = " + std::to_string(r));
+    if (z > 0.0) {
+      EXPECT_TRUE(near(r, 0.003) || near(r, 0.005));
+      EXPECT_LE(std::hypot(x, y), kDiscRadius - r + kTol);
+      EXPECT_LE(std::abs(z - kDiscZ), kThickness / 2 - r + kTol);
+      small += near(r, 0.003) ? 1 : 0;
+      discMass += sphereMass(r);
+    } else {
+      EXPECT_GE(r, 0.003 - 1e-9);
+      EXPECT_LE(r, 0.005 + 1e-9);
+      EXPECT_LE(std::max({std::abs(x), std::abs(y), std::abs(z + 0.1)}), 0.04 - r + kTol);
+      cubeMass += sphereMass(r);
+    }
+  }
+  EXPECT_NEAR(discMasses[1], discMass, 1e-6 * discMass);
+  EXPECT_NEAR(cubeMasses[1], cubeMass, 1e-6 * cubeMass);
+  // Weights 1 : 3, so a quarter are small: binomial(50, 1/4) has a standard deviation of 3.1.
+  EXPECT_NEAR(small, discCounts[1] / 4.0, 4 * 3.1);
   EXPECT_EQ(dl_finish(c, "done"), DL_OK);
   EXPECT_EQ(server_->child.waitForExit(std::chrono::seconds(20)), 0);
 }

@@ -16,7 +16,7 @@ import re
 import sys
 
 # --- C side ---------------------------------------------------------------------------
-PROTO = re.compile(r"(?:DL_API|static)\s+([\w\s\*]+?)\s*\b(\w+)\s*\(([^)]*)\)\s*[;{]", re.S)
+PROTO = re.compile(r"(?:DL_API|static(?:\s+inline)?)\s+([\w\s\*]+?)\s*\b(\w+)\s*\(([^)]*)\)\s*[;{]", re.S)
 
 
 def c_param(text):

@@ -253,6 +253,16 @@ DL_API int dl_declare_particle_source_box(dl_client* client, const char* name, d
                                           const double halfExtents[3], double rMin, double rMax,
                                           double ratePerSecond, double rateKgPerSecond, const double velocity[3],
                                           uint64_t seed, int* component);
+/* The general source (docs/sources.md). region 0 box: regionParams = centre(3), half
+ * extents(3) [m]; 1 disc: centre(3), normal(3), radius, thickness (0: thin) [m].
+ * sizeKind / sizeParams [m, -]: 0 one radius {r}; 1 uniform {r_min, r_max}; 2 linear pdf
+ * {r_min, r_max, weight at r_min, weight at r_max}; 3 truncated normal {mean, std, r_min,
+ * r_max}; 4 discrete {radius, weight, radius, weight, ...} (nSizeParams = 2 x radii). */
+DL_API int dl_declare_particle_source(dl_client* client, const char* name, double interval, const char* material,
+                                      int region, const double* regionParams, int sizeKind,
+                                      const double* sizeParams, int nSizeParams, double ratePerSecond,
+                                      double rateKgPerSecond, const double velocity[3], uint64_t seed,
+                                      int* component);
 DL_API int dl_declare_particle_sink_box(dl_client* client, const char* name, double interval,
                                         const double centre[3], const double size[3], int* component);
 DL_API int dl_declare_pit_generator(dl_client* client, const char* name, const char* material,

@@ -92,25 +92,105 @@ std::vector<StateReader> readComponentSections(StateReader& in,
 }
 
 void restoreComponents(const std::vector<std::unique_ptr<WorldComponent>>& components,
-                       std::vector<StateReader>& data, const std::string& source) {
+                       std::vector<StateReader>& data, const std::string& source,
+                       std::vector<std::optional<StateReader>>* inputs) {
   std::vector<std::string> previous;
+  std::vector<std::string> previousInputs;
   for (const auto& component : components) {
     StateWriter backup;
     component->saveState(backup);
     previous.push_back(backup.bytes());
+    StateWriter inputBackup;
+    component->saveInputs(inputBackup);
+    previousInputs.push_back(inputBackup.bytes());
   }
   try {
     for (std::size_t k = 0; k < components.size(); ++k) {
       components[k]->loadState(data[k]);
       data[k].requireEnd();
+      if (inputs != nullptr && (*inputs)[k]) {
+        components[k]->loadInputs(*(*inputs)[k]);
+        (*inputs)[k]->requireEnd();
+      }
     }
   } catch (...) {
     for (std::size_t k = 0; k < components.size(); ++k) {
       StateReader backup(previous[k], source, "components." + components[k]->name());
       components[k]->loadState(backup);
+      if (inputs != nullptr && (*inputs)[k]) {
+        StateReader inputBackup(previousInputs[k], source, "inputs." + components[k]->name());
+        components[k]->loadInputs(inputBackup);
+      }
     }
     throw;
   }
+}
+
+void writeRegionInputs(StateWriter& out, const VolumeShape& shape, const RegionPlacement& placement) {
+  const bool box = shape.kind() == VolumeShape::Kind::Box;
+  out.write(static_cast<std::uint8_t>(box));
+  out.write<Vec3>(box ? Vec3(2.0 * shape.halfSides()) : Vec3(shape.radius(), 0.0, 0.0));
+  out.write<Vec3>(placement.centre);
+  const Quat& q = placement.orientation;
+  out.write<Vec3>(Vec3(q.x(), q.y(), q.z()));
+  out.write(q.w());
+}
+
+void readRegionInputs(StateReader& in, VolumeShape& shape, RegionPlacement& placement) {
+  const bool box = readFlag(in, "region shape flag");
+  if (box != (shape.kind() == VolumeShape::Kind::Box)) {
+    in.fail(box ? "box" : "sphere", "the region's shape differs from the scene's");
+  }
+  const Vec3 size = readFiniteVector(in, "region size");
+  const Vec3 centre = readFiniteVector(in, "region centre");
+  const Vec3 xyz = readFiniteVector(in, "region orientation");
+  const double w = readFinite(in, "region orientation w");
+  const Quat orientation(w, xyz.x(), xyz.y(), xyz.z());
+  if (std::abs(orientation.norm() - 1.0) > 1e-9) {
+    in.fail(formatValue(orientation.norm()), "the region orientation is not a unit quaternion");
+  }
+  if (!(box ? (size.array() > 0.0).all() : size.x() > 0.0)) in.fail(formatValue(box ? size.minCoeff() : size.x()), "region size must be > 0");
+  shape = box ? VolumeShape::box(size, "region") : VolumeShape::sphere(size.x(), "region");
+  placement.centre = centre;
+  placement.orientation = orientation;
+}
+
+bool anyInputsChanged(const std::vector<std::unique_ptr<WorldComponent>>& components) {
+  for (const auto& component : components) {
+    if (component->inputsChanged()) return true;
+  }
+  return false;
+}
+
+void saveComponentInputs(StateWriter& out, const std::vector<std::unique_ptr<WorldComponent>>& components) {
+  std::uint64_t count = 0;
+  for (const auto& component : components) count += component->inputsChanged() ? 1 : 0;
+  out.write(count);
+  for (const auto& component : components) {
+    if (!component->inputsChanged()) continue;
+    out.writeString(component->name());
+    out.section("DATA", [&] { component->saveInputs(out); });
+  }
+}
+
+std::vector<std::optional<StateReader>> readComponentInputs(
+    StateReader& in, const std::vector<std::unique_ptr<WorldComponent>>& components) {
+  std::vector<std::optional<StateReader>> inputs(components.size());
+  const auto count = in.read<std::uint64_t>();
+  if (count > components.size()) {
+    in.fail(std::to_string(count), "more components with inputs than the scene has (" +
+                                       std::to_string(components.size()) + ")");
+  }
+  for (std::uint64_t n = 0; n < count; ++n) {
+    const std::string name = in.readString();
+    std::size_t k = 0;
+    while (k < components.size() && components[k]->name() != name) ++k;
+    if (k == components.size()) in.fail("\"" + name + "\"", "no component of the scene has this name");
+    if (inputs[k]) in.fail("\"" + name + "\"", "the component's inputs are listed twice");
+    inputs[k].emplace(in.section("DATA", "inputs." + name));
+  }
+  in.requireEnd();
+  return inputs;
 }
 
 }  // namespace demlink::core

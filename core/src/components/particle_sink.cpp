@@ -25,6 +25,23 @@ void ParticleSink::initialize(World& world) {
 
 void ParticleSink::changeRegion(const World& world, const RegionChange& change, const std::string& fieldPrefix) {
   applyRegionChange(change, world.time(), shape_, placement_, fieldPrefix);
+  inputs_changed_ = true;
+}
+
+void ParticleSink::saveInputs(StateWriter& out) const {
+  const std::size_t section = out.beginSection("SNKI");
+  out.write(static_cast<std::uint8_t>(enabled_));
+  writeRegionInputs(out, shape_, placement_);
+  out.endSection(section);
+}
+
+void ParticleSink::loadInputs(StateReader& in) {
+  StateReader s = componentSection(in, "SNKI", "sink_inputs");
+  const bool enabled = readFlag(s, "enabled flag");
+  readRegionInputs(s, shape_, placement_);
+  s.requireEnd();
+  enabled_ = enabled;
+  inputs_changed_ = true;
 }
 
 void ParticleSink::insertAndRemove(World& world) {

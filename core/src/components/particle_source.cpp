@@ -311,6 +311,7 @@ void ParticleSource::setEnabled(const World& world, bool enabled) {
   if (enabled == enabled_) return;
   closeSegment(world.time());
   enabled_ = enabled;
+  inputs_changed_ = true;
 }
 
 void ParticleSource::setRate(const World& world, double rate, const std::string& field) {
@@ -322,6 +323,34 @@ void ParticleSource::setRate(const World& world, double rate, const std::string&
   } else {
     spec_.rate_kg_per_s = rate;
   }
+  inputs_changed_ = true;
+}
+
+void ParticleSource::saveInputs(StateWriter& out) const {
+  const std::size_t section = out.beginSection("SRCI");
+  out.write(static_cast<std::uint8_t>(enabled_));
+  out.write(rate());
+  out.write(requested_before_);
+  out.write(segment_start_);
+  out.endSection(section);
+}
+
+void ParticleSource::loadInputs(StateReader& in) {
+  StateReader s = componentSection(in, "SRCI", "source_inputs");
+  const bool enabled = readFlag(s, "enabled flag");
+  const double rate = readNonNegative(s, "rate");
+  const double requestedBefore = readNonNegative(s, "request before the rate segment");
+  const double segmentStart = readNonNegative(s, "start of the rate segment");
+  s.requireEnd();
+  enabled_ = enabled;
+  if (spec_.rate_particles_per_s) {
+    spec_.rate_particles_per_s = rate;
+  } else {
+    spec_.rate_kg_per_s = rate;
+  }
+  requested_before_ = requestedBefore;
+  segment_start_ = segmentStart;
+  inputs_changed_ = true;
 }
 
 bool ParticleSource::place(World& world, Placement& placement, const Drawn& shape) {

@@ -29,6 +29,20 @@ void RegionSensor::initialize(World& world) {
 
 void RegionSensor::changeRegion(const World& world, const RegionChange& change, const std::string& fieldPrefix) {
   applyRegionChange(change, world.time(), shape_, placement_, fieldPrefix);
+  inputs_changed_ = true;
+}
+
+void RegionSensor::saveInputs(StateWriter& out) const {
+  const std::size_t section = out.beginSection("RGNI");
+  writeRegionInputs(out, shape_, placement_);
+  out.endSection(section);
+}
+
+void RegionSensor::loadInputs(StateReader& in) {
+  StateReader s = componentSection(in, "RGNI", "region_inputs");
+  readRegionInputs(s, shape_, placement_);
+  s.requireEnd();
+  inputs_changed_ = true;
 }
 
 void RegionSensor::observe(const World& world) {

@@ -17,6 +17,10 @@
 /// scenes without them are unchanged): per body its name, its own payload
 /// (DeformableBody::save), its surface's mark and active flags and its near list.
 ///
+/// Run-time inputs (section INPT, before END, written only when a client changed a
+/// source's rate or state, a sink's state or region or a sensor's region): per such
+/// component its name and its WorldComponent::saveInputs payload.
+///
 /// Reading is in two phases: read and check the whole file into staging objects,
 /// then replace the world's state, so a bad file leaves the world as it was.
 /// Deformable bodies restore themselves; each is saved first, so a failure of a
@@ -254,6 +258,7 @@ void World::saveCheckpoint(std::ostream& out) const {
       }
     });
   }
+  if (anyInputsChanged(components_)) w.section("INPT", [&] { saveComponentInputs(w, components_); });
   w.section("END ", [] {});
   out.write(w.bytes().data(), static_cast<std::streamsize>(w.bytes().size()));
   if (!out) throw std::runtime_error("checkpoint: writing failed");
@@ -327,6 +332,14 @@ void World::restoreCheckpoint(std::string_view bytes, const std::string& source)
   if (!deformables_.empty() || (!file.atEnd() && file.peekTag() == "DEFM")) {
     defm.emplace(file.section("DEFM", "deformable_bodies"));
   }
+  // Run-time inputs (only in files of runs that changed some): checked names, loaded with
+  // the components.
+  std::vector<std::optional<StateReader>> inputs;
+  if (!file.atEnd() && file.peekTag() == "INPT") {
+    StateReader inpt = file.section("INPT", "inputs");
+    inputs = readComponentInputs(inpt, components_);
+  }
+  std::vector<std::optional<StateReader>>* inputsOrNone = inputs.empty() ? nullptr : &inputs;
   (void)file.section("END ", "end");
   file.requireEnd();
   std::vector<MeshNearList> deformableNear(deformables_.size());
@@ -357,13 +370,13 @@ void World::restoreCheckpoint(std::string_view bytes, const std::string& source)
       }
       defm->requireEnd();
       // Components check their data while loading it and roll back together on failure.
-      restoreComponents(components_, componentData, source);
+      restoreComponents(components_, componentData, source, inputsOrNone);
     } catch (...) {
       putBack(restored);
       throw;
     }
   } else {
-    restoreComponents(components_, componentData, source);
+    restoreComponents(components_, componentData, source, inputsOrNone);
   }
 
   // Phase 2: everything read and checked: replace the state.

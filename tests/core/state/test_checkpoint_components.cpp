@@ -218,5 +218,46 @@ TEST(CheckpointComponents, ComponentSectionLongerThanItsDataIsRejected) {
   EXPECT_EQ(b.source->report().inserted_count, 0u);
 }
 
+// Run-time inputs in checkpoints: a client halves the source's rate, switches it off and
+// on, moves and shrinks the sink and resizes the sensor's box mid-run. The checkpoint after
+// that holds them (section INPT), and a world built from the scene and restored from it
+// continues bit for bit (insertions, removals, readings). Without the inputs the restored
+// world would insert at the scene's rate and remove in the scene's sink.
+TEST(CheckpointComponents, RunTimeInputsAreSavedAndRestored) {
+  test::ComponentScene a = test::buildComponentScene();
+  for (int n = 0; n < kBefore / 2; ++n) a.world->step();
+  a.source->setRate(*a.world, 1500.0, "rate");
+  a.sink->changeRegion(*a.world, RegionChange{.centre = a.sink->placement().centre + Vec3(0.002, 0.0, 0.0),
+                                              .orientation = std::nullopt, .size = std::nullopt, .radius = 0.016},
+                       "sink");
+  a.region->changeRegion(*a.world, RegionChange{.centre = std::nullopt, .orientation = std::nullopt,
+                                                .size = Vec3(0.1, 0.1, 0.05), .radius = std::nullopt},
+                         "region");
+  for (int n = 0; n < kBefore / 4; ++n) a.world->step();
+  a.source->setEnabled(*a.world, false);
+  for (int n = 0; n < kBefore / 8; ++n) a.world->step();
+  a.source->setEnabled(*a.world, true);
+  for (int n = 0; n < kBefore / 8; ++n) a.world->step();
+  ASSERT_GT(a.sink->total().count, 0u);
+  const std::string file = save(*a.world);
+  EXPECT_NE(file.find("INPT"), std::string::npos);
+  EXPECT_EQ(save(*test::buildComponentScene().world).find("INPT"), std::string::npos)
+      << "a world without inputs writes no INPT section";
+  for (int n = 0; n < kAfter; ++n) a.world->step();
+
+  test::ComponentScene b = test::buildComponentScene();
+  b.world->restoreCheckpoint(std::string_view(file), "inputs.bin");
+  EXPECT_TRUE(save(*b.world) == file) << "restoring and saving again reproduces the file";
+  EXPECT_EQ(b.source->rate(), 1500.0);
+  EXPECT_EQ(b.sink->shape().radius(), 0.016);
+  EXPECT_EQ(b.region->shape().halfSides().z(), 0.025);
+  for (int n = 0; n < kAfter; ++n) b.world->step();
+  ASSERT_EQ(a.world->particles().size(), b.world->particles().size());
+  const std::vector<std::string> differing = differingColumns(*a.world, *b.world);
+  EXPECT_TRUE(differing.empty()) << "first differing column: " << (differing.empty() ? "" : differing.front());
+  expectSameReadings(a, b);
+  EXPECT_TRUE(save(*a.world) == save(*b.world)) << "final checkpoints differ";
+}
+
 }  // namespace
 }  // namespace demlink::core

@@ -11,8 +11,6 @@
 #include <string>
 
 #include "demlink/client/types.hpp"
-#include "demlink/v1/protocol.pb.h"
-#include "demlink/v1/scene.pb.h"
 
 namespace demlink::client {
 
@@ -24,17 +22,17 @@ class Component {
   Component(const Component&) = delete;
   Component& operator=(const Component&) = delete;
 
-  [[nodiscard]] const std::string& name() const { return declaration_.name(); }
+  [[nodiscard]] const std::string& name() const;
   /// The ComponentDeclaration field name of the kind, e.g. "rigid_body".
   [[nodiscard]] std::string kind() const;
 
   /// Time between this component's packages [s]; 0: declared only, never exchanged.
-  void setCommunicationInterval(double seconds) { declaration_.set_communication_interval(seconds); }
-  [[nodiscard]] double communicationInterval() const { return declaration_.communication_interval(); }
+  void setCommunicationInterval(double seconds);
+  [[nodiscard]] double communicationInterval() const;
 
   /// The declaration as it will be (or was) sent. Changing it after declare() has no effect.
-  [[nodiscard]] v1::ComponentDeclaration& declaration() { return declaration_; }
-  [[nodiscard]] const v1::ComponentDeclaration& declaration() const { return declaration_; }
+  [[nodiscard]] v1::ComponentDeclaration& declaration() { return *declaration_; }
+  [[nodiscard]] const v1::ComponentDeclaration& declaration() const { return *declaration_; }
 
   // --- After Session::waitCompiled() --------------------------------------------------
   [[nodiscard]] bool compiled() const { return compiled_; }
@@ -48,9 +46,9 @@ class Component {
   /// Its package was sent and the answer (at nextSendStep() + intervalSteps()) has not arrived.
   [[nodiscard]] bool awaitingAnswer() const { return awaiting_; }
   /// Latest outputs: Compiled's initial outputs, then the answer of each interval.
-  [[nodiscard]] const v1::DataPackage& outputs() const { return outputs_; }
+  [[nodiscard]] const v1::DataPackage& outputs() const { return *outputs_; }
   /// The step the latest outputs are for [-].
-  [[nodiscard]] std::uint64_t outputStep() const { return outputs_.step(); }
+  [[nodiscard]] std::uint64_t outputStep() const;
 
  protected:
   explicit Component(std::string name);
@@ -64,14 +62,14 @@ class Component {
 
  private:
   friend class Session;
-  v1::ComponentDeclaration declaration_;
+  ProtoPtr<v1::ComponentDeclaration> declaration_;
   bool declared_ = false;
   bool compiled_ = false;
   std::uint32_t id_ = 0;
   std::uint64_t interval_steps_ = 0;
   std::uint64_t next_send_step_ = 0;
   bool awaiting_ = false;
-  v1::DataPackage outputs_;
+  ProtoPtr<v1::DataPackage> outputs_;
 };
 
 }  // namespace demlink::client

@@ -10,11 +10,9 @@
 #include <chrono>
 #include <cstdint>
 #include <memory>
-#include <optional>
 #include <string>
 
 #include "demlink/client/types.hpp"
-#include "demlink/v1/protocol.pb.h"
 
 namespace demlink::client {
 
@@ -51,13 +49,14 @@ class Connection {
   /// as finishedAfterError(), then the connection is closed. Nothing arriving within the
   /// timeout is a TimeoutError.
   [[nodiscard]] v1::ServerMessage receive();
-  /// The Finished that followed the last fatal Error (reason, step, output directory).
-  [[nodiscard]] const std::optional<v1::Finished>& finishedAfterError() const { return finished_after_error_; }
+  /// The Finished that followed the last fatal Error (reason, step, output directory);
+  /// nullptr when none did.
+  [[nodiscard]] const v1::Finished* finishedAfterError() const { return finished_after_error_.get(); }
 
   /// Closes the socket (idempotent). A later send/receive throws ConnectionError.
   void close();
   [[nodiscard]] bool isOpen() const;
-  [[nodiscard]] const v1::Welcome& welcome() const { return welcome_; }
+  [[nodiscard]] const v1::Welcome& welcome() const { return *welcome_; }
   [[nodiscard]] const ConnectOptions& options() const { return options_; }
   void setTimeout(std::chrono::milliseconds timeout) { options_.timeout = timeout; }
 
@@ -67,11 +66,11 @@ class Connection {
   /// One framed message, Errors included (no interpretation).
   v1::ServerMessage readMessage(std::chrono::milliseconds timeout);
 
-  std::optional<v1::Finished> finished_after_error_;
+  ProtoPtr<v1::Finished> finished_after_error_;
   struct Impl;  // Asio lives only in the .cpp: clients of this header need no Asio
   std::unique_ptr<Impl> impl_;
   ConnectOptions options_;
-  v1::Welcome welcome_;
+  ProtoPtr<v1::Welcome> welcome_;
 };
 
 }  // namespace demlink::client

@@ -44,12 +44,18 @@ class DeformableBody : public Component {
  protected:
   using Component::Component;
   void writeInputs(v1::DataPackage& package) const override;
-  /// Adds the box [lo, hi] to a fixed or driven node set.
-  static void addRegion(v1::NodeSet& set, const Vec3& lo, const Vec3& hi);
+  // The shared declaration fields, written into whichever of the two bodies was declared
+  // (the generated messages stay out of this header).
+  void declareMaterial(const std::string& material);
+  /// Adds the box [lo, hi] to the driven (true) or fixed node set [m].
+  void declareRegion(bool driven, const Vec3& lo, const Vec3& hi);
+  void declareDrivenReference(const Vec3& point);
+  void declareAttachedTo(const std::string& rigidBody);
+  void declareOutputNodes(const std::vector<std::uint32_t>& nodes);
 
  private:
   bool pose_set_ = false;
-  v1::DeformableBodyInput input_;
+  ProtoPtr<v1::DeformableBodyInput> input_;
 };
 
 /// The declaration setters both kinds share; `Derived` (MassSpringBody, FemBody) for chaining.
@@ -57,31 +63,31 @@ template <class Derived>
 class DeformableBodyOf : public DeformableBody {
  public:
   Derived& setMaterial(const std::string& material) {
-    body().set_material(material);
+    declareMaterial(material);
     return self();
   }
   /// Nodes in [lo, hi] are fixed / driven [m].
   Derived& addFixedRegion(const Vec3& lo, const Vec3& hi) {
-    addRegion(*body().mutable_fixed(), lo, hi);
+    declareRegion(false, lo, hi);
     return self();
   }
   Derived& addDrivenRegion(const Vec3& lo, const Vec3& hi) {
-    addRegion(*body().mutable_driven(), lo, hi);
+    declareRegion(true, lo, hi);
     return self();
   }
   /// The point the driven pose refers to, at t = 0 [m].
   Derived& setDrivenReference(const Vec3& point) {
-    *body().mutable_driven_reference() = toProto(point);
+    declareDrivenReference(point);
     return self();
   }
   /// The driven nodes follow this rigid body (no pose input then).
   Derived& attachTo(const std::string& rigidBody) {
-    body().set_attached_to(rigidBody);
+    declareAttachedTo(rigidBody);
     return self();
   }
   /// Report these nodes' displacements (default: the surface nodes, at most 10000).
   Derived& setOutputNodes(const std::vector<std::uint32_t>& nodes) {
-    body().mutable_output_nodes()->mutable_nodes()->Assign(nodes.begin(), nodes.end());
+    declareOutputNodes(nodes);
     return self();
   }
 
@@ -90,7 +96,6 @@ class DeformableBodyOf : public DeformableBody {
 
  private:
   Derived& self() { return static_cast<Derived&>(*this); }
-  auto& body() { return self().message(); }
 };
 
 class MassSpringBody : public DeformableBodyOf<MassSpringBody> {
@@ -103,7 +108,7 @@ class MassSpringBody : public DeformableBodyOf<MassSpringBody> {
   MassSpringBody& setSprings(double totalMass, double stiffness, double damping);
   /// Break above |force| [N] or strain [-].
   MassSpringBody& setBreakLimits(double force, double strain);
-  [[nodiscard]] v1::MassSpringBody& message() { return *declaration().mutable_mass_spring_body(); }
+  [[nodiscard]] v1::MassSpringBody& message();
 };
 
 class FemBody : public DeformableBodyOf<FemBody> {
@@ -113,7 +118,7 @@ class FemBody : public DeformableBodyOf<FemBody> {
   FemBody& setMesh(const std::string& mshPathOnServer, double youngsModulus, double poissonRatio, double density);
   /// Rayleigh damping C = alpha K + beta M (alpha [s], beta [1/s]).
   FemBody& setRayleigh(double alpha, double beta);
-  [[nodiscard]] v1::FemBody& message() { return *declaration().mutable_fem_body(); }
+  [[nodiscard]] v1::FemBody& message();
 };
 
 }  // namespace demlink::client

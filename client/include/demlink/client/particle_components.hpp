@@ -3,8 +3,8 @@
 /// or disc), ParticleSink (removes what enters a volume), PitGenerator (a settled bed at
 /// step 0). Sources and sinks report counts and masses per interval and in total.
 #include <cstdint>
-#include <optional>
 #include <string>
+#include <vector>
 
 #include "demlink/client/component.hpp"
 
@@ -16,6 +16,12 @@ class ParticleSource : public Component {
   ParticleSource& setMaterial(const std::string& material);
   ParticleSource& setRadius(double metres);                    ///< one radius [m]
   ParticleSource& setRadiusRange(double rMin, double rMax);    ///< uniform in [rMin, rMax] [m]
+  /// pdf linear from weightAtMin at rMin to weightAtMax at rMax [m], [-].
+  ParticleSource& setLinearSizes(double rMin, double rMax, double weightAtMin, double weightAtMax);
+  /// Normal(mean, std) truncated to [rMin, rMax] [m].
+  ParticleSource& setNormalSizes(double mean, double std, double rMin, double rMax);
+  /// One of `radii` [m] with probability proportional to `weights` [-] (empty: equal).
+  ParticleSource& setDiscreteSizes(const std::vector<double>& radii, const std::vector<double>& weights = {});
   ParticleSource& setBox(const Vec3& centre, const Vec3& halfExtents, const Quat& orientation = {});  ///< [m]
   ParticleSource& setDisc(const Vec3& centre, const Vec3& normal, double radius, double thickness = 0.0);  ///< [m]
   ParticleSource& setRateParticles(double perSecond);          ///< [1/s]
@@ -25,7 +31,7 @@ class ParticleSource : public Component {
   ParticleSource& setVelocity(const Vec3& velocity);           ///< initial velocity [m/s]
   ParticleSource& setSeed(std::uint64_t seed);
   ParticleSource& attachTo(const std::string& meshComponent);  ///< region in that body's frame
-  [[nodiscard]] v1::ParticleSource& message() { return *declaration().mutable_particle_source(); }
+  [[nodiscard]] v1::ParticleSource& message();
 
   // Run-time inputs: one-shot, sent with the next package (omitted: unchanged).
   void setEnabled(bool on);      ///< an off source inserts nothing
@@ -37,10 +43,10 @@ class ParticleSource : public Component {
 
  protected:
   void writeInputs(v1::DataPackage& package) const override;
-  void inputsSent() override { pending_.reset(); }
+  void inputsSent() override;
 
  private:
-  std::optional<v1::ParticleSourceInput> pending_;
+  ProtoPtr<v1::ParticleSourceInput> pending_;
 };
 
 class ParticleSink : public Component {
@@ -51,7 +57,7 @@ class ParticleSink : public Component {
   ParticleSink& attachTo(const std::string& meshComponent);
   /// Report interval of the server's CSV [s]; unset: the communication interval.
   ParticleSink& setSampleInterval(double seconds);
-  [[nodiscard]] v1::ParticleSink& message() { return *declaration().mutable_particle_sink(); }
+  [[nodiscard]] v1::ParticleSink& message();
 
   // Run-time inputs: one-shot, sent with the next package (omitted: unchanged).
   void setEnabled(bool on);             ///< an off sink removes nothing
@@ -63,10 +69,10 @@ class ParticleSink : public Component {
  protected:
   void prepareDeclaration() override;
   void writeInputs(v1::DataPackage& package) const override;
-  void inputsSent() override { pending_.reset(); }
+  void inputsSent() override;
 
  private:
-  std::optional<v1::ParticleSinkInput> pending_;
+  ProtoPtr<v1::ParticleSinkInput> pending_;
 };
 
 class PitGenerator : public Component {
@@ -78,7 +84,7 @@ class PitGenerator : public Component {
   PitGenerator& setBox(const Vec3& lower, const Vec3& upper);  ///< [m]
   PitGenerator& setTargetHeight(double metres);            ///< bed surface above the floor [m]
   PitGenerator& setSeed(std::uint64_t seed);
-  [[nodiscard]] v1::PitGenerator& message() { return *declaration().mutable_pit_generator(); }
+  [[nodiscard]] v1::PitGenerator& message();
 };
 
 }  // namespace demlink::client

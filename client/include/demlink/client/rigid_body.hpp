@@ -11,6 +11,12 @@
 
 namespace demlink::client {
 
+/// How the server moves the body between two packages (RigidBody.Motion in the schema).
+enum class RigidBodyMotion : int {
+  kPredicted = 1,  ///< towards the sent pose advanced by the sent twist (zero lag)
+  kLagged = 2,     ///< onto the sent pose, one interval late
+};
+
 class RigidBody : public Component {
  public:
   explicit RigidBody(std::string name);
@@ -21,8 +27,9 @@ class RigidBody : public Component {
   RigidBody& setReferencePoint(const Vec3& point);  ///< geometry frame [m]
   RigidBody& setInitialPose(const Vec3& position, const Quat& orientation = {});  ///< [m], [-]
   RigidBody& setInitialVelocity(const Vec3& linear, const Vec3& angular = {});   ///< [m/s], [rad/s]
-  RigidBody& setMotion(v1::RigidBody::Motion motion);
-  [[nodiscard]] v1::RigidBody& message() { return *declaration().mutable_rigid_body(); }
+  RigidBody& setMotion(RigidBodyMotion motion);
+  RigidBody& setMotion(v1::RigidBody_Motion motion);
+  [[nodiscard]] v1::RigidBody& message();
 
   // Inputs, sent with every package.
   /// World position of the reference point [m] and rotation geometry -> world [-].
@@ -44,7 +51,7 @@ class RigidBody : public Component {
  private:
   bool pose_set_ = false;
   bool velocity_set_ = false;
-  v1::RigidBodyInput input_;
+  ProtoPtr<v1::RigidBodyInput> input_;
 };
 
 }  // namespace demlink::client

@@ -4,7 +4,6 @@
 /// or the room's motion at run time), Material, Plane, SingleParticle, ParticleSystem.
 /// Units are SI throughout; each setter names its unit.
 #include <cstdint>
-#include <optional>
 #include <string>
 
 #include "demlink/client/component.hpp"
@@ -26,7 +25,7 @@ class SimulationBox : public Component {
   SimulationBox& addExpectedName(const std::string& name);
   SimulationBox& setClientTimeout(double seconds);    ///< [s]
   SimulationBox& setOutputDirectory(const std::string& directory);
-  [[nodiscard]] v1::SimulationBox& message() { return *declaration().mutable_simulation_box(); }
+  [[nodiscard]] v1::SimulationBox& message();
 
   // Inputs: one-shot, sent with the box's next package only ("omitted: unchanged").
   void setGravity(const Vec3& g);  ///< [m/s^2]
@@ -43,10 +42,10 @@ class SimulationBox : public Component {
 
  protected:
   void writeInputs(v1::DataPackage& package) const override;
-  void inputsSent() override { pending_.reset(); }
+  void inputsSent() override;
 
  private:
-  std::optional<v1::SimulationBoxInput> pending_;
+  ProtoPtr<v1::SimulationBoxInput> pending_;
 };
 
 class Material : public Component {
@@ -60,7 +59,7 @@ class Material : public Component {
   Material& setRestitution(double coefficient);        ///< [-]
   Material& setSlidingFriction(double coefficient);    ///< [-]
   Material& setRollingFriction(double coefficient);    ///< [-]
-  [[nodiscard]] v1::Material& message() { return *declaration().mutable_material(); }
+  [[nodiscard]] v1::Material& message();
 };
 
 class Plane : public Component {
@@ -69,7 +68,7 @@ class Plane : public Component {
   Plane& setPoint(const Vec3& point);    ///< [m]
   Plane& setNormal(const Vec3& normal);  ///< towards the particles [-]
   Plane& setMaterial(const std::string& material);
-  [[nodiscard]] v1::Plane& message() { return *declaration().mutable_plane(); }
+  [[nodiscard]] v1::Plane& message();
 };
 
 class SingleParticle : public Component {
@@ -80,7 +79,7 @@ class SingleParticle : public Component {
   SingleParticle& setVelocity(const Vec3& velocity);       ///< [m/s]
   SingleParticle& setAngularVelocity(const Vec3& omega);   ///< [rad/s]
   SingleParticle& setDiameter(double metres);              ///< [m]
-  [[nodiscard]] v1::SingleParticle& message() { return *declaration().mutable_single_particle(); }
+  [[nodiscard]] v1::SingleParticle& message();
 };
 
 /// Particles loaded from a file on the SERVER (CSV or checkpoint).
@@ -89,7 +88,7 @@ class ParticleSystem : public Component {
   explicit ParticleSystem(std::string name);
   ParticleSystem& setCsvFile(const std::string& path);
   ParticleSystem& setCheckpointFile(const std::string& path);
-  [[nodiscard]] v1::ParticleSystem& message() { return *declaration().mutable_particle_system(); }
+  [[nodiscard]] v1::ParticleSystem& message();
 };
 
 }  // namespace demlink::client

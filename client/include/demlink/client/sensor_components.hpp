@@ -7,7 +7,6 @@
 /// reports, and a coupled client almost always wants those at its communication interval;
 /// an explicit setSampleInterval() wins.
 #include <cstdint>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,7 +22,7 @@ class RegionSensor : public Component {
   /// Follow a rigid/mesh body; centre and orientation are then in its frame.
   RegionSensor& attachTo(const std::string& bodyComponent);
   RegionSensor& setSampleInterval(double seconds);  ///< [s]
-  [[nodiscard]] v1::RegionSensor& message() { return *declaration().mutable_region_sensor(); }
+  [[nodiscard]] v1::RegionSensor& message();
 
   // Run-time inputs: one-shot, sent with the next package; the server applies them from
   // that package's step on (omitted: unchanged). Frame as declared (world or the body's).
@@ -40,11 +39,11 @@ class RegionSensor : public Component {
  protected:
   void prepareDeclaration() override;
   void writeInputs(v1::DataPackage& package) const override;
-  void inputsSent() override { pending_.reset(); }
+  void inputsSent() override;
 
  private:
   v1::RegionInput& pending();
-  std::optional<v1::RegionInput> pending_;
+  ProtoPtr<v1::RegionInput> pending_;
 };
 
 class FlowSensor : public Component {
@@ -56,7 +55,7 @@ class FlowSensor : public Component {
   FlowSensor& setDisc(const Vec3& centre, const Vec3& normal, double radius);  ///< [m]
   FlowSensor& attachTo(const std::string& bodyComponent);
   FlowSensor& setSampleInterval(double seconds);  ///< [s]
-  [[nodiscard]] v1::FlowSensor& message() { return *declaration().mutable_flow_sensor(); }
+  [[nodiscard]] v1::FlowSensor& message();
 
   [[nodiscard]] CountAndMass positiveInterval() const;  ///< along the normal, latest interval
   [[nodiscard]] CountAndMass negativeInterval() const;
@@ -71,7 +70,7 @@ class ParticleView : public Component {
  public:
   explicit ParticleView(std::string name);
   ParticleView& setMaxCount(std::uint32_t count);  ///< particles per package [-]; 0: 10000
-  [[nodiscard]] v1::ParticleView& message() { return *declaration().mutable_particle_view(); }
+  [[nodiscard]] v1::ParticleView& message();
 
   [[nodiscard]] std::uint64_t totalCount() const;  ///< particles in the world [-]
   /// Particles whose id is a multiple of stride() are listed, in increasing id order [-].
@@ -79,7 +78,7 @@ class ParticleView : public Component {
   [[nodiscard]] std::vector<Vec3> positions() const;   ///< [m]
   [[nodiscard]] std::vector<Vec3> velocities() const;  ///< [m/s]
   [[nodiscard]] std::vector<std::uint64_t> ids() const;
-  [[nodiscard]] const v1::ParticleViewOutput& view() const { return outputs().particle_view(); }
+  [[nodiscard]] const v1::ParticleViewOutput& view() const;
 };
 
 }  // namespace demlink::client

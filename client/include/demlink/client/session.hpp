@@ -35,7 +35,7 @@ namespace demlink::client {
 class Session {
  public:
   /// The connection must outlive the session and be connected (connect() done).
-  explicit Session(Connection& connection) : connection_(connection) {}
+  explicit Session(Connection& connection);
 
   /// Creates a component owned by the session; the reference stays valid for its lifetime.
   template <class T, class... Args>
@@ -74,10 +74,12 @@ class Session {
   /// refused the scene.
   const v1::Compiled& waitCompiled();
   [[nodiscard]] bool isCompiled() const { return compiled_flag_; }
-  [[nodiscard]] const v1::Compiled& compiled() const { return compiled_; }
-  [[nodiscard]] double timeStep() const { return compiled_.time_step(); }          ///< [s]
-  [[nodiscard]] std::uint64_t endStep() const { return compiled_.end_step(); }      ///< 0: open-ended
-  [[nodiscard]] const v1::CompileReport& report() const { return compiled_.report(); }
+  [[nodiscard]] const v1::Compiled& compiled() const { return *compiled_; }
+  [[nodiscard]] double timeStep() const;         ///< [s]
+  [[nodiscard]] std::uint64_t endStep() const;  ///< 0: open-ended
+  [[nodiscard]] const v1::CompileReport& report() const;
+  /// The compile report as text (what the server logs: time step, components, warnings).
+  [[nodiscard]] std::string reportText() const;
 
   /// The step the session stands at: the step of the latest answers [-].
   [[nodiscard]] std::uint64_t currentStep() const { return current_; }
@@ -106,7 +108,9 @@ class Session {
   /// Blocks until Finished.
   const v1::Finished& waitFinished();
   [[nodiscard]] bool finished() const { return finished_flag_; }
-  [[nodiscard]] const v1::Finished& finishedInfo() const { return finished_; }
+  [[nodiscard]] const v1::Finished& finishedInfo() const { return *finished_; }
+  /// Why the simulation finished (finishedInfo().reason()); empty while it runs.
+  [[nodiscard]] std::string finishedReason() const;
 
  private:
   void requireNotCompiled(const char* what) const;
@@ -119,12 +123,12 @@ class Session {
   Connection& connection_;
   std::vector<std::unique_ptr<Component>> components_;
   bool compiled_flag_ = false;
-  v1::Compiled compiled_;
+  ProtoPtr<v1::Compiled> compiled_;
   std::uint64_t current_ = 0;
   bool bye_sent_ = false;
   bool done_sent_ = false;
   bool finished_flag_ = false;
-  v1::Finished finished_;
+  ProtoPtr<v1::Finished> finished_;
 };
 
 }  // namespace demlink::client

@@ -7,10 +7,11 @@
 /// no" (fix the declaration), "the server did not answer in time" (the simulation is
 /// stuck) and "the socket is gone" (the server is down).
 #include <cstdint>
+#include <memory>
 #include <stdexcept>
 #include <string>
 
-#include "demlink/v1/protocol.pb.h"
+#include "demlink/client/proto_fwd.hpp"
 
 namespace demlink::client {
 
@@ -39,7 +40,7 @@ struct CountAndMass {
 class ServerError : public std::runtime_error {
  public:
   explicit ServerError(const v1::Error& error);
-  [[nodiscard]] v1::Error::Code code() const { return code_; }
+  [[nodiscard]] v1::Error_Code code() const { return code_; }
   /// The server's text, without the decoration what() adds.
   [[nodiscard]] const std::string& serverMessage() const { return message_; }
   [[nodiscard]] const std::string& component() const { return component_; }
@@ -48,7 +49,7 @@ class ServerError : public std::runtime_error {
   [[nodiscard]] bool fatal() const { return fatal_; }
 
  private:
-  v1::Error::Code code_;
+  v1::Error_Code code_;
   std::string message_;
   std::string component_;
   std::string field_;
@@ -76,6 +77,16 @@ class StateError : public std::logic_error {
  public:
   using std::logic_error::logic_error;
 };
+
+/// Deletes a schema message the header only declares; defined (and instantiated for the
+/// messages the client holds) where the generated code is visible.
+template <class Message>
+struct ProtoDelete {
+  void operator()(Message* message) const;
+};
+/// Owns a schema message behind a forward declaration (a pimpl per message).
+template <class Message>
+using ProtoPtr = std::unique_ptr<Message, ProtoDelete<Message>>;
 
 /// Conversions to and from the wire's geometry messages.
 [[nodiscard]] v1::Vector3 toProto(const Vec3& v);

@@ -24,6 +24,16 @@ model SimulationBox "Server address, communication interval and the DEM run's se
   parameter Boolean useGravityInput = false "Gravity from the input gravityIn (a tilting or accelerating room)";
   Modelica.Blocks.Interfaces.RealInput gravityIn[3](each unit = "m/s2") if useGravityInput
     "Gravity, world frame, sent at every sample" annotation (Placement(transformation(extent = {{-140, -20}, {-100, 20}})));
+  parameter Boolean useFrameInput = false
+    "Room motion from the inputs frameAcceleration, frameAngularVelocity, frameAngularAcceleration (a moving room)";
+  parameter Modelica.Units.SI.Position frameOrigin[3] = {0, 0, 0} "Point the room rotates about (useFrameInput)"
+    annotation (Dialog(enable = useFrameInput));
+  Modelica.Blocks.Interfaces.RealInput frameAcceleration[3](each unit = "m/s2") if useFrameInput
+    "Linear acceleration of the room frame, sent at every sample" annotation (Placement(transformation(extent = {{-140, 40}, {-100, 80}})));
+  Modelica.Blocks.Interfaces.RealInput frameAngularVelocity[3](each unit = "rad/s") if useFrameInput
+    "Angular velocity of the room frame" annotation (Placement(transformation(extent = {{-140, -60}, {-100, -20}})));
+  Modelica.Blocks.Interfaces.RealInput frameAngularAcceleration[3](each unit = "rad/s2") if useFrameInput
+    "Angular acceleration of the room frame" annotation (Placement(transformation(extent = {{-140, -100}, {-100, -60}})));
   Modelica.Blocks.Interfaces.IntegerOutput particleCount(start = 0, fixed = true) "Particles in the DEM world"
     annotation (Placement(transformation(extent = {{100, 50}, {120, 70}})));
   Modelica.Blocks.Interfaces.RealOutput totalMass(unit = "kg", start = 0, fixed = true) "Mass of all particles"
@@ -35,6 +45,7 @@ model SimulationBox "Server address, communication interval and the DEM run's se
   Modelica.Blocks.Interfaces.RealOutput stepRate(unit = "1/s", start = 0, fixed = true) "DEM steps per wall-clock second";
 protected
   Modelica.Blocks.Interfaces.RealInput gravityNow[3] "gravityIn or the gravity parameter";
+  Modelica.Blocks.Interfaces.RealInput frameNow[9] "The frame inputs, or zeros";
   DEMLink.Functions.Client client = DEMLink.Functions.Client();
   Integer status(start = 0, fixed = true);
   Real out[4](each start = 0, each fixed = true);
@@ -48,8 +59,20 @@ equation
   if not useGravityInput then
     gravityNow = gravity;
   end if;
+  connect(frameAcceleration, frameNow[1:3]);
+  connect(frameAngularVelocity, frameNow[4:6]);
+  connect(frameAngularAcceleration, frameNow[7:9]);
+  if not useFrameInput then
+    frameNow = zeros(9);
+  end if;
 algorithm
   when sample(0, tc) then
+    if useFrameInput then
+      // One-shot input: sent with this sample's package, applied from its step on.
+      status := DEMLink.Functions.External.simulationBoxSetFrame(client, 0, frameNow[1:3], frameNow[4:6],
+        frameNow[7:9], frameOrigin);
+      DEMLink.Functions.checkExchange(client, status);
+    end if;
     (status, out, particleCount) := DEMLink.Functions.External.simulationBoxExchange(client, 0, gravityNow);
     DEMLink.Functions.checkExchange(client, status);
     demTime := out[1];
@@ -73,7 +96,10 @@ step, gravity, bounds, VTK output interval, engine threads) and how many compone
 server waits for before it compiles (<code>nComponents</code>, this box included, and
 optionally their names). With <code>useGravityInput</code> the gravity follows the input
 <code>gravityIn</code> at every sample (the paper's accelerated and tilting rooms, section
-6.2, as far as a gravity vector expresses them).</p>
+6.2, as far as a gravity vector expresses them). With <code>useFrameInput</code> the room
+itself moves: its linear acceleration, angular velocity and angular acceleration (about
+<code>frameOrigin</code>) follow the frame inputs at every sample, and the particles feel the
+fictitious forces of that frame (docs/room_and_facets.md).</p>
 <p>With <code>endTime = 0</code> (the default) the DEM run lasts exactly as long as the
 model's run: it ends when every component has said Bye at <code>terminal()</code>.</p></html>"));
 end SimulationBox;

@@ -130,6 +130,79 @@ package External "The C functions of libdemlink_c (demlink/demlink_c.h) and of R
       annotation (Library = "demlink_c", Include = "#include \"demlink/demlink_c.h\"");
   end particleViewRead;
 
+  impure function simulationBoxSetFrame "dl_simulation_box_set_frame: the room's motion from the next package on"
+    extends Modelica.Icons.Function;
+    input Client client;
+    input Integer handle;
+    input Real linearAcceleration[3];
+    input Real angularVelocity[3];
+    input Real angularAcceleration[3];
+    input Real origin[3];
+    output Integer status;
+    external "C" status = dl_simulation_box_set_frame(client, handle, linearAcceleration, angularVelocity,
+      angularAcceleration, origin) annotation (Library = "demlink_c", Include = "#include \"demlink/demlink_c.h\"");
+  end simulationBoxSetFrame;
+
+  impure function declareMassSpringBox "dl_declare_mass_spring_box"
+    extends Modelica.Icons.Function;
+    input Client client;
+    input String name;
+    input Real interval;
+    input String material;
+    input Real lo[3];
+    input Real hi[3];
+    input Real nodeSpacing;
+    input Real springs[3];
+    input Real breakLimits[2];
+    input Integer fixedCount;
+    input Real fixedRegions[:];
+    input Integer drivenCount;
+    input Real drivenRegions[:];
+    input Real drivenReference[3];
+    input String attachedTo;
+    output Integer status;
+    output Integer handle;
+    external "C" status = dl_declare_mass_spring_box(client, name, interval, material, lo, hi, nodeSpacing, springs,
+      breakLimits, fixedCount, fixedRegions, drivenCount, drivenRegions, drivenReference, attachedTo, handle)
+      annotation (Library = "demlink_c", Include = "#include \"demlink/demlink_c.h\"");
+  end declareMassSpringBox;
+
+  impure function declareFemMesh "dl_declare_fem_mesh"
+    extends Modelica.Icons.Function;
+    input Client client;
+    input String name;
+    input Real interval;
+    input String material;
+    input String mshFile;
+    input Real elastic[3];
+    input Real rayleigh[2];
+    input Integer fixedCount;
+    input Real fixedRegions[:];
+    input Integer drivenCount;
+    input Real drivenRegions[:];
+    input Real drivenReference[3];
+    input String attachedTo;
+    output Integer status;
+    output Integer handle;
+    external "C" status = dl_declare_fem_mesh(client, name, interval, material, mshFile, elastic, rayleigh, fixedCount,
+      fixedRegions, drivenCount, drivenRegions, drivenReference, attachedTo, handle)
+      annotation (Library = "demlink_c", Include = "#include \"demlink/demlink_c.h\"");
+  end declareFemMesh;
+
+  impure function deformableBodyExchange "dlm_deformable_body_exchange: dl_deformable_body_exchange with the pose optional"
+    extends Modelica.Icons.Function;
+    input Client client;
+    input Integer handle;
+    input Integer sendPose;
+    input Real pose[7];
+    input Real twist[6];
+    output Integer status;
+    output Real reactions[12];
+    output Integer broken;
+    external "C" status = dlm_deformable_body_exchange(client, handle, sendPose, pose, twist, reactions, broken)
+      annotation (Library = "demlink_c", Include = "#include \"demlink_modelica.h\"");
+  end deformableBodyExchange;
+
   impure function finish "dl_finish: Bye without waiting"
     extends Modelica.Icons.Function;
     input Client client;

@@ -48,6 +48,15 @@ static void dlm_client_destroy(dl_client* client) {
   dl_client_destroy(client);
 }
 
+/* A deformable body's exchange without node displacements; sendPose = 0 sends no pose (the
+ * driven nodes keep their last one, or follow the body they are attached to). */
+static inline int dlm_deformable_body_exchange(dl_client* client, int component, int sendPose, const double* pose,
+                                               const double* twist, double* reactions, int* broken) {
+  int count = 0;
+  return dl_deformable_body_exchange(client, component, sendPose ? pose : NULL, sendPose ? twist : NULL, reactions, 0,
+                                     NULL, &count, broken);
+}
+
 /* NaN: "not given" in an optional real of the generic layout. */
 static double dlm_not_given(void) { return NAN; }
 

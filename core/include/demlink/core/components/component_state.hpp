@@ -9,10 +9,12 @@
 /// the component's section.
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "demlink/core/components/random.hpp"
+#include "demlink/core/components/region_shape.hpp"
 #include "demlink/core/state/state_stream.hpp"
 #include "demlink/core/world.hpp"
 
@@ -37,6 +39,13 @@ void writeRemovalTally(StateWriter& out, const RemovalTally& tally);
 /// Count, then a finite mass >= 0 [kg].
 RemovalTally readRemovalTally(StateReader& in, const std::string& what);
 
+/// A region changed at run time: the shape's kind, its box sides or sphere radius [m], the
+/// placement's centre [m] and orientation (velocity and attachment stay the scene's).
+void writeRegionInputs(StateWriter& out, const VolumeShape& shape, const RegionPlacement& placement);
+/// Reads what writeRegionInputs wrote; the kind must be the scene's, sizes positive, the
+/// centre finite and the orientation a unit quaternion. Changes nothing on failure.
+void readRegionInputs(StateReader& in, VolumeShape& shape, RegionPlacement& placement);
+
 /// Checkpoint payload of section COMP: the component count, then per component its
 /// name, kind and a DATA sub-section written by WorldComponent::saveState.
 void saveComponents(StateWriter& out, const std::vector<std::unique_ptr<WorldComponent>>& components);
@@ -48,8 +57,21 @@ void saveComponents(StateWriter& out, const std::vector<std::unique_ptr<WorldCom
 /// Loads every component from its DATA section (which must be read to its end).
 /// If one refuses its data, every component gets back the state it had and the
 /// error is rethrown, so a failed restore changes no component.
+/// `inputs` (empty, or one entry per component) holds the run-time inputs of section INPT,
+/// loaded after each component's state and rolled back with it.
 void restoreComponents(const std::vector<std::unique_ptr<WorldComponent>>& components,
-                       std::vector<StateReader>& data, const std::string& source);
+                       std::vector<StateReader>& data, const std::string& source,
+                       std::vector<std::optional<StateReader>>* inputs = nullptr);
+
+/// Whether any component has run-time inputs to save (section INPT is written then only).
+[[nodiscard]] bool anyInputsChanged(const std::vector<std::unique_ptr<WorldComponent>>& components);
+/// Checkpoint payload of section INPT: the count of components with inputs, then per
+/// component its name and a DATA sub-section written by WorldComponent::saveInputs.
+void saveComponentInputs(StateWriter& out, const std::vector<std::unique_ptr<WorldComponent>>& components);
+/// Reads the framing saveComponentInputs wrote: one entry per scene component, set for
+/// those listed; an unknown or repeated name is an error.
+[[nodiscard]] std::vector<std::optional<StateReader>> readComponentInputs(
+    StateReader& in, const std::vector<std::unique_ptr<WorldComponent>>& components);
 
 /// The sub-section `tag` of a component's state, named "<component section>.<name>"
 /// in errors.

@@ -35,11 +35,18 @@ class ParticleSink final : public SampledComponent {
   [[nodiscard]] const RemovalTally& total() const { return total_; }
   /// Removed during the last complete sample interval.
   [[nodiscard]] const RemovalTally& lastInterval() const { return last_interval_; }
-  /// Run-time control from the world's current time on (not in checkpoints): an off sink
-  /// removes nothing; changeRegion() as RegionSensor::changeRegion.
-  void setEnabled(bool enabled) { enabled_ = enabled; }
+  /// Run-time control from the world's current time on (checkpoints keep it through
+  /// saveInputs): an off sink removes nothing; changeRegion() as RegionSensor::changeRegion.
+  void setEnabled(bool enabled) {
+    enabled_ = enabled;
+    inputs_changed_ = true;
+  }
   [[nodiscard]] bool enabled() const { return enabled_; }
   void changeRegion(const World& world, const RegionChange& change, const std::string& fieldPrefix);
+  [[nodiscard]] bool inputsChanged() const override { return inputs_changed_; }
+  /// On/off and the region (shape and placement).
+  void saveInputs(StateWriter& out) const override;
+  void loadInputs(StateReader& in) override;
   [[nodiscard]] const VolumeShape& shape() const { return shape_; }
   [[nodiscard]] const RegionPlacement& placement() const { return placement_; }
 
@@ -50,6 +57,7 @@ class ParticleSink final : public SampledComponent {
   RemovalTally since_sample_;
   RemovalTally last_interval_;
   bool enabled_ = true;
+  bool inputs_changed_ = false;
 };
 
 }  // namespace demlink::core

@@ -116,13 +116,17 @@ class ParticleSource final : public WorldComponent {
   void loadState(StateReader& in) override;
 
   /// Run-time control from the world's current time on (a co-simulation client's
-  /// ParticleSourceInput; not in checkpoints). The request accumulated so far is kept and
+  /// ParticleSourceInput; checkpoints keep it through saveInputs). The request accumulated so far is kept and
   /// the new state applies to the active time that follows: an off source requests
   /// nothing. The rate is in the declared unit (particles/s or kg/s), >= 0; throws
   /// InputError naming `field` otherwise.
   void setEnabled(const World& world, bool enabled);
   void setRate(const World& world, double rate, const std::string& field);
   [[nodiscard]] bool enabled() const { return enabled_; }
+  [[nodiscard]] bool inputsChanged() const override { return inputs_changed_; }
+  /// On/off, the rate and the request accumulated before the current rate segment.
+  void saveInputs(StateWriter& out) const override;
+  void loadInputs(StateReader& in) override;
   /// The current rate in the declared unit [1/s or kg/s].
   [[nodiscard]] double rate() const;
   [[nodiscard]] const SourceReport& report() const { return report_; }
@@ -165,6 +169,7 @@ class ParticleSource final : public WorldComponent {
   SourceReport report_;
   std::uint64_t shortfall_logged_ = 0;
   bool enabled_ = true;
+  bool inputs_changed_ = false;
   double requested_before_ = 0.0;  ///< request (count or kg) up to segment_start_
   double segment_start_ = 0.0;     ///< [s] since when the current rate and state hold
 };

@@ -44,9 +44,14 @@ class RegionSensor final : public SampledComponent {
   [[nodiscard]] RegionReading measure(const World& world) const;
   /// The last sample.
   [[nodiscard]] const RegionReading& latest() const { return latest_; }
-  /// Moves or resizes the region from the world's current time on (not in checkpoints).
+  /// Moves or resizes the region from the world's current time on (checkpoints keep it
+  /// through saveInputs).
   /// Throws InputError naming `fieldPrefix`.<field>; nothing changes then.
   void changeRegion(const World& world, const RegionChange& change, const std::string& fieldPrefix);
+  [[nodiscard]] bool inputsChanged() const override { return inputs_changed_; }
+  /// The region (shape and placement).
+  void saveInputs(StateWriter& out) const override;
+  void loadInputs(StateReader& in) override;
   [[nodiscard]] const VolumeShape& shape() const { return shape_; }
   [[nodiscard]] const RegionPlacement& placement() const { return placement_; }
 
@@ -55,6 +60,7 @@ class RegionSensor final : public SampledComponent {
 
   VolumeShape shape_;
   RegionPlacement placement_;
+  bool inputs_changed_ = false;
   RegionReading latest_;
 };
 

@@ -58,6 +58,16 @@ class WorldComponent {
   /// scene; throw InputError via in.fail() for inconsistent data. Default: no state.
   virtual void loadState(StateReader& /*in*/) {}
 
+  /// Run-time inputs (a co-simulation client's source on/off and rate, sink on/off and
+  /// region, sensor region): true once one was applied. Checkpoints save the inputs of such
+  /// components in their own section (INPT), so files of runs without inputs are unchanged.
+  [[nodiscard]] virtual bool inputsChanged() const { return false; }
+  /// Writes the current run-time input values. Default: none.
+  virtual void saveInputs(StateWriter& /*out*/) const {}
+  /// Reads back what saveInputs wrote (a component built from the same scene); throws
+  /// InputError via in.fail() for inconsistent data. Default: none.
+  virtual void loadInputs(StateReader& /*in*/) {}
+
  private:
   std::string name_;
 };
