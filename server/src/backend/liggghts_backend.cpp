@@ -1,0 +1,182 @@
+/// The LIGGGHTS backend (contract in liggghts_backend.hpp).
+///
+/// LIGGGHTS reports its own input errors by printing and exiting the process (its Error
+/// class calls exit after MPI_Finalize); that is why every check that can be made on our
+/// side (requireLiggghtsCompatible, the time-step check, lost particles) is made before
+/// a command reaches it. Its messages go to liggghts.log in the output directory.
+#include "demlink/server/backend/liggghts_backend.hpp"
+
+#include <liggghts/library.h>
+#include <mpi.h>
+#include <unistd.h>
+#include <spdlog/fmt/fmt.h>
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+#include <vector>
+
+#include "demlink/core/input_error.hpp"
+#include "demlink/server/backend/liggghts_script.hpp"
+#include "demlink/server/run/output_directory.hpp"
+#include "demlink/server/run/particle_csv.hpp"
+#include "demlink/server/run/run_driver.hpp"
+
+namespace demlink::server {
+namespace {
+
+void finalizeMpi() {
+  int finalized = 0;
+  MPI_Finalized(&finalized);
+  if (finalized == 0) MPI_Finalize();
+}
+
+/// The read_data file rank 0 writes (LIGGGHTS reads it on rank 0 only), unique per process.
+std::filesystem::path dataFilePath() {
+  static int counter = 0;
+  return std::filesystem::temp_directory_path() /
+         fmt::format("demlink-liggghts-{}-{}.data", static_cast<long>(::getpid()), counter++);
+}
+
+}  // namespace
+
+int ensureMpi() {
+  int initialized = 0;
+  MPI_Initialized(&initialized);
+  if (initialized == 0) {
+    MPI_Init(nullptr, nullptr);
+    std::atexit(finalizeMpi);
+  }
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  return rank;
+}
+
+int mpiRanks() {
+  int ranks = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+  return ranks;
+}
+
+LiggghtsBackend::LiggghtsBackend(core::World& world, const std::string& logFile) : world_(world) {
+  const int rank = ensureMpi();
+  if (!world_.initialized()) world_.initialize();
+  step_ = world_.stepCount();
+  const std::filesystem::path data = dataFilePath();
+  const std::vector<std::string> commands = liggghtsCommands(world_, data.string());  // throws before LIGGGHTS starts
+  int ok = 1;
+  if (rank == 0) {
+    std::ofstream out(data);
+    out << liggghtsDataFile(world_);
+    ok = out.good() ? 1 : 0;
+  }
+  MPI_Bcast(&ok, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  if (ok == 0) throw std::runtime_error("cannot write the LIGGGHTS data file " + data.string());
+  std::vector<std::string> args = {"liggghts", "-screen", "none", "-log", logFile.empty() ? "none" : logFile};
+  std::vector<char*> argv;
+  for (std::string& arg : args) argv.push_back(arg.data());
+  lammps_open(static_cast<int>(argv.size()), argv.data(), MPI_COMM_WORLD, &lammps_);
+  for (const std::string& line : commands) command(line);
+  MPI_Barrier(MPI_COMM_WORLD);
+  if (rank == 0) std::filesystem::remove(data);
+  if (particleCount() != world_.particles().size()) {
+    throw std::runtime_error(fmt::format("LIGGGHTS read {} of the scene's {} particles (outside the bounds?)",
+                                         particleCount(), world_.particles().size()));
+  }
+}
+
+LiggghtsBackend::~LiggghtsBackend() {
+  if (lammps_ != nullptr) lammps_close(lammps_);
+}
+
+void LiggghtsBackend::command(const std::string& line) {
+  spdlog::debug("liggghts: {}", line);
+  lammps_command(lammps_, line.c_str());
+}
+
+void LiggghtsBackend::advanceTo(std::uint64_t step) {
+  if (step <= step_) return;
+  // The first run sets up neighbour lists and forces; later ones continue exactly where
+  // the last stopped (pre no: no re-setup), as one uninterrupted run would.
+  command(fmt::format("run {}{}", step - step_, started_ ? " pre no post no" : " post no"));
+  started_ = true;
+  step_ = step;
+}
+
+std::size_t LiggghtsBackend::particleCount() const {
+  const int local = *static_cast<int*>(lammps_extract_global(lammps_, "nlocal"));
+  long long total = 0;
+  const long long mine = local;
+  MPI_Allreduce(&mine, &total, 1, MPI_LONG_LONG, MPI_SUM, MPI_COMM_WORLD);
+  return static_cast<std::size_t>(total);
+}
+
+void LiggghtsBackend::syncParticles() {
+  core::ParticleArrays& p = world_.particles();
+  const std::size_t n = p.size();
+  if (particleCount() != n) {
+    throw std::runtime_error(fmt::format("LIGGGHTS holds {} of {} particles: particles left the bounds, which the "
+                                         "LIGGGHTS backend does not follow yet",
+                                         particleCount(), n));
+  }
+  std::vector<double> buffer(3 * n);
+  auto gather = [&](const char* name, std::vector<core::Vec3>& column) {
+    lammps_gather_atoms(lammps_, name, 1, 3, buffer.data());
+    for (std::size_t i = 0; i < n; ++i) column[i] = core::Vec3(buffer[3 * i], buffer[3 * i + 1], buffer[3 * i + 2]);
+  };
+  gather("x", p.position);
+  gather("v", p.velocity);
+  gather("omega", p.angular_velocity);
+}
+
+RunSummary runHeadlessLiggghts(const v1::Scene& declarations, TranslatedScene& scene) {
+  core::World& world = scene.world;
+  const RunOptions& run = scene.run;
+  const std::string& box = run.field_prefix;
+  const int rank = ensureMpi();
+  if (run.output_directory.empty()) {
+    throw core::InputError(box + ".output.directory", "\"\"", "no output directory given");
+  }
+  if (!run.restore_file.empty()) {
+    throw core::InputError("restore", run.restore_file, "checkpoints are not available on the LIGGGHTS backend");
+  }
+  if (!world.initialized()) world.initialize();
+  requireLiggghtsCompatible(declarations, world);
+  const RunPlan plan = planRun(run, world.settings().time_step, true);
+  for (const std::string& warning : plan.warnings) spdlog::warn("{}", warning);
+  const std::filesystem::path directory = run.output_directory;
+  if (rank == 0) claimOutputDirectory(directory, run.overwrite, box + ".output.directory");
+  MPI_Barrier(MPI_COMM_WORLD);
+
+  const auto start = std::chrono::steady_clock::now();
+  LiggghtsBackend backend(world, (directory / "liggghts.log").string());
+  spdlog::info("LIGGGHTS backend: {} particles, {} materials, {} planes on {} MPI rank(s); {} steps of {:.4g} s",
+               world.particles().size(), world.materials().size(), world.planes().size(), mpiRanks(), plan.end_step,
+               world.settings().time_step);
+  const std::uint64_t stride = plan.frame_every > 0 ? plan.frame_every : plan.end_step;
+  while (backend.stepCount() < plan.end_step) {
+    backend.advanceTo(std::min(plan.end_step, (backend.stepCount() / stride + 1) * stride));
+    backend.syncParticles();
+    const FrameStats stats = frameStats(world);
+    spdlog::info("t = {:.4f} s | {} particles | kinetic energy {:.4g} J | mean z {:.6g} m | max z {:.6g} m",
+                 backend.time(), stats.particles, stats.kinetic_energy, stats.mean_z, stats.max_z);
+  }
+  if (rank == 0 && run.final_particles_csv) writeParticleCsv(world, directory / "particles_final.csv");
+
+  RunSummary summary;
+  summary.steps = plan.end_step;
+  summary.final_particles = world.particles().size();
+  summary.final_time = backend.time();
+  summary.final_kinetic_energy = world.kineticEnergy();
+  summary.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  summary.output_directory = directory;
+  spdlog::info("finished on LIGGGHTS: {} steps to t = {:.6g} s in {:.3g} s wall", summary.steps, summary.final_time,
+               summary.wall_seconds);
+  return summary;
+}
+
+}  // namespace demlink::server
