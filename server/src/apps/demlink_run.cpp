@@ -20,6 +20,7 @@
 #include "command_line_main.hpp"
 #include "demlink/cli/command_line.hpp"
 #include "demlink/core/input_error.hpp"
+#include "demlink/server/backend/liggghts_script.hpp"
 #include "demlink/server/backend/simulation_backend.hpp"
 #include "demlink/server/run/headless_runner.hpp"
 #ifdef DEMLINK_HAS_LIGGGHTS
@@ -100,6 +101,9 @@ int run(int argc, char** argv) {
   translated.run.overwrite = line.overwrite;
   if (line.check) {
     demlink::server::checkHeadless(translated);
+    if (backend == demlink::server::BackendKind::Liggghts) {
+      demlink::server::requireLiggghtsCompatible(scene, translated.world);
+    }
     std::printf("%s: valid (%zu particles at the start, time step %g s)\n", line.scene.c_str(),
                 translated.world.particles().size(), translated.world.settings().time_step);
     return 0;
