@@ -13,6 +13,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
@@ -35,11 +36,17 @@ void finalizeMpi() {
   if (finalized == 0) MPI_Finalize();
 }
 
-/// The read_data file rank 0 writes (LIGGGHTS reads it on rank 0 only), unique per process.
-std::filesystem::path dataFilePath() {
+/// A LIGGGHTS input file in the temporary folder, unique per process.
+std::filesystem::path scratchFilePath(const std::string& extension) {
   static int counter = 0;
   return std::filesystem::temp_directory_path() /
-         fmt::format("demlink-liggghts-{}-{}.data", static_cast<long>(::getpid()), counter++);
+         fmt::format("demlink-liggghts-{}-{}.{}", static_cast<long>(::getpid()), counter++, extension);
+}
+
+bool writeFile(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream out(path);
+  out << text;
+  return out.good();
 }
 
 }  // namespace
@@ -66,23 +73,35 @@ LiggghtsBackend::LiggghtsBackend(core::World& world, const std::string& logFile)
   const int rank = ensureMpi();
   if (!world_.initialized()) world_.initialize();
   step_ = world_.stepCount();
-  const std::filesystem::path data = dataFilePath();
-  const std::vector<std::string> commands = liggghtsCommands(world_, data.string());  // throws before LIGGGHTS starts
-  int ok = 1;
-  if (rank == 0) {
-    std::ofstream out(data);
-    out << liggghtsDataFile(world_);
-    ok = out.good() ? 1 : 0;
+  // Rank 0 writes the data file (read_data reads it there only); every rank writes its own
+  // copy of the meshes, whichever rank LIGGGHTS reads them on.
+  const std::filesystem::path data = scratchFilePath("data");
+  std::vector<std::filesystem::path> meshPaths;
+  std::vector<std::string> meshFiles;
+  for (std::size_t k = 0; k < world_.meshes().size(); ++k) {
+    meshPaths.push_back(scratchFilePath("stl"));
+    meshFiles.push_back(meshPaths.back().string());
   }
-  MPI_Bcast(&ok, 1, MPI_INT, 0, MPI_COMM_WORLD);
-  if (ok == 0) throw std::runtime_error("cannot write the LIGGGHTS data file " + data.string());
-  std::vector<std::string> args = {"liggghts", "-screen", "none", "-log", logFile.empty() ? "none" : logFile};
+  const std::vector<std::string> commands = liggghtsCommands(world_, data.string(), meshFiles);  // may refuse
+  int ok = 1;
+  if (rank == 0) ok = writeFile(data, liggghtsDataFile(world_)) ? 1 : 0;
+  for (std::size_t k = 0; k < meshPaths.size(); ++k) {
+    if (!writeFile(meshPaths[k], liggghtsStl(world_.meshes()[k]))) ok = 0;
+  }
+  int allOk = 0;
+  MPI_Allreduce(&ok, &allOk, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+  if (allOk == 0) throw std::runtime_error("cannot write LIGGGHTS input files to " + data.parent_path().string());
+  // Screen output to /dev/null, not "none": LIGGGHTS 3.8's STL reader prints to the screen
+  // without checking it exists (fix mesh/surface crashes with -screen none).
+  std::vector<std::string> args = {"liggghts", "-screen", "/dev/null", "-log", logFile.empty() ? "none" : logFile};
   std::vector<char*> argv;
   for (std::string& arg : args) argv.push_back(arg.data());
   lammps_open(static_cast<int>(argv.size()), argv.data(), MPI_COMM_WORLD, &lammps_);
   for (const std::string& line : commands) command(line);
   MPI_Barrier(MPI_COMM_WORLD);
-  if (rank == 0) std::filesystem::remove(data);
+  std::error_code ignored;
+  std::filesystem::remove(data, ignored);
+  for (const std::filesystem::path& path : meshPaths) std::filesystem::remove(path, ignored);
   if (particleCount() != world_.particles().size()) {
     throw std::runtime_error(fmt::format("LIGGGHTS read {} of the scene's {} particles (outside the bounds?)",
                                          particleCount(), world_.particles().size()));
@@ -131,6 +150,23 @@ void LiggghtsBackend::syncParticles() {
   gather("x", p.position);
   gather("v", p.velocity);
   gather("omega", p.angular_velocity);
+  for (std::size_t k = 0; k < world_.meshes().size(); ++k) {
+    const auto [force, torque] = meshWrench(k);
+    world_.mesh(k).clearWrench();
+    world_.mesh(k).addWrench(force, torque);
+  }
+}
+
+std::pair<core::Vec3, core::Vec3> LiggghtsBackend::meshWrench(std::size_t mesh) const {
+  const std::string id = liggghtsMeshFix(mesh);
+  std::array<double, 6> values{};
+  for (int i = 0; i < 6; ++i) {
+    auto* value = static_cast<double*>(lammps_extract_fix(lammps_, id.c_str(), 0, 1, i, 0));
+    if (value == nullptr) throw std::runtime_error("LIGGGHTS has no fix " + id);
+    values[static_cast<std::size_t>(i)] = *value;
+    std::free(value);  // lammps_extract_fix returns a malloc'd copy of a global value
+  }
+  return {core::Vec3(values[0], values[1], values[2]), core::Vec3(values[3], values[4], values[5])};
 }
 
 RunSummary runHeadlessLiggghts(const v1::Scene& declarations, TranslatedScene& scene) {

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 
 #include "demlink/core/input_error.hpp"
 
@@ -19,9 +20,8 @@ std::string refusalReason(Kind kind) {
   switch (kind) {
     case Kind::kClumpTemplate:
       return "LIGGGHTS-PUBLIC has no multisphere clumps (fix multisphere is in the premium version only)";
-    case Kind::kMeshBody:
     case Kind::kFacetBody:
-      return "meshes are not mapped to fix mesh/surface by the LIGGGHTS backend yet";
+      return "facet bodies are not mapped by the LIGGGHTS backend yet (a mesh_body at rest is)";
     case Kind::kMassSpringBody:
     case Kind::kFemBody:
       return "LIGGGHTS has no deformable bodies";
@@ -66,6 +66,8 @@ std::string joined(const std::vector<double>& values) {
 
 }  // namespace
 
+std::string liggghtsMeshFix(std::size_t mesh) { return fmt::format("demlink_mesh{}", mesh); }
+
 double liggghtsRestitution(double normalDamping, const std::string& field) {
   // beta = -c / (2 sqrt(5/6)); ln e = beta pi / sqrt(1 - beta^2).
   const double beta = -normalDamping / (2.0 * std::sqrt(5.0 / 6.0));
@@ -105,6 +107,11 @@ void requireLiggghtsCompatible(const v1::Scene& scene, const core::World& world)
            "rolling friction is not mapped by the LIGGGHTS backend");
   refuseIf(world.pairTable().anyCohesion(), "material_pair.cohesion_energy_density", "> 0",
            "cohesion is not mapped by the LIGGGHTS backend (its cohesion models differ from ours)");
+  for (const core::MeshBody& mesh : world.meshes()) {
+    refuseIf(mesh.linearVelocity().norm() > 0.0 || mesh.angularVelocity().norm() > 0.0,
+             "mesh " + mesh.name() + ".linear_velocity", "moving",
+             "moving meshes are not mapped by the LIGGGHTS backend yet (fix move/mesh); meshes at rest are");
+  }
   for (const core::PlaneWall& plane : world.planes()) {
     refuseIf(planeAxis(plane.spec.normal) < 0, "plane " + plane.spec.name + ".normal",
              fmt::format("({}, {}, {})", plane.spec.normal.x(), plane.spec.normal.y(), plane.spec.normal.z()),
@@ -139,7 +146,25 @@ std::string liggghtsDataFile(const core::World& world) {
   return text;
 }
 
-std::vector<std::string> liggghtsCommands(const core::World& world, const std::string& dataFile) {
+std::string liggghtsStl(const core::MeshBody& mesh) {
+  const std::vector<core::Vec3>& x = mesh.worldVertices();
+  std::string text = fmt::format("solid {}\n", mesh.name());
+  for (const auto& triangle : mesh.triangles()) {
+    text += " facet normal 0 0 0\n  outer loop\n";
+    for (std::uint32_t corner : triangle) {
+      text += fmt::format("   vertex {:.17g} {:.17g} {:.17g}\n", x[corner].x(), x[corner].y(), x[corner].z());
+    }
+    text += "  endloop\n endfacet\n";
+  }
+  text += fmt::format("endsolid {}\n", mesh.name());
+  return text;
+}
+
+std::vector<std::string> liggghtsCommands(const core::World& world, const std::string& dataFile,
+                                          const std::vector<std::string>& meshFiles) {
+  if (meshFiles.size() != world.meshes().size()) {
+    throw std::invalid_argument("liggghtsCommands: one STL file per mesh expected");
+  }
   const std::vector<core::Material>& materials = world.materials();
   const std::size_t types = materials.size();
   double stiffest = 0.0;
@@ -200,6 +225,20 @@ std::vector<std::string> liggghtsCommands(const core::World& world, const std::s
     commands.push_back(fmt::format("fix demlink_plane{} all wall/gran model hertz tangential history primitive type {} "
                                    "{} {:.17g}",
                                    k, plane.material + 1, planeNames[axis], plane.point[axis]));
+  }
+  std::string meshIds;
+  for (std::size_t k = 0; k < world.meshes().size(); ++k) {
+    const core::MeshBody& mesh = world.meshes()[k];
+    const core::Vec3& reference = mesh.position();
+    commands.push_back(fmt::format("fix {} all mesh/surface/stress file {} type {} reference_point {:.17g} {:.17g} {:.17g}",
+                                   liggghtsMeshFix(k), meshFiles[k], mesh.materialIndex() + 1, reference.x(),
+                                   reference.y(), reference.z()));
+    meshIds += fmt::format(" {}", liggghtsMeshFix(k));
+  }
+  if (!world.meshes().empty()) {
+    commands.push_back(fmt::format("fix demlink_meshes all wall/gran model hertz tangential history mesh n_meshes {} "
+                                   "meshes{}",
+                                   world.meshes().size(), meshIds));
   }
   commands.push_back("fix demlink_integrate all nve/sphere");
   commands.push_back("thermo_modify lost ignore norm no");

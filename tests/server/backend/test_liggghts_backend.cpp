@@ -12,6 +12,7 @@
 #include "demlink/server/backend/liggghts_backend.hpp"
 #include "demlink/server/backend/liggghts_script.hpp"
 #include "scene_test_support.hpp"
+#include "test_support.hpp"
 
 namespace demlink::server {
 namespace {
@@ -52,6 +53,59 @@ TEST(LiggghtsBackend, RestingSphereHasHertzOverlap) {
   EXPECT_NEAR(r - z, overlap, 0.01 * overlap) << "ranks " << mpiRanks();
   EXPECT_EQ(backend.stepCount(), 10000u);
   EXPECT_NEAR(backend.time(), 0.1, 1e-12);
+}
+
+TEST(LiggghtsBackend, SphereOnMeshHasOurWrench) {
+  const test::ScratchDir dir;
+  // A 20 mm square plate in the STL frame's z = 0 plane, its reference point at its centre.
+  test::writeText(dir.path() / "plate.stl", R"(solid plate
+ facet normal 0 0 1
+  outer loop
+   vertex -0.01 -0.01 0
+   vertex 0.01 -0.01 0
+   vertex 0.01 0.01 0
+  endloop
+ endfacet
+ facet normal 0 0 1
+  outer loop
+   vertex -0.01 -0.01 0
+   vertex 0.01 0.01 0
+   vertex -0.01 0.01 0
+  endloop
+ endfacet
+endsolid plate
+)");
+  const v1::Scene scene = test::sceneOf({
+      R"({"name": "box", "simulation_box": {"time_step": 1e-5, "end_time": 0.1,
+          "bounds": {"lower": {"x": -0.001, "y": -0.001, "z": -0.005}, "upper": {"x": 0.021, "y": 0.021, "z": 0.02}}}})",
+      kBeads,
+      R"({"name": "plate", "mesh_body": {"stl_file": "plate.stl", "material": "beads",
+          "position": {"x": 0.01, "y": 0.01, "z": 0}}})",
+      R"({"name": "bead", "single_particle": {"material": "beads",
+          "position": {"x": 0.012, "y": 0.01, "z": 0.002}, "diameter": 0.004}})",
+  });
+  TranslatedScene native = translateScene(scene, dir.path());
+  NativeBackend ours(native.world);
+  ours.advanceTo(10000);
+  const core::MeshBody& reference = ours.world().meshes()[0];
+  TranslatedScene translated = translateScene(scene, dir.path());
+  requireLiggghtsCompatible(scene, translated.world);
+  LiggghtsBackend backend(translated.world);
+  backend.advanceTo(10000);
+  backend.syncParticles();
+  const core::MeshBody& theirs = backend.world().meshes()[0];
+  // At rest the plate carries the sphere's weight, 2 mm off its reference point along x:
+  // F = (0, 0, -m g), torque about the reference point (0, 0.002 m g, 0).
+  const double r = 0.002;
+  const double weight = 2500.0 * 4.0 / 3.0 * std::numbers::pi * r * r * r * 9.81;
+  EXPECT_NEAR(reference.force().z(), -weight, 0.01 * weight);
+  EXPECT_NEAR(reference.torque().y(), 0.002 * weight, 0.01 * 0.002 * weight);
+  EXPECT_NEAR(theirs.force().z(), reference.force().z(), 0.02 * weight) << "ranks " << mpiRanks();
+  EXPECT_NEAR(theirs.force().x(), reference.force().x(), 0.02 * weight);
+  EXPECT_NEAR(theirs.torque().y(), reference.torque().y(), 0.02 * 0.002 * weight);
+  EXPECT_NEAR(theirs.torque().x(), reference.torque().x(), 0.02 * 0.002 * weight);
+  std::printf("mesh wrench on %d rank(s): LIGGGHTS Fz %.6g N, My %.6g N m; ours Fz %.6g N, My %.6g N m\n",
+              mpiRanks(), theirs.force().z(), theirs.torque().y(), reference.force().z(), reference.torque().y());
 }
 
 /// The deposition benchmark's scene (bench/deposition), shrunk to 144 spheres in a

@@ -13,6 +13,7 @@
 #include "demlink/server/backend/liggghts_script.hpp"
 #include "demlink/server/backend/simulation_backend.hpp"
 #include "scene_test_support.hpp"
+#include "test_support.hpp"
 
 namespace demlink::server {
 namespace {
@@ -106,9 +107,30 @@ TEST(LiggghtsRefusals, DeformableBodiesNamed) {
   }
 }
 
-TEST(LiggghtsRefusals, MeshesNamed) {
-  const std::string what = kindRefusal(R"({"name": "blade", "mesh_body": {}})");
-  EXPECT_TRUE(has(what, "components[4].mesh_body") && has(what, "blade") && has(what, "mesh/surface")) << what;
+TEST(LiggghtsRefusals, MovingMeshesNamed) {
+  const test::ScratchDir dir;
+  test::writeText(dir.path() / "tri.stl",
+                  "solid t\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 0.01 0 0\n"
+                  "   vertex 0 0.01 0\n  endloop\n endfacet\nendsolid t\n");
+  std::vector<std::string> components = base();
+  components.push_back(R"({"name": "blade", "mesh_body": {"stl_file": "tri.stl", "material": "beads",
+      "linear_velocity": {"x": 0.1}}})");
+  const v1::Scene scene = test::sceneOf(components);
+  TranslatedScene translated = translateScene(scene, dir.path());
+  translated.world.initialize();
+  std::string what = "(accepted)";
+  try {
+    requireLiggghtsCompatible(scene, translated.world);
+  } catch (const core::InputError& error) {
+    what = error.what();
+  }
+  EXPECT_TRUE(has(what, "mesh blade.linear_velocity") && has(what, "move/mesh")) << what;
+  components.back() = R"({"name": "blade", "mesh_body": {"stl_file": "tri.stl", "material": "beads"}})";
+  TranslatedScene resting = translateScene(test::sceneOf(components), dir.path());
+  resting.world.initialize();
+  EXPECT_NO_THROW(requireLiggghtsCompatible(test::sceneOf(components), resting.world));
+  const std::string stl = liggghtsStl(resting.world.meshes()[0]);
+  EXPECT_TRUE(has(stl, "vertex 0.01 0 0")) << stl;
 }
 
 TEST(LiggghtsRefusals, SourcesSinksAndSensorsNamed) {

@@ -9,6 +9,7 @@
 /// without mpirun runs as a singleton of one rank) and finalised at exit.
 #include <cstdint>
 #include <memory>
+#include <utility>
 
 #include "demlink/server/backend/simulation_backend.hpp"
 #include "demlink/server/run/headless_runner.hpp"
@@ -36,10 +37,15 @@ class LiggghtsBackend final : public SimulationBackend {
   [[nodiscard]] std::string_view name() const override { return "liggghts"; }
   void advanceTo(std::uint64_t step) override;
   [[nodiscard]] std::uint64_t stepCount() const override { return step_; }
-  /// Gathers positions, velocities and angular velocities to every rank (a collective:
+  /// Gathers positions, velocities and angular velocities to every rank and sets each
+  /// mesh's wrench (meshWrench) in the compiled world (a collective:
   /// every rank must call it). Throws std::runtime_error if LIGGGHTS lost particles.
   void syncParticles() override;
   [[nodiscard]] const core::World& world() const override { return world_; }
+  /// Force on mesh `mesh` by the particles [N] and its torque about the mesh's reference
+  /// point [N m], of the last step (fix mesh/surface/stress). syncParticles() also sets
+  /// them as the compiled world's mesh wrench.
+  [[nodiscard]] std::pair<core::Vec3, core::Vec3> meshWrench(std::size_t mesh) const;
   /// Particles LIGGGHTS holds now [-].
   [[nodiscard]] std::size_t particleCount() const;
   /// Runs one LIGGGHTS command on every rank (all must call it).

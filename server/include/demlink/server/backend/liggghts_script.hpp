@@ -15,6 +15,9 @@
 ///   skin                  neighbor <skin> bin, neigh_modify delay 0
 ///   bounds                the box of read_data, boundary f f f (particles leaving it are lost)
 ///   plane                 fix wall/gran ... primitive type <material> x|y|zplane (axis-aligned)
+///   mesh_body (at rest)   its world-frame triangles as an STL file, fix mesh/surface/stress
+///                         (type <material>, reference_point = the body's position), all
+///                         meshes in one fix wall/gran ... mesh
 ///   particles             read_data: id = slot + 1, type, diameter, density, x; velocities
 #include <string>
 #include <vector>
@@ -34,7 +37,8 @@ namespace demlink::server {
 
 /// Refuses, naming the component and the reason, what the LIGGGHTS backend cannot run:
 /// component kinds it does not map (clumps, meshes and facets, deformable bodies, sources,
-/// sinks, sensors, co-simulation bodies), a moving room, and in the compiled world the
+/// sinks, sensors, co-simulation bodies), a moving room, and in the compiled world moving
+/// meshes, the
 /// linear law, explicit Euler, rolling friction, cohesion, missing or growing bounds and
 /// planes that are not axis-aligned. Throws core::InputError.
 void requireLiggghtsCompatible(const v1::Scene& scene, const core::World& world);
@@ -42,7 +46,16 @@ void requireLiggghtsCompatible(const v1::Scene& scene, const core::World& world)
 /// The LIGGGHTS read_data file of the world's particles.
 [[nodiscard]] std::string liggghtsDataFile(const core::World& world);
 
-/// The commands that set up the run (read_data reads `dataFile`), in order.
-[[nodiscard]] std::vector<std::string> liggghtsCommands(const core::World& world, const std::string& dataFile);
+/// The world-frame triangles of `mesh` as an ASCII STL file.
+[[nodiscard]] std::string liggghtsStl(const core::MeshBody& mesh);
+
+/// The id of mesh `mesh`'s fix mesh/surface/stress (its global vector: force on the mesh
+/// [N], then torque about the reference point [N m]).
+[[nodiscard]] std::string liggghtsMeshFix(std::size_t mesh);
+
+/// The commands that set up the run, in order: read_data reads `dataFile`, mesh k's
+/// fix reads meshFiles[k] (one per world mesh).
+[[nodiscard]] std::vector<std::string> liggghtsCommands(const core::World& world, const std::string& dataFile,
+                                                        const std::vector<std::string>& meshFiles = {});
 
 }  // namespace demlink::server
