@@ -73,6 +73,10 @@ LiggghtsBackend::LiggghtsBackend(core::World& world, const std::string& logFile)
   const int rank = ensureMpi();
   if (!world_.initialized()) world_.initialize();
   step_ = world_.stepCount();
+  for (const std::uint64_t id : world_.particles().id) {  // read_data gives slot k tag k + 1
+    tag_ids_.push_back(id);
+    tag_of_id_.emplace(id, tag_ids_.size());
+  }
   // Rank 0 writes the data file (read_data reads it there only); every rank writes its own
   // copy of the meshes, whichever rank LIGGGHTS reads them on.
   const std::filesystem::path data = scratchFilePath("data");
@@ -135,21 +139,43 @@ std::size_t LiggghtsBackend::particleCount() const {
 }
 
 void LiggghtsBackend::syncParticles() {
-  core::ParticleArrays& p = world_.particles();
-  const std::size_t n = p.size();
-  if (particleCount() != n) {
-    throw std::runtime_error(fmt::format("LIGGGHTS holds {} of {} particles: particles left the bounds, which the "
-                                         "LIGGGHTS backend does not follow yet",
-                                         particleCount(), n));
+  // Every rank packs its atoms as (tag, x, v, omega); all ranks receive all of them.
+  constexpr int kRow = 10;
+  const int local = *static_cast<int*>(lammps_extract_global(lammps_, "nlocal"));
+  const auto* tags = static_cast<const int*>(lammps_extract_atom(lammps_, "id"));
+  const auto* const* x = static_cast<double**>(lammps_extract_atom(lammps_, "x"));
+  const auto* const* v = static_cast<double**>(lammps_extract_atom(lammps_, "v"));
+  const auto* const* omega = static_cast<double**>(lammps_extract_atom(lammps_, "omega"));
+  std::vector<double> mine;
+  mine.reserve(static_cast<std::size_t>(local) * kRow);
+  for (int i = 0; i < local; ++i) {
+    mine.push_back(tags[i]);
+    for (const auto* column : {x, v, omega}) mine.insert(mine.end(), column[i], column[i] + 3);
   }
-  std::vector<double> buffer(3 * n);
-  auto gather = [&](const char* name, std::vector<core::Vec3>& column) {
-    lammps_gather_atoms(lammps_, name, 1, 3, buffer.data());
-    for (std::size_t i = 0; i < n; ++i) column[i] = core::Vec3(buffer[3 * i], buffer[3 * i + 1], buffer[3 * i + 2]);
-  };
-  gather("x", p.position);
-  gather("v", p.velocity);
-  gather("omega", p.angular_velocity);
+  const int ranks = mpiRanks();
+  std::vector<int> counts(static_cast<std::size_t>(ranks));
+  const int count = static_cast<int>(mine.size());
+  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
+  std::vector<int> offsets(static_cast<std::size_t>(ranks), 0);
+  for (std::size_t r = 1; r < offsets.size(); ++r) offsets[r] = offsets[r - 1] + counts[r - 1];
+  std::vector<double> all(static_cast<std::size_t>(offsets.back() + counts.back()));
+  MPI_Allgatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), offsets.data(), MPI_DOUBLE,
+                 MPI_COMM_WORLD);
+  // Our particle with stable id tag_ids_[t - 1] is LIGGGHTS's atom t; atoms LIGGGHTS lost
+  // (outside the box) leave the world as our engine removes them at the bounds.
+  std::vector<const double*> rowOfTag(tag_ids_.size() + 1, nullptr);
+  for (std::size_t row = 0; row < all.size(); row += kRow) {
+    rowOfTag[static_cast<std::size_t>(all[row])] = &all[row + 1];
+  }
+  core::ParticleArrays& p = world_.particles();
+  world_.removeParticlesIf([&](auto slot) { return rowOfTag[tag_of_id_.at(p.id[slot])] == nullptr; },
+                           lost_);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double* row = rowOfTag[tag_of_id_.at(p.id[i])];
+    p.position[i] = core::Vec3(row[0], row[1], row[2]);
+    p.velocity[i] = core::Vec3(row[3], row[4], row[5]);
+    p.angular_velocity[i] = core::Vec3(row[6], row[7], row[8]);
+  }
   for (std::size_t k = 0; k < world_.meshes().size(); ++k) {
     const auto [force, torque] = meshWrench(k);
     world_.mesh(k).clearWrench();
@@ -198,8 +224,10 @@ RunSummary runHeadlessLiggghts(const v1::Scene& declarations, TranslatedScene& s
     backend.advanceTo(std::min(plan.end_step, (backend.stepCount() / stride + 1) * stride));
     backend.syncParticles();
     const FrameStats stats = frameStats(world);
-    spdlog::info("t = {:.4f} s | {} particles | kinetic energy {:.4g} J | mean z {:.6g} m | max z {:.6g} m",
-                 backend.time(), stats.particles, stats.kinetic_energy, stats.mean_z, stats.max_z);
+    spdlog::info("t = {:.4f} s | {} particles ({} lost at the box) | kinetic energy {:.4g} J | mean z {:.6g} m | "
+                 "max z {:.6g} m",
+                 backend.time(), stats.particles, backend.lostParticles().count, stats.kinetic_energy, stats.mean_z,
+                 stats.max_z);
   }
   if (rank == 0 && run.final_particles_csv) writeParticleCsv(world, directory / "particles_final.csv");
 

@@ -108,6 +108,32 @@ endsolid plate
               mpiRanks(), theirs.force().z(), theirs.torque().y(), reference.force().z(), reference.torque().y());
 }
 
+TEST(LiggghtsBackend, ParticleLeavingTheBoxIsRemovedAsByOurEngine) {
+  const v1::Scene scene = test::sceneOf({
+      R"({"name": "box", "simulation_box": {"time_step": 1e-5, "end_time": 0.01, "max_impact_velocity": 3.0,
+          "bounds": {"lower": {"x": 0, "y": 0, "z": 0}, "upper": {"x": 0.02, "y": 0.02, "z": 0.02}}}})",
+      kBeads,
+      plane("floor", R"({"z": 0})", R"({"z": 1})"),
+      R"({"name": "stays", "single_particle": {"material": "beads",
+          "position": {"x": 0.005, "y": 0.01, "z": 0.002}, "diameter": 0.004}})",
+      R"({"name": "leaves", "single_particle": {"material": "beads",
+          "position": {"x": 0.015, "y": 0.01, "z": 0.015}, "velocity": {"z": 2.0}, "diameter": 0.004}})",
+  });
+  TranslatedScene native = translateScene(scene, {});
+  NativeBackend ours(native.world);
+  ours.advanceTo(1000);  // 10 ms: the second sphere left through the top at about 2.5 ms
+  TranslatedScene translated = translateScene(scene, {});
+  LiggghtsBackend backend(translated.world);
+  backend.advanceTo(1000);
+  backend.syncParticles();
+  ASSERT_EQ(ours.world().removedAtBounds().count, 1u);
+  EXPECT_EQ(backend.lostParticles().count, 1u) << "ranks " << mpiRanks();
+  EXPECT_NEAR(backend.lostParticles().mass, ours.world().removedAtBounds().mass, 1e-15);
+  ASSERT_EQ(backend.world().particles().size(), 1u);
+  EXPECT_EQ(backend.world().particles().id[0], ours.world().particles().id[0]);
+  EXPECT_NEAR(backend.world().particles().position[0].z(), ours.world().particles().position[0].z(), 1e-7);
+}
+
 /// The deposition benchmark's scene (bench/deposition), shrunk to 144 spheres in a
 /// 40 mm box, settled for 0.3 s.
 v1::Scene depositionScene() {

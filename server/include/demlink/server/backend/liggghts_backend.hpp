@@ -9,7 +9,9 @@
 /// without mpirun runs as a singleton of one rank) and finalised at exit.
 #include <cstdint>
 #include <memory>
+#include <unordered_map>
 #include <utility>
+#include <vector>
 
 #include "demlink/server/backend/simulation_backend.hpp"
 #include "demlink/server/run/headless_runner.hpp"
@@ -37,10 +39,12 @@ class LiggghtsBackend final : public SimulationBackend {
   [[nodiscard]] std::string_view name() const override { return "liggghts"; }
   void advanceTo(std::uint64_t step) override;
   [[nodiscard]] std::uint64_t stepCount() const override { return step_; }
-  /// Gathers positions, velocities and angular velocities to every rank and sets each
-  /// mesh's wrench (meshWrench) in the compiled world (a collective:
-  /// every rank must call it). Throws std::runtime_error if LIGGGHTS lost particles.
+  /// Gathers positions, velocities and angular velocities to every rank, removes from the
+  /// compiled world the particles LIGGGHTS lost at the box (lostParticles) and sets each
+  /// mesh's wrench (meshWrench) in it (a collective: every rank must call it).
   void syncParticles() override;
+  /// Particles LIGGGHTS deleted outside the box, as of the last syncParticles().
+  [[nodiscard]] const core::RemovalTally& lostParticles() const { return lost_; }
   [[nodiscard]] const core::World& world() const override { return world_; }
   /// Force on mesh `mesh` by the particles [N] and its torque about the mesh's reference
   /// point [N m], of the last step (fix mesh/surface/stress). syncParticles() also sets
@@ -56,6 +60,9 @@ class LiggghtsBackend final : public SimulationBackend {
   void* lammps_ = nullptr;
   std::uint64_t step_ = 0;
   bool started_ = false;
+  std::vector<std::uint64_t> tag_ids_;                         ///< atom tag - 1 -> our stable id
+  std::unordered_map<std::uint64_t, std::size_t> tag_of_id_;  ///< our stable id -> atom tag
+  core::RemovalTally lost_;
 };
 
 /// runHeadless on LIGGGHTS: refuses what it cannot run (requireLiggghtsCompatible), steps
