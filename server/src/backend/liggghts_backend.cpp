@@ -106,9 +106,11 @@ LiggghtsBackend::LiggghtsBackend(core::World& world, const std::string& logFile)
   std::error_code ignored;
   std::filesystem::remove(data, ignored);
   for (const std::filesystem::path& path : meshPaths) std::filesystem::remove(path, ignored);
-  if (particleCount() != world_.particles().size()) {
-    throw std::runtime_error(fmt::format("LIGGGHTS read {} of the scene's {} particles (outside the bounds?)",
-                                         particleCount(), world_.particles().size()));
+  if (const std::size_t read = particleCount(); read != world_.particles().size()) {
+    lammps_close(lammps_);  // the destructor does not run for a constructor that throws
+    lammps_ = nullptr;
+    throw std::runtime_error(fmt::format("LIGGGHTS read {} of the scene's {} particles (outside the bounds?)", read,
+                                         world_.particles().size()));
   }
 }
 
