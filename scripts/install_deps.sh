@@ -13,6 +13,8 @@ packages=(
   libsuitesparse-dev
   # every program's command line (server/cli/): header-only CLI11
   libcli11-dev
+  # the LIGGGHTS backend (optional: built only when both are found; docs/scale-out.md)
+  libliggghts-dev libopenmpi-dev openmpi-bin
   googletest libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-protobuf
   # scripts/plot_cosim.py (PNG plots, headless Agg backend)

@@ -1,6 +1,8 @@
 /// demlink-run: headless mode from the command line.
 ///
 ///   demlink-run <scene.json> [--output DIR] [--end-time T] [--restore FILE] [--overwrite] [--quiet]
+///               [--backend native|liggghts]
+///   mpirun -np N demlink-run <scene.json> --backend liggghts ...   (docs/scale-out.md)
 ///   demlink-run --check <scene.json>
 ///   demlink-run --help | --version
 ///
@@ -17,7 +19,13 @@
 
 #include "command_line_main.hpp"
 #include "demlink/cli/command_line.hpp"
+#include "demlink/core/input_error.hpp"
+#include "demlink/server/backend/liggghts_script.hpp"
+#include "demlink/server/backend/simulation_backend.hpp"
 #include "demlink/server/run/headless_runner.hpp"
+#ifdef DEMLINK_HAS_LIGGGHTS
+#include "demlink/server/backend/liggghts_backend.hpp"
+#endif
 #include "demlink/server/scene/scene_loader.hpp"
 #include "demlink/server/scene/scene_translator.hpp"
 
@@ -33,6 +41,7 @@ struct CommandLine {
   bool overwrite = false;
   bool quiet = false;
   bool check = false;
+  std::string backend = "native";
 };
 
 int run(int argc, char** argv) {
@@ -48,6 +57,9 @@ int run(int argc, char** argv) {
       ->type_name("FILE");
   app.add_flag("--overwrite", line.overwrite, "write into an output directory that already holds a run's outputs");
   app.add_flag("-q,--quiet", line.quiet, "only warnings and errors");
+  cli::addText(app, "--backend", line.backend,
+               "engine: native (default) or liggghts (LIGGGHTS-PUBLIC on the MPI ranks mpirun started)")
+      ->type_name("NAME");
   app.add_flag("--check", line.check,
                "validate the scene (translate it, check the time step and output intervals) without running; "
                "exit 0 if valid, 2 naming the field if not");
@@ -55,6 +67,19 @@ int run(int argc, char** argv) {
 
   spdlog::set_pattern("[%H:%M:%S] %^%l%$: %v");
   if (line.quiet) spdlog::set_level(spdlog::level::warn);
+  const demlink::server::BackendKind backend = demlink::server::parseBackendKind("--backend", line.backend);
+#ifdef DEMLINK_HAS_LIGGGHTS
+  // Every rank runs the same calls; rank 0 alone reports progress.
+  if (backend == demlink::server::BackendKind::Liggghts && demlink::server::ensureMpi() != 0) {
+    spdlog::set_level(spdlog::level::warn);
+  }
+#else
+  if (backend == demlink::server::BackendKind::Liggghts) {
+    throw demlink::core::InputError("--backend", line.backend,
+                                    "this build has no LIGGGHTS backend (configure with libliggghts-dev and "
+                                    "libopenmpi-dev installed, DEMLINK_WITH_LIGGGHTS=ON)");
+  }
+#endif
 
   demlink::v1::Scene scene = demlink::server::loadSceneFile(line.scene);
   if (line.end_time) {
@@ -76,11 +101,20 @@ int run(int argc, char** argv) {
   translated.run.overwrite = line.overwrite;
   if (line.check) {
     demlink::server::checkHeadless(translated);
+    if (backend == demlink::server::BackendKind::Liggghts) {
+      demlink::server::requireLiggghtsCompatible(scene, translated.world);
+    }
     std::printf("%s: valid (%zu particles at the start, time step %g s)\n", line.scene.c_str(),
                 translated.world.particles().size(), translated.world.settings().time_step);
     return 0;
   }
   spdlog::info("scene {}", line.scene);
+#ifdef DEMLINK_HAS_LIGGGHTS
+  if (backend == demlink::server::BackendKind::Liggghts) {
+    demlink::server::runHeadlessLiggghts(scene, translated);
+    return 0;
+  }
+#endif
   demlink::server::runHeadless(translated);
   return 0;
 }

@@ -4,7 +4,7 @@
 ///                  [--quiet-period S] [--timeout S] [--assembly-timeout S] [--hello-timeout S]
 ///                  [--max-frame-bytes N] [--max-queued-bytes N] [--max-unwelcomed N]
 ///                  [--progress S] [--record FILE] [--replay FILE] [--data-root DIR] [--overwrite]
-///                  [--once | --max-simulations N] [--help] [--version]
+///                  [--once | --max-simulations N] [--backend native] [--help] [--version]
 ///
 /// Prints "demlink-server listening on ADDR:PORT" once it accepts connections (scripts and
 /// tests read the port from it with --port 0). Exit codes: 0 normal end (also SIGINT /
@@ -25,6 +25,7 @@
 #include <string>
 
 #include "demlink/core/input_error.hpp"
+#include "demlink/server/backend/simulation_backend.hpp"
 #include "demlink/server/cosim/cosim_host.hpp"
 #include "demlink/server/cosim/session_replay.hpp"
 #include "command_line_main.hpp"
@@ -58,6 +59,7 @@ struct CommandLine {
   std::optional<std::string> data_root;
   bool overwrite = false;
   bool once = false;
+  std::string backend = "native";
 };
 
 /// Registers the options on `app`, writing into `line`.
@@ -113,6 +115,9 @@ void addOptions(CLI::App& app, CommandLine& line) {
                   line.data_root = text;
                 })
       ->type_name("DIR");
+  cli::addText(app, "--backend", line.backend,
+               "engine: native (default); liggghts runs headless scenes only so far (demlink-run, docs/scale-out.md)")
+      ->type_name("NAME");
   app.add_flag("--overwrite", line.overwrite, "a simulation may write into an output folder that holds a run's outputs");
   CLI::Option* once = app.add_flag("--once", line.once, "exit after the first simulation ends (= --max-simulations 1)");
   cli::addWholeNumber<std::uint64_t>(app, "--max-simulations", line.max_simulations, 1,
@@ -175,6 +180,11 @@ int run(int argc, char** argv) {
   if (const std::optional<int> exitCode = cli::parse(app, argc, argv)) return *exitCode;
   if (line.record && line.replay) {
     throw InputError("--record", *line.record, "cannot be combined with --replay");
+  }
+  if (demlink::server::parseBackendKind("--backend", line.backend) != demlink::server::BackendKind::Native) {
+    throw InputError("--backend", line.backend,
+                     "co-simulation on LIGGGHTS is not available yet; run headless scenes with "
+                     "demlink-run --backend liggghts (docs/scale-out.md)");
   }
   spdlog::set_pattern("[%H:%M:%S] %^%l%$: %v");
   if (!line.token) {

@@ -39,6 +39,7 @@ CosimSimulation::CosimSimulation(CompiledSimulation compiled, const std::filesys
     std::ofstream report(directory_ / "compile_report.txt");
     report << compiled_.report.text();
   }
+  backend_ = std::make_unique<NativeBackend>(w);
   w.setStageTiming(true);  // the run log's per-stage rows
   driver_->start(w);
 }
@@ -129,7 +130,7 @@ void CosimSimulation::stepWorld() {
     w.deformableBody(*compiled_.components[index].deformable)
         .setDrivenPose(pose.position, pose.orientation, drive.twist.linear, drive.twist.angular);
   }
-  w.step();
+  backend_->advanceTo(w.stepCount() + 1);  // couplings and outputs see every step
   for (auto& [index, coupling] : couplings_) coupling.afterStep(w);
   driver_->afterStep(w);
 }

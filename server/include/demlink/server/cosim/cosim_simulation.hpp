@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "demlink/core/walls/coupled_motion.hpp"
+#include "demlink/server/backend/simulation_backend.hpp"
 #include "demlink/server/cosim/cosim_compiler.hpp"
 #include "demlink/server/cosim/cosim_outputs.hpp"
 #include "demlink/server/cosim/exchange_scheduler.hpp"
@@ -86,6 +87,7 @@ class CosimSimulation {
   std::map<std::size_t, DeformableDrive> drives_;
   std::map<std::size_t, v1::DataPackage> inputs_;  ///< stored inputs of the current step
   std::unique_ptr<RunDriver> driver_;
+  std::unique_ptr<SimulationBackend> backend_;  ///< steps the compiled world (the native engine)
 };
 
 }  // namespace demlink::server

@@ -1,0 +1,73 @@
+#pragma once
+/// The LIGGGHTS-PUBLIC backend: runs a compiled world on libliggghts across the MPI ranks
+/// of the process's MPI_COMM_WORLD (built with DEMLINK_WITH_LIGGGHTS; docs/scale-out.md).
+///
+/// Every rank compiles the same scene and runs the same calls in lockstep: each rank
+/// builds a LiggghtsBackend from its own world, and rank 0 alone writes the read_data file
+/// (LIGGGHTS reads it on rank 0 and distributes the atoms) and the outputs. The native
+/// engine never needs MPI; MPI is initialised here on first use (a process started
+/// without mpirun runs as a singleton of one rank) and finalised at exit.
+#include <cstdint>
+#include <memory>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include "demlink/server/backend/simulation_backend.hpp"
+#include "demlink/server/run/headless_runner.hpp"
+#include "demlink/v1/scene.pb.h"
+
+namespace demlink::server {
+
+/// Initialises MPI once per process (no-op if it already is); returns this process's rank.
+int ensureMpi();
+/// Ranks in MPI_COMM_WORLD (after ensureMpi()).
+[[nodiscard]] int mpiRanks();
+
+class LiggghtsBackend final : public SimulationBackend {
+ public:
+  /// Sets LIGGGHTS up from `world` (initialised here if not yet: our time-step check runs
+  /// before LIGGGHTS sees the scene). `world` must outlive the backend. Throws
+  /// core::InputError for what liggghtsCommands refuses, std::runtime_error if
+  /// LIGGGHTS fails.
+  /// LIGGGHTS writes its log to `logFile` (empty: no log).
+  LiggghtsBackend(core::World& world, const std::string& logFile = {});
+  ~LiggghtsBackend() override;
+  LiggghtsBackend(const LiggghtsBackend&) = delete;
+  LiggghtsBackend& operator=(const LiggghtsBackend&) = delete;
+
+  [[nodiscard]] std::string_view name() const override { return "liggghts"; }
+  void advanceTo(std::uint64_t step) override;
+  [[nodiscard]] std::uint64_t stepCount() const override { return step_; }
+  /// Gathers positions, velocities and angular velocities to every rank, removes from the
+  /// compiled world the particles LIGGGHTS lost at the box (lostParticles) and sets each
+  /// mesh's wrench (meshWrench) in it (a collective: every rank must call it).
+  void syncParticles() override;
+  /// Particles LIGGGHTS deleted outside the box, as of the last syncParticles().
+  [[nodiscard]] const core::RemovalTally& lostParticles() const { return lost_; }
+  [[nodiscard]] const core::World& world() const override { return world_; }
+  /// Force on mesh `mesh` by the particles [N] and its torque about the mesh's reference
+  /// point [N m], of the last step (fix mesh/surface/stress). syncParticles() also sets
+  /// them as the compiled world's mesh wrench.
+  [[nodiscard]] std::pair<core::Vec3, core::Vec3> meshWrench(std::size_t mesh) const;
+  /// Particles LIGGGHTS holds now [-].
+  [[nodiscard]] std::size_t particleCount() const;
+  /// Runs one LIGGGHTS command on every rank (all must call it).
+  void command(const std::string& line);
+
+ private:
+  core::World& world_;
+  void* lammps_ = nullptr;
+  std::uint64_t step_ = 0;
+  bool started_ = false;
+  std::vector<std::uint64_t> tag_ids_;                         ///< atom tag - 1 -> our stable id
+  std::unordered_map<std::uint64_t, std::size_t> tag_of_id_;  ///< our stable id -> atom tag
+  core::RemovalTally lost_;
+};
+
+/// runHeadless on LIGGGHTS: refuses what it cannot run (requireLiggghtsCompatible), steps
+/// to the end time in strides of output.vtk_interval (a progress line each), then rank 0
+/// writes particles_final.csv into the output directory. Every rank must call it.
+RunSummary runHeadlessLiggghts(const v1::Scene& declarations, TranslatedScene& scene);
+
+}  // namespace demlink::server

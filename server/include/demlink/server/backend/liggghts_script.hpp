@@ -1,0 +1,61 @@
+#pragma once
+/// A compiled scene as LIGGGHTS-PUBLIC input: what the LIGGGHTS backend feeds libliggghts
+/// (liggghts_backend.hpp), kept free of LIGGGHTS and MPI so it builds and is tested
+/// everywhere. docs/scale-out.md has the mapping table and the refusals.
+///
+/// Mapping, for a world after World::initialize() (which ran our critical time-step check):
+///   material k            atom type k + 1; Young's modulus and Poisson ratio per type
+///                         (a rigid material: 1e6 x the stiffest modulus, so the particle
+///                         alone sets the contact stiffness as in our engine)
+///   pair (a, b)           restitution and friction per type pair from our pair table
+///                         (mixing and material_pair overrides included); the restitution
+///                         is the one LIGGGHTS must be given for its damping to equal ours
+///                         (liggghtsRestitution)
+///   time step, gravity    timestep, fix gravity
+///   skin                  neighbor <skin> bin, neigh_modify delay 0
+///   bounds                the box of read_data, boundary f f f (particles leaving it are lost)
+///   plane                 fix wall/gran ... primitive type <material> x|y|zplane (axis-aligned)
+///   mesh_body (at rest)   its world-frame triangles as an STL file, fix mesh/surface/stress
+///                         (type <material>, reference_point = the body's position), all
+///                         meshes in one fix wall/gran ... mesh
+///   particles             read_data: id = slot + 1, type, diameter, density, x; velocities
+#include <string>
+#include <vector>
+
+#include "demlink/core/world.hpp"
+#include "demlink/v1/scene.pb.h"
+
+namespace demlink::server {
+
+/// The restitution to give LIGGGHTS's Hertz law (gamma_n = -2 sqrt(5/6) beta sqrt(S_n m*),
+/// beta = ln e / sqrt(ln^2 e + pi^2)) so that its damping equals ours, gamma_n =
+/// normalDamping sqrt(S_n m*). Both laws damp the tangential spring the same way from it.
+/// Ours is calibrated to deliver the requested restitution; LIGGGHTS's formula, taken from
+/// the linear law, does not for Hertz, so the value differs from the requested one.
+/// Throws core::InputError naming `field` if no restitution in (0, 1] gives that damping.
+[[nodiscard]] double liggghtsRestitution(double normalDamping, const std::string& field);
+
+/// Refuses, naming the component and the reason, what the LIGGGHTS backend cannot run:
+/// component kinds it does not map (clumps, meshes and facets, deformable bodies, sources,
+/// sinks, sensors, co-simulation bodies), a moving room, and in the compiled world moving
+/// meshes, the
+/// linear law, explicit Euler, rolling friction, cohesion, missing or growing bounds and
+/// planes that are not axis-aligned. Throws core::InputError.
+void requireLiggghtsCompatible(const v1::Scene& scene, const core::World& world);
+
+/// The LIGGGHTS read_data file of the world's particles.
+[[nodiscard]] std::string liggghtsDataFile(const core::World& world);
+
+/// The world-frame triangles of `mesh` as an ASCII STL file.
+[[nodiscard]] std::string liggghtsStl(const core::MeshBody& mesh);
+
+/// The id of mesh `mesh`'s fix mesh/surface/stress (its global vector: force on the mesh
+/// [N], then torque about the reference point [N m]).
+[[nodiscard]] std::string liggghtsMeshFix(std::size_t mesh);
+
+/// The commands that set up the run, in order: read_data reads `dataFile`, mesh k's
+/// fix reads meshFiles[k] (one per world mesh).
+[[nodiscard]] std::vector<std::string> liggghtsCommands(const core::World& world, const std::string& dataFile,
+                                                        const std::vector<std::string>& meshFiles = {});
+
+}  // namespace demlink::server

@@ -1,0 +1,248 @@
+/// The LIGGGHTS backend (contract in liggghts_backend.hpp).
+///
+/// LIGGGHTS reports its own input errors by printing and exiting the process (its Error
+/// class calls exit after MPI_Finalize); that is why every check that can be made on our
+/// side (requireLiggghtsCompatible, the time-step check, lost particles) is made before
+/// a command reaches it. Its messages go to liggghts.log in the output directory.
+#include "demlink/server/backend/liggghts_backend.hpp"
+
+#include <liggghts/library.h>
+#include <mpi.h>
+#include <unistd.h>
+#include <spdlog/fmt/fmt.h>
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+#include <vector>
+
+#include "demlink/core/input_error.hpp"
+#include "demlink/server/backend/liggghts_script.hpp"
+#include "demlink/server/run/output_directory.hpp"
+#include "demlink/server/run/particle_csv.hpp"
+#include "demlink/server/run/run_driver.hpp"
+
+namespace demlink::server {
+namespace {
+
+void finalizeMpi() {
+  int finalized = 0;
+  MPI_Finalized(&finalized);
+  if (finalized == 0) MPI_Finalize();
+}
+
+/// A LIGGGHTS input file in the temporary folder, unique per process.
+std::filesystem::path scratchFilePath(const std::string& extension) {
+  static int counter = 0;
+  return std::filesystem::temp_directory_path() /
+         fmt::format("demlink-liggghts-{}-{}.{}", static_cast<long>(::getpid()), counter++, extension);
+}
+
+bool writeFile(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream out(path);
+  out << text;
+  return out.good();
+}
+
+}  // namespace
+
+int ensureMpi() {
+  int initialized = 0;
+  MPI_Initialized(&initialized);
+  if (initialized == 0) {
+    MPI_Init(nullptr, nullptr);
+    std::atexit(finalizeMpi);
+  }
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  return rank;
+}
+
+int mpiRanks() {
+  int ranks = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+  return ranks;
+}
+
+LiggghtsBackend::LiggghtsBackend(core::World& world, const std::string& logFile) : world_(world) {
+  const int rank = ensureMpi();
+  if (!world_.initialized()) world_.initialize();
+  step_ = world_.stepCount();
+  for (const std::uint64_t id : world_.particles().id) {  // read_data gives slot k tag k + 1
+    tag_ids_.push_back(id);
+    tag_of_id_.emplace(id, tag_ids_.size());
+  }
+  // Rank 0 writes the data file (read_data reads it there only); every rank writes its own
+  // copy of the meshes, whichever rank LIGGGHTS reads them on.
+  const std::filesystem::path data = scratchFilePath("data");
+  std::vector<std::filesystem::path> meshPaths;
+  std::vector<std::string> meshFiles;
+  for (std::size_t k = 0; k < world_.meshes().size(); ++k) {
+    meshPaths.push_back(scratchFilePath("stl"));
+    meshFiles.push_back(meshPaths.back().string());
+  }
+  const std::vector<std::string> commands = liggghtsCommands(world_, data.string(), meshFiles);  // may refuse
+  int ok = 1;
+  if (rank == 0) ok = writeFile(data, liggghtsDataFile(world_)) ? 1 : 0;
+  for (std::size_t k = 0; k < meshPaths.size(); ++k) {
+    if (!writeFile(meshPaths[k], liggghtsStl(world_.meshes()[k]))) ok = 0;
+  }
+  int allOk = 0;
+  MPI_Allreduce(&ok, &allOk, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+  if (allOk == 0) throw std::runtime_error("cannot write LIGGGHTS input files to " + data.parent_path().string());
+  // Screen output to /dev/null, not "none": LIGGGHTS 3.8's STL reader prints to the screen
+  // without checking it exists (fix mesh/surface crashes with -screen none).
+  std::vector<std::string> args = {"liggghts", "-screen", "/dev/null", "-log", logFile.empty() ? "none" : logFile};
+  std::vector<char*> argv;
+  for (std::string& arg : args) argv.push_back(arg.data());
+  lammps_open(static_cast<int>(argv.size()), argv.data(), MPI_COMM_WORLD, &lammps_);
+  for (const std::string& line : commands) command(line);
+  MPI_Barrier(MPI_COMM_WORLD);
+  std::error_code ignored;
+  std::filesystem::remove(data, ignored);
+  for (const std::filesystem::path& path : meshPaths) std::filesystem::remove(path, ignored);
+  if (const std::size_t read = particleCount(); read != world_.particles().size()) {
+    lammps_close(lammps_);  // the destructor does not run for a constructor that throws
+    lammps_ = nullptr;
+    throw std::runtime_error(fmt::format("LIGGGHTS read {} of the scene's {} particles (outside the bounds?)", read,
+                                         world_.particles().size()));
+  }
+}
+
+LiggghtsBackend::~LiggghtsBackend() {
+  if (lammps_ != nullptr) lammps_close(lammps_);
+}
+
+void LiggghtsBackend::command(const std::string& line) {
+  spdlog::debug("liggghts: {}", line);
+  lammps_command(lammps_, line.c_str());
+}
+
+void LiggghtsBackend::advanceTo(std::uint64_t step) {
+  if (step <= step_) return;
+  // The first run sets up neighbour lists and forces; later ones continue exactly where
+  // the last stopped (pre no: no re-setup), as one uninterrupted run would.
+  command(fmt::format("run {}{}", step - step_, started_ ? " pre no post no" : " post no"));
+  started_ = true;
+  step_ = step;
+}
+
+std::size_t LiggghtsBackend::particleCount() const {
+  const int local = *static_cast<int*>(lammps_extract_global(lammps_, "nlocal"));
+  long long total = 0;
+  const long long mine = local;
+  MPI_Allreduce(&mine, &total, 1, MPI_LONG_LONG, MPI_SUM, MPI_COMM_WORLD);
+  return static_cast<std::size_t>(total);
+}
+
+void LiggghtsBackend::syncParticles() {
+  // Every rank packs its atoms as (tag, x, v, omega); all ranks receive all of them.
+  constexpr int kRow = 10;
+  const int local = *static_cast<int*>(lammps_extract_global(lammps_, "nlocal"));
+  const auto* tags = static_cast<const int*>(lammps_extract_atom(lammps_, "id"));
+  const auto* const* x = static_cast<double**>(lammps_extract_atom(lammps_, "x"));
+  const auto* const* v = static_cast<double**>(lammps_extract_atom(lammps_, "v"));
+  const auto* const* omega = static_cast<double**>(lammps_extract_atom(lammps_, "omega"));
+  std::vector<double> mine;
+  mine.reserve(static_cast<std::size_t>(local) * kRow);
+  for (int i = 0; i < local; ++i) {
+    mine.push_back(tags[i]);
+    for (const auto* column : {x, v, omega}) mine.insert(mine.end(), column[i], column[i] + 3);
+  }
+  const int ranks = mpiRanks();
+  std::vector<int> counts(static_cast<std::size_t>(ranks));
+  const int count = static_cast<int>(mine.size());
+  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
+  std::vector<int> offsets(static_cast<std::size_t>(ranks), 0);
+  for (std::size_t r = 1; r < offsets.size(); ++r) offsets[r] = offsets[r - 1] + counts[r - 1];
+  std::vector<double> all(static_cast<std::size_t>(offsets.back() + counts.back()));
+  MPI_Allgatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), offsets.data(), MPI_DOUBLE,
+                 MPI_COMM_WORLD);
+  // Our particle with stable id tag_ids_[t - 1] is LIGGGHTS's atom t; atoms LIGGGHTS lost
+  // (outside the box) leave the world as our engine removes them at the bounds.
+  std::vector<const double*> rowOfTag(tag_ids_.size() + 1, nullptr);
+  for (std::size_t row = 0; row < all.size(); row += kRow) {
+    rowOfTag[static_cast<std::size_t>(all[row])] = &all[row + 1];
+  }
+  core::ParticleArrays& p = world_.particles();
+  world_.removeParticlesIf([&](auto slot) { return rowOfTag[tag_of_id_.at(p.id[slot])] == nullptr; },
+                           lost_);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double* row = rowOfTag[tag_of_id_.at(p.id[i])];
+    p.position[i] = core::Vec3(row[0], row[1], row[2]);
+    p.velocity[i] = core::Vec3(row[3], row[4], row[5]);
+    p.angular_velocity[i] = core::Vec3(row[6], row[7], row[8]);
+  }
+  for (std::size_t k = 0; k < world_.meshes().size(); ++k) {
+    const auto [force, torque] = meshWrench(k);
+    world_.mesh(k).clearWrench();
+    world_.mesh(k).addWrench(force, torque);
+  }
+}
+
+std::pair<core::Vec3, core::Vec3> LiggghtsBackend::meshWrench(std::size_t mesh) const {
+  const std::string id = liggghtsMeshFix(mesh);
+  std::array<double, 6> values{};
+  for (int i = 0; i < 6; ++i) {
+    auto* value = static_cast<double*>(lammps_extract_fix(lammps_, id.c_str(), 0, 1, i, 0));
+    if (value == nullptr) throw std::runtime_error("LIGGGHTS has no fix " + id);
+    values[static_cast<std::size_t>(i)] = *value;
+    std::free(value);  // lammps_extract_fix returns a malloc'd copy of a global value
+  }
+  return {core::Vec3(values[0], values[1], values[2]), core::Vec3(values[3], values[4], values[5])};
+}
+
+RunSummary runHeadlessLiggghts(const v1::Scene& declarations, TranslatedScene& scene) {
+  core::World& world = scene.world;
+  const RunOptions& run = scene.run;
+  const std::string& box = run.field_prefix;
+  const int rank = ensureMpi();
+  if (run.output_directory.empty()) {
+    throw core::InputError(box + ".output.directory", "\"\"", "no output directory given");
+  }
+  if (!run.restore_file.empty()) {
+    throw core::InputError("restore", run.restore_file, "checkpoints are not available on the LIGGGHTS backend");
+  }
+  if (!world.initialized()) world.initialize();
+  requireLiggghtsCompatible(declarations, world);
+  const RunPlan plan = planRun(run, world.settings().time_step, true);
+  for (const std::string& warning : plan.warnings) spdlog::warn("{}", warning);
+  const std::filesystem::path directory = run.output_directory;
+  if (rank == 0) claimOutputDirectory(directory, run.overwrite, box + ".output.directory");
+  MPI_Barrier(MPI_COMM_WORLD);
+
+  const auto start = std::chrono::steady_clock::now();
+  LiggghtsBackend backend(world, (directory / "liggghts.log").string());
+  spdlog::info("LIGGGHTS backend: {} particles, {} materials, {} planes on {} MPI rank(s); {} steps of {:.4g} s",
+               world.particles().size(), world.materials().size(), world.planes().size(), mpiRanks(), plan.end_step,
+               world.settings().time_step);
+  const std::uint64_t stride = plan.frame_every > 0 ? plan.frame_every : plan.end_step;
+  while (backend.stepCount() < plan.end_step) {
+    backend.advanceTo(std::min(plan.end_step, (backend.stepCount() / stride + 1) * stride));
+    backend.syncParticles();
+    const FrameStats stats = frameStats(world);
+    spdlog::info("t = {:.4f} s | {} particles ({} lost at the box) | kinetic energy {:.4g} J | mean z {:.6g} m | "
+                 "max z {:.6g} m",
+                 backend.time(), stats.particles, backend.lostParticles().count, stats.kinetic_energy, stats.mean_z,
+                 stats.max_z);
+  }
+  if (rank == 0 && run.final_particles_csv) writeParticleCsv(world, directory / "particles_final.csv");
+
+  RunSummary summary;
+  summary.steps = plan.end_step;
+  summary.final_particles = world.particles().size();
+  summary.final_time = backend.time();
+  summary.final_kinetic_energy = world.kineticEnergy();
+  summary.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  summary.output_directory = directory;
+  spdlog::info("finished on LIGGGHTS: {} steps to t = {:.6g} s in {:.3g} s wall", summary.steps, summary.final_time,
+               summary.wall_seconds);
+  return summary;
+}
+
+}  // namespace demlink::server

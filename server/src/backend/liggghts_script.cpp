@@ -1,0 +1,248 @@
+/// LIGGGHTS input of a compiled scene (contract in liggghts_script.hpp).
+#include "demlink/server/backend/liggghts_script.hpp"
+
+#include <spdlog/fmt/fmt.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include "demlink/core/input_error.hpp"
+
+namespace demlink::server {
+namespace {
+
+using Kind = v1::ComponentDeclaration::KindCase;
+
+/// Why a component kind cannot run on LIGGGHTS-PUBLIC; empty if it can.
+std::string refusalReason(Kind kind) {
+  switch (kind) {
+    case Kind::kClumpTemplate:
+      return "LIGGGHTS-PUBLIC has no multisphere clumps (fix multisphere is in the premium version only)";
+    case Kind::kFacetBody:
+      return "facet bodies are not mapped by the LIGGGHTS backend yet (a mesh_body at rest is)";
+    case Kind::kMassSpringBody:
+    case Kind::kFemBody:
+      return "LIGGGHTS has no deformable bodies";
+    case Kind::kParticleSource:
+    case Kind::kPitGenerator:
+      return "sources are not mapped to fix insert by the LIGGGHTS backend yet";
+    case Kind::kParticleSink:
+    case Kind::kRegionSensor:
+    case Kind::kFlowSensor:
+    case Kind::kTracker:
+      return "sinks, sensors and trackers are not mapped by the LIGGGHTS backend yet";
+    case Kind::kRigidBody:
+    case Kind::kParticleView:
+      return "co-simulation components are not mapped by the LIGGGHTS backend yet";
+    default:
+      return {};
+  }
+}
+
+std::string kindName(const v1::ComponentDeclaration& component) {
+  const auto* field = v1::ComponentDeclaration::descriptor()->FindFieldByNumber(static_cast<int>(component.kind_case()));
+  return field != nullptr ? field->name() : "kind";
+}
+
+/// The axis (0, 1, 2) a plane's normal lies along, or -1.
+int planeAxis(const core::Vec3& normal) {
+  for (int axis = 0; axis < 3; ++axis) {
+    if (std::abs(std::abs(normal[axis]) - 1.0) < 1.0e-12) return axis;
+  }
+  return -1;
+}
+
+void refuseIf(bool refused, const std::string& field, const std::string& value, const std::string& reason) {
+  if (refused) throw core::InputError(field, value, reason);
+}
+
+std::string joined(const std::vector<double>& values) {
+  std::string text;
+  for (double value : values) text += fmt::format(" {:.17g}", value);
+  return text;
+}
+
+}  // namespace
+
+std::string liggghtsMeshFix(std::size_t mesh) { return fmt::format("demlink_mesh{}", mesh); }
+
+double liggghtsRestitution(double normalDamping, const std::string& field) {
+  // beta = -c / (2 sqrt(5/6)); ln e = beta pi / sqrt(1 - beta^2).
+  const double beta = -normalDamping / (2.0 * std::sqrt(5.0 / 6.0));
+  refuseIf(!(normalDamping >= 0.0) || !(beta > -1.0), field, core::formatValue(normalDamping),
+           "no LIGGGHTS restitution gives this damping (restitution too low for LIGGGHTS's Hertz law)");
+  return std::exp(beta * std::numbers::pi / std::sqrt(1.0 - beta * beta));
+}
+
+void requireLiggghtsCompatible(const v1::Scene& scene, const core::World& world) {
+  std::string box = "simulation_box";
+  for (int i = 0; i < scene.components_size(); ++i) {
+    const v1::ComponentDeclaration& component = scene.components(i);
+    const std::string field = fmt::format("components[{}].{}", i, kindName(component));
+    const std::string reason = refusalReason(component.kind_case());
+    refuseIf(!reason.empty(), field, component.name(), reason + "; run it on the native backend");
+    if (component.has_simulation_box()) box = fmt::format("components[{}].simulation_box", i);
+  }
+  const core::SimulationSettings& settings = world.settings();
+  refuseIf(!settings.frame.isInertial(), box + ".frame", "moving room",
+           "LIGGGHTS has no fictitious forces of a moving room; run it on the native backend");
+  refuseIf(settings.contact_model != core::ContactModel::HertzMindlin, box + ".contact_model", "LINEAR_SPRING_DASHPOT",
+           "the LIGGGHTS backend maps the Hertz-Mindlin law only");
+  refuseIf(settings.integrator != core::IntegratorKind::VelocityVerlet, box + ".integrator", "EXPLICIT_EULER",
+           "LIGGGHTS integrates with velocity Verlet (fix nve/sphere) only");
+  refuseIf(!settings.bounds, box + ".bounds", "none", "LIGGGHTS needs a fixed box; declare simulation_box.bounds");
+  refuseIf(settings.bounds && settings.bounds->growing, box + ".bounds.mode", "GROWING",
+           "LIGGGHTS's box does not grow; declare fixed bounds");
+  for (std::uint32_t m = 0; m < world.materials().size(); ++m) {
+    const core::Material& material = world.materials()[m];
+    refuseIf(material.rolling_friction > 0.0, "material " + material.name + ".rolling_friction",
+             core::formatValue(material.rolling_friction), "rolling friction is not mapped by the LIGGGHTS backend");
+    refuseIf(material.cohesion_energy_density > 0.0, "material " + material.name + ".cohesion_energy_density",
+             core::formatValue(material.cohesion_energy_density),
+             "cohesion is not mapped by the LIGGGHTS backend (its cohesion models differ from ours)");
+  }
+  refuseIf(world.pairTable().anyRollingFriction(), "material_pair.rolling_friction", "> 0",
+           "rolling friction is not mapped by the LIGGGHTS backend");
+  refuseIf(world.pairTable().anyCohesion(), "material_pair.cohesion_energy_density", "> 0",
+           "cohesion is not mapped by the LIGGGHTS backend (its cohesion models differ from ours)");
+  for (const core::MeshBody& mesh : world.meshes()) {
+    refuseIf(mesh.linearVelocity().norm() > 0.0 || mesh.angularVelocity().norm() > 0.0,
+             "mesh " + mesh.name() + ".linear_velocity", "moving",
+             "moving meshes are not mapped by the LIGGGHTS backend yet (fix move/mesh); meshes at rest are");
+  }
+  for (const core::PlaneWall& plane : world.planes()) {
+    refuseIf(planeAxis(plane.spec.normal) < 0, "plane " + plane.spec.name + ".normal",
+             fmt::format("({}, {}, {})", plane.spec.normal.x(), plane.spec.normal.y(), plane.spec.normal.z()),
+             "LIGGGHTS primitive walls are axis-aligned; tilted planes are not mapped");
+  }
+}
+
+std::string liggghtsDataFile(const core::World& world) {
+  const core::ParticleArrays& p = world.particles();
+  const core::DomainBounds bounds = world.settings().bounds.value_or(core::DomainBounds{});
+  std::string text = "DEMLink scene for LIGGGHTS\n\n";
+  text += fmt::format("{} atoms\n{} atom types\n\n", p.size(), world.materials().size());
+  const char* axes[] = {"x", "y", "z"};
+  for (int axis = 0; axis < 3; ++axis) {
+    text += fmt::format("{:.17g} {:.17g} {}lo {}hi\n", bounds.lower[axis], bounds.upper[axis], axes[axis], axes[axis]);
+  }
+  if (p.size() == 0) return text;
+  text += "\nAtoms\n\n";
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double r = p.radius[i];
+    const double density = p.mass[i] / (4.0 / 3.0 * std::numbers::pi * r * r * r);
+    text += fmt::format("{} {} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g}\n", i + 1, p.material[i] + 1, 2.0 * r, density,
+                        p.position[i].x(), p.position[i].y(), p.position[i].z());
+  }
+  text += "\nVelocities\n\n";
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const core::Vec3& v = p.velocity[i];
+    const core::Vec3& w = p.angular_velocity[i];
+    text += fmt::format("{} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g}\n", i + 1, v.x(), v.y(), v.z(), w.x(),
+                        w.y(), w.z());
+  }
+  return text;
+}
+
+std::string liggghtsStl(const core::MeshBody& mesh) {
+  const std::vector<core::Vec3>& x = mesh.worldVertices();
+  std::string text = fmt::format("solid {}\n", mesh.name());
+  for (const auto& triangle : mesh.triangles()) {
+    text += " facet normal 0 0 0\n  outer loop\n";
+    for (std::uint32_t corner : triangle) {
+      text += fmt::format("   vertex {:.17g} {:.17g} {:.17g}\n", x[corner].x(), x[corner].y(), x[corner].z());
+    }
+    text += "  endloop\n endfacet\n";
+  }
+  text += fmt::format("endsolid {}\n", mesh.name());
+  return text;
+}
+
+std::vector<std::string> liggghtsCommands(const core::World& world, const std::string& dataFile,
+                                          const std::vector<std::string>& meshFiles) {
+  if (meshFiles.size() != world.meshes().size()) {
+    throw std::invalid_argument("liggghtsCommands: one STL file per mesh expected");
+  }
+  const std::vector<core::Material>& materials = world.materials();
+  const std::size_t types = materials.size();
+  double stiffest = 0.0;
+  for (const core::Material& material : materials) stiffest = std::max(stiffest, material.youngs_modulus);
+  std::vector<double> youngs;
+  std::vector<double> poisson;
+  for (const core::Material& material : materials) {
+    youngs.push_back(material.rigid ? 1.0e6 * stiffest : material.youngs_modulus);
+    poisson.push_back(material.poisson_ratio);
+  }
+  std::vector<double> restitution;
+  std::vector<double> friction;
+  const core::ContactPairTable& table = world.pairTable();
+  for (std::uint32_t a = 0; a < types; ++a) {
+    for (std::uint32_t b = 0; b < types; ++b) {
+      if (table.covers(a) && table.covers(b)) {
+        const core::ContactPairParams& pair = table(a, b);
+        restitution.push_back(liggghtsRestitution(
+            pair.normal_damping, "material pair " + materials[a].name + " / " + materials[b].name + ".restitution"));
+        friction.push_back(pair.sliding_friction);
+      } else {  // no contact of this pair can occur; LIGGGHTS still wants a value
+        restitution.push_back(0.5);
+        friction.push_back(0.5 * (materials[a].sliding_friction + materials[b].sliding_friction));
+      }
+    }
+  }
+  std::vector<std::string> commands = {
+      "units si",
+      "atom_style granular",
+      "atom_modify map array",
+      "boundary f f f",
+      "newton off",
+      "communicate single vel yes",
+      "read_data " + dataFile,
+      fmt::format("neighbor {:.17g} bin", world.neighbourSkin()),
+      "neigh_modify delay 0",
+      "fix demlink_youngs all property/global youngsModulus peratomtype" + joined(youngs),
+      "fix demlink_poisson all property/global poissonsRatio peratomtype" + joined(poisson),
+      fmt::format("fix demlink_restitution all property/global coefficientRestitution peratomtypepair {}{}", types,
+                  joined(restitution)),
+      fmt::format("fix demlink_friction all property/global coefficientFriction peratomtypepair {}{}", types,
+                  joined(friction)),
+      "pair_style gran model hertz tangential history",
+      "pair_coeff * *",
+      fmt::format("timestep {:.17g}", world.settings().time_step),
+  };
+  const core::Vec3 gravity = world.gravity();
+  if (gravity.norm() > 0.0) {
+    const core::Vec3 direction = gravity.normalized();
+    commands.push_back(fmt::format("fix demlink_gravity all gravity {:.17g} vector {:.17g} {:.17g} {:.17g}",
+                                   gravity.norm(), direction.x(), direction.y(), direction.z()));
+  }
+  const char* planeNames[] = {"xplane", "yplane", "zplane"};
+  for (std::size_t k = 0; k < world.planes().size(); ++k) {
+    const core::PlaneSpec& plane = world.planes()[k].spec;
+    const int axis = planeAxis(plane.normal);
+    if (axis < 0) throw core::InputError("plane " + plane.name + ".normal", "tilted", "not axis-aligned");
+    commands.push_back(fmt::format("fix demlink_plane{} all wall/gran model hertz tangential history primitive type {} "
+                                   "{} {:.17g}",
+                                   k, plane.material + 1, planeNames[axis], plane.point[axis]));
+  }
+  std::string meshIds;
+  for (std::size_t k = 0; k < world.meshes().size(); ++k) {
+    const core::MeshBody& mesh = world.meshes()[k];
+    const core::Vec3& reference = mesh.position();
+    commands.push_back(fmt::format("fix {} all mesh/surface/stress file {} type {} reference_point {:.17g} {:.17g} {:.17g}",
+                                   liggghtsMeshFix(k), meshFiles[k], mesh.materialIndex() + 1, reference.x(),
+                                   reference.y(), reference.z()));
+    meshIds += fmt::format(" {}", liggghtsMeshFix(k));
+  }
+  if (!world.meshes().empty()) {
+    commands.push_back(fmt::format("fix demlink_meshes all wall/gran model hertz tangential history mesh n_meshes {} "
+                                   "meshes{}",
+                                   world.meshes().size(), meshIds));
+  }
+  commands.push_back("fix demlink_integrate all nve/sphere");
+  commands.push_back("thermo_modify lost ignore norm no");
+  return commands;
+}
+
+}  // namespace demlink::server
