@@ -90,10 +90,11 @@ inline ContactRecord makeContactRecord(ContactKind kind, const ParticleArrays& p
 /// (see PairLoopPartition for why every touched slot is >= base). With
 /// kPasses.recording and `records` set, each contact is appended to *records.
 ///
-/// Each row is taken in blocks of listed pairs: a first pass finds which pairs touch
-/// without a branch on the answer (about half the listed pairs of a settled bed do
-/// not, in no pattern a branch predictor can learn), a second pass evaluates the
-/// touching ones in list order, so the sums are the same as one pass's.
+/// Each row is taken in blocks of listed pairs: a first pass sorts the pairs into
+/// touching and apart without a branch on the answer (about half the listed pairs of
+/// a settled bed do not touch, in no pattern a branch predictor can learn), then the
+/// apart ones release their springs and the touching ones are evaluated in list
+/// order, so the sums are the same as one pass's.
 template <class Law, ForcePasses kPasses>
 void particleContactRows(ParticleArrays& p, NeighbourList& list, const ContactPairTable& table, double dt,
                          std::size_t rowBegin, std::size_t rowEnd, Vec3* force, Vec3* torque, std::size_t base,
@@ -105,6 +106,7 @@ void particleContactRows(ParticleArrays& p, NeighbourList& list, const ContactPa
   const std::span<const ReducedPair> reduced = list.reduced();
   constexpr std::uint32_t kBlock = 64;
   std::uint32_t touching[kBlock];
+  std::uint32_t apart[kBlock];
   for (std::size_t i = rowBegin; i < rowEnd; ++i) {
     const Vec3 xi = p.position[i];
     const double ri = p.radius[i];
@@ -117,10 +119,16 @@ void particleContactRows(ParticleArrays& p, NeighbourList& list, const ContactPa
         const std::uint32_t j = partners[k];
         const double radiusSum = ri + p.radius[j];
         const bool touches = !((p.position[j] - xi).squaredNorm() >= radiusSum * radiusSum);
+        // Both stores always (k - blockBegin - count apart pairs so far), so no branch.
         touching[count] = k;
-        count += touches ? 1 : 0;
-        // Springs of pairs that came apart are released (no store traffic for idle pairs).
-        if (!touches & !history[k].isZero(0.0)) history[k].setZero();
+        apart[k - blockBegin - count] = k;
+        count += static_cast<std::uint32_t>(touches);
+      }
+      const std::uint32_t apartCount = blockEnd - blockBegin - count;
+      // Springs of pairs that came apart are released (no store traffic for idle pairs;
+      // tested here, where the answer is nearly always "idle", not in the pass above).
+      for (std::uint32_t m = 0; m < apartCount; ++m) {
+        if (!history[apart[m]].isZero(0.0)) history[apart[m]].setZero();
       }
       for (std::uint32_t m = 0; m < count; ++m) {
         const std::uint32_t k = touching[m];
