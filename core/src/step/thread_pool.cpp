@@ -32,7 +32,7 @@ constexpr std::uint32_t kMaxHold = 1u << 16;
 template <class T>
 T awaitChange(const std::atomic<T>& value, T old, std::chrono::nanoseconds budget) {
   T now = old;
-  if (spinFor(budget, [&] { return (now = value.load(std::memory_order_acquire)) != old; })) return now;
+  if (spinFor(SpinGate::Party::kDem, budget, [&] { return (now = value.load(std::memory_order_acquire)) != old; })) return now;
   for (;;) {
     value.wait(old, std::memory_order_acquire);
     now = value.load(std::memory_order_acquire);
@@ -57,6 +57,8 @@ ThreadPool::ThreadPool(std::uint32_t threads, std::chrono::nanoseconds spinBudge
   workers_.reserve(threads > 0 ? threads - 1 : 0);
   try {
     for (std::uint32_t t = 1; t < threads; ++t) workers_.emplace_back([this] { workerLoop(); });
+    SpinGate::instance().addDemPool(static_cast<int>(size()));
+    in_gate_ = true;
   } catch (const std::system_error& error) {
     // A destroyed joinable std::thread calls std::terminate: join the started ones first.
     stopWorkers();
@@ -67,6 +69,8 @@ ThreadPool::ThreadPool(std::uint32_t threads, std::chrono::nanoseconds spinBudge
 ThreadPool::~ThreadPool() { stopWorkers(); }
 
 void ThreadPool::stopWorkers() {
+  if (in_gate_) SpinGate::instance().addDemPool(-static_cast<int>(size()));
+  in_gate_ = false;
   stop_.store(true, std::memory_order_relaxed);
   generation_.fetch_add(1, std::memory_order_release);
   generation_.notify_all();
@@ -151,8 +155,11 @@ void ThreadPool::judge(Site& site, bool parallel, double seconds) {
   if (site.hold_left > 0) {
     --site.hold_left;
     if (parallel) {
-      // A threaded loop that starts losing against its serial time goes to the caller.
-      site.loss += std::max(0.0, seconds - site.serial_mean);
+      // A threaded loop that starts losing against its serial time goes to the caller:
+      // the loss is summed with its gains, floored at zero (a CUSUM), so timing noise
+      // around a real gain does not add up, and a gain banked earlier does not hide a
+      // core that another process has taken since.
+      site.loss = std::max(0.0, site.loss + seconds - site.serial_mean);
       if (site.loss > kLossLimit) {
         site.parallel = false;
         site.hold = kFirstHold;

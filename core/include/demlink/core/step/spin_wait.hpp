@@ -12,15 +12,22 @@
 /// soon, and gives its core away when it does not.
 ///
 /// Why a gate: a spinning thread holds a core. It must never hold one that computing
-/// work needs, or that work waits for a scheduler time slice (milliseconds). So a wait
-/// spins only while the threads of this process that spin, itself included, are fewer
-/// than the free CPUs: the CPUs this process may run on (sched_getaffinity) less the ones
-/// other processes keep busy. "Other processes" is measured, not guessed from the load
-/// average (which counts this process's own threads): the machine's busy CPU time
+/// work needs, or that work waits for a scheduler time slice (milliseconds). The gate
+/// counts the free CPUs: the CPUs this process may run on (sched_getaffinity) less the
+/// ones other processes keep busy. "Other processes" is measured, not guessed from the
+/// load average (which counts this process's own threads): the machine's busy CPU time
 /// (/proc/stat) less this process's CPU time, per wall second, over the last quarter
-/// second or more. At least one free CPU is thus always left to a party that computes:
-/// 2 idle CPUs allow one spinner at a time, 2 CPUs with one busy process allow none.
-/// Where /proc/stat cannot be read, the 1-minute load average stands in for the others.
+/// second or more; where /proc/stat cannot be read, the 1-minute load average stands in.
+/// Then:
+/// - the DEM thread pool's threads spin only while all of them fit in the free CPUs
+///   (2 threads: both CPUs free; beside one busy process, none spins);
+/// - an exchange wait (server network loop, client receive) spins only while the
+///   process's exchange spinners, itself included, plus the DEM pools' workers, stay
+///   below the free CPUs: one CPU is always left to the party being waited for, and a
+///   spinner never takes a core a DEM worker needs (2 free CPUs and one DEM thread: one
+///   exchange spinner at a time; two DEM threads: none).
+/// A partner in another process that spins counts as busy there, so across processes
+/// the rule errs towards blocking.
 ///
 /// Header-only (std and POSIX only), so the client library uses the same rule without
 /// linking the DEM core; the gate and the statistics are one per process.
@@ -90,17 +97,42 @@ class SpinGate {
     return gate;
   }
 
-  /// Takes a spinner's place when, with it, the process's spinners are fewer than the
-  /// free CPUs; false (and nothing taken) otherwise.
-  bool enter() {
-    const int free = freeCpus();
+  /// Who waits: a DEM pool thread, or an exchange (network) wait.
+  enum class Party { kDem, kExchange };
+
+  /// Takes a spinner's place when the rule of the file comment admits one more of
+  /// `party`; false (and nothing taken) otherwise. Every true needs a leave(party).
+  bool enter(Party party) {
+    const bool forced = forced_.load(std::memory_order_relaxed);
+    const int free = forced ? 0 : freeCpus();
+    if (party == Party::kDem) return forced || admits(party, free, 0, dem_threads_.load(std::memory_order_relaxed), 0);
+    const int workers = dem_workers_.load(std::memory_order_relaxed);
     int now = spinners_.load(std::memory_order_relaxed);
     do {
-      if (now + 1 >= free) return false;
+      if (!forced && !admits(party, free, now, 0, workers)) return false;
     } while (!spinners_.compare_exchange_weak(now, now + 1, std::memory_order_relaxed));
     return true;
   }
-  void leave() { spinners_.fetch_sub(1, std::memory_order_relaxed); }
+
+  /// The rule: may one more `party` spin, with `free` free CPUs, `spinners` exchange
+  /// waits spinning already, `demThreads` threads and `demWorkers` workers in DEM pools.
+  [[nodiscard]] static bool admits(Party party, int free, int spinners, int demThreads, int demWorkers) {
+    if (party == Party::kDem) return demThreads <= free;
+    return spinners + 1 + demWorkers < free;
+  }
+  void leave(Party party) {
+    if (party == Party::kExchange) spinners_.fetch_sub(1, std::memory_order_relaxed);
+  }
+
+  /// Benchmarks only: admit every spinner, whatever the free CPUs (shows what spinning
+  /// gains where the gate would refuse it, e.g. on a machine shared with other work).
+  void setForced(bool forced) { forced_.store(forced, std::memory_order_relaxed); }
+
+  /// A DEM pool of `threads` threads (its caller included) starts (+) or ends (-).
+  void addDemPool(int threads) {
+    dem_threads_.fetch_add(threads, std::memory_order_relaxed);
+    dem_workers_.fetch_add(threads > 0 ? threads - 1 : threads + 1, std::memory_order_relaxed);
+  }
 
   /// Usable CPUs less those busy with other processes (rounded), refreshed at most
   /// every kRefreshPeriod by whichever waiter finds it stale.
@@ -181,38 +213,57 @@ class SpinGate {
   std::atomic<std::int64_t> refreshed_ns_{0};
   std::atomic<int> free_cpus_{1};
   std::atomic<double> others_busy_{0.0};
-  std::atomic<int> spinners_{0};
+  std::atomic<bool> forced_{false};
+  std::atomic<int> spinners_{0};     ///< exchange waits spinning now
+  std::atomic<int> dem_threads_{0};  ///< threads of the live DEM pools
+  std::atomic<int> dem_workers_{0};  ///< the same less each pool's caller
   std::atomic<std::uint64_t> ready_{0};
   std::atomic<std::uint64_t> blocked_{0};
   std::atomic<std::uint64_t> refused_{0};
 };
 
-/// The spin budget a wait uses when its caller asks for none: DEMLINK_SPIN_WAIT_US from
-/// the environment (microseconds; 0 turns spinning off) when set and valid, otherwise
-/// kDefaultSpinBudget. Read once per process.
-inline std::chrono::nanoseconds defaultSpinBudget() {
-  static const std::chrono::nanoseconds budget = [] {
+namespace spin_detail {
+/// The process's default budget [ns]: DEMLINK_SPIN_WAIT_US when set and valid (0..10000
+/// microseconds), otherwise kDefaultSpinBudget; setDefaultSpinBudget() replaces it.
+inline std::atomic<std::int64_t>& defaultBudgetNs() {
+  static std::atomic<std::int64_t> budget = [] {
     const char* text = std::getenv("DEMLINK_SPIN_WAIT_US");
-    if (text == nullptr || *text == '\0') return kDefaultSpinBudget;
-    char* end = nullptr;
-    const double us = std::strtod(text, &end);
-    if (end == text || *end != '\0' || !std::isfinite(us) || us < 0.0 ||
-        us * 1e3 > static_cast<double>(kMaxSpinBudget.count())) {
-      return kDefaultSpinBudget;
+    std::int64_t ns = kDefaultSpinBudget.count();
+    if (text != nullptr && *text != '\0') {
+      char* end = nullptr;
+      const double us = std::strtod(text, &end);
+      if (end != text && *end == '\0' && std::isfinite(us) && us >= 0.0 &&
+          us * 1e3 <= static_cast<double>(kMaxSpinBudget.count())) {
+        ns = static_cast<std::int64_t>(us * 1e3);
+      }
     }
-    return std::chrono::nanoseconds(static_cast<std::int64_t>(us * 1e3));
+    return ns;
   }();
   return budget;
 }
+}  // namespace spin_detail
+
+/// The spin budget of waits whose owner was given none: the DEM thread pool's, the
+/// server's network loop's (demlink-server --spin-wait-us sets it), the client's
+/// (ConnectOptions::spin_wait unset, and so the C ABI's). DEMLINK_SPIN_WAIT_US in the
+/// environment (microseconds, 0 = off) replaces kDefaultSpinBudget.
+inline std::chrono::nanoseconds defaultSpinBudget() {
+  return std::chrono::nanoseconds(spin_detail::defaultBudgetNs().load(std::memory_order_relaxed));
+}
+/// Sets defaultSpinBudget() for waits created from now on (clamped to [0, kMaxSpinBudget]).
+inline void setDefaultSpinBudget(std::chrono::nanoseconds budget) {
+  spin_detail::defaultBudgetNs().store(std::clamp(budget, std::chrono::nanoseconds::zero(), kMaxSpinBudget).count(),
+                                       std::memory_order_relaxed);
+}
 
 /// The spin half of spin-then-block: polls ready() for at most `budget` when the gate
-/// admits a spinner. True: ready() returned true (the caller need not block). False:
+/// admits a spinner of `party`. True: ready() returned true (the caller need not block). False:
 /// the caller blocks in its own way (futex, epoll, recv) and re-checks its event.
 template <class Ready>
-bool spinFor(std::chrono::nanoseconds budget, Ready&& ready) {
+bool spinFor(SpinGate::Party party, std::chrono::nanoseconds budget, Ready&& ready) {
   if (budget.count() <= 0) return false;
   SpinGate& gate = SpinGate::instance();
-  if (!gate.enter()) {
+  if (!gate.enter(party)) {
     gate.countRefused();
     return false;
   }
@@ -226,7 +277,7 @@ bool spinFor(std::chrono::nanoseconds budget, Ready&& ready) {
     cpuRelax();
     if (std::chrono::steady_clock::now() >= deadline) break;
   }
-  gate.leave();
+  gate.leave(party);
   gate.count(done);
   return done;
 }

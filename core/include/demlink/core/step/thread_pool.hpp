@@ -140,6 +140,7 @@ class ThreadPool {
   Task task_ = nullptr;
   const void* context_ = nullptr;
   std::chrono::nanoseconds spin_budget_;  ///< spin before blocking (spin_wait.hpp)
+  bool in_gate_ = false;                  ///< counted in SpinGate's DEM threads
 
   // Adaptive threading (caller thread only).
   ThreadPoolStats stats_;
