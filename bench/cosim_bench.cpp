@@ -2,6 +2,7 @@
 /// bench/cosim_bench.md, figures in docs/benchmarks.md "Co-simulation").
 ///
 ///   demlink-bench-cosim roundtrip [--clients N] [--exchanges M] [--warmup W] [--kind body|sensor]
+///                                 [--spin off,on,forced] [--runs K]
 ///   demlink-bench-cosim overhead [--particles P] [--interval S] [--duration S] [--pairs K]
 ///   demlink-bench-cosim            (both, with the defaults: well under two minutes)
 ///
@@ -14,6 +15,10 @@
 /// clients a round trip includes waiting for the slowest of them, since the server only
 /// advances when every due package is in. Without --clients it runs N = 1, 4 and 16, and
 /// first a raw loopback ping-pong (same socket options, no protobuf, no host): the floor.
+/// The spin-then-block variants (--spin, default off,on) alternate K times (--runs) for
+/// each client count; each prints its distribution, the process's CPU time (server and
+/// clients) per exchange and the spin statistics, after the load average and the gate's
+/// count of free CPUs.
 ///
 /// overhead: a bed of P spheres (particle_lattice on a floor) with one client RigidBody
 /// (a box pushed through the bed, PREDICTED motion) exchanged at the interval, against the
@@ -23,6 +28,7 @@
 ///
 /// Why plain main and not Google Benchmark: the quantity is a distribution of single events
 /// (round trips) or a pair of long runs, not a throughput loop.
+#include <sys/resource.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -34,6 +40,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <exception>
 #include <filesystem>
 #include <optional>
@@ -50,6 +57,7 @@
 #include "demlink/client/rigid_body.hpp"
 #include "demlink/client/sensor_components.hpp"
 #include "demlink/client/session.hpp"
+#include "demlink/core/step/spin_wait.hpp"
 #include "demlink/core/walls/coupled_motion.hpp"
 #include "demlink/core/world.hpp"
 #include "demlink/server/cosim/cosim_host.hpp"
@@ -79,6 +87,14 @@ std::string num(double value) {
 }
 
 double secondsOf(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
+
+/// This process's CPU time, all threads (getrusage) [s].
+double processCpuSeconds() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  auto seconds = [](const timeval& t) { return static_cast<double>(t.tv_sec) + 1.0e-6 * static_cast<double>(t.tv_usec); };
+  return seconds(usage.ru_utime) + seconds(usage.ru_stime);
+}
 
 double threadCpuSeconds() {
   timespec ts{};
@@ -183,8 +199,9 @@ class TimedHandler final : public server::SessionHandler {
 /// demlink-server's wiring in a thread: serves one simulation, then run() returns.
 class InProcessServer {
  public:
-  InProcessServer(const v1::Scene& baseScene, const fs::path& outputRoot)
-      : host_(hostOptions(baseScene, outputRoot)), handler_(host_), server_(handler_, netOptions(host_)) {
+  InProcessServer(const v1::Scene& baseScene, const fs::path& outputRoot,
+                  std::chrono::nanoseconds spinWait = core::defaultSpinBudget())
+      : host_(hostOptions(baseScene, outputRoot)), handler_(host_), server_(handler_, netOptions(host_, spinWait)) {
     thread_ = std::thread([this] {
       server_.run();
       done_ = true;
@@ -221,8 +238,9 @@ class InProcessServer {
     options.client_timeout_s = 30.0;
     return options;
   }
-  static server::TcpServerOptions netOptions(server::CosimHost& host) {
+  static server::TcpServerOptions netOptions(server::CosimHost& host, std::chrono::nanoseconds spinWait) {
     server::TcpServerOptions options;
+    options.spin_wait = spinWait;
     options.listen_address = "127.0.0.1";
     options.port = 0;
     options.stop_when = [&host] { return host.simulationsFinished() >= 1; };
@@ -295,6 +313,18 @@ struct RoundtripOptions {
   std::size_t exchanges = 0;  ///< per client, after the warm-up; 0: by client count
   std::size_t warmup = 1000;
   bool sensor = false;  ///< RegionSensor instead of RigidBody
+  /// Spin-then-block variants, alternated within each repetition: off (block at once),
+  /// on (the default budget behind the free-CPU gate), forced (the budget, gate open).
+  std::vector<std::string> spin = {"off", "on"};
+  std::size_t runs = 1;  ///< repetitions of the alternation
+};
+
+/// How one roundtrip configuration ran.
+struct RoundtripRun {
+  std::vector<std::int64_t> ns;  ///< per exchange, all clients, after warm-up
+  double wall = 0.0;             ///< [s]
+  double cpu = 0.0;              ///< process CPU time, server and clients [s]
+  core::SpinStats spins;         ///< spin-then-block waits during the run
 };
 
 /// Empty world: one material, a SimulationBox with fixed bounds, no particles.
@@ -309,21 +339,28 @@ v1::Scene emptyWorld(std::size_t clients, double timeStep) {
 }
 
 /// Runs one configuration; returns the per-exchange times of all clients (after warm-up).
-std::vector<std::int64_t> runRoundtrip(std::size_t clients, std::size_t exchanges, std::size_t warmup, bool sensor,
-                                       double& wallSeconds) {
+RoundtripRun runRoundtrip(std::size_t clients, std::size_t exchanges, std::size_t warmup, bool sensor,
+                          const std::string& spin) {
   constexpr double kTimeStep = 1.0e-4;  // [s]; one exchange = one (empty) step
   const fs::path out = scratchDirectory("roundtrip");
   std::vector<std::vector<std::int64_t>> perClient(clients);
   std::vector<std::string> failures(clients);
+  const std::chrono::nanoseconds budget = spin == "off" ? std::chrono::nanoseconds::zero() : core::defaultSpinBudget();
+  core::SpinGate& gate = core::SpinGate::instance();
+  gate.setForced(spin == "forced");
+  const core::SpinStats spinsBefore = gate.stats();
+  const double cpuBefore = processCpuSeconds();
   const Clock::time_point begin = Clock::now();
   {
-    InProcessServer srv(emptyWorld(clients, kTimeStep), out);
+    InProcessServer srv(emptyWorld(clients, kTimeStep), out, budget);
     std::vector<std::thread> threads;
     for (std::size_t c = 0; c < clients; ++c) {
       threads.emplace_back([&, c] {
         try {
           client::Connection connection;
-          connection.connect("127.0.0.1", srv.port(), connectOptions("bench-" + std::to_string(c)));
+          client::ConnectOptions options = connectOptions("bench-" + std::to_string(c));
+          options.spin_wait = std::chrono::duration_cast<std::chrono::microseconds>(budget);
+          connection.connect("127.0.0.1", srv.port(), options);
           client::Session session(connection);
           client::RigidBody* body = nullptr;
           if (sensor) {
@@ -360,15 +397,21 @@ std::vector<std::int64_t> runRoundtrip(std::size_t clients, std::size_t exchange
     for (std::thread& t : threads) t.join();
     if (!srv.waitDone(kWallLimitSeconds)) failures.emplace_back("the server did not end the simulation");
   }
-  wallSeconds = secondsOf(Clock::now() - begin);
+  RoundtripRun run;
+  run.wall = secondsOf(Clock::now() - begin);
+  run.cpu = processCpuSeconds() - cpuBefore;
+  const core::SpinStats spinsAfter = gate.stats();
+  run.spins = {spinsAfter.ready_spinning - spinsBefore.ready_spinning,
+               spinsAfter.blocked_after_spin - spinsBefore.blocked_after_spin,
+               spinsAfter.refused - spinsBefore.refused};
+  gate.setForced(false);
   std::error_code ignored;
   fs::remove_all(out, ignored);
   for (const std::string& f : failures) {
     if (!f.empty()) throw std::runtime_error("roundtrip with " + std::to_string(clients) + " clients: " + f);
   }
-  std::vector<std::int64_t> all;
-  for (const auto& ns : perClient) all.insert(all.end(), ns.begin(), ns.end());
-  return all;
+  for (const auto& ns : perClient) run.ns.insert(run.ns.end(), ns.begin(), ns.end());
+  return run;
 }
 
 void printDistribution(const char* label, const Distribution& d) {
@@ -385,16 +428,48 @@ void roundtrip(const RoundtripOptions& o, bool withFloor) {
   }
   std::vector<std::size_t> counts = {1, 4, 16};
   if (o.clients > 0) counts = {o.clients};
+  char load[64] = "unknown";
+  if (FILE* f = std::fopen("/proc/loadavg", "r")) {
+    if (std::fgets(load, sizeof load, f) == nullptr) std::snprintf(load, sizeof load, "unknown");
+    std::fclose(f);
+    load[std::strcspn(load, "\n")] = '\0';
+  }
+  std::printf("load average before: %s; spin budget %.0f us; free CPUs by the gate now: %d of %u (others busy %.2f)\n",
+              load, 1e-3 * static_cast<double>(core::defaultSpinBudget().count()),
+              core::SpinGate::instance().freeCpus(), core::usableCpus(), core::SpinGate::instance().othersBusy());
   for (const std::size_t clients : counts) {
     std::size_t exchanges = o.exchanges;
     if (exchanges == 0) exchanges = clients == 1 ? 100000 : 20000;
-    double wall = 0.0;
-    std::vector<std::int64_t> ns = runRoundtrip(clients, exchanges, o.warmup, o.sensor, wall);
-    const Distribution d = distributionOf(ns);
-    const std::string label = std::to_string(clients) + (clients == 1 ? " client" : " clients (incl. waiting)");
-    printDistribution(label.c_str(), d);
-    std::printf("%-34s %zu exchanges per client after %zu warm-up, %.1f s wall in all\n", "", exchanges, o.warmup,
-                wall);
+    // Variants alternate within each repetition, so a change of load hits all alike.
+    std::vector<std::vector<std::int64_t>> samples(o.spin.size());
+    std::vector<double> cpu(o.spin.size(), 0.0), wall(o.spin.size(), 0.0);
+    std::vector<core::SpinStats> spins(o.spin.size());
+    for (std::size_t r = 0; r < o.runs; ++r) {
+      for (std::size_t v = 0; v < o.spin.size(); ++v) {
+        RoundtripRun run = runRoundtrip(clients, exchanges, o.warmup, o.sensor, o.spin[v]);
+        samples[v].insert(samples[v].end(), run.ns.begin(), run.ns.end());
+        cpu[v] += run.cpu;
+        wall[v] += run.wall;
+        spins[v].ready_spinning += run.spins.ready_spinning;
+        spins[v].blocked_after_spin += run.spins.blocked_after_spin;
+        spins[v].refused += run.spins.refused;
+      }
+    }
+    const auto total = static_cast<double>(o.runs * clients * (exchanges + o.warmup));  // exchanges, all clients
+    for (std::size_t v = 0; v < o.spin.size(); ++v) {
+      const Distribution d = distributionOf(samples[v]);
+      const std::string label = std::to_string(clients) + (clients == 1 ? " client" : " clients (incl. waiting)") +
+                                ", spin " + o.spin[v];
+      printDistribution(label.c_str(), d);
+      // CPU of server and clients per client exchange; at a 1 ms interval in real time an
+      // exchange per client is due every ms, so this per ms is the share of one core.
+      std::printf("%-34s %zu x %zu exchanges per client after %zu warm-up, %.1f s wall; CPU %.1f us per exchange "
+                  "(%.1f %% of a core at one exchange per ms); spins: %llu ready, %llu blocked, %llu refused\n",
+                  "", o.runs, exchanges, o.warmup, wall[v], 1e6 * cpu[v] / total, 100.0 * 1e3 * cpu[v] / total,
+                  static_cast<unsigned long long>(spins[v].ready_spinning),
+                  static_cast<unsigned long long>(spins[v].blocked_after_spin),
+                  static_cast<unsigned long long>(spins[v].refused));
+    }
     std::fflush(stdout);
   }
 }
@@ -673,6 +748,19 @@ std::optional<int> parse(int argc, char** argv, std::string& mode, RoundtripOpti
     if (text != "body" && text != "sensor") cli::refuse("--kind", text, "expected body or sensor");
     rt.sensor = text == "sensor";
   });
+  cli::addValue(app, "--spin", "roundtrip: spin variants to alternate, comma-separated, of off, on, forced "
+                "(default off,on)", [&rt](const std::string& text) {
+    rt.spin.clear();
+    std::size_t begin = 0;
+    while (begin <= text.size()) {
+      const std::size_t end = std::min(text.find(',', begin), text.size());
+      const std::string item = text.substr(begin, end - begin);
+      if (item != "off" && item != "on" && item != "forced") cli::refuse("--spin", text, "expected off, on or forced");
+      rt.spin.push_back(item);
+      begin = end + 1;
+    }
+  });
+  cli::addWholeNumber<std::size_t>(app, "--runs", rt.runs, 1, 1000, "roundtrip: repetitions of the alternation (default 1)");
   cli::addWholeNumber<std::size_t>(app, "--particles", ov.particles, 1, kMany, "overhead: particles (default 10000)");
   cli::addNumber(app, "--interval", ov.interval, {0.0, true}, "overhead: communication interval [s] (default 0.001)");
   cli::addNumber(app, "--duration", ov.duration, {0.0, true}, "overhead: simulated time per run [s] (default 0.25)");

@@ -9,6 +9,7 @@
 
 #include <asio.hpp>
 
+#include "demlink/core/step/spin_wait.hpp"
 #include "demlink/v1/protocol.pb.h"
 #include "demlink/wire/frame_codec.hpp"
 
@@ -84,6 +85,8 @@ Connection::~Connection() { close(); }
 const v1::Welcome& Connection::connect(const std::string& host, std::uint16_t port, const ConnectOptions& options) {
   if (impl_ && impl_->open) throw StateError("Connection::connect: already connected");
   options_ = options;
+  spin_budget_ = std::min<std::chrono::nanoseconds>(
+      options.spin_wait ? std::chrono::nanoseconds(*options.spin_wait) : core::defaultSpinBudget(), core::kMaxSpinBudget);
   impl_ = std::make_unique<Impl>(options.max_frame_bytes);
 
   asio::ip::tcp::resolver resolver(impl_->io);
@@ -170,6 +173,11 @@ v1::ServerMessage Connection::readMessage(std::chrono::milliseconds timeout) {
       throw ConnectionError("bad frame from the server: " + impl_->decoder.errorMessage());
     }
     if (!impl_->open) throw ConnectionError("receive on a closed connection");
+    // Spin-then-block (spin_wait.hpp): poll for bytes briefly, then block in the reactor.
+    core::spinFor(core::SpinGate::Party::kExchange, spin_budget_, [this] {
+      std::error_code ignored;
+      return impl_->socket.available(ignored) > 0 || ignored;
+    });
     std::error_code readError = asio::error::would_block;
     std::size_t received = 0;
     impl_->socket.async_read_some(asio::buffer(impl_->buffer), [&](const std::error_code& e, std::size_t n) {

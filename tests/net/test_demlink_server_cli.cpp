@@ -49,6 +49,8 @@ TEST(DemlinkServerCli, BadOptionsExitTwoNamingOptionAndValue) {
       {{"--timeout", "-1"}, "--timeout = -1"},
       {{"--quiet-period", "nan"}, "--quiet-period = nan"},
       {{"--max-frame-bytes", "0"}, "--max-frame-bytes = 0"},
+      {{"--spin-wait-us", "-1"}, "--spin-wait-us = -1"},
+      {{"--spin-wait-us", "1e6"}, "--spin-wait-us = 1e6"},
       {{"--port"}, "--port: 1 required N missing"},  // CLI11's wording
       {{"--bogus"}, "--bogus: unknown option"},
   };
@@ -64,6 +66,7 @@ TEST(DemlinkServerCli, HelpExitsZero) {
   const Result result = runServer({"--help"});
   EXPECT_EQ(result.exit_code, 0);
   EXPECT_NE(result.output.find("--max-frame-bytes"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("--spin-wait-us"), std::string::npos) << result.output;
 }
 
 /// demlink-server as a child process on an ephemeral port (integration::ServerChild); the

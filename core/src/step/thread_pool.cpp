@@ -1,52 +1,41 @@
 #include "demlink/core/step/thread_pool.hpp"
 
-#include <sched.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <string>
 #include <system_error>
 
 namespace demlink::core {
 namespace {
 
-/// Spin iterations before sleeping: a few microseconds, long enough for the
-/// partner's next hand-over when both cores are ours, short enough to yield the
-/// core quickly when they are not.
-constexpr int kSpinIterations = 4000;
+/// Runs of each kind (threaded, caller alone) in one probe of a loop [-].
+constexpr std::uint32_t kProbeRunsEach = 8;
+/// Threads are kept for a loop when its threaded runs took at most this fraction of its
+/// serial runs [-]: a margin against timing noise, so a loop that gains nothing measurable
+/// stays on one thread (fewer cores used for the same time).
+constexpr double kPayingFraction = 0.95;
+/// Threaded time beyond the serial estimate after which a probe or a hold ends at once
+/// [s]: one descheduled worker costs a scheduler slice (~1-4 ms), so on a loaded machine a
+/// probe costs about that, once per hold.
+constexpr double kLossLimit = 2.0e-3;
+/// The gap after a loop, until the next loop starts, that counts towards the loop's run
+/// [s]: the serial code there pays for results left in another core's cache, but a long
+/// gap (output, a co-simulation exchange) is no effect of the loop and would only add noise.
+constexpr double kMaxGap = 1.0e-3;
+/// Runs of the first hold after a probe, and the cap as verdicts repeat [-].
+constexpr std::uint32_t kFirstHold = 64;
+constexpr std::uint32_t kMaxHold = 1u << 16;
 
-/// Offered loops per judgement of whether threading pays [-].
-constexpr std::uint32_t kWindowRuns = 32;
-/// Threading pays when a window takes at most this fraction of its serial estimate [-].
-constexpr double kPayingFraction = 0.9;
-/// A window that has lost this much against its serial estimate ends at once [s]: one
-/// descheduled worker costs a scheduler slice (~1-4 ms), so a probe on a loaded machine
-/// costs about that, once per back-off period.
-constexpr double kProbeLossLimit = 2.0e-3;
-/// Serial loops after the first failed window, and their cap as failures repeat [-].
-constexpr std::uint32_t kFirstBackoff = 64;
-constexpr std::uint32_t kMaxBackoff = 1u << 16;
-
-inline void cpuRelax() {
-#if defined(__x86_64__) || defined(__i386__)
-  __builtin_ia32_pause();
-#endif
-}
-
-/// Waits until `value` differs from `old`: spin briefly, then sleep on it.
+/// Waits until `value` differs from `old`: spin within the budget, then sleep on it.
 template <class T>
-T awaitChange(const std::atomic<T>& value, T old) {
-  for (int i = 0; i < kSpinIterations; ++i) {
-    const T now = value.load(std::memory_order_acquire);
-    if (now != old) return now;
-    cpuRelax();
-  }
+T awaitChange(const std::atomic<T>& value, T old, std::chrono::nanoseconds budget) {
+  T now = old;
+  if (spinFor(SpinGate::Party::kDem, budget, [&] { return (now = value.load(std::memory_order_acquire)) != old; })) return now;
   for (;;) {
     value.wait(old, std::memory_order_acquire);
-    const T now = value.load(std::memory_order_acquire);
+    now = value.load(std::memory_order_acquire);
     if (now != old) return now;
   }
 }
@@ -63,10 +52,13 @@ double secondsSince(std::chrono::steady_clock::time_point start, std::chrono::st
 
 }  // namespace
 
-ThreadPool::ThreadPool(std::uint32_t threads) {
+ThreadPool::ThreadPool(std::uint32_t threads, std::chrono::nanoseconds spinBudget)
+    : spin_budget_(std::clamp(spinBudget, std::chrono::nanoseconds::zero(), kMaxSpinBudget)) {
   workers_.reserve(threads > 0 ? threads - 1 : 0);
   try {
     for (std::uint32_t t = 1; t < threads; ++t) workers_.emplace_back([this] { workerLoop(); });
+    SpinGate::instance().addDemPool(static_cast<int>(size()));
+    in_gate_ = true;
   } catch (const std::system_error& error) {
     // A destroyed joinable std::thread calls std::terminate: join the started ones first.
     stopWorkers();
@@ -77,6 +69,8 @@ ThreadPool::ThreadPool(std::uint32_t threads) {
 ThreadPool::~ThreadPool() { stopWorkers(); }
 
 void ThreadPool::stopWorkers() {
+  if (in_gate_) SpinGate::instance().addDemPool(-static_cast<int>(size()));
+  in_gate_ = false;
   stop_.store(true, std::memory_order_relaxed);
   generation_.fetch_add(1, std::memory_order_release);
   generation_.notify_all();
@@ -108,17 +102,42 @@ std::uint32_t ThreadPool::drain() {
   }
 }
 
+ThreadPool::Site& ThreadPool::siteOf(Task task) {
+  for (std::size_t i = 0; i < site_count_; ++i) {
+    if (sites_[i].task == task) return sites_[i];
+  }
+  if (site_count_ < kMaxSites) {
+    sites_[site_count_].task = task;
+    return sites_[site_count_++];
+  }
+  return sites_[kMaxSites - 1];
+}
+
 void ThreadPool::dispatch(std::uint32_t chunks, Task task, const void* context) {
   if (chunks > kMaxChunks) throw std::length_error("ThreadPool::run: more than 65535 chunks");
-  if (serial_left_ > 0) {
-    --serial_left_;
-    ++stats_.serial_runs;
-    for (std::uint32_t chunk = 0; chunk < chunks; ++chunk) task(context, chunk);
-    return;
-  }
-  ++stats_.parallel_runs;
   using Clock = std::chrono::steady_clock;
   const Clock::time_point start = Clock::now();
+  if (last_site_ != nullptr) {
+    const double gap = std::min(secondsSince(last_end_, start), kMaxGap);
+    judge(*last_site_, last_parallel_, last_took_ + gap);
+  }
+  Site& site = siteOf(task);
+  // While probing, threaded and serial runs alternate, threaded first.
+  const bool parallel = site.hold_left > 0 ? site.parallel : site.probe_runs % 2 == 0;
+  if (parallel) {
+    ++stats_.parallel_runs;
+    runParallel(chunks, task, context);
+  } else {
+    ++stats_.serial_runs;
+    for (std::uint32_t chunk = 0; chunk < chunks; ++chunk) task(context, chunk);
+  }
+  last_end_ = Clock::now();
+  last_site_ = &site;
+  last_parallel_ = parallel;
+  last_took_ = secondsSince(start, last_end_);
+}
+
+void ThreadPool::runParallel(std::uint32_t chunks, Task task, const void* context) {
   task_ = task;
   context_ = context;
   done_.store(0, std::memory_order_relaxed);
@@ -126,45 +145,53 @@ void ThreadPool::dispatch(std::uint32_t chunks, Task task, const void* context) 
   ticket_.store(packTicket(generation, chunks, 0), std::memory_order_release);  // publishes task_, context_
   generation_.store(generation, std::memory_order_release);
   generation_.notify_all();
-  const std::uint32_t mine = drain();
-  const Clock::time_point drained = Clock::now();
-  for (std::uint32_t done = done_.load(std::memory_order_acquire); done != chunks;) done = awaitChange(done_, done);
-  const Clock::time_point end = Clock::now();
-  const double took = secondsSince(start, end);
-  // The caller's own chunk rate extrapolated to all chunks; without a chunk of its own
-  // there is no estimate, and the loop counts as neither gain nor loss.
-  const double serialEstimate = mine > 0 ? secondsSince(start, drained) * chunks / mine : took;
-  judge(serialEstimate, took);
+  drain();
+  for (std::uint32_t done = done_.load(std::memory_order_acquire); done != chunks;) {
+    done = awaitChange(done_, done, spin_budget_);
+  }
 }
 
-void ThreadPool::judge(double serialEstimate, double took) {
-  window_serial_ += serialEstimate;
-  window_took_ += took;
-  ++window_runs_;
-  const bool lostTooMuch = window_took_ - window_serial_ > kProbeLossLimit;
-  if (window_runs_ < kWindowRuns && !lostTooMuch) return;
-  if (!lostTooMuch && window_took_ <= kPayingFraction * window_serial_) {
-    backoff_ = kFirstBackoff;
-  } else {
-    serial_left_ = std::max(backoff_, kFirstBackoff);
-    backoff_ = std::min(2 * serial_left_, kMaxBackoff);
-    ++stats_.fallbacks;
+void ThreadPool::judge(Site& site, bool parallel, double seconds) {
+  if (site.hold_left > 0) {
+    --site.hold_left;
+    if (parallel) {
+      // A threaded loop that starts losing against its serial time goes to the caller:
+      // the loss is summed with its gains, floored at zero (a CUSUM), so timing noise
+      // around a real gain does not add up, and a gain banked earlier does not hide a
+      // core that another process has taken since.
+      site.loss = std::max(0.0, site.loss + seconds - site.serial_mean);
+      if (site.loss > kLossLimit) {
+        site.parallel = false;
+        site.hold = kFirstHold;
+        site.hold_left = kFirstHold;
+        site.loss = 0.0;
+        ++stats_.fallbacks;
+      }
+    }
+    return;
   }
-  window_runs_ = 0;
-  window_serial_ = 0.0;
-  window_took_ = 0.0;
+  (parallel ? site.probe_parallel : site.probe_serial) += seconds;
+  ++site.probe_runs;
+  const std::uint32_t each = site.probe_runs / 2;
+  // Compared over equal numbers of runs: after each serial run.
+  const bool lostTooMuch = !parallel && site.probe_parallel - site.probe_serial > kLossLimit;
+  if (!lostTooMuch && site.probe_runs < 2 * kProbeRunsEach) return;
+  ++stats_.probes;
+  const bool pays = !lostTooMuch && site.probe_parallel <= kPayingFraction * site.probe_serial;
+  site.hold = pays == site.parallel && site.hold > 0 ? std::min(2 * site.hold, kMaxHold) : kFirstHold;
+  if (!pays && site.parallel) ++stats_.fallbacks;
+  site.parallel = pays;
+  site.hold_left = site.hold;
+  site.serial_mean = site.probe_serial / std::max<std::uint32_t>(each, 1);
+  site.loss = 0.0;
+  site.probe_runs = 0;
+  site.probe_serial = 0.0;
+  site.probe_parallel = 0.0;
 }
 
 AutoThreadChoice chooseAutoThreads() {
-  std::uint32_t cpus = 0;
-  cpu_set_t set;
-  CPU_ZERO(&set);
-  if (sched_getaffinity(0, sizeof set, &set) == 0) cpus = static_cast<std::uint32_t>(CPU_COUNT(&set));
-  if (cpus == 0) cpus = std::thread::hardware_concurrency();
-  if (cpus == 0) cpus = 1;
-  double load = -1.0;
-  std::ifstream loadavg("/proc/loadavg");
-  if (!(loadavg >> load)) load = -1.0;
+  const std::uint32_t cpus = usableCpus();
+  const double load = loadAverage();
   const double busy = load > 0.0 ? std::round(load) : 0.0;
   const auto threads = static_cast<std::uint32_t>(std::clamp(static_cast<double>(cpus) - busy, 1.0,
                                                              static_cast<double>(cpus)));
@@ -181,7 +208,7 @@ AutoThreadChoice chooseAutoThreads() {
 void ThreadPool::workerLoop() {
   std::uint32_t seen = 0;
   for (;;) {
-    seen = awaitChange(generation_, seen);
+    seen = awaitChange(generation_, seen, spin_budget_);
     if (stop_.load(std::memory_order_relaxed)) return;
     drain();
   }

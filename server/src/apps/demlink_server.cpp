@@ -3,7 +3,7 @@
 ///   demlink-server [--listen ADDR] [--port N] [--token T] [--scene FILE] [--output DIR]
 ///                  [--quiet-period S] [--timeout S] [--assembly-timeout S] [--hello-timeout S]
 ///                  [--max-frame-bytes N] [--max-queued-bytes N] [--max-unwelcomed N]
-///                  [--progress S] [--record FILE] [--replay FILE] [--data-root DIR] [--overwrite]
+///                  [--progress S] [--spin-wait-us US] [--record FILE] [--replay FILE] [--data-root DIR] [--overwrite]
 ///                  [--once | --max-simulations N] [--backend native] [--help] [--version]
 ///
 /// Prints "demlink-server listening on ADDR:PORT" once it accepts connections (scripts and
@@ -50,6 +50,8 @@ struct CommandLine {
   double assembly_timeout = 60.0;  ///< [s]; 0: none
   double hello_timeout = 10.0;     ///< [s]; 0: none
   double progress = 10.0;          ///< [s]; 0: none
+  /// Spin before blocking in the network loop and the DEM threads [us]; unset: the default.
+  std::optional<double> spin_wait_us;
   std::size_t max_frame_bytes = demlink::wire::kDefaultMaxFrameBytes;
   std::size_t max_queued_bytes = demlink::server::TcpServerOptions{}.max_queued_bytes;
   std::size_t max_unwelcomed = demlink::server::TcpServerOptions{}.max_unwelcomed;
@@ -93,6 +95,10 @@ void addOptions(CLI::App& app, CommandLine& line) {
                  "a simulation not compiled S seconds after its first client joined ends with TIMEOUT; 0: never "
                  "(default 60)")
       ->type_name("S");
+  cli::addNumber(app, "--spin-wait-us", line.spin_wait_us, {0.0, false, 1e4},
+                 "poll up to US microseconds for the next package (and DEM threads for their next loop) before "
+                 "blocking, while a free CPU allows it; 0: block at once (default 50, or env DEMLINK_SPIN_WAIT_US)")
+      ->type_name("US");
   cli::addNumber(app, "--hello-timeout", line.hello_timeout, {0.0, false},
                  "a connection without Hello S seconds after connecting is closed; 0: never (default 10)")
       ->type_name("S");
@@ -216,6 +222,11 @@ int run(int argc, char** argv) {
   net.max_unwelcomed = line.max_unwelcomed;
   net.hello_timeout = std::chrono::milliseconds(static_cast<std::int64_t>(line.hello_timeout * 1000.0));
   net.stop_on_signals = true;
+  if (line.spin_wait_us) {
+    const auto budget = std::chrono::nanoseconds(static_cast<std::int64_t>(*line.spin_wait_us * 1e3));
+    demlink::core::setDefaultSpinBudget(budget);  // the worlds' thread pools
+    net.spin_wait = budget;
+  }
   const std::uint64_t maxSimulations = line.once ? 1 : line.max_simulations;
   if (maxSimulations > 0) {
     net.stop_when = [&host, maxSimulations] { return host.simulationsFinished() >= maxSimulations; };

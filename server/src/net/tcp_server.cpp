@@ -67,7 +67,23 @@ std::string TcpServer::address() const {
   return error ? options_.listen_address : local.address().to_string();
 }
 
-void TcpServer::run() { io_.run(); }
+void TcpServer::run() {
+  const std::chrono::nanoseconds budget = options_.spin_wait;
+  if (budget.count() <= 0) {
+    io_.run();
+    return;
+  }
+  // Spin-then-block: handlers that are ready run at once; otherwise the loop polls
+  // (non-blocking epoll) within the budget, then blocks for the next event.
+  while (!io_.stopped()) {
+    if (io_.poll() > 0) continue;
+    if (io_.stopped()) break;
+    if (core::spinFor(core::SpinGate::Party::kExchange, budget, [this] { return io_.poll_one() > 0 || io_.stopped(); })) {
+      continue;
+    }
+    io_.run_one();
+  }
+}
 
 void TcpServer::stop(const std::string& reason) {
   asio::post(io_, [this, reason] { finish("server stopping: " + reason, reason); });

@@ -7,12 +7,14 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <fstream>
 #include <string>
 #include <vector>
 
 #include "demlink/core/step/parallel.hpp"
+#include "demlink/core/step/spin_wait.hpp"
 #include "demlink/core/step/thread_pool.hpp"
 
 namespace demlink::core {
@@ -51,6 +53,10 @@ TEST(ThreadPool, ClaimsEveryChunkExactlyOnceOverManyLoops) {
   for (std::size_t c = 0; c < runs.size(); ++c) ASSERT_EQ(runs[c].load(), expected[c]) << "chunk " << c;
   const ThreadPoolStats stats = pool.stats();
   EXPECT_EQ(stats.parallel_runs + stats.serial_runs, 3000u);
+  // The first probe of the loop alternates threaded and serial runs: both kinds ran.
+  EXPECT_GE(stats.probes, 1u);
+  EXPECT_GE(stats.parallel_runs, 8u);
+  EXPECT_GE(stats.serial_runs, 8u);
 }
 
 TEST(ThreadPool, ChunkOrderedReductionIsIndependentOfThreadCount) {
@@ -72,10 +78,18 @@ TEST(ThreadPool, ChunkOrderedReductionIsIndependentOfThreadCount) {
     return sum;
   };
   const double serial = total(nullptr);
-  for (std::uint32_t threads = 1; threads <= 4; ++threads) {
-    ThreadPool pool(threads);
-    for (int repeat = 0; repeat < 20; ++repeat) ASSERT_EQ(total(&pool), serial) << threads << " threads";
+  // Waits that spin (1 ms, every spinner admitted) or block at once: the same bits, also
+  // over the pool's probes, which run some loops on the caller alone.
+  SpinGate::instance().setForced(true);
+  for (const auto budget : {std::chrono::nanoseconds(1'000'000), std::chrono::nanoseconds::zero()}) {
+    for (std::uint32_t threads = 1; threads <= 4; ++threads) {
+      ThreadPool pool(threads, budget);
+      for (int repeat = 0; repeat < 40; ++repeat) {
+        ASSERT_EQ(total(&pool), serial) << threads << " threads, spin " << budget.count() << " ns";
+      }
+    }
   }
+  SpinGate::instance().setForced(false);
 }
 
 TEST(ThreadPool, AThreadTheSystemRefusesIsAnErrorNotTerminate) {

@@ -27,6 +27,11 @@ struct ConnectOptions {
   /// other client takes to send its package.
   std::chrono::milliseconds timeout{30000};
   std::size_t max_frame_bytes = 64u << 20;  ///< largest accepted ServerMessage [bytes]
+  /// How long a receive polls the socket before it blocks [us]: a blocked thread takes
+  /// tens of microseconds to wake, which dominates a short exchange. Spun only while a
+  /// free CPU allows it (docs/benchmarks.md, "waits"); 0: block at once. Unset: 50 us, or
+  /// DEMLINK_SPIN_WAIT_US from the environment (as for the C ABI).
+  std::optional<std::chrono::microseconds> spin_wait;
 };
 
 class Connection {
@@ -70,6 +75,7 @@ class Connection {
   struct Impl;  // Asio lives only in the .cpp: clients of this header need no Asio
   std::unique_ptr<Impl> impl_;
   ConnectOptions options_;
+  std::chrono::nanoseconds spin_budget_{0};  ///< the receive's spin (options_.spin_wait resolved)
   ProtoPtr<v1::Welcome> welcome_;
 };
 

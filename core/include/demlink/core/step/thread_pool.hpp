@@ -1,34 +1,42 @@
 #pragma once
 /// A small persistent thread pool for the step's parallel loops.
 ///
-/// Why not OpenMP fork/join: a step runs ~5 parallel loops of 0.1-3 ms. libgomp's
+/// Why not OpenMP fork/join: a step runs ~5 parallel loops of 0.01-3 ms. libgomp's
 /// waiting threads spin for a long time; when another process holds the second
 /// core, the spinning thread keeps the core its partner needs, and each join can
 /// cost a whole scheduler time slice: a 2-thread run became ~470x slower beside
-/// two busy processes (docs/benchmarks.md). Here a waiting thread spins for a few
-/// microseconds (cheap hand-over when cores are free), then sleeps on a futex via
-/// C++20 std::atomic::wait, giving the core away.
+/// two busy processes (docs/benchmarks.md). Here a waiting thread follows the
+/// spin-then-block rule of spin_wait.hpp: it polls for a bounded time (the budget,
+/// 50 us by default) while a free CPU allows it, so the next hand-over of the same
+/// step costs well under a microsecond instead of a futex wake-up (tens of us), then
+/// sleeps on a futex via C++20 std::atomic::wait, giving the core away.
 ///
 /// Work claiming: run(chunks, body) publishes the chunks; the caller and every
 /// awake worker claim the next unclaimed chunk through one atomic ticket until none
 /// is left, so a descheduled or slow thread only holds up the chunk it is running,
 /// never a fixed share of the work.
 ///
-/// Graceful degradation: a thread that is descheduled in the middle of a chunk
-/// still makes the caller wait for a scheduler time slice. The pool therefore
-/// measures what threading buys: from the caller's own chunk rate it estimates how
-/// long the loop would have taken serially and compares with how long it took.
-/// When a window of loops gains too little (another process holds the cores), the
-/// pool runs the next loops on the caller alone, then probes again, backing off
-/// exponentially while probes keep failing. Callers make their results independent
-/// of which thread ran which chunk (parallel.hpp), so this decision never changes a
-/// result.
+/// Never slower than one thread: each loop (told apart by its call site) is judged on
+/// its own, on what it costs the step both ways. While probing, the pool runs the
+/// loop alternately on all threads and on the caller alone and times each run from
+/// its start to the start of the next loop (so the cost of a worker's results in
+/// another core's cache, paid by the serial code after the loop, counts too). A loop
+/// too short to gain from threads (a few chunks of element-wise work on an idle
+/// machine, or anything beside a busy process) is then run on the caller alone, a loop
+/// that gains on all threads, for a hold period that doubles while the verdict stays
+/// the same; a threaded loop that starts losing (another process took a core) returns
+/// to the caller alone at once. Callers make their results independent of which thread
+/// ran which chunk (parallel.hpp), so this decision never changes a result.
+#include <array>
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
+
+#include "demlink/core/step/spin_wait.hpp"
 
 namespace demlink::core {
 
@@ -60,8 +68,9 @@ struct AutoThreadChoice {
 /// How the pool's loops ran so far (for reports and benchmarks).
 struct ThreadPoolStats {
   std::uint64_t parallel_runs = 0;  ///< loops offered to the workers
-  std::uint64_t serial_runs = 0;    ///< loops the caller ran alone because threading did not pay
-  std::uint64_t fallbacks = 0;      ///< times the pool switched to the caller alone
+  std::uint64_t serial_runs = 0;    ///< loops the caller ran alone (probes included)
+  std::uint64_t fallbacks = 0;      ///< times a loop was put on the caller alone
+  std::uint64_t probes = 0;         ///< serial-against-threaded comparisons made
 };
 
 class ThreadPool {
@@ -71,7 +80,8 @@ class ThreadPool {
 
   /// A pool of `threads` threads in total: the calling thread plus threads-1 workers.
   /// Throws ThreadStartError (after joining the workers it started) when one cannot start.
-  explicit ThreadPool(std::uint32_t threads);
+  /// `spinBudget`: how long a waiting thread polls before it sleeps (zero: never).
+  explicit ThreadPool(std::uint32_t threads, std::chrono::nanoseconds spinBudget = defaultSpinBudget());
   ~ThreadPool();
   ThreadPool(const ThreadPool&) = delete;
   ThreadPool& operator=(const ThreadPool&) = delete;
@@ -95,13 +105,31 @@ class ThreadPool {
  private:
   using Task = void (*)(const void* context, std::uint32_t chunk);
 
+  /// What the pool knows of one loop (call site) [s].
+  struct Site {
+    Task task = nullptr;
+    bool parallel = true;        ///< the current verdict
+    std::uint32_t hold_left = 0;  ///< runs before the next probe (0: probing)
+    std::uint32_t hold = 0;       ///< length of the last hold [runs]
+    std::uint32_t probe_runs = 0;  ///< runs of the current probe
+    double probe_serial = 0.0;    ///< summed serial run times of the probe
+    double probe_parallel = 0.0;  ///< summed threaded run times of the probe
+    double serial_mean = 0.0;     ///< mean serial run time of the last probe
+    double loss = 0.0;            ///< threaded time beyond serial_mean during a hold
+  };
+  /// Distinct loops judged separately; further ones share the last entry [-].
+  static constexpr std::size_t kMaxSites = 32;
+
   void dispatch(std::uint32_t chunks, Task task, const void* context);
+  /// Runs all chunks on the caller and the workers.
+  void runParallel(std::uint32_t chunks, Task task, const void* context);
   /// Claims and runs chunks of the current ticket until none is left; returns how many it ran.
   std::uint32_t drain();
   void stopWorkers();
   void workerLoop();
-  /// Records one offered loop: `serialEstimate` and `took` in seconds.
-  void judge(double serialEstimate, double took);
+  Site& siteOf(Task task);
+  /// Records one run of `site` (its time until the next loop started) [s].
+  void judge(Site& site, bool parallel, double seconds);
 
   std::vector<std::thread> workers_;
   /// generation (32 bits) | chunks (16) | next unclaimed chunk (16).
@@ -111,14 +139,18 @@ class ThreadPool {
   std::atomic<bool> stop_{false};
   Task task_ = nullptr;
   const void* context_ = nullptr;
+  std::chrono::nanoseconds spin_budget_;  ///< spin before blocking (spin_wait.hpp)
+  bool in_gate_ = false;                  ///< counted in SpinGate's DEM threads
 
   // Adaptive threading (caller thread only).
   ThreadPoolStats stats_;
-  std::uint32_t serial_left_ = 0;    ///< loops still to run on the caller alone
-  std::uint32_t backoff_ = 0;        ///< serial loops after the next failed window
-  std::uint32_t window_runs_ = 0;    ///< offered loops in the current window
-  double window_serial_ = 0.0;       ///< estimated serial time of the window [s]
-  double window_took_ = 0.0;         ///< measured time of the window [s]
+  std::array<Site, kMaxSites> sites_{};
+  std::size_t site_count_ = 0;
+  Site* last_site_ = nullptr;  ///< the previous loop, whose run ends when the next starts
+  bool last_parallel_ = false;
+  double last_took_ = 0.0;  ///< the previous loop's own time [s]
+  std::chrono::steady_clock::time_point last_start_{};
+  std::chrono::steady_clock::time_point last_end_{};
 };
 
 }  // namespace demlink::core
