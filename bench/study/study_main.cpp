@@ -200,9 +200,10 @@ struct SeedValues {
 };
 
 /// atlas_summary.csv: per setting, scene and metric the mean over the seeds and its standard
-/// error; the error against the finest setting's mean is "resolved" when it exceeds twice
-/// their combined standard error. noise_floor is the finest setting's seed-to-seed standard
-/// deviation relative to its mean. Returns the groups (the smoke check reads them).
+/// error (for one seed, the finest setting's scatter); the error against the finest
+/// setting's mean is "resolved" when it exceeds twice their combined standard error.
+/// noise_floor is the finest setting's seed-to-seed standard deviation relative to its
+/// mean. Returns the groups (the smoke check reads them).
 std::vector<SeedValues> writeSummary(const std::filesystem::path& path, const std::vector<Row>& rows) {
   std::vector<SeedValues> groups;
   std::map<std::tuple<const Setting*, std::string, std::string>, std::size_t> index;
@@ -223,12 +224,15 @@ std::vector<SeedValues> writeSummary(const std::filesystem::path& path, const st
   std::ofstream out(path);
   out << kSummaryHeader;
   for (const SeedValues& g : groups) {
-    const auto [mean, error] = meanAndError(g.values);
-    const auto [cpu, cpuError] = meanAndError(g.cpu);
+    auto [mean, error] = meanAndError(g.values);
+    const double cpu = meanAndError(g.cpu).first;
     double refMean = std::nan(""), refError = std::nan(""), noise = std::nan("");
     if (const auto it = reference.find(g.scene + "/" + g.metric); it != reference.end()) {
       std::tie(refMean, refError) = meanAndError(it->second->values);
-      noise = refError * std::sqrt(static_cast<double>(it->second->values.size())) / std::abs(refMean);
+      const auto refSeeds = static_cast<double>(it->second->values.size());
+      noise = refError * std::sqrt(refSeeds) / std::abs(refMean);
+      // One seed: its scatter is taken to be the finest setting's.
+      if (std::isnan(error)) error = refError * std::sqrt(refSeeds / static_cast<double>(g.values.size()));
     }
     const double combined = std::hypot(error, refError);
     const std::string resolved = std::isfinite(combined) ? (std::abs(mean - refMean) > 2.0 * combined ? "yes" : "no") : "";
@@ -326,6 +330,10 @@ int main(int argc, char** argv) {
   double cohesion = -1.0;
   app.add_option("--cohesion", cohesion, "k_c of the cohesive bed [J/m^3] (default 1.5e5)")
       ->check(CLI::Range(0.0, 1e9));
+  std::string sceneFilter;
+  demlink::cli::addText(app, "--scenes", sceneFilter,
+                        "run only these scenes, comma-separated (impact, bed, bed_cohesive, heap, hopper); default all")
+      ->type_name("LIST");
   bool skipCoupling = false;
   app.add_flag("--skip-coupling", skipCoupling, "leave out the coupled-plate sweep");
   if (const std::optional<int> exitCode = demlink::cli::parse(app, argc, argv)) return *exitCode;
@@ -341,7 +349,12 @@ int main(int argc, char** argv) {
       return ("," + knobFilter + ",").find("," + setting.knob + ",") == std::string::npos;
     });
   }
-  const std::vector<std::string> scenes{"impact", "bed", "bed_cohesive", "heap", "hopper"};
+  std::vector<std::string> scenes{"impact", "bed", "bed_cohesive", "heap", "hopper"};
+  if (!sceneFilter.empty()) {
+    std::erase_if(scenes, [&](const std::string& scene) {
+      return ("," + sceneFilter + ",").find("," + scene + ",") == std::string::npos;
+    });
+  }
   std::vector<Row> rows;
   for (std::uint32_t seed = 1; seed <= seeds; ++seed) {
     for (const Setting& s : sweep) {
