@@ -8,7 +8,12 @@ Reads atlas.csv and coupling.csv from the study's output directory and writes
 and prints the Markdown tables docs/accuracy.md quotes. matplotlib with the Agg backend
 (no display needed).
 
-Usage: plot_atlas.py DIR        (DIR holds atlas.csv and coupling.csv)
+Every statistic comes from atlas.csv's per-run rows: with several seeds per setting the
+tables give each error with its standard error, bold when it is resolved (beyond two
+standard errors), and a noise-floor row (the finest setting's seed-to-seed spread).
+
+Usage: plot_atlas.py DIR [MORE_ATLAS_CSV...]   (DIR holds atlas.csv and coupling.csv; more
+       files of a sweep split over processes are read with it)
 """
 
 import csv
@@ -22,42 +27,81 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-BULK_SCENES = ("bed", "heap", "hopper")
+BULK_SCENES = ("bed", "bed_cohesive", "heap", "hopper")
+# (scene, metric) -> column label
 METRICS = OrderedDict([
-    ("restitution_ratio", "e ratio"),
-    ("packing_fraction", "packing"),
-    ("drag_force", "blade drag"),
-    ("repose_angle_deg", "repose angle"),
-    ("discharge_rate", "discharge"),
+    (("impact", "restitution_ratio"), "e ratio"),
+    (("bed", "packing_fraction"), "packing"),
+    (("bed", "drag_force"), "blade drag"),
+    (("bed_cohesive", "drag_force"), "cohesive drag"),
+    (("heap", "repose_angle_deg"), "repose angle"),
+    (("hopper", "discharge_rate"), "discharge"),
 ])
 
 
 def number(text):
     try:
         return float(text)
-    except ValueError:
+    except (TypeError, ValueError):
         return math.nan
 
 
-def load_atlas(path):
-    """OrderedDict (knob, value) -> {"scenes": {scene: row}, "metrics": {metric: row}}."""
+def mean_and_error(values):
+    """Mean and standard error of the mean (NaN for fewer than two values)."""
+    if not values:
+        return math.nan, math.nan
+    mean = sum(values) / len(values)
+    if len(values) < 2:
+        return mean, math.nan
+    variance = sum((v - mean) ** 2 for v in values) / (len(values) - 1)
+    return mean, math.sqrt(variance / len(values))
+
+
+def load_atlas(paths):
+    """OrderedDict (knob, value) -> {"scenes": {scene: [rows]}, "metrics": {(scene, metric): stats}}.
+
+    Several files (a sweep split over processes) are read as one; every statistic is
+    recomputed here from the per-run rows: per setting and metric the mean over the seeds
+    and its standard error, the error against the finest setting's mean, its standard
+    error, and whether it is resolved (beyond twice that standard error)."""
     settings = OrderedDict()
-    with open(path, newline="") as f:
-        for row in csv.DictReader(f):
-            key = (row["knob"], row["value"])
-            entry = settings.setdefault(key, {"scenes": {}, "metrics": {}})
-            entry["scenes"][row["scene"]] = row
-            if row["metric"]:
-                entry["metrics"][row["metric"]] = row
-    rows = [row for entry in settings.values() for row in entry["scenes"].values()]
+    for path in paths:
+        with open(path, newline="") as f:
+            for row in csv.DictReader(f):
+                entry = settings.setdefault((row["knob"], row["value"]), {"scenes": OrderedDict(), "values": {}})
+                runs = entry["scenes"].setdefault(row["scene"], OrderedDict())
+                runs[row["seed"]] = row
+                if row["metric"] and row["status"] == "ok":
+                    values = entry["values"].setdefault((row["scene"], row["metric"]), OrderedDict())
+                    values[row["seed"]] = number(row["metric_value"])
+    rows = [row for entry in settings.values() for runs in entry["scenes"].values() for row in runs.values()]
     COST_COLUMN[0] = "cpu_s" if all(row.get("cpu_s") for row in rows) else "wall_s"
-    # Errors against the finest run, recomputed here so that files of separate runs (a
-    # sweep split over processes) can be concatenated.
-    reference = settings.get(("reference", "finest"), {"metrics": {}})["metrics"]
+    reference = settings.get(("reference", "finest"), {"values": {}})["values"]
+    second_seed = settings.get(("seed", "2"), {"values": {}})["values"]
     for entry in settings.values():
-        for metric, row in entry["metrics"].items():
-            ref = number(reference[metric]["metric_value"]) if metric in reference else math.nan
-            row["relative_error"] = str((number(row["metric_value"]) - ref) / ref if ref else math.nan)
+        entry["metrics"] = {}
+        for key, by_seed in entry["values"].items():
+            values = list(by_seed.values())
+            mean, error = mean_and_error(values)
+            ref_values = list(reference.get(key, {}).values())
+            ref_mean, ref_error = mean_and_error(ref_values)
+            if not math.isfinite(error) and len(ref_values) >= 2:
+                # One seed: its scatter is taken to be the finest setting's.
+                error = ref_error * math.sqrt(len(ref_values) / len(values))
+            if len(ref_values) >= 2:
+                noise = ref_error * math.sqrt(len(ref_values)) / abs(ref_mean)
+            elif key in second_seed and ref_values:
+                noise = abs(list(second_seed[key].values())[0] - ref_mean) / abs(ref_mean)
+            else:
+                noise = math.nan
+            combined = math.hypot(error, ref_error)
+            entry["metrics"][key] = {
+                "seeds": len(values), "mean": mean, "error": error,
+                "relative_error": (mean - ref_mean) / ref_mean if ref_mean else math.nan,
+                "relative_error_se": combined / abs(ref_mean) if ref_mean else math.nan,
+                "resolved": abs(mean - ref_mean) > 2.0 * combined if math.isfinite(combined) else None,
+                "noise_floor": noise,
+            }
     return settings
 
 
@@ -65,47 +109,61 @@ COST_COLUMN = ["cpu_s"]  # "wall_s" when a row has no CPU time (load_atlas decid
 
 
 def bulk_wall(entry):
-    """CPU seconds of the bulk scenes (wall seconds when some row of the file has no CPU
-    time), or NaN when one broke. CPU time is the cost that survives a shared machine's
-    load; mixing the two would not compare."""
+    """Mean CPU seconds over the seeds of the bulk scenes (wall seconds when some row of
+    the files has no CPU time), or NaN when one broke or did not run. CPU time is the
+    cost that survives a shared machine's load; mixing the two would not compare."""
     total = 0.0
     for scene in BULK_SCENES:
-        row = entry["scenes"].get(scene)
-        if row is None or row["status"] != "ok":
+        runs = entry["scenes"].get(scene)
+        if not runs or any(row["status"] != "ok" for row in runs.values()):
             return math.nan
-        total += number(row[COST_COLUMN[0]])
+        total += sum(number(row[COST_COLUMN[0]]) for row in runs.values()) / len(runs)
     return total
 
 
 def status(entry):
-    broken = [s for s, row in entry["scenes"].items() if row["status"] != "ok"]
+    broken = [s for s, runs in entry["scenes"].items() if any(row["status"] != "ok" for row in runs.values())]
     return "ok" if not broken else "broke: " + ", ".join(broken)
+
+
+def error_cell(stats):
+    """'+12.3 ± 4.5 %' (the standard error), bold when resolved; no ± for one seed."""
+    value = 100.0 * stats["relative_error"]
+    if not math.isfinite(stats["relative_error_se"]):
+        return "%+.1f %%" % value
+    text = "%+.1f ± %.1f %%" % (value, 100.0 * stats["relative_error_se"])
+    return "**%s**" % text if stats["resolved"] else text
 
 
 def atlas_table(settings):
     reference = settings[("reference", "finest")]
     ref_wall = bulk_wall(reference)
-    lines = ["| knob | value | dt [s] | speed-up | M particle-steps/s (bed) | "
+    lines = ["| knob | value | seeds | dt [s] | speed-up | M particle-steps/s (bed) | "
              + " | ".join(METRICS.values()) + " | status |",
-             "|---|---|---|---|---|" + "---|" * len(METRICS) + "---|"]
+             "|---|---|---|---|---|---|" + "---|" * len(METRICS) + "---|"]
     for (knob, value), entry in settings.items():
         wall = bulk_wall(entry)
         speedup = ref_wall / wall if wall > 0 else math.nan
-        bed = entry["scenes"].get("bed", {})
-        rate = number(bed.get("particle_steps_per_s", "nan")) / 1e6
-        dt = number(next(iter(entry["scenes"].values()))["dt_s"])
+        bed = list(entry["scenes"].get("bed", {}).values())
+        rate = sum(number(r["particle_steps_per_s"]) for r in bed) / len(bed) / 1e6 if bed else math.nan
+        dt = number(next(iter(next(iter(entry["scenes"].values())).values()))["dt_s"])
+        seeds = max((s["seeds"] for s in entry["metrics"].values()), default=0)
         cells = []
-        for metric in METRICS:
-            row = entry["metrics"].get(metric)
-            if row is None or row["status"] != "ok":
+        for key in METRICS:
+            stats = entry["metrics"].get(key)
+            if stats is None:
                 cells.append("—")
             elif knob == "reference":
-                cells.append("%.4g" % number(row["metric_value"]))
+                cells.append("%.4g" % stats["mean"] + (" ± %.2g" % stats["error"] if math.isfinite(stats["error"]) else ""))
             else:
-                cells.append("%+.1f %%" % (100.0 * number(row["relative_error"])))
-        lines.append("| %s | %s | %.3g | %s | %s | %s | %s |" % (
-            knob, value, dt, "%.2f" % speedup if math.isfinite(speedup) else "—",
+                cells.append(error_cell(stats))
+        lines.append("| %s | %s | %d | %.3g | %s | %s | %s | %s |" % (
+            knob, value, seeds, dt, "%.2f" % speedup if math.isfinite(speedup) else "—",
             "%.2f" % rate if math.isfinite(rate) else "—", " | ".join(cells), status(entry)))
+    noise = ["%.1f %%" % (100.0 * reference["metrics"][k]["noise_floor"])
+             if k in reference["metrics"] and math.isfinite(reference["metrics"][k]["noise_floor"]) else "—"
+             for k in METRICS]
+    lines.append("| noise floor | seed-to-seed | | | | | %s | |" % " | ".join(noise))
     return "\n".join(lines)
 
 
@@ -141,8 +199,8 @@ def plot_tradeoff(settings, path):
         if knob == "reference":
             continue
         wall = bulk_wall(entry)
-        errors = [abs(number(entry["metrics"][m]["relative_error"])) for m in METRICS
-                  if m in entry["metrics"] and m != "drag_force"]
+        errors = [abs(entry["metrics"][m]["relative_error"]) for m in METRICS
+                  if m in entry["metrics"] and m[1] != "drag_force" and entry["metrics"][m]["resolved"] is not False]
         if not (wall > 0) or not errors:
             continue
         knobs.setdefault(knob, []).append((ref_wall / wall, 100.0 * max(errors), value))
@@ -154,7 +212,7 @@ def plot_tradeoff(settings, path):
     ax.set_xscale("log")
     ax.set_yscale("symlog", linthresh=1.0)
     ax.set_xlabel("speed-up against the finest run (bulk scenes' %s)" % COST_COLUMN[0])
-    ax.set_ylabel("largest |relative error| of packing, angle, discharge, e [%]")
+    ax.set_ylabel("largest resolved |relative error| of packing, angle, discharge, e [%]")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
@@ -167,26 +225,30 @@ def plot_metrics(settings, path):
         if knob in ("reference", "seed"):
             continue
         knobs.setdefault(knob, []).append((value, entry))
-    noise = settings.get(("seed", "2"))
-    fig, axes = plt.subplots(1, len(knobs), figsize=(3.2 * len(knobs), 3.6), sharey=True)
+    reference = settings[("reference", "finest")]["metrics"]
+    fig, axes = plt.subplots(1, len(knobs), figsize=(3.2 * len(knobs), 3.8), sharey=True, squeeze=False)
+    axes = axes[0]
     for ax, (knob, points) in zip(axes, knobs.items()):
-        for metric, label in METRICS.items():
-            xs, ys = [], []
+        for key, label in METRICS.items():
+            xs, ys, es = [], [], []
             for i, (value, entry) in enumerate(points):
-                row = entry["metrics"].get(metric)
-                if row is not None and row["status"] == "ok":
+                stats = entry["metrics"].get(key)
+                if stats is not None:
                     xs.append(i)
-                    ys.append(100.0 * number(row["relative_error"]))
-            ax.plot(xs, ys, "o-", label=label)
-            if noise is not None and metric in noise["metrics"]:
-                ax.axhline(100.0 * number(noise["metrics"][metric]["relative_error"]), ls=":", lw=0.8,
-                           color=ax.lines[-1].get_color())
+                    ys.append(100.0 * stats["relative_error"])
+                    es.append(200.0 * stats["relative_error_se"] if math.isfinite(stats["relative_error_se"]) else 0.0)
+            if not xs:
+                continue
+            line = ax.errorbar(xs, ys, yerr=es, fmt="o-", capsize=2, label=label)
+            noise = reference.get(key, {}).get("noise_floor", math.nan)
+            if math.isfinite(noise):
+                ax.axhspan(-100.0 * noise, 100.0 * noise, alpha=0.06, color=line[0].get_color())
         ax.set_xticks(range(len(points)))
         ax.set_xticklabels([v for v, _ in points], rotation=45, fontsize=7)
         ax.set_title(knob, fontsize=9)
         ax.set_yscale("symlog", linthresh=1.0)
         ax.grid(True, alpha=0.3)
-    axes[0].set_ylabel("relative error vs finest [%] (dotted: second seed)")
+    axes[0].set_ylabel("relative error vs finest [%]\n(bars: 2 standard errors; bands: noise floor)", fontsize=8)
     axes[-1].legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
@@ -218,17 +280,17 @@ def plot_coupling(rows, path):
 
 
 def main(argv):
-    if len(argv) != 2:
+    if len(argv) < 2:
         print(__doc__.strip().splitlines()[-1], file=sys.stderr)
         return 2
     directory = argv[1]
     atlas_path = os.path.join(directory, "atlas.csv")
     coupling_path = os.path.join(directory, "coupling.csv")
-    for path in (atlas_path, coupling_path):
+    for path in [atlas_path, coupling_path] + argv[2:]:
         if not os.path.exists(path):
             print("missing %s" % path, file=sys.stderr)
             return 2
-    settings = load_atlas(atlas_path)
+    settings = load_atlas([atlas_path] + argv[2:])
     rows = load_coupling(coupling_path)
     print(atlas_table(settings))
     print()

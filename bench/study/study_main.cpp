@@ -7,12 +7,15 @@
 /// restitution of a binary impact, packing fraction of a settled bed, drag on a blade pushed
 /// through it, angle of repose of a heap, hopper discharge rate. A second sweep couples a
 /// plate whose dynamics a client integrates (study_coupling.hpp) at several communication
-/// intervals and masses. Errors are relative to the finest run; a second seed of the finest
-/// setting gives the noise floor (a bulk quantity of a few hundred grains changes with the
-/// initial jitter alone).
+/// intervals and masses. Errors are relative to the finest run. A bulk quantity of a few
+/// hundred grains changes with the initial jitter alone: --seeds K runs every setting with
+/// K seeds and reports the mean, its standard error and the noise floor (the spread between
+/// the finest setting's seeds); --scale S grows every bed's footprint and grain count by S.
 ///
-/// Writes <out>/atlas.csv and <out>/coupling.csv; scripts/plot_atlas.py draws them.
-///   demlink-study [--out DIR] [--jobs J] [--smoke]
+/// Writes <out>/atlas.csv (one line per run and metric), <out>/atlas_summary.csv (mean over
+/// the seeds, standard errors, whether the error is resolved) and <out>/coupling.csv;
+/// scripts/plot_atlas.py draws them.
+///   demlink-study [--out DIR] [--jobs J] [--seeds K] [--scale S] [--smoke]
 /// J scene workers run beside one thread for the coupling sweep (J = 1 keeps two cores busy).
 /// --smoke runs a small subset in seconds and checks the files' structure and that every
 /// value is sane (exit code 1 otherwise): the CI test. No timing is checked.
@@ -28,6 +31,8 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include <spdlog/spdlog.h>
@@ -53,7 +58,8 @@ std::string text(double value) {
   return buffer;
 }
 
-std::vector<Setting> settings(bool smoke) {
+/// The sweeps; one seed per setting adds a second seed of the finest one as a noise row.
+std::vector<Setting> settings(bool smoke, std::uint32_t seeds) {
   std::vector<Setting> out{{"reference", "finest", Knobs{}}};
   auto add = [&](const std::string& knob, const std::string& value, auto change) {
     Knobs k;
@@ -66,7 +72,7 @@ std::vector<Setting> settings(bool smoke) {
     add("coarse", "1.5", [](Knobs& k) { k.coarse = 1.5; });
     return out;
   }
-  add("seed", "2", [](Knobs& k) { k.seed = 2; });
+  if (seeds == 1) add("seed", "2", [](Knobs& k) { k.seed = 2; });
   for (double f : {0.2, 0.5, 1.0, 1.5, 2.0, 3.0}) add("dt_fraction", text(f), [f](Knobs& k) { k.dt_fraction = f; });
   add("integrator", "explicit_euler", [](Knobs& k) { k.integrator = core::IntegratorKind::ExplicitEuler; });
   add("law", "linear_spring_dashpot", [](Knobs& k) { k.law = core::ContactModel::LinearSpringDashpot; });
@@ -78,11 +84,12 @@ std::vector<Setting> settings(bool smoke) {
 
 Budget smokeBudget() {
   Budget b;
-  b.bed_grains = 150;
+  b.bed_grains = 300;
+  b.bed_area = 0.3;
   b.heap_grains = 300;
   b.hopper_grains = 200;
   b.bed_settle = 0.15;
-  b.drag_time = 0.05;
+  b.drag_time = 0.1;
   b.heap_time = 0.3;
   b.hopper_fill = 0.15;
   b.hopper_flow = 0.08;
@@ -94,6 +101,7 @@ SceneResult runScene(const std::string& scene, const Knobs& knobs, const Budget&
   try {
     if (scene == "impact") return runImpact(knobs);
     if (scene == "bed") return runBed(knobs, budget);
+    if (scene == "bed_cohesive") return runBed(knobs, budget, true);
     if (scene == "heap") return runHeap(knobs, budget);
     return runHopper(knobs, budget);
   } catch (const std::exception& error) {
@@ -113,6 +121,7 @@ std::string field(const std::string& value) {
 
 struct Row {
   const Setting* setting;
+  Knobs knobs;  ///< the setting's, with this run's seed
   double dt;
   SceneResult result;
   double cpu = 0.0;  ///< CPU seconds of the scene's thread: the cost on a shared machine [s]
@@ -136,7 +145,7 @@ constexpr const char* kCouplingHeader =
 /// The CSV lines of one scene run; `reference` maps "scene/metric" to the finest run's
 /// value (empty while the sweep runs: the columns stay NaN).
 std::string atlasLines(const Row& row, const std::map<std::string, double>& reference) {
-  const Knobs& k = row.setting->knobs;
+  const Knobs& k = row.knobs;
   const SceneResult& r = row.result;
   const std::string head = field(row.setting->knob) + "," + field(row.setting->value) + "," + text(k.dt_fraction) +
                            "," + text(row.dt) + "," + std::string(core::toString(k.law)) + "," +
@@ -159,12 +168,80 @@ std::string atlasLines(const Row& row, const std::map<std::string, double>& refe
 void writeAtlas(const std::filesystem::path& path, const std::vector<Row>& rows) {
   std::map<std::string, double> reference;
   for (const Row& row : rows) {
-    if (row.setting->knob != "reference") continue;
+    if (row.setting->knob != "reference" || row.knobs.seed != 1) continue;  // per-run errors: against seed 1
     for (const auto& [name, value] : row.result.metrics) reference[row.result.scene + "/" + name] = value;
   }
   std::ofstream out(path);
   out << kAtlasHeader;
   for (const Row& row : rows) out << atlasLines(row, reference);
+}
+
+/// Mean and standard error of the mean of `values` (NaN error for fewer than two).
+std::pair<double, double> meanAndError(const std::vector<double>& values) {
+  double mean = 0.0;
+  for (double v : values) mean += v;
+  mean /= static_cast<double>(values.size());
+  if (values.size() < 2) return {mean, std::nan("")};
+  double squares = 0.0;
+  for (double v : values) squares += (v - mean) * (v - mean);
+  const auto n = static_cast<double>(values.size());
+  return {mean, std::sqrt(squares / (n - 1.0) / n)};
+}
+
+constexpr const char* kSummaryHeader =
+    "knob,value,scene,metric,seeds,mean,standard_error,reference_mean,reference_standard_error,relative_error,"
+    "relative_error_standard_error,noise_floor,resolved,cpu_s_mean\n";
+
+/// The values of one (setting, scene, metric) over the seeds that ran.
+struct SeedValues {
+  const Setting* setting;
+  std::string scene, metric;
+  std::vector<double> values, cpu;
+};
+
+/// atlas_summary.csv: per setting, scene and metric the mean over the seeds and its standard
+/// error (for one seed, the finest setting's scatter); the error against the finest
+/// setting's mean is "resolved" when it exceeds twice their combined standard error.
+/// noise_floor is the finest setting's seed-to-seed standard deviation relative to its
+/// mean. Returns the groups (the smoke check reads them).
+std::vector<SeedValues> writeSummary(const std::filesystem::path& path, const std::vector<Row>& rows) {
+  std::vector<SeedValues> groups;
+  std::map<std::tuple<const Setting*, std::string, std::string>, std::size_t> index;
+  for (const Row& row : rows) {
+    if (row.result.status != "ok") continue;
+    for (const auto& [metric, value] : row.result.metrics) {
+      const auto key = std::make_tuple(row.setting, row.result.scene, metric);
+      auto [it, added] = index.try_emplace(key, groups.size());
+      if (added) groups.push_back({row.setting, row.result.scene, metric, {}, {}});
+      groups[it->second].values.push_back(value);
+      groups[it->second].cpu.push_back(row.cpu);
+    }
+  }
+  std::map<std::string, const SeedValues*> reference;  // "scene/metric"
+  for (const SeedValues& g : groups) {
+    if (g.setting->knob == "reference") reference[g.scene + "/" + g.metric] = &g;
+  }
+  std::ofstream out(path);
+  out << kSummaryHeader;
+  for (const SeedValues& g : groups) {
+    auto [mean, error] = meanAndError(g.values);
+    const double cpu = meanAndError(g.cpu).first;
+    double refMean = std::nan(""), refError = std::nan(""), noise = std::nan("");
+    if (const auto it = reference.find(g.scene + "/" + g.metric); it != reference.end()) {
+      std::tie(refMean, refError) = meanAndError(it->second->values);
+      const auto refSeeds = static_cast<double>(it->second->values.size());
+      noise = refError * std::sqrt(refSeeds) / std::abs(refMean);
+      // One seed: its scatter is taken to be the finest setting's.
+      if (std::isnan(error)) error = refError * std::sqrt(refSeeds / static_cast<double>(g.values.size()));
+    }
+    const double combined = std::hypot(error, refError);
+    const std::string resolved = std::isfinite(combined) ? (std::abs(mean - refMean) > 2.0 * combined ? "yes" : "no") : "";
+    out << field(g.setting->knob) << "," << field(g.setting->value) << "," << g.scene << "," << g.metric << ","
+        << g.values.size() << "," << text(mean) << "," << text(error) << "," << text(refMean) << "," << text(refError)
+        << "," << text((mean - refMean) / refMean) << "," << text(combined / std::abs(refMean)) << "," << text(noise)
+        << "," << resolved << "," << text(cpu) << "\n";
+  }
+  return groups;
 }
 
 std::string couplingLine(const CouplingResult& r, double referenceDepth) {
@@ -189,7 +266,8 @@ void writeCoupling(const std::filesystem::path& path, const std::vector<Coupling
 }
 
 /// The smoke run's checks: every scene of every setting ran and its values are sane.
-int check(const std::vector<Row>& rows, const std::vector<CouplingResult>& coupling) {
+int check(const std::vector<Row>& rows, const std::vector<SeedValues>& summary,
+          const std::vector<CouplingResult>& coupling) {
   int failures = 0;
   auto require = [&](bool ok, const std::string& what) {
     if (!ok) {
@@ -198,7 +276,7 @@ int check(const std::vector<Row>& rows, const std::vector<CouplingResult>& coupl
     }
   };
   const std::map<std::string, std::pair<double, double>> sane{
-      {"restitution_ratio", {0.8, 1.2}},  {"packing_fraction", {0.35, 0.72}}, {"drag_force", {1e-4, 100.0}},
+      {"restitution_ratio", {0.8, 1.2}},  {"packing_fraction", {0.3, 0.72}}, {"drag_force", {1e-4, 100.0}},
       {"repose_angle_deg", {1.0, 60.0}},  {"heap_height", {0.005, 0.2}},      {"discharge_rate", {1e-4, 10.0}}};
   for (const Row& row : rows) {
     const std::string name = row.setting->knob + "=" + row.setting->value + " " + row.result.scene;
@@ -210,6 +288,14 @@ int check(const std::vector<Row>& rows, const std::vector<CouplingResult>& coupl
               name + " " + metric + " = " + text(value) + " in [" + text(low) + ", " + text(high) + "]");
     }
   }
+  // The finest setting's cohesive bed resists the blade more than its dry one (the other
+  // settings' drags are the atlas's errors, checked for sanity only).
+  std::map<std::string, double> drag;  // scene -> the finest setting's mean drag [N]
+  for (const SeedValues& g : summary) {
+    if (g.metric == "drag_force" && g.setting->knob == "reference") drag[g.scene] = meanAndError(g.values).first;
+  }
+  require(drag.contains("bed") && drag.contains("bed_cohesive") && drag["bed_cohesive"] > 1.2 * drag["bed"],
+          "cohesive drag " + text(drag["bed_cohesive"]) + " N > 1.2 x dry " + text(drag["bed"]) + " N");
   for (const CouplingResult& r : coupling) {
     const std::string name = "coupling interval " + std::to_string(r.c.interval_steps);
     require(r.status == "ok", name + " ran (" + r.status + ")");
@@ -235,23 +321,50 @@ int main(int argc, char** argv) {
                         "run only these sweeps, comma-separated (reference, seed, dt_fraction, integrator, law, "
                         "skin_factor, modulus_scale, coarse); default all")
       ->type_name("LIST");
+  std::uint32_t seeds = 1;
+  demlink::cli::addWholeNumber<std::uint32_t>(app, "--seeds", seeds, 1, 100,
+                                              "seeds per setting (default 1: one extra seed of the finest setting)");
+  double scale = 1.0;
+  app.add_option("--scale", scale, "bed size factor: footprints and grain counts grow by it (default 1)")
+      ->check(CLI::Range(1.0, 100.0));
+  double cohesion = -1.0;
+  app.add_option("--cohesion", cohesion, "k_c of the cohesive bed [J/m^3] (default 1.5e5)")
+      ->check(CLI::Range(0.0, 1e9));
+  std::string sceneFilter;
+  demlink::cli::addText(app, "--scenes", sceneFilter,
+                        "run only these scenes, comma-separated (impact, bed, bed_cohesive, heap, hopper); default all")
+      ->type_name("LIST");
   bool skipCoupling = false;
   app.add_flag("--skip-coupling", skipCoupling, "leave out the coupled-plate sweep");
   if (const std::optional<int> exitCode = demlink::cli::parse(app, argc, argv)) return *exitCode;
   spdlog::set_level(spdlog::level::err);  // the unsafe time steps warn on purpose
   std::filesystem::create_directories(outDir);
 
-  const Budget budget = smoke ? smokeBudget() : Budget{};
-  std::vector<Setting> sweep = settings(smoke);
+  Budget budget = smoke ? smokeBudget() : Budget{};
+  budget.scale = scale;
+  if (cohesion >= 0.0) budget.cohesion_energy_density = cohesion;
+  std::vector<Setting> sweep = settings(smoke, seeds);
   if (!knobFilter.empty()) {
     std::erase_if(sweep, [&](const Setting& setting) {
       return ("," + knobFilter + ",").find("," + setting.knob + ",") == std::string::npos;
     });
   }
-  const std::vector<std::string> scenes{"impact", "bed", "heap", "hopper"};
+  std::vector<std::string> scenes{"impact", "bed", "bed_cohesive", "heap", "hopper"};
+  if (!sceneFilter.empty()) {
+    std::erase_if(scenes, [&](const std::string& scene) {
+      return ("," + sceneFilter + ",").find("," + scene + ",") == std::string::npos;
+    });
+  }
   std::vector<Row> rows;
-  for (const Setting& s : sweep) {
-    for (const std::string& scene : scenes) rows.push_back({&s, 0.0, SceneResult(scene)});
+  for (std::uint32_t seed = 1; seed <= seeds; ++seed) {
+    for (const Setting& s : sweep) {
+      Knobs knobs = s.knobs;
+      if (seeds > 1) knobs.seed = seed;
+      for (const std::string& scene : scenes) {
+        // The impact of two spheres has no jitter: one seed measures it.
+        if (scene != "impact" || seed == 1) rows.push_back({&s, knobs, 0.0, SceneResult(scene)});
+      }
+    }
   }
   // Rows go to the files as they finish (errors NaN), so a stopped sweep keeps what it
   // measured; the files are rewritten with the errors at the end.
@@ -265,14 +378,14 @@ int main(int argc, char** argv) {
   auto worker = [&] {
     for (std::size_t i = next++; i < rows.size(); i = next++) {
       Row& row = rows[i];
-      row.dt = row.setting->knobs.dt_fraction * criticalLimit(row.setting->knobs);
+      row.dt = row.knobs.dt_fraction * criticalLimit(row.knobs);
       const double cpuStart = threadCpuSeconds();
-      row.result = runScene(row.result.scene, row.setting->knobs, budget);
+      row.result = runScene(row.result.scene, row.knobs, budget);
       row.cpu = threadCpuSeconds() - cpuStart;
       const std::lock_guard lock(printing);
       partialAtlas << atlasLines(row, {}) << std::flush;
-      std::printf("%-14s %-22s %-7s %-40.40s wall %7.1f s", row.setting->knob.c_str(), row.setting->value.c_str(),
-                  row.result.scene.c_str(), row.result.status.c_str(), row.result.wall);
+      std::printf("%-14s %-22s seed %-3llu %-12s %-40.40s wall %7.1f s", row.setting->knob.c_str(),
+                  row.setting->value.c_str(), static_cast<unsigned long long>(row.knobs.seed), row.result.scene.c_str(), row.result.status.c_str(), row.result.wall);
       for (const auto& [name, value] : row.result.metrics) std::printf("  %s %.4g", name.c_str(), value);
       std::printf("\n");
       std::fflush(stdout);
@@ -307,8 +420,9 @@ int main(int argc, char** argv) {
                 r.status.c_str(), 1e3 * r.depth, 1e3 * r.oscillation, r.wall);
   }
   writeAtlas(std::filesystem::path(outDir) / "atlas.csv", rows);
+  const std::vector<SeedValues> summary = writeSummary(std::filesystem::path(outDir) / "atlas_summary.csv", rows);
   writeCoupling(std::filesystem::path(outDir) / "coupling.csv", coupling);
-  std::printf("wall %.1f s -> %s/atlas.csv, coupling.csv\n",
+  std::printf("wall %.1f s -> %s/atlas.csv, atlas_summary.csv, coupling.csv\n",
               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), outDir.c_str());
-  return smoke ? check(rows, coupling) : 0;
+  return smoke ? check(rows, summary, coupling) : 0;
 }

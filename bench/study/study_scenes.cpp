@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cmath>
 #include <numbers>
+#include <optional>
+#include <sstream>
 #include <random>
 #include <stdexcept>
 
@@ -103,11 +105,17 @@ core::MeshBody boxBody(const std::string& name, const Vec3& lo, const Vec3& hi, 
   return core::MeshBody(name, std::move(box.vertices), std::move(box.triangles), material);
 }
 
-void addWalls(World& world, double side) {
+/// Side walls of the box [0, far.x] x [0, far.y].
+void addWalls(World& world, const Vec3& far) {
   world.addPlane({"x0", Vec3::Zero(), Vec3::UnitX(), 0});
-  world.addPlane({"x1", Vec3::Constant(side), -Vec3::UnitX(), 0});
+  world.addPlane({"x1", far, -Vec3::UnitX(), 0});
   world.addPlane({"y0", Vec3::Zero(), Vec3::UnitY(), 0});
-  world.addPlane({"y1", Vec3::Constant(side), -Vec3::UnitY(), 0});
+  world.addPlane({"y1", far, -Vec3::UnitY(), 0});
+}
+
+/// Grains of a scene whose footprint area grows by `scale` [-].
+std::size_t scaledCount(std::size_t grains, double scale) {
+  return static_cast<std::size_t>(std::lround(static_cast<double>(grains) * scale));
 }
 
 void finish(SceneResult& result, const World& world, Clock::time_point start) {
@@ -234,35 +242,68 @@ SceneResult runImpact(const Knobs& knobs) {
   return result;
 }
 
-SceneResult runBed(const Knobs& knobs, const Budget& budget) {
-  SceneResult result("bed");
+SceneResult runBed(const Knobs& knobs, const Budget& budget, bool cohesive) {
+  SceneResult result(cohesive ? "bed_cohesive" : "bed");
   const auto start = Clock::now();
-  constexpr double kSide = 0.05;  // [m]
+  // A box twice as long as wide; the blade starts 3 diameters from the near wall and
+  // travels 6 (0.1 m/s for 0.3 s), so its front stops 10 diameters short of the far wall,
+  // where the heap it pushes ahead stays clear of the wall.
+  const double footprint = std::sqrt(budget.scale * budget.bed_area);
+  const double length = 0.1 * footprint, width = 0.05 * footprint;  // [m]
   constexpr double kBladeSpeed = 0.1;  // [m/s]
-  World world(studySettings(knobs));
-  world.addMaterial(studyMaterial(knobs));
-  world.addPlane({"floor", Vec3::Zero(), Vec3::UnitZ(), 0});
-  addWalls(world, kSide);
-  // The blade stands in the box while the bed forms around it, so it never appears inside
-  // particles; its size follows the bed the grains make (the same for every knob).
-  const double height = static_cast<double>(budget.bed_grains) * grainVolume() / (0.6 * kSide * kSide);
-  const double bladeX = 0.3 * kSide;
-  world.addMesh(boxBody("blade", Vec3(-0.0015, -0.35 * kSide, 0.3 * height), Vec3(0.0015, 0.35 * kSide, 3.0 * height),
-                        0));
-  world.mesh(0).setPose(Vec3(bladeX, 0.5 * kSide, 0.0), core::Quat::Identity());
+  constexpr double kBladeHalfThickness = 0.0015;  // [m]
+  // The blade spans the box but for gaps no grain fits through (grains wedged between a
+  // blade's edge and a wall jam it); it cuts the upper half of the bed, leaving three
+  // diameters below it for the grains that pass under it.
+  constexpr double kSideGap = 0.0005;  // [m]
+  // Its size follows the bed the grains make (the same for every knob).
+  const std::size_t grains = scaledCount(budget.bed_grains, budget.scale);
+  const double height = static_cast<double>(grains) * grainVolume() / (0.6 * length * width);
+  const double bladeBottom = 0.5 * height;
+  const double bladeX = 0.015;
   const double r = parcelRadius(knobs);
-  const double clearance = 0.0015 + 1.1 * kRadiusSpread * r;
-  addLattice(world, parcels(knobs, budget.bed_grains), r, Vec3(0.0, 0.0, 0.0), Vec3(kSide, kSide, 0.0), knobs.seed,
-             [&](const Vec3& x) { return std::abs(x.x() - bladeX) > clearance || x.z() < 0.3 * height - clearance; });
-  auto& p = world.particles();
-  world.initialize();
-  advance(world, budget.bed_settle, result, budget.wall_limit);
-  const double bedTop = centreQuantile(p, 0.95);
-  result.metrics.emplace_back("packing_fraction",
-                              solidFraction(p, Vec3(0.45 * kSide, 0.1 * kSide, 0.2 * bedTop),
-                                            Vec3(0.9 * kSide, 0.9 * kSide, 0.7 * bedTop)));
+  const double clearance = kBladeHalfThickness + 1.1 * kRadiusSpread * r;
+  // The blade stands in the box while the bed forms around it, so it never appears inside
+  // particles.
+  auto bedWorld = [&](double cohesionEnergyDensity) {
+    World world(studySettings(knobs));
+    core::Material material = studyMaterial(knobs);
+    material.cohesion_energy_density = cohesionEnergyDensity;
+    world.addMaterial(material);
+    world.addPlane({"floor", Vec3::Zero(), Vec3::UnitZ(), 0});
+    addWalls(world, Vec3(length, width, 0.0));
+    world.addMesh(boxBody("blade", Vec3(-kBladeHalfThickness, -0.5 * width + kSideGap, bladeBottom),
+                          Vec3(kBladeHalfThickness, 0.5 * width - kSideGap, 3.0 * height), 0));
+    world.mesh(0).setPose(Vec3(bladeX, 0.5 * width, 0.0), core::Quat::Identity());
+    addLattice(world, parcels(knobs, grains), r, Vec3(0.0, 0.0, 0.0), Vec3(length, width, 0.0), knobs.seed,
+               [&](const Vec3& x) { return std::abs(x.x() - bladeX) > clearance || x.z() < bladeBottom - clearance; });
+    return world;
+  };
+  World dry = bedWorld(0.0);
+  dry.initialize();
+  advance(dry, budget.bed_settle, result, budget.wall_limit);
+  // The cohesive case wets the same settled bed (a rained cohesive bed would settle looser
+  // and hide what cohesion adds). k_c is kept under coarse graining: at the same delta / R
+  // the overlap area grows like alpha^2, as every contact force does in the constant-stress
+  // scaling.
+  std::optional<World> wet;
+  if (cohesive) {
+    std::ostringstream settled;
+    dry.saveCheckpoint(settled);
+    wet.emplace(bedWorld(budget.cohesion_energy_density));
+    wet->restoreCheckpoint(std::string_view(settled.str()), "dry bed");
+  }
+  World& world = cohesive ? *wet : dry;
+  if (!cohesive) {
+    // Ahead of the blade's final position, clear of the walls.
+    const auto& p = world.particles();
+    const double bedTop = centreQuantile(p, 0.95);
+    result.metrics.emplace_back("packing_fraction", solidFraction(p, Vec3(0.55 * length, 0.1 * width, 0.2 * bedTop),
+                                                                  Vec3(0.9 * length, 0.9 * width, 0.7 * bedTop)));
+  }
   world.mesh(0).setVelocity(Vec3(kBladeSpeed, 0.0, 0.0), Vec3::Zero());
-  const double dragStart = world.time() + 0.5 * budget.drag_time;
+  // The drag builds up while the blade's first third of travel loads the bed ahead of it.
+  const double dragStart = world.time() + budget.drag_time / 3.0;
   double impulse = 0.0, counted = 0.0;
   const double dt = world.settings().time_step;
   advance(world, budget.bed_settle + budget.drag_time, result, budget.wall_limit, [&] {
@@ -279,13 +320,13 @@ SceneResult runBed(const Knobs& knobs, const Budget& budget) {
 SceneResult runHeap(const Knobs& knobs, const Budget& budget) {
   SceneResult result("heap");
   const auto start = Clock::now();
-  constexpr double kFootprint = 0.04;  // [m]
+  const double footprint = 0.04 * std::sqrt(budget.scale);  // [m]
   World world(studySettings(knobs));
   world.addMaterial(studyMaterial(knobs));
   world.addPlane({"floor", Vec3::Zero(), Vec3::UnitZ(), 0});
   const double r = parcelRadius(knobs);
-  addLattice(world, parcels(knobs, budget.heap_grains), r, Vec3(-0.5 * kFootprint, -0.5 * kFootprint, 0.0),
-             Vec3(0.5 * kFootprint, 0.5 * kFootprint, 0.0), knobs.seed);
+  addLattice(world, parcels(knobs, scaledCount(budget.heap_grains, budget.scale)), r,
+             Vec3(-0.5 * footprint, -0.5 * footprint, 0.0), Vec3(0.5 * footprint, 0.5 * footprint, 0.0), knobs.seed);
   world.initialize();
   advance(world, budget.heap_time, result, budget.wall_limit);
   // Heap surface: the highest sphere top in rings about the centre; the angle is the
@@ -319,21 +360,21 @@ SceneResult runHeap(const Knobs& knobs, const Budget& budget) {
 SceneResult runHopper(const Knobs& knobs, const Budget& budget) {
   SceneResult result("hopper");
   const auto start = Clock::now();
-  constexpr double kSide = 0.06;     // [m]
+  const double side = 0.06 * std::sqrt(budget.scale);  // [m]
   constexpr double kOrifice = 0.025; // [m], 4.5 mean grain diameters
   core::SimulationSettings s = studySettings(knobs);
-  s.bounds = core::DomainBounds{Vec3(-0.01, -0.01, -0.05), Vec3(kSide + 0.01, kSide + 0.01, 2.0)};
+  s.bounds = core::DomainBounds{Vec3(-0.01, -0.01, -0.05), Vec3(side + 0.01, side + 0.01, 2.0)};
   World world(s);
   world.addMaterial(studyMaterial(knobs));
-  addWalls(world, kSide);
-  world.addMesh(orificePlate(kSide, kOrifice, 0));
-  core::TriangleMesh gateShape = core::rectangleMesh(Vec3(0.5 * kSide, 0.5 * kSide, 0.0), 0.5 * kOrifice + 0.002,
+  addWalls(world, Vec3::Constant(side));
+  world.addMesh(orificePlate(side, kOrifice, 0));
+  core::TriangleMesh gateShape = core::rectangleMesh(Vec3(0.5 * side, 0.5 * side, 0.0), 0.5 * kOrifice + 0.002,
                                                      0.5 * kOrifice + 0.002, 1, 1);
   core::MeshBody gate("gate", std::move(gateShape.vertices), std::move(gateShape.triangles), 0);
   gate.setCollisionWindow(0.0, budget.hopper_fill);
   world.addMesh(std::move(gate));
-  addLattice(world, parcels(knobs, budget.hopper_grains), parcelRadius(knobs), Vec3(0.0, 0.0, 0.002),
-             Vec3(kSide, kSide, 0.0), knobs.seed);
+  addLattice(world, parcels(knobs, scaledCount(budget.hopper_grains, budget.scale)), parcelRadius(knobs), Vec3(0.0, 0.0, 0.002),
+             Vec3(side, side, 0.0), knobs.seed);
   world.initialize();
   advance(world, budget.hopper_fill, result, budget.wall_limit);
   const auto& p = world.particles();

@@ -5,15 +5,15 @@
 ///
 /// Scenes (all with one material, spheres with radii uniform in [r, 1.2 r]):
 ///   impact  two spheres head-on at 1 m/s, no gravity: delivered / requested restitution;
-///   bed     spheres rain into a square box around a still blade and settle: packing
+///   bed     spheres rain into a long box around a still blade and settle: packing
 ///           fraction of the bed's core; then the blade moves through the bed at a
-///           constant speed: mean drag force;
+///           constant speed and stops 10 grain diameters short of the far wall: mean drag
+///           force over the steady window (the last two thirds of its travel);
+///   bed_cohesive  the same bed with a cohesive material (Budget::cohesion_energy_density,
+///           the moist-soil law of docs/materials.md): the drag an excavator model feels;
 ///   heap    a block of spheres collapses on a rough floor: angle of repose of the heap;
 ///   hopper  a box with a square orifice in its floor, closed by a gate while it fills:
 ///           mass discharge rate once the gate opens.
-/// Hook for a cohesive blade-drag case: runBed takes its material from studyMaterial and
-/// its law from Knobs::law, so a cohesive law (ContactModel) and a material with a surface
-/// energy are all such a case needs; CoarseGraining::cohesionEnergy scales the energy.
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -40,11 +40,18 @@ struct Knobs {
 
 /// Sizes and durations: the full atlas or the CI smoke run.
 struct Budget {
-  std::size_t bed_grains = 500;      ///< grains (before coarse graining) [-]
+  std::size_t bed_grains = 1000;     ///< grains (before coarse graining) [-]
   std::size_t heap_grains = 500;
   std::size_t hopper_grains = 700;
+  /// Bed size factor: every scene's footprint area and grain count grow by it, so its
+  /// depth (and the hopper's orifice, the blade's travel) stays [-], >= 1.
+  double scale = 1.0;
+  /// The bed's footprint area / 0.1 m x 0.05 m before `scale` (the smoke run's small bed) [-].
+  double bed_area = 1.0;
   double bed_settle = 0.25;          ///< [s]
-  double drag_time = 0.12;           ///< [s]
+  double drag_time = 0.3;            ///< blade travel time at 0.1 m/s [s]
+  /// k_c of the cohesive bed (bed_cohesive) [J/m^3]; see docs/accuracy.md "Cohesive drag".
+  double cohesion_energy_density = 1.5e5;
   double heap_time = 0.4;            ///< [s]
   double hopper_fill = 0.25;         ///< [s]
   double hopper_flow = 0.2;          ///< [s]
@@ -80,7 +87,8 @@ struct SceneResult {
 };
 
 [[nodiscard]] SceneResult runImpact(const Knobs& knobs);
-[[nodiscard]] SceneResult runBed(const Knobs& knobs, const Budget& budget);
+/// The bed and blade; `cohesive` gives the grains Budget::cohesion_energy_density.
+[[nodiscard]] SceneResult runBed(const Knobs& knobs, const Budget& budget, bool cohesive = false);
 [[nodiscard]] SceneResult runHeap(const Knobs& knobs, const Budget& budget);
 [[nodiscard]] SceneResult runHopper(const Knobs& knobs, const Budget& budget);
 

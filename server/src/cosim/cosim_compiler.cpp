@@ -190,6 +190,7 @@ std::string reportText(const CompiledSimulation& out, const core::World& world) 
                                              : std::string("not exchanged"));
   }
   for (const std::string& line : deformableReportLines(world)) text += line + "\n";
+  for (const std::string& line : coarseGrainingReportLines(out.scene->coarse_graining)) text += line + "\n";
   for (const std::string& line : fidelityReportLines(out.scene->fidelity, world)) {
     if (!line.starts_with("warning: ")) text += line + "\n";
   }

@@ -14,10 +14,13 @@
 #include "demlink/server/scene/scene_translator.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include <map>
 #include <utility>
 #include <vector>
+
+#include <fmt/format.h>
 
 #include "demlink/core/input_error.hpp"
 #include "demlink/core/log_text.hpp"
@@ -91,7 +94,7 @@ int checkStructure(const v1::Scene& scene) {
 }
 
 core::SimulationSettings toSettings(const v1::SimulationBox& box, const std::string& prefix,
-                                    FidelityChoice& fidelity) {
+                                    const core::CoarseGraining& coarse, FidelityChoice& fidelity) {
   core::SimulationSettings settings;
   if (box.has_time_step()) settings.time_step = box.time_step();
   if (box.has_gravity()) settings.gravity = toVec3(box.gravity());
@@ -112,7 +115,8 @@ core::SimulationSettings toSettings(const v1::SimulationBox& box, const std::str
   }
   settings.neighbour_skin = box.neighbour_skin();
   if (box.has_max_impact_velocity()) settings.max_impact_velocity = box.max_impact_velocity();
-  settings.linear_normal_stiffness = box.linear_normal_stiffness();
+  // k_n ~ E R keeps delta / R; a Hertz-derived stiffness (0) follows the radii by itself.
+  settings.linear_normal_stiffness = coarse.linearStiffness(box.linear_normal_stiffness());
   if (box.has_restitution_tolerance()) settings.restitution_tolerance = box.restitution_tolerance();
   settings.allow_unsafe_time_step = box.allow_unsafe_time_step();
   if (box.has_threads()) {
@@ -216,8 +220,22 @@ void addPlane(const v1::Plane& plane, const std::string& name, const MaterialNam
   world.addPlane(std::move(spec), prefix);
 }
 
-void addLattice(const v1::ParticleLattice& lattice, const MaterialNames& materials, const std::string& prefix,
-                core::World& world) {
+/// Parcels of factor alpha for a lattice of grains: sizes x alpha and counts / alpha per
+/// axis (rounded, at least 1), so the lattice keeps its extent and, up to the rounding,
+/// its mass. The grains' spec was validated; the scaled one satisfies the same rules.
+void scaleLattice(LatticeSpec& spec, const core::CoarseGraining& coarse) {
+  if (coarse.factor == 1.0) return;
+  spec.radius = coarse.radius(spec.radius);
+  if (spec.radius_max) spec.radius_max = coarse.radius(*spec.radius_max);
+  spec.spacing = coarse.radius(spec.spacing);
+  spec.jitter = coarse.radius(spec.jitter);
+  for (std::uint32_t& n : spec.counts) {
+    n = static_cast<std::uint32_t>(std::max(1.0, std::round(static_cast<double>(n) / coarse.factor)));
+  }
+}
+
+void addLattice(const v1::ParticleLattice& lattice, const MaterialNames& materials,
+                const core::CoarseGraining& coarse, const std::string& prefix, core::World& world) {
   LatticeSpec spec;
   spec.material = resolveMaterial(materials, lattice.material(), prefix + ".material");
   if (!lattice.clump_template().empty()) {
@@ -234,6 +252,7 @@ void addLattice(const v1::ParticleLattice& lattice, const MaterialNames& materia
   spec.seed = lattice.seed();
   spec.velocity = toVec3(lattice.velocity());
   spec.validate(prefix);
+  scaleLattice(spec, coarse);
   requireParticleMemory(prefix + ".counts", spec.countText(), world.particles().size() + spec.count());
   for (const core::ParticleSpec& sphere : generateLattice(spec)) world.addParticle(sphere, prefix);
 }
@@ -264,9 +283,11 @@ TranslatedScene translateScene(const v1::Scene& scene, const FileScope& files, S
   const std::string boxPrefix = componentPath(boxIndex) + ".simulation_box";
   const v1::SimulationBox& box = scene.components(boxIndex).simulation_box();
   FidelityChoice fidelity;
-  core::SimulationSettings settings = toSettings(box, boxPrefix, fidelity);
+  const core::CoarseGraining coarse{box.has_coarse_graining() ? box.coarse_graining() : 1.0};
+  coarse.validate(boxPrefix + ".coarse_graining");
+  core::SimulationSettings settings = toSettings(box, boxPrefix, coarse, fidelity);
   TranslatedScene out{core::World(std::move(settings), boxPrefix), toRunOptions(box, boxPrefix, use),
-                      std::move(fidelity)};
+                      std::move(fidelity), coarse};
 
   const MaterialNames materials = addMaterials(scene, out.world);
   addMaterialPairs(scene, materials, out.world);
@@ -282,7 +303,7 @@ TranslatedScene translateScene(const v1::Scene& scene, const FileScope& files, S
         addPlane(component.plane(), component.name(), materials, path + ".plane", out.world);
         break;
       case v1::ComponentDeclaration::kParticleLattice:
-        addLattice(component.particle_lattice(), materials, path + ".particle_lattice", out.world);
+        addLattice(component.particle_lattice(), materials, coarse, path + ".particle_lattice", out.world);
         break;
       case v1::ComponentDeclaration::kParticleFile:
         addParticleFile(component.particle_file(), materials, files, path + ".particle_file", out.world);
@@ -320,7 +341,7 @@ TranslatedScene translateScene(const v1::Scene& scene, const FileScope& files, S
         const std::string prefix = path + ".particle_source";
         const std::uint32_t material =
             resolveMaterial(materials, component.particle_source().material(), prefix + ".material");
-        addParticleSource(component.particle_source(), component.name(), material, prefix, out.world);
+        addParticleSource(component.particle_source(), component.name(), material, coarse, prefix, out.world);
         break;
       }
       case v1::ComponentDeclaration::kPitGenerator: {
@@ -353,6 +374,16 @@ TranslatedScene translateScene(const v1::Scene& scene, const FileScope& files, S
                            "the scene has no mesh bodies to put loads on");
   }
   return out;
+}
+
+std::vector<std::string> coarseGrainingReportLines(const core::CoarseGraining& coarse) {
+  if (coarse.factor == 1.0) return {};
+  return {fmt::format("coarse graining: factor {:g} (docs/accuracy.md): particle_lattice and particle_source make "
+                      "parcels of {:g} x the grains' radius, each with the mass of {:.4g} grains (lattice counts / "
+                      "{:g} per axis, rate_particles_per_s / {:.4g}, rate_kg_per_s kept); linear_normal_stiffness "
+                      "x {:g}; density, modulus, restitution, friction and cohesion kept",
+                      coarse.factor, coarse.factor, std::pow(coarse.factor, 3), coarse.factor,
+                      std::pow(coarse.factor, 3), coarse.factor)};
 }
 
 }  // namespace demlink::server

@@ -3,6 +3,7 @@
 /// checked by the core validators with the schema path as prefix.
 #include "demlink/server/scene/translate_sources.hpp"
 
+#include <cmath>
 #include <optional>
 
 #include "demlink/core/input_error.hpp"
@@ -134,8 +135,24 @@ void addSingleParticle(const v1::SingleParticle& particle, std::uint32_t materia
   world.addParticle(sphere, prefix);
 }
 
+namespace {
+
+/// The distribution of parcel radii for grain radii `sizes`: every length x `factor`,
+/// weights kept.
+core::SizeDistribution scaledSizes(core::SizeDistribution sizes, double factor) {
+  sizes.radius *= factor;
+  sizes.r_min *= factor;
+  sizes.r_max *= factor;
+  sizes.mean *= factor;
+  sizes.std *= factor;
+  for (double& r : sizes.radii) r *= factor;
+  return sizes;
+}
+
+}  // namespace
+
 void addParticleSource(const v1::ParticleSource& source, const std::string& name, std::uint32_t material,
-                       const std::string& prefix, core::World& world) {
+                       const core::CoarseGraining& coarse, const std::string& prefix, core::World& world) {
   core::ParticleSourceSpec spec;
   if (!source.clump_template().empty()) {
     spec.shape = core::SourceShape::ClumpTemplate;
@@ -162,6 +179,10 @@ void addParticleSource(const v1::ParticleSource& source, const std::string& name
   spec.seed = source.seed();
   if (source.has_max_attempts()) spec.max_attempts = source.max_attempts();
   spec.material = material;
+  if (coarse.factor != 1.0) {
+    spec.sizes = scaledSizes(spec.sizes, coarse.factor);
+    if (spec.rate_particles_per_s) *spec.rate_particles_per_s /= std::pow(coarse.factor, 3);
+  }
   core::addParticleSource(world, name, std::move(spec), prefix);
 }
 

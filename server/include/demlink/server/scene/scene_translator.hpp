@@ -13,7 +13,9 @@
 ///   - particles are added in declaration order (their ids follow it).
 #include <filesystem>
 #include <string>
+#include <vector>
 
+#include "demlink/core/particles/coarse_graining.hpp"
 #include "demlink/core/world.hpp"
 #include "demlink/server/run/run_options.hpp"
 #include "demlink/server/scene/fidelity_preset.hpp"
@@ -27,7 +29,11 @@ struct TranslatedScene {
   core::World world;
   RunOptions run;
   FidelityChoice fidelity;  ///< what SimulationBox.fidelity chose, for the compile report
+  core::CoarseGraining coarse_graining;  ///< SimulationBox.coarse_graining (factor 1: none)
 };
+
+/// The compile report's line for a coarse-graining factor (none for factor 1).
+[[nodiscard]] std::vector<std::string> coarseGrainingReportLines(const core::CoarseGraining& coarse);
 
 /// What the scene is translated for. A co-simulation may run without an end time
 /// (end_time 0: until every client said Bye); a headless run needs one. CosimCheck is

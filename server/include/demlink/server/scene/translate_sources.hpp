@@ -9,6 +9,7 @@
 
 #include "demlink/core/components/pit_generator.hpp"
 #include "demlink/core/components/size_distribution.hpp"
+#include "demlink/core/particles/coarse_graining.hpp"
 #include "demlink/core/world.hpp"
 #include "demlink/v1/sources.pb.h"
 
@@ -21,9 +22,11 @@ namespace demlink::server {
 void addSingleParticle(const v1::SingleParticle& particle, std::uint32_t material, const std::string& fieldPrefix,
                        core::World& world);
 
-/// Adds a ParticleSource component named `name` and declares its smallest radius.
+/// Adds a ParticleSource component named `name` and declares its smallest radius. With
+/// coarse graining the source makes parcels: sizes x alpha, rate_particles_per_s / alpha^3
+/// (rate_kg_per_s kept), so the mass flow is the grains'.
 void addParticleSource(const v1::ParticleSource& source, const std::string& name, std::uint32_t material,
-                       const std::string& fieldPrefix, core::World& world);
+                       const core::CoarseGraining& coarse, const std::string& fieldPrefix, core::World& world);
 
 /// The pit's specification, its fields checked (core::generatePit settles it and adds
 /// its particles to the world).
