@@ -17,7 +17,8 @@
 /// ones other processes keep busy. "Other processes" is measured, not guessed from the
 /// load average (which counts this process's own threads): the machine's busy CPU time
 /// (/proc/stat) less this process's CPU time, per wall second, over the last quarter
-/// second or more; where /proc/stat cannot be read, the 1-minute load average stands in.
+/// second or more; before the first such period, or where /proc/stat cannot be read, the
+/// 1-minute load average stands in.
 /// Then:
 /// - the DEM thread pool's threads spin only while all of them fit in the free CPUs
 ///   (2 threads: both CPUs free; beside one busy process, none spins);
@@ -193,7 +194,9 @@ class SpinGate {
     if (busy >= 0.0 && last_busy_ >= 0.0) {
       const double wall = 1e-9 * static_cast<double>(now - last_ns_);
       others = std::max(0.0, ((busy - last_busy_) - (own - last_own_)) / wall);
-    } else if (busy < 0.0) {
+    } else {
+      // No earlier sample (the first call) or no /proc/stat: the load average, which at a
+      // process's start holds little of its own work.
       others = std::max(0.0, loadAverage());
     }
     last_busy_ = busy;
