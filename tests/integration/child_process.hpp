@@ -51,35 +51,20 @@ class Child {
   /// Reads stdout until a newline or the deadline; returns the line so far.
   std::string readLine(std::chrono::milliseconds timeout) {
     std::string line;
-    const Clock::time_point deadline = Clock::now() + timeout;
-    while (Clock::now() < deadline) {
-      fd_set readable;
-      FD_ZERO(&readable);
-      FD_SET(out_, &readable);
-      timeval wait{0, 50000};
-      if (select(out_ + 1, &readable, nullptr, nullptr, &wait) <= 0) continue;
-      char byte = 0;
-      if (read(out_, &byte, 1) != 1) break;
-      if (byte == '\n') break;
-      line.push_back(byte);
-    }
+    readUntil(timeout, 1, [&](const char* bytes, std::size_t) {
+      if (bytes[0] == '\n') return false;
+      line.push_back(bytes[0]);
+      return true;
+    });
     return line;
   }
   /// Everything the child writes to stdout until it closes it or the deadline passes.
   std::string readOutput(std::chrono::milliseconds timeout) {
     std::string text;
-    const Clock::time_point deadline = Clock::now() + timeout;
-    while (Clock::now() < deadline) {
-      fd_set readable;
-      FD_ZERO(&readable);
-      FD_SET(out_, &readable);
-      timeval wait{0, 50000};
-      if (select(out_ + 1, &readable, nullptr, nullptr, &wait) <= 0) continue;
-      char chunk[4096];
-      const ssize_t n = read(out_, chunk, sizeof chunk);
-      if (n <= 0) break;
-      text.append(chunk, static_cast<std::size_t>(n));
-    }
+    readUntil(timeout, 4096, [&](const char* bytes, std::size_t n) {
+      text.append(bytes, n);
+      return true;
+    });
     return text;
   }
   void signal(int number) const { kill(pid_, number); }
@@ -99,6 +84,23 @@ class Child {
   }
 
  private:
+  /// Reads up to `chunk` bytes at a time from stdout and hands them to `take` until it returns
+  /// false, the child closes stdout, or the deadline passes (polled every 50 ms).
+  void readUntil(std::chrono::milliseconds timeout, std::size_t chunk,
+                 const std::function<bool(const char*, std::size_t)>& take) {
+    std::vector<char> buffer(chunk);
+    const Clock::time_point deadline = Clock::now() + timeout;
+    while (Clock::now() < deadline) {
+      fd_set readable;
+      FD_ZERO(&readable);
+      FD_SET(out_, &readable);
+      timeval wait{0, 50000};
+      if (select(out_ + 1, &readable, nullptr, nullptr, &wait) <= 0) continue;
+      const ssize_t n = read(out_, buffer.data(), chunk);
+      if (n <= 0 || !take(buffer.data(), static_cast<std::size_t>(n))) return;
+    }
+  }
+
   pid_t pid_ = -1;
   int out_ = -1;
   bool exited_ = false;
