@@ -25,15 +25,17 @@ std::string readFile(const std::filesystem::path& path) {
   return text.str();
 }
 
-/// Runs `program HOST PORT STL` against a fresh server; returns the program's summary line.
-std::string runAgainstServer(const std::string& program, const std::string& stl, const std::string& tag) {
+/// Runs `program HOST PORT [ARG]` against a fresh server; returns the program's summary line.
+std::string runAgainstServer(const std::string& program, const std::string& arg, const std::string& tag) {
   const std::filesystem::path out =
       std::filesystem::temp_directory_path() / ("demlink_modelica_" + tag + "_" + std::to_string(::getpid()));
   std::filesystem::remove_all(out);
   const integration::ClientRun run = integration::runClientAgainstServer(
       DEMLINK_SERVER_EXE, out.string(),
       [&](const std::string& host, const std::string& port) {
-        return std::vector<std::string>{program, host, port, stl};
+        std::vector<std::string> command{program, host, port};
+        if (!arg.empty()) command.push_back(arg);
+        return command;
       },
       std::chrono::seconds(600));
   EXPECT_EQ(run.client_exit, 0) << run.announced << "\n" << run.summary;
@@ -68,6 +70,15 @@ TEST(ModelicaExamples, BucketDiggingFeelsTheGravel) {
 TEST(ModelicaExamples, TruckLoadEqualsDeliveredMass) {
   const std::string summary = runAgainstServer(
       DEMLINK_TRUCK_SEQUENCE_EXE, std::string(DEMLINK_MODELICA_SOURCE) + "/Resources/Data/truck_bed.stl", "truck");
+  EXPECT_NE(summary.find("401 samples"), std::string::npos) << summary;
+}
+
+/// Run-time inputs from the model side: the delivered mass stops growing once the source is
+/// switched off, a sink switched off keeps the pile lying in it and removes it once switched
+/// on, a sensor moved and resized by its inputs weighs the pile (switched_source_sequence.c
+/// states the bounds).
+TEST(ModelicaExamples, SwitchedSourceSinkAndMovedSensor) {
+  const std::string summary = runAgainstServer(DEMLINK_SWITCHED_SEQUENCE_EXE, "", "switched");
   EXPECT_NE(summary.find("401 samples"), std::string::npos) << summary;
 }
 

@@ -52,6 +52,18 @@ package Functions "Calls into libdemlink_c; failures stop the simulation with th
     result := if value >= 0 then value else External.notGiven();
   end optional;
 
+  function changed "True when any element of a differs from the same element of b (Real <> is allowed in functions only)"
+    extends Modelica.Icons.Function;
+    input Real a[:];
+    input Real b[size(a, 1)];
+    output Boolean result;
+  algorithm
+    result := false;
+    for i in 1:size(a, 1) loop
+      result := result or a[i] <> b[i];
+    end for;
+  end changed;
+
   impure function finish "Bye (terminal()); a run that already finished is no error"
     extends Modelica.Icons.Function;
     input Client client;

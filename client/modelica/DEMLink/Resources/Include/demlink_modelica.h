@@ -57,6 +57,15 @@ static inline int dlm_deformable_body_exchange(dl_client* client, int component,
                                      NULL, &count, broken);
 }
 
+/* A region sensor's run-time region: sendPose = 0 keeps centre and orientation, sendSize = 0
+ * keeps the extent; otherwise a sphere sensor (sphere = 1) gets the radius, a box the size. */
+static inline int dlm_region_sensor_set_region(dl_client* client, int component, int sendPose,
+                                               const double* centre, const double* orientation, int sendSize,
+                                               int sphere, const double* size, double radius) {
+  return dl_region_sensor_set_region(client, component, sendPose ? centre : NULL, sendPose ? orientation : NULL,
+                                     sendSize && !sphere ? size : NULL, sendSize && sphere ? radius : NAN);
+}
+
 /* NaN: "not given" in an optional real of the generic layout. */
 static double dlm_not_given(void) { return NAN; }
 
