@@ -1,7 +1,8 @@
 /* Shared by the C programs that make a DEMLink Modelica example's exact call sequence:
- * one client per component (the ExternalObject constructors), connect and declare in the
- * initial algorithm (Functions.connectClient, Functions.declare -> dlm_declare), Bye for
- * every component at terminal(), then the destructors. */
+ * one connected client per component (the ExternalObject constructors), then in each
+ * initial algorithm the repeated connect, the declaration and DeclarationsDone
+ * (Functions.connectClient, Functions.declare -> dlm_declare, Functions.declarationsDone),
+ * Bye for every component at terminal(), then the destructors. */
 #ifndef DEMLINK_TESTS_SEQUENCE_SUPPORT_H
 #define DEMLINK_TESTS_SEQUENCE_SUPPORT_H
 
@@ -22,28 +23,37 @@ static int sequence_check_exchange(int status, dl_client* client, const char* wh
   return status == DL_ERR_FINISHED || sequence_check(status, client, what);
 }
 
-/* Constructors and Functions.connectClient of every component; the names are the
- * components' names (each client is named after its component). */
+/* Where the constructors connected (Functions.connectClient repeats it in each initial algorithm). */
+static const char* sequence_host = NULL;
+static int sequence_port = 0;
+static double sequence_timeout = 0.0;
+
+/* The ExternalObject constructors of every component (Client.constructor ->
+ * dlm_client_connect): all connections are open before the first initial algorithm. The
+ * names are the components' names (each client is named after its component). */
 static int sequence_connect(dl_client** clients, const char* const* names, int count, const char* host, int port,
                             double timeout) {
   int i;
+  sequence_host = host;
+  sequence_port = port;
+  sequence_timeout = timeout;
   for (i = 0; i < count; ++i) {
-    clients[i] = dl_client_create();
-    if (clients[i] == NULL) return sequence_check(DL_ERR_INTERNAL, NULL, "dl_client_create");
-  }
-  for (i = 0; i < count; ++i) {
-    if (!sequence_check(dl_set_timeout(clients[i], timeout), clients[i], "dl_set_timeout")) return 0;
-    if (!sequence_check(dl_connect_to_host(clients[i], host, port, names[i], ""), clients[i], "dl_connect_to_host")) {
-      return 0;
-    }
+    clients[i] = dlm_client_connect(host, port, names[i], "", timeout);
+    if (clients[i] == NULL) return sequence_check(DL_ERR_INTERNAL, NULL, "dlm_client_connect");
   }
   return 1;
 }
 
-/* Functions.declare: strings {kind, name, ...}, reals {interval, ...}. */
+/* One component's initial algorithm: Functions.connectClient (a no-op on the connected
+ * client), Functions.declare (strings {kind, name, ...}, reals {interval, ...}) and
+ * Functions.declarationsDone. */
 static int sequence_declare(dl_client* client, const int* ints, int nInts, const double* reals, int nReals,
                             const char** strings, int nStrings) {
-  return sequence_check(dlm_declare(client, ints, nInts, reals, nReals, strings, nStrings), client, strings[1]);
+  return sequence_check(dl_set_timeout(client, sequence_timeout), client, "dl_set_timeout") &&
+         sequence_check(dl_connect_to_host(client, sequence_host, sequence_port, strings[1], ""), client,
+                        "dl_connect_to_host") &&
+         sequence_check(dlm_declare(client, ints, nInts, reals, nReals, strings, nStrings), client, strings[1]) &&
+         sequence_check(dl_declarations_done(client), client, "dl_declarations_done");
 }
 
 /* terminal(): Functions.finish of every component; then the destructors (Client.destructor). */

@@ -26,23 +26,27 @@ std::string readFile(const std::filesystem::path& path) {
 }
 
 /// Runs `program HOST PORT [ARG]` against a fresh server; returns the program's summary line.
+/// The server's quiet period is far longer than the clients' timeout (120 s), and the
+/// models count no components: only every component's DeclarationsDone at the end of its
+/// initial algorithm can start the compile.
 std::string runAgainstServer(const std::string& program, const std::string& arg, const std::string& tag) {
   const std::filesystem::path out =
       std::filesystem::temp_directory_path() / ("demlink_modelica_" + tag + "_" + std::to_string(::getpid()));
   std::filesystem::remove_all(out);
-  const integration::ClientRun run = integration::runClientAgainstServer(
-      DEMLINK_SERVER_EXE, out.string(),
-      [&](const std::string& host, const std::string& port) {
-        std::vector<std::string> command{program, host, port};
-        if (!arg.empty()) command.push_back(arg);
-        return command;
-      },
-      std::chrono::seconds(600));
-  EXPECT_EQ(run.client_exit, 0) << run.announced << "\n" << run.summary;
+  integration::ServerChild server(DEMLINK_SERVER_EXE, {"--once", "--output", out.string(), "--quiet-period", "1000"});
+  if (server.port <= 0) {
+    ADD_FAILURE() << "no port announced: " << server.announced;
+    return {};
+  }
+  std::vector<std::string> command{program, server.host, std::to_string(server.port)};
+  if (!arg.empty()) command.push_back(arg);
+  integration::Child client(command);
+  const std::string summary = client.readLine(std::chrono::seconds(600));
+  EXPECT_EQ(client.waitForExit(std::chrono::seconds(60)), 0) << server.announced << "\n" << summary;
   // End time 0: the DEM run ends with the model's, when every component said Bye.
-  EXPECT_EQ(run.server_exit, 0) << "the server ends when all components said Bye";
+  EXPECT_EQ(server.child.waitForExit(std::chrono::seconds(20)), 0) << "the server ends when all components said Bye";
   if (!::testing::Test::HasFailure()) std::filesystem::remove_all(out);
-  return run.summary;
+  return summary;
 }
 
 TEST(ModelicaResources, StagedPackageHasHeaderAndLibrary) {

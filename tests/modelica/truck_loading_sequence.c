@@ -32,7 +32,7 @@ int main(int argc, char** argv) {
   }
   ok = sequence_connect(clients, kNames, kCount, argv[1], atoi(argv[2]), 120.0);
   if (ok) {
-    const int boxInts[2] = {kCount, -1};
+    const int boxInts[2] = {0, -1}; /* nComponents = 0: nobody counts, DeclarationsDone */
     const double boxReals[14] = {kTc, nan, 0.0, 0.0, 0.0, -kG, -0.4, -0.3, -0.2, 0.4, 0.3, 0.6, nan, 0.01};
     const char* boxStrings[2] = {"simulation_box", "simBox"};
     const double gravelReals[7] = {0.0, nan, nan, nan, nan, nan, nan};

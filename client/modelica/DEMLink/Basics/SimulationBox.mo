@@ -5,7 +5,8 @@ model SimulationBox "Server address, communication interval and the DEM run's se
   parameter String token = "" "Access token when the server requires one" annotation (Dialog(group = "Server"));
   parameter Modelica.Units.SI.Time timeout = 30 "Longest wait for the server in one call" annotation (Dialog(group = "Server"));
   parameter Modelica.Units.SI.Time tc = 1e-3 "Communication interval of the components" annotation (Dialog(group = "Coupling"));
-  parameter Integer nComponents = 1 "Components in the model, this box included: the server compiles once all declared"
+  parameter Integer nComponents = 0
+    "0: the server compiles when every component's initialisation has ended (none to count); > 0: also wait for this many components, this box included"
     annotation (Dialog(group = "Coupling"));
   parameter Modelica.Units.SI.Time timeStep = -1 "DEM time step (negative: the server's limit from the materials)";
   parameter Modelica.Units.SI.Time endTime = 0
@@ -46,7 +47,7 @@ model SimulationBox "Server address, communication interval and the DEM run's se
 protected
   Modelica.Blocks.Interfaces.RealInput gravityNow[3] "gravityIn or the gravity parameter";
   Modelica.Blocks.Interfaces.RealInput frameNow[9] "The frame inputs, or zeros";
-  DEMLink.Functions.Client client = DEMLink.Functions.Client();
+  DEMLink.Functions.Client client = DEMLink.Functions.Client(address, port, "simBox", token, timeout);
   Integer status(start = 0, fixed = true);
   Real out[4](each start = 0, each fixed = true);
 initial algorithm
@@ -54,6 +55,7 @@ initial algorithm
   DEMLink.Functions.declare(client, "simulation_box", "simBox", tc, {nComponents, threads},
     cat(1, {DEMLink.Functions.optional(timeStep), endTime}, gravity, boundsLower, boundsUpper,
     {DEMLink.Functions.optional(vtkInterval), restitutionTolerance}), expectedNames);
+  DEMLink.Functions.declarationsDone(client);
 equation
   connect(gravityIn, gravityNow);
   if not useGravityInput then
@@ -93,8 +95,10 @@ algorithm
 <code>world</code>: every component reaches the server address, port and communication
 interval through <code>outer simBox</code>. The box declares the DEM run's settings (time
 step, gravity, bounds, VTK output interval, engine threads) and how many components the
-server waits for before it compiles (<code>nComponents</code>, this box included, and
-optionally their names). With <code>useGravityInput</code> the gravity follows the input
+server waits for besides this model's components (<code>expectedNames</code>, e.g. another
+tool's clients). The model's own components are not counted: each says at the end of its
+initialisation that its declarations are done, and the server compiles once every
+connected client has said so. With <code>useGravityInput</code> the gravity follows the input
 <code>gravityIn</code> at every sample (the paper's accelerated and tilting rooms, section
 6.2, as far as a gravity vector expresses them). With <code>useFrameInput</code> the room
 itself moves: its linear acceleration, angular velocity and angular acceleration (about

@@ -1,7 +1,7 @@
 within DEMLink.Examples;
 model SwitchedSourceAndSink "Run-time inputs: a source's rate stepped and switched off, a sink switched on, a sensor moved onto the pile"
   extends Modelica.Icons.Example;
-  inner DEMLink.Basics.SimulationBox simBox(tc = 2e-3, nComponents = 6, timeout = 120, boundsLower = {-0.5, -0.4, -0.1},
+  inner DEMLink.Basics.SimulationBox simBox(tc = 2e-3, timeout = 120, boundsLower = {-0.5, -0.4, -0.1},
     boundsUpper = {0.5, 0.4, 0.6}) annotation (Placement(transformation(extent = {{-90, 60}, {-70, 80}})));
   DEMLink.Components.Material gravel(name = "gravel", databaseName = "gravel")
     annotation (Placement(transformation(extent = {{-60, 60}, {-40, 80}})));

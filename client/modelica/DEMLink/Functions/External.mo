@@ -31,6 +31,14 @@ package External "The C functions of libdemlink_c (demlink/demlink_c.h) and of R
       annotation (Library = "demlink_c", Include = "#include \"demlink/demlink_c.h\"");
   end connectToHost;
 
+  impure function declarationsDone "dl_declarations_done: this client declares nothing more"
+    extends Modelica.Icons.Function;
+    input Client client;
+    output Integer status;
+    external "C" status = dl_declarations_done(client)
+      annotation (Library = "demlink_c", Include = "#include \"demlink/demlink_c.h\"");
+  end declarationsDone;
+
   impure function declare "dlm_declare: declares a component from the generic layout (demlink_c.h)"
     extends Modelica.Icons.Function;
     input Client client;

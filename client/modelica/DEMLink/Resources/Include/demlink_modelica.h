@@ -39,6 +39,20 @@ static int dlm_declare(dl_client* client, const int* ints, int nInts, const doub
   return status;
 }
 
+/* The ExternalObject constructor: a client with the timeout set, connected to the server.
+ * Tools construct every ExternalObject before the initial algorithms run, so all of a
+ * model's connections are open before the first component declares and says its
+ * declarations are done (docs/modelica.md). A failed connect leaves the client
+ * unconnected; the initial algorithm's dl_connect_to_host (a no-op when connected) tries
+ * again and reports the failure with its message. NULL only when out of memory. */
+static dl_client* dlm_client_connect(const char* host, int port, const char* clientName, const char* token,
+                                     double timeout) {
+  dl_client* client = dl_client_create();
+  if (client == NULL) return NULL;
+  if (dl_set_timeout(client, timeout) == DL_OK) (void)dl_connect_to_host(client, host, port, clientName, token);
+  return client;
+}
+
 /* The ExternalObject destructor: Bye (a no-op after terminal()'s, and when not connected),
  * then close. A run the tool ends without terminal() (an error, a stop) thus still ends
  * the DEM run as "said Bye" instead of as a lost connection. */
