@@ -104,6 +104,17 @@ std::unique_ptr<Component> componentFromPackage(const Package& p) {
     const long long threads = r.integer(1, -1);
     if (threads > static_cast<long long>(UINT32_MAX)) throw ArgumentError("simulation_box: ints[1] (threads) is too large");
     if (threads >= 0) c->message().set_threads(static_cast<std::uint32_t>(threads));
+    // The speed/accuracy settings (docs/physics.md, docs/accuracy.md): contact law,
+    // integrator, fidelity preset, largest impact speed, coarse graining.
+    setContactAndIntegrator(c->message(), r.integer(2, 0), r.integer(3, 0), "simulation_box: ints[2..3]: ");
+    const long long fidelity = r.integer(4, 0);
+    if (fidelity < 0 || fidelity > 3) {
+      throw ArgumentError("simulation_box: ints[4] (fidelity) must be 0 (none), 1 (draft), 2 (engineering) or "
+                          "3 (validation), got " + std::to_string(fidelity));
+    }
+    c->message().set_fidelity(static_cast<v1::SimulationBox::Fidelity>(fidelity));
+    if (r.hasReal(14)) c->message().set_max_impact_velocity(r.real(14));
+    if (r.hasReal(15)) c->message().set_coarse_graining(r.real(15));
     out = std::move(c);
   } else if (kind == "material") {
     auto c = std::make_unique<Material>(name);

@@ -119,6 +119,20 @@ std::unique_ptr<SimulationBox> simulationBox(const char* name, double timeStep, 
 
 }  // namespace
 
+void setContactAndIntegrator(v1::SimulationBox& box, long long contactModel, long long integrator,
+                             const std::string& where) {
+  if (contactModel < 0 || contactModel > 2) {
+    throw ArgumentError(where + "contactModel must be 0 (default), 1 (Hertz-Mindlin) or 2 (linear spring-dashpot), got " +
+                        std::to_string(contactModel));
+  }
+  box.set_contact_model(static_cast<v1::SimulationBox::ContactModel>(contactModel));
+  if (integrator < 0 || integrator > 2) {
+    throw ArgumentError(where + "integrator must be 0 (default), 1 (velocity Verlet) or 2 (explicit Euler), got " +
+                        std::to_string(integrator));
+  }
+  box.set_integrator(static_cast<v1::SimulationBox::Integrator>(integrator));
+}
+
 void setSourceSizes(ParticleSource& source, int kind, const std::vector<double>& params) {
   static constexpr std::array<const char*, 5> kNames = {"one radius", "uniform", "linear", "normal", "discrete"};
   static constexpr std::array<std::size_t, 4> kCounts = {1, 2, 4, 4};
@@ -173,16 +187,7 @@ int dl_declare_simulation_box_ex(dl_client* client, const char* name, double int
   return guarded(client, [&](Client& c) -> int {
     auto box = simulationBox(name, timeStep, endTime, gravity, boundsLower, boundsUpper);
     demlink::v1::SimulationBox& m = box->message();
-    if (contactModel < 0 || contactModel > 2) {
-      throw ArgumentError("contactModel must be 0 (default), 1 (Hertz-Mindlin) or 2 (linear spring-dashpot), got " +
-                          std::to_string(contactModel));
-    }
-    m.set_contact_model(static_cast<demlink::v1::SimulationBox::ContactModel>(contactModel));
-    if (integrator < 0 || integrator > 2) {
-      throw ArgumentError("integrator must be 0 (default), 1 (velocity Verlet) or 2 (explicit Euler), got " +
-                          std::to_string(integrator));
-    }
-    m.set_integrator(static_cast<demlink::v1::SimulationBox::Integrator>(integrator));
+    setContactAndIntegrator(m, contactModel, integrator, "");
     if (std::isfinite(maxImpactVelocity) && maxImpactVelocity > 0.0) m.set_max_impact_velocity(maxImpactVelocity);
     if (given(restitutionTolerance)) box->setRestitutionTolerance(restitutionTolerance);
     if (given(vtkInterval)) m.mutable_output()->set_vtk_interval(vtkInterval);

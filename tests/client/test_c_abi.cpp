@@ -232,7 +232,8 @@ TEST(ClientCAbi, StatusCodesAndMessages) {
 }
 
 // The optional simulation_box entries of the generic layout (VTK interval, restitution
-// tolerance, threads, expected names, the room frame input) reach the declaration; omitted ones stay unset.
+// tolerance, threads, contact law, integrator, fidelity, impact speed, coarse graining,
+// expected names, the room frame input) reach the declaration; omitted ones stay unset.
 TEST(ClientCAbi, GenericSimulationBoxCarriesOutputThreadsAndNames) {
   const std::string log = logFile("generic_box");
   FakeServerProcess server(1, 1, log);
@@ -242,9 +243,9 @@ TEST(ClientCAbi, GenericSimulationBoxCarriesOutputThreadsAndNames) {
   ASSERT_EQ(dl_connect_to_host(c.client, "127.0.0.1", server.port(), "room", nullptr), DL_OK) << dl_last_error(c.client);
   const double nan = std::nan("");
   const char* boxStrings[] = {"simulation_box", "room", "room", "truck_body"};
-  const long long boxInts[] = {0, 2};
-  const double boxReals[] = {0.001, 2e-4, 1.0, 0.0, 0.0, -9.81, -1.0, -2.0, -3.0, 4.0, 5.0, 6.0, 0.25, 0.05};
-  ASSERT_EQ(dl_set_data(pkg.package, boxInts, 2, boxReals, 14, boxStrings, 4), DL_OK);
+  const long long boxInts[] = {0, 2, 2, 1, 3};
+  const double boxReals[] = {0.001, 2e-4, 1.0, 0.0, 0.0, -9.81, -1.0, -2.0, -3.0, 4.0, 5.0, 6.0, 0.25, 0.05, 3.5, 2.0};
+  ASSERT_EQ(dl_set_data(pkg.package, boxInts, 5, boxReals, 16, boxStrings, 4), DL_OK);
   ASSERT_EQ(dl_send_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
   ASSERT_EQ(dl_wait_compiled(c.client), DL_OK) << dl_last_error(c.client);
   // The frame input: gravity unchanged (NaN), then a_f, Omega, alpha, origin.
@@ -261,6 +262,9 @@ TEST(ClientCAbi, GenericSimulationBoxCarriesOutputThreadsAndNames) {
   EXPECT_TRUE(contains(lines, "DECL room", "output { vtk_interval: 0.25 }"));
   EXPECT_TRUE(contains(lines, "DECL room", "threads: 2"));
   EXPECT_TRUE(contains(lines, "DECL room", "restitution_tolerance: 0.05"));
+  EXPECT_TRUE(contains(lines, "DECL room", "contact_model: LINEAR_SPRING_DASHPOT integrator: VELOCITY_VERLET"));
+  EXPECT_TRUE(contains(lines, "DECL room", "max_impact_velocity: 3.5"));
+  EXPECT_TRUE(contains(lines, "DECL room", "fidelity: VALIDATION coarse_graining: 2"));
   EXPECT_TRUE(contains(lines, "DECL room", "expected_names: \"room\" expected_names: \"truck_body\""));
   EXPECT_TRUE(contains(lines, "DECL room", "bounds { lower { x: -1 y: -2 z: -3 } upper { x: 4 y: 5 z: 6 } }"));
 
@@ -270,6 +274,15 @@ TEST(ClientCAbi, GenericSimulationBoxCarriesOutputThreadsAndNames) {
   ASSERT_EQ(dl_set_data(pkg.package, boxInts, 2, badReals, 13, boxStrings, 4), DL_OK);
   EXPECT_EQ(dl_send_package(other.client, pkg.package), DL_ERR_ARGUMENT);
   EXPECT_NE(std::string(dl_last_error(other.client)).find("reals[12]"), std::string::npos);
+  // An unknown contact law or fidelity is refused by its index.
+  const long long badContact[] = {0, 2, 3};
+  ASSERT_EQ(dl_set_data(pkg.package, badContact, 3, boxReals, 14, boxStrings, 4), DL_OK);
+  EXPECT_EQ(dl_send_package(other.client, pkg.package), DL_ERR_ARGUMENT);
+  EXPECT_NE(std::string(dl_last_error(other.client)).find("ints[2..3]: contactModel"), std::string::npos);
+  const long long badFidelity[] = {0, 2, 0, 0, 4};
+  ASSERT_EQ(dl_set_data(pkg.package, badFidelity, 5, boxReals, 14, boxStrings, 4), DL_OK);
+  EXPECT_EQ(dl_send_package(other.client, pkg.package), DL_ERR_ARGUMENT);
+  EXPECT_NE(std::string(dl_last_error(other.client)).find("ints[4] (fidelity)"), std::string::npos);
 }
 
 // The source's generic layout as the Modelica ParticleSource fills it: a disc with discrete

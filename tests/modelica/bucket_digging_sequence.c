@@ -32,8 +32,8 @@ int main(int argc, char** argv) {
   }
   ok = sequence_connect(clients, kNames, kCount, argv[1], atoi(argv[2]), 120.0);
   if (ok) { /* initial algorithms: declare in the generic layout, as the components do */
-    const int boxInts[2] = {0, -1}; /* nComponents = 0: nobody counts, DeclarationsDone */
-    const double boxReals[14] = {kTc, nan, 0.0, 0.0, 0.0, -9.81, -0.6, -0.4, -0.05, 0.6, 0.4, 0.6, nan, 0.01};
+    const int boxInts[5] = {0, -1, 0, 0, 0}; /* nComponents = 0: nobody counts; defaults */
+    const double boxReals[16] = {kTc, nan, 0.0, 0.0, 0.0, -9.81, -0.6, -0.4, -0.05, 0.6, 0.4, 0.6, nan, nan, nan, nan};
     const char* boxStrings[2] = {"simulation_box", "simBox"};
     const double gravelReals[7] = {0.0, nan, nan, nan, nan, nan, nan};
     const char* gravelStrings[3] = {"material", "gravel", "gravel"};
@@ -51,7 +51,7 @@ int main(int argc, char** argv) {
     const int pointsInts[1] = {kMaxCount};
     const double pointsReals[1] = {kTc};
     const char* pointsStrings[2] = {"particle_view", "points"};
-    ok = sequence_declare(clients[kBox], boxInts, 2, boxReals, 14, boxStrings, 2) &&
+    ok = sequence_declare(clients[kBox], boxInts, 5, boxReals, 16, boxStrings, 2) &&
          sequence_declare(clients[kGravel], NULL, 0, gravelReals, 7, gravelStrings, 3) &&
          sequence_declare(clients[kFloor], NULL, 0, floorReals, 7, floorStrings, 3) &&
          sequence_declare(clients[kPit], pitInts, 1, pitReals, 10, pitStrings, 3) &&

@@ -36,8 +36,8 @@ int main(int argc, char** argv) {
   }
   ok = sequence_connect(clients, kNames, kCount, argv[1], atoi(argv[2]), 120.0);
   if (ok) {
-    const int boxInts[2] = {0, -1}; /* nComponents = 0: nobody counts, DeclarationsDone */
-    const double boxReals[14] = {kTc, nan, 0.0, 0.0, 0.0, -kG, -0.5, -0.4, -0.1, 0.5, 0.4, 0.6, nan, 0.01};
+    const int boxInts[5] = {0, -1, 0, 0, 0}; /* nComponents = 0: nobody counts; defaults */
+    const double boxReals[16] = {kTc, nan, 0.0, 0.0, 0.0, -kG, -0.5, -0.4, -0.1, 0.5, 0.4, 0.6, nan, nan, nan, nan};
     const char* boxStrings[2] = {"simulation_box", "simBox"};
     const double gravelReals[7] = {0.0, nan, nan, nan, nan, nan, nan};
     const char* gravelStrings[3] = {"material", "gravel", "gravel"};
@@ -54,7 +54,7 @@ int main(int argc, char** argv) {
     const char* sinkStrings[3] = {"particle_sink", "sink", ""};
     const double pileReals[11] = {kTc, 0.0, 0.0, 0.45, 0.1, 0.1, 0.1, 1.0, 0.0, 0.0, 0.0};
     const char* pileStrings[3] = {"region_sensor", "pile", ""};
-    ok = sequence_declare(clients[kBox], boxInts, 2, boxReals, 14, boxStrings, 2) &&
+    ok = sequence_declare(clients[kBox], boxInts, 5, boxReals, 16, boxStrings, 2) &&
          sequence_declare(clients[kGravel], NULL, 0, gravelReals, 7, gravelStrings, 3) &&
          sequence_declare(clients[kGround], NULL, 0, groundReals, 7, groundStrings, 3) &&
          sequence_declare(clients[kSource], sourceInts, 3, sourceReals, 20, sourceStrings, 4) &&

@@ -41,8 +41,13 @@
  *   simulation_box : reals[1] time step [s] (NaN: default), [2] end time [s],
  *                    [3..5] gravity [m/s^2], [6..8] bounds lower, [9..11] bounds upper [m]
  *                    (bounds only when nReals >= 12), [12] VTK output interval [s]
- *                    (optional; NaN: default); ints[0] expected component count,
- *                    ints[1] engine threads (optional; negative: default 1, 0: all cores);
+ *                    (optional; NaN: default), [13] restitution tolerance (optional),
+ *                    [14] max impact velocity [m/s] (optional), [15] coarse graining
+ *                    factor >= 1 (optional); ints[0] expected component count (<= 0:
+ *                    none), ints[1] engine threads (optional; negative: default 1, 0: all
+ *                    cores), ints[2] contact model and ints[3] integrator (optional; as
+ *                    dl_declare_simulation_box_ex), ints[4] fidelity preset (optional;
+ *                    0 none, 1 draft, 2 engineering, 3 validation);
  *                    strings[2..] expected component names.
  *   material       : strings[2] database name ("" none); reals[1] density [kg/m^3],
  *                    [2] Young's modulus [Pa], [3] Poisson ratio, [4] restitution,

@@ -16,9 +16,21 @@ model SimulationBox "Server address, communication interval and the DEM run's se
   parameter Modelica.Units.SI.Position boundsUpper[3] = {5, 5, 5} "Upper corner of the DEM domain";
   parameter Modelica.Units.SI.Time vtkInterval = -1 "VTK output interval of the server (negative: the server's default)"
     annotation (Dialog(group = "Server output"));
-  parameter Integer threads = -1 "Engine threads (negative: 1, 0: all cores)";
-  parameter Real restitutionTolerance = 0.01
-    "Largest restitution error the server's time-step limit allows; larger accepts a larger timeStep (trades accuracy for speed)";
+  parameter Integer threads = -1 "Engine threads (negative: 1, 0: all cores)" annotation (Dialog(group = "Speed and accuracy"));
+  parameter DEMLink.Types.Fidelity fidelity = DEMLink.Types.Fidelity.NoPreset
+    "Preset for the speed/accuracy settings left at their default" annotation (Dialog(group = "Speed and accuracy"));
+  parameter DEMLink.Types.ContactModel contactModel = DEMLink.Types.ContactModel.Default "Contact law"
+    annotation (Dialog(group = "Speed and accuracy"));
+  parameter DEMLink.Types.Integrator integrator = DEMLink.Types.Integrator.Default "Time integrator"
+    annotation (Dialog(group = "Speed and accuracy"));
+  parameter Real restitutionTolerance = -1
+    "Largest restitution error the server's time-step limit allows (negative: 0.01 or the preset's); larger accepts a larger timeStep (trades accuracy for speed)"
+    annotation (Dialog(group = "Speed and accuracy"));
+  parameter Modelica.Units.SI.Velocity maxImpactVelocity = -1
+    "Largest expected impact speed, for the time-step limit (negative: 2 m/s)" annotation (Dialog(group = "Speed and accuracy"));
+  parameter Real coarseGraining = -1
+    "Parcels of this factor times the grains' size from lattices and sources, same mass flow (negative: 1, none)"
+    annotation (Dialog(group = "Speed and accuracy"));
   parameter String expectedNames[:] = fill("", 0)
     "Names of components the server waits for besides the count (e.g. those of another tool's clients)"
     annotation (Dialog(group = "Coupling"));
@@ -52,9 +64,10 @@ protected
   Real out[4](each start = 0, each fixed = true);
 initial algorithm
   DEMLink.Functions.connectClient(client, address, port, "simBox", token, timeout);
-  DEMLink.Functions.declare(client, "simulation_box", "simBox", tc, {nComponents, threads},
-    cat(1, {DEMLink.Functions.optional(timeStep), endTime}, gravity, boundsLower, boundsUpper,
-    {DEMLink.Functions.optional(vtkInterval), restitutionTolerance}), expectedNames);
+  DEMLink.Functions.declare(client, "simulation_box", "simBox", tc, {nComponents, threads, Integer(contactModel) - 1,
+    Integer(integrator) - 1, Integer(fidelity) - 1}, cat(1, {DEMLink.Functions.optional(timeStep), endTime}, gravity,
+    boundsLower, boundsUpper, {DEMLink.Functions.optional(vtkInterval), DEMLink.Functions.optional(restitutionTolerance),
+    DEMLink.Functions.optional(maxImpactVelocity), DEMLink.Functions.optional(coarseGraining)}), expectedNames);
   DEMLink.Functions.declarationsDone(client);
 equation
   connect(gravityIn, gravityNow);
@@ -94,9 +107,10 @@ algorithm
 <p>Exactly one <code>inner SimulationBox simBox</code> per model, like the MultiBody
 <code>world</code>: every component reaches the server address, port and communication
 interval through <code>outer simBox</code>. The box declares the DEM run's settings (time
-step, gravity, bounds, VTK output interval, engine threads) and how many components the
-server waits for besides this model's components (<code>expectedNames</code>, e.g. another
-tool's clients). The model's own components are not counted: each says at the end of its
+step, gravity, bounds, VTK output interval, and the speed/accuracy settings: engine
+threads, fidelity preset, contact law, integrator, restitution tolerance, largest impact
+speed, coarse graining) and the names of components the server waits for besides this
+model's own (<code>expectedNames</code>, e.g. another tool's clients). The model's own components are not counted: each says at the end of its
 initialisation that its declarations are done, and the server compiles once every
 connected client has said so. With <code>useGravityInput</code> the gravity follows the input
 <code>gravityIn</code> at every sample (the paper's accelerated and tilting rooms, section
