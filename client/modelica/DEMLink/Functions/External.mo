@@ -125,17 +125,19 @@ package External "The C functions of libdemlink_c (demlink/demlink_c.h) and of R
       annotation (Library = "demlink_c", Include = "#include \"demlink/demlink_c.h\"");
   end particleSinkRead;
 
-  impure function particleViewRead "dl_particle_view_read"
+  impure function particleViewRead "dlm_particle_view_read: dl_particle_view_read_ex with the ids as Integers"
     extends Modelica.Icons.Function;
     input Client client;
     input Integer handle;
     input Integer capacity;
     output Integer status;
     output Real positions[3 * capacity];
+    output Real velocities[3 * capacity];
     output Real radii[capacity];
+    output Integer ids[capacity];
     output Integer count;
-    external "C" status = dl_particle_view_read(client, handle, capacity, positions, radii, count)
-      annotation (Library = "demlink_c", Include = "#include \"demlink/demlink_c.h\"");
+    external "C" status = dlm_particle_view_read(client, handle, capacity, positions, velocities, radii, ids, count)
+      annotation (Library = "demlink_c", Include = "#include \"demlink_modelica.h\"");
   end particleViewRead;
 
   impure function particleSourceSetEnabled "dl_particle_source_set_enabled: on (1) / off (0) from the next package on"

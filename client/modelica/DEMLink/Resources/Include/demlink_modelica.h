@@ -7,6 +7,7 @@
 #ifndef DEMLINK_MODELICA_H
 #define DEMLINK_MODELICA_H
 
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 
@@ -78,6 +79,28 @@ static inline int dlm_region_sensor_set_region(dl_client* client, int component,
                                                int sphere, const double* size, double radius) {
   return dl_region_sensor_set_region(client, component, sendPose ? centre : NULL, sendPose ? orientation : NULL,
                                      sendSize && !sphere ? size : NULL, sendSize && sphere ? radius : NAN);
+}
+
+/* The particle view with velocities and the particles' stable ids, the ids as Modelica
+ * Integers (C int): an id above INT_MAX is given as -1. positions and velocities hold
+ * 3 * capacity reals, radii and ids capacity values. */
+static inline int dlm_particle_view_read(dl_client* client, int component, int capacity, double* positions,
+                                         double* velocities, double* radii, int* ids, int* count) {
+  uint64_t* wide = NULL;
+  int status;
+  int i;
+  if (capacity < 0) return DL_ERR_ARGUMENT;
+  if (capacity > 0) {
+    wide = (uint64_t*)malloc((size_t)capacity * sizeof *wide);
+    if (wide == NULL) return DL_ERR_INTERNAL;
+  }
+  *count = 0;
+  status = dl_particle_view_read_ex(client, component, capacity, positions, velocities, radii, wide, count);
+  if (status == DL_OK || status == DL_ERR_CAPACITY) {
+    for (i = 0; i < capacity && i < *count; ++i) ids[i] = wide[i] > (uint64_t)INT_MAX ? -1 : (int)wide[i];
+  }
+  free(wide);
+  return status;
 }
 
 /* NaN: "not given" in an optional real of the generic layout. */
