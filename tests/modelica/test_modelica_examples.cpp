@@ -57,6 +57,8 @@ TEST(ModelicaResources, StagedPackageHasHeaderAndLibrary) {
   EXPECT_EQ(readFile(staged / "Resources/Include/demlink_modelica.h"),
             readFile(source / "Resources/Include/demlink_modelica.h"));
   EXPECT_EQ(readFile(staged / "Resources/Library/linux64/libdemlink_c.so"), readFile(DEMLINK_C_LIBRARY));
+  // The SONAME the linked simulation loads, next to the name the tool links.
+  EXPECT_EQ(readFile(staged / "Resources/Library/linux64/libdemlink_c.so.1"), readFile(DEMLINK_C_LIBRARY));
   EXPECT_EQ(readFile(staged / "package.mo"), readFile(source / "package.mo"));
 }
 
