@@ -59,6 +59,8 @@ Session& sessionOf(Client& client);
 /// The component behind a client-local handle.
 Component& componentOf(Client& client, int component);
 
+/// The bytes of an STL file on the client's computer (a CAD part sent to the server).
+std::string readStlFile(const std::string& path);
 /// A component built from a declare package (generic layout, demlink_c.h).
 std::unique_ptr<Component> componentFromPackage(const Package& package);
 /// A source's size distribution in the layout of dl_declare_particle_source (sizeKind 0 one

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <string>
 #include <vector>
@@ -283,6 +284,67 @@ TEST(ClientCAbi, GenericSimulationBoxCarriesOutputThreadsAndNames) {
   ASSERT_EQ(dl_set_data(pkg.package, badFidelity, 5, boxReals, 14, boxStrings, 4), DL_OK);
   EXPECT_EQ(dl_send_package(other.client, pkg.package), DL_ERR_ARGUMENT);
   EXPECT_NE(std::string(dl_last_error(other.client)).find("ints[4] (fidelity)"), std::string::npos);
+}
+
+// The typed declarations of the shapes and files the first typed calls left to the generic
+// layout: a CAD part (its STL's bytes sent), particles from a server file, oriented and
+// attached sensor and sink boxes, a flow rectangle, a sink sphere.
+TEST(ClientCAbi, TypedDeclarationsOfPartsFilesAndEveryRegionShape) {
+  const std::string log = logFile("typed_shapes");
+  const std::string stl = ::testing::TempDir() + "demlink_c_abi_part.stl";
+  {
+    std::FILE* f = std::fopen(stl.c_str(), "wb");
+    ASSERT_NE(f, nullptr);
+    std::fputs("solid part\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\n"
+               "endloop\nendfacet\nendsolid part\n", f);
+    std::fclose(f);
+  }
+  FakeServerProcess server(1, 6, log);
+  ASSERT_NE(server.port(), 0);
+  ClientGuard c;
+  ASSERT_EQ(dl_connect_to_host(c.client, "127.0.0.1", server.port(), "shapes", nullptr), DL_OK) << dl_last_error(c.client);
+  const double centre[3] = {0.5, -0.5, 1.0};
+  const double size[3] = {0.2, 0.3, 0.4};
+  const double turned[4] = {0.0, 0.0, 0.0, 1.0};  // w x y z: half a turn about z
+  const double normal[3] = {0.0, 0.0, 1.0};
+  const double axis[3] = {0.0, 1.0, 0.0};
+  const double pose[7] = {1.0, 2.0, 3.0, 1.0, 0.0, 0.0, 0.0};
+  int handle = -1;
+  ASSERT_EQ(dl_declare_cad_part(c.client, "part", 0.01, stl.c_str(), "steel", nullptr, pose, 2, &handle), DL_OK)
+      << dl_last_error(c.client);
+  EXPECT_EQ(handle, 0);
+  ASSERT_EQ(dl_declare_particle_system(c.client, "bed", "bed.checkpoint", 1, &handle), DL_OK) << dl_last_error(c.client);
+  ASSERT_EQ(dl_declare_region_sensor_box_oriented(c.client, "fill", 0.01, centre, size, turned, "part", &handle), DL_OK)
+      << dl_last_error(c.client);
+  ASSERT_EQ(dl_declare_flow_sensor_rectangle(c.client, "gate", 0.01, centre, normal, 0.6, 0.2, axis, nullptr, &handle),
+            DL_OK)
+      << dl_last_error(c.client);
+  ASSERT_EQ(dl_declare_particle_sink_box_oriented(c.client, "drain", 0.01, centre, size, turned, "part", &handle),
+            DL_OK)
+      << dl_last_error(c.client);
+  ASSERT_EQ(dl_declare_particle_sink_sphere(c.client, "hole", 0.01, centre, 0.25, "", &handle), DL_OK)
+      << dl_last_error(c.client);
+  EXPECT_EQ(handle, 5);
+  // A CAD part whose file is missing is refused on the client, naming the path.
+  EXPECT_EQ(dl_declare_cad_part(c.client, "ghost", 0.01, "/nonexistent.stl", "steel", nullptr, nullptr, 0, &handle),
+            DL_ERR_ARGUMENT);
+  EXPECT_NE(std::string(dl_last_error(c.client)).find("/nonexistent.stl"), std::string::npos);
+  ASSERT_EQ(dl_wait_compiled(c.client), DL_OK) << dl_last_error(c.client);
+  EXPECT_EQ(dl_finish(c.client, "done"), DL_OK);
+  EXPECT_EQ(dl_wait_finished(c.client), DL_OK) << dl_last_error(c.client);
+  ASSERT_EQ(server.wait(), 0);
+
+  const auto lines = readLines(log);
+  EXPECT_TRUE(contains(lines, "DECL part", "stl_data: \"solid part\\n"));
+  EXPECT_TRUE(contains(lines, "DECL part", "motion: LAGGED"));
+  EXPECT_TRUE(contains(lines, "DECL bed", "bed.checkpoint"));
+  EXPECT_TRUE(contains(lines, "DECL fill", "box { centre { x: 0.5 y: -0.5 z: 1 } orientation { z: 1 } size { x: 0.2 y: 0.3 z: 0.4 } }"));
+  EXPECT_TRUE(contains(lines, "DECL fill", "attached_to: \"part\""));
+  EXPECT_TRUE(contains(lines, "DECL gate", "normal { z: 1 } length_axis { y: 1 } length: 0.6 width: 0.2"));
+  EXPECT_TRUE(contains(lines, "DECL drain", "box { centre { x: 0.5 y: -0.5 z: 1 } orientation { z: 1 } size { x: 0.2 y: 0.3 z: 0.4 } }"));
+  EXPECT_TRUE(contains(lines, "DECL drain", "attached_to: \"part\""));
+  EXPECT_TRUE(contains(lines, "DECL hole", "sphere { centre { x: 0.5 y: -0.5 z: 1 } radius: 0.25 }"));
+  std::remove(stl.c_str());
 }
 
 // The source's generic layout as the Modelica ParticleSource fills it: a disc with discrete
