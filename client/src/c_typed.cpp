@@ -54,6 +54,18 @@ int declareOrientedBox(dl_client* client, const char* name, double interval, con
   });
 }
 
+/// A region sensor or sink on a sphere, fixed or attached to a body.
+template <class Region>
+int declareSphere(dl_client* client, const char* name, double interval, const double* centre, double radius,
+                  const char* attachedTo, int* component) {
+  return guarded(client, [&](Client& c) -> int {
+    auto region = std::make_unique<Region>(str(name));
+    region->setSphere(vec(centre, "centre"), radius);
+    if (!str(attachedTo).empty()) region->attachTo(attachedTo);
+    return declareComponent(c, std::move(region), interval, component);
+  });
+}
+
 void flatten(const std::array<Vec3, 4>& parts, double* out) {
   for (std::size_t i = 0; i < parts.size(); ++i) {
     out[3 * i] = parts[i].x;
@@ -336,12 +348,7 @@ int dl_declare_region_sensor_box_oriented(dl_client* client, const char* name, d
 
 int dl_declare_region_sensor_sphere(dl_client* client, const char* name, double interval, const double centre[3],
                                     double radius, const char* attachedTo, int* component) {
-  return guarded(client, [&](Client& c) -> int {
-    auto s = std::make_unique<RegionSensor>(str(name));
-    s->setSphere(vec(centre, "centre"), radius);
-    if (!str(attachedTo).empty()) s->attachTo(attachedTo);
-    return declareComponent(c, std::move(s), interval, component);
-  });
+  return declareSphere<RegionSensor>(client, name, interval, centre, radius, attachedTo, component);
 }
 
 int dl_declare_flow_sensor_disc(dl_client* client, const char* name, double interval, const double centre[3],
@@ -424,12 +431,7 @@ int dl_declare_particle_sink_box_oriented(dl_client* client, const char* name, d
 
 int dl_declare_particle_sink_sphere(dl_client* client, const char* name, double interval, const double centre[3],
                                     double radius, const char* attachedTo, int* component) {
-  return guarded(client, [&](Client& c) -> int {
-    auto s = std::make_unique<ParticleSink>(str(name));
-    s->setSphere(vec(centre, "centre"), radius);
-    if (!str(attachedTo).empty()) s->attachTo(attachedTo);
-    return declareComponent(c, std::move(s), interval, component);
-  });
+  return declareSphere<ParticleSink>(client, name, interval, centre, radius, attachedTo, component);
 }
 
 int dl_declare_pit_generator(dl_client* client, const char* name, const char* material, const double lower[3],

@@ -32,6 +32,14 @@ struct ClientGuard {
   dl_client* client = dl_client_create();
   ~ClientGuard() { dl_client_destroy(client); }
 };
+/// Bye, Finished, the fake server's exit; then its log.
+std::vector<std::string> finishAndReadLog(dl_client* client, FakeServerProcess& server, const std::string& log) {
+  EXPECT_EQ(dl_finish(client, "done"), DL_OK);
+  EXPECT_EQ(dl_wait_finished(client), DL_OK) << dl_last_error(client);
+  EXPECT_EQ(server.wait(), 0);
+  return readLines(log);
+}
+
 struct PackageGuard {
   dl_package* package = dl_package_create();
   ~PackageGuard() { dl_package_destroy(package); }
@@ -255,11 +263,7 @@ TEST(ClientCAbi, GenericSimulationBoxCarriesOutputThreadsAndNames) {
   ASSERT_EQ(dl_set_data(pkg.package, handle, 1, frame, 15, nullptr, 0), DL_OK);
   ASSERT_EQ(dl_send_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
   ASSERT_EQ(dl_recv_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
-  EXPECT_EQ(dl_finish(c.client, "done"), DL_OK);
-  EXPECT_EQ(dl_wait_finished(c.client), DL_OK) << dl_last_error(c.client);
-  ASSERT_EQ(server.wait(), 0);
-
-  const auto lines = readLines(log);
+  const auto lines = finishAndReadLog(c.client, server, log);
   EXPECT_TRUE(contains(lines, "DECL room", "output { vtk_interval: 0.25 }"));
   EXPECT_TRUE(contains(lines, "DECL room", "threads: 2"));
   EXPECT_TRUE(contains(lines, "DECL room", "restitution_tolerance: 0.05"));
@@ -330,11 +334,7 @@ TEST(ClientCAbi, TypedDeclarationsOfPartsFilesAndEveryRegionShape) {
             DL_ERR_ARGUMENT);
   EXPECT_NE(std::string(dl_last_error(c.client)).find("/nonexistent.stl"), std::string::npos);
   ASSERT_EQ(dl_wait_compiled(c.client), DL_OK) << dl_last_error(c.client);
-  EXPECT_EQ(dl_finish(c.client, "done"), DL_OK);
-  EXPECT_EQ(dl_wait_finished(c.client), DL_OK) << dl_last_error(c.client);
-  ASSERT_EQ(server.wait(), 0);
-
-  const auto lines = readLines(log);
+  const auto lines = finishAndReadLog(c.client, server, log);
   EXPECT_TRUE(contains(lines, "DECL part", "stl_data: \"solid part\\n"));
   EXPECT_TRUE(contains(lines, "DECL part", "motion: LAGGED"));
   EXPECT_TRUE(contains(lines, "DECL bed", "bed.checkpoint"));
