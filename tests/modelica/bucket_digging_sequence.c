@@ -17,7 +17,6 @@ enum { kMaxCount = 100 };                 /* points.maxCount */
 
 int main(int argc, char** argv) {
   const double pi = 3.14159265358979323846;
-  const double nan = dlm_not_given();
   dl_client* clients[kCount] = {NULL};
   int ok;
   int k;
@@ -36,13 +35,7 @@ int main(int argc, char** argv) {
   }
   ok = sequence_connect(clients, kNames, kCount, argv[1], atoi(argv[2]), 120.0);
   if (ok) { /* initial algorithms: declare in the generic layout, as the components do */
-    const int boxInts[5] = {0, -1, 0, 0, 0}; /* nComponents = 0: nobody counts; defaults */
-    const double boxReals[16] = {kTc, nan, 0.0, 0.0, 0.0, -9.81, -0.6, -0.4, -0.05, 0.6, 0.4, 0.6, nan, nan, nan, nan};
-    const char* boxStrings[2] = {"simulation_box", "simBox"};
-    const double gravelReals[7] = {0.0, nan, nan, nan, nan, nan, nan};
-    const char* gravelStrings[3] = {"material", "gravel", "gravel"};
-    const double floorReals[7] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0};
-    const char* floorStrings[3] = {"plane", "floor", "gravel"};
+    const double lower[3] = {-0.6, -0.4, -0.05}, upper[3] = {0.6, 0.4, 0.6};
     const int pitInts[1] = {1};
     const double pitReals[10] = {0.0, -0.15, -0.07, 0.0, 0.15, 0.07, 0.1, 0.008, 0.01, kTargetHeight};
     const char* pitStrings[3] = {"pit_generator", "pit", "gravel"};
@@ -55,9 +48,8 @@ int main(int argc, char** argv) {
     const int pointsInts[1] = {kMaxCount};
     const double pointsReals[1] = {kTc};
     const char* pointsStrings[2] = {"particle_view", "points"};
-    ok = sequence_declare(clients[kBox], boxInts, 5, boxReals, 16, boxStrings, 2) &&
-         sequence_declare(clients[kGravel], NULL, 0, gravelReals, 7, gravelStrings, 3) &&
-         sequence_declare(clients[kFloor], NULL, 0, floorReals, 7, floorStrings, 3) &&
+    ok = sequence_declare_room(clients[kBox], clients[kGravel], clients[kFloor], "floor", kTc, 9.81, lower, upper,
+                               0.0) &&
          sequence_declare(clients[kPit], pitInts, 1, pitReals, 10, pitStrings, 3) &&
          sequence_declare(clients[kBucket], bucketInts, 2, bucketReals, 14, bucketStrings, 4) &&
          sequence_declare(clients[kFill], fillInts, 1, fillReals, 11, fillStrings, 3) &&

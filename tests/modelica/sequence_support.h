@@ -56,6 +56,25 @@ static int sequence_declare(dl_client* client, const int* ints, int nInts, const
          sequence_check(dl_declarations_done(client), client, "dl_declarations_done");
 }
 
+/* The initial algorithms every example starts with: its SimulationBox (tc, gravity
+ * -g z, the bounds, nComponents 0 and every optional setting at its default), the
+ * Material "gravel" from the database and a horizontal Plane at height planeZ. */
+static int sequence_declare_room(dl_client* box, dl_client* gravel, dl_client* plane, const char* planeName,
+                                 double tc, double g, const double lower[3], const double upper[3], double planeZ) {
+  const double nan = dlm_not_given();
+  const int boxInts[5] = {0, -1, 0, 0, 0};
+  const double boxReals[16] = {tc,       nan,      0.0,      0.0,      0.0, -g,  lower[0], lower[1],
+                               lower[2], upper[0], upper[1], upper[2], nan, nan, nan,      nan};
+  const char* boxStrings[2] = {"simulation_box", "simBox"};
+  const double gravelReals[7] = {0.0, nan, nan, nan, nan, nan, nan};
+  const char* gravelStrings[3] = {"material", "gravel", "gravel"};
+  const double planeReals[7] = {0.0, 0.0, 0.0, planeZ, 0.0, 0.0, 1.0};
+  const char* planeStrings[3] = {"plane", planeName, "gravel"};
+  return sequence_declare(box, boxInts, 5, boxReals, 16, boxStrings, 2) &&
+         sequence_declare(gravel, NULL, 0, gravelReals, 7, gravelStrings, 3) &&
+         sequence_declare(plane, NULL, 0, planeReals, 7, planeStrings, 3);
+}
+
 /* terminal(): Functions.finish of every component; then the destructors (Client.destructor). */
 static int sequence_finish(dl_client** clients, int count) {
   int ok = 1;

@@ -37,13 +37,7 @@ int main(int argc, char** argv) {
   }
   ok = sequence_connect(clients, kNames, kCount, argv[1], atoi(argv[2]), 120.0);
   if (ok) {
-    const int boxInts[5] = {0, -1, 0, 0, 0}; /* nComponents = 0: nobody counts; defaults */
-    const double boxReals[16] = {kTc, nan, 0.0, 0.0, 0.0, -kG, -0.5, -0.4, -0.1, 0.5, 0.4, 0.6, nan, nan, nan, nan};
-    const char* boxStrings[2] = {"simulation_box", "simBox"};
-    const double gravelReals[7] = {0.0, nan, nan, nan, nan, nan, nan};
-    const char* gravelStrings[3] = {"material", "gravel", "gravel"};
-    const double groundReals[7] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0};
-    const char* groundStrings[3] = {"plane", "ground", "gravel"};
+    const double lower[3] = {-0.5, -0.4, -0.1}, upper[3] = {0.5, 0.4, 0.6};
     /* seed, Box, Uniform; centre, half extents, r_min, r_max, rates, velocity, start,
      * stop, disc radius, thickness, linear weights (ParticleSource.declReals). */
     const int sourceInts[3] = {2, 0, 1};
@@ -60,9 +54,8 @@ int main(int argc, char** argv) {
      * connect, the identical declarations and DeclarationsDone change nothing (the first
      * pass's last DeclarationsDone has started the compile). */
     for (pass = 0; pass < 2 && ok; ++pass) {
-      ok = sequence_declare(clients[kBox], boxInts, 5, boxReals, 16, boxStrings, 2) &&
-           sequence_declare(clients[kGravel], NULL, 0, gravelReals, 7, gravelStrings, 3) &&
-           sequence_declare(clients[kGround], NULL, 0, groundReals, 7, groundStrings, 3) &&
+      ok = sequence_declare_room(clients[kBox], clients[kGravel], clients[kGround], "ground", kTc, kG, lower, upper,
+                                 0.0) &&
            sequence_declare(clients[kSource], sourceInts, 3, sourceReals, 20, sourceStrings, 4) &&
            sequence_declare(clients[kSink], regionInts, 1, sinkReals, 11, sinkStrings, 3) &&
            sequence_declare(clients[kPile], regionInts, 1, pileReals, 11, pileStrings, 3);
