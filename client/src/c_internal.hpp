@@ -59,11 +59,17 @@ Session& sessionOf(Client& client);
 /// The component behind a client-local handle.
 Component& componentOf(Client& client, int component);
 
+/// The bytes of an STL file on the client's computer (a CAD part sent to the server).
+std::string readStlFile(const std::string& path);
 /// A component built from a declare package (generic layout, demlink_c.h).
 std::unique_ptr<Component> componentFromPackage(const Package& package);
 /// A source's size distribution in the layout of dl_declare_particle_source (sizeKind 0 one
 /// radius, 1 uniform, 2 linear, 3 normal, 4 discrete pairs); ArgumentError on a bad count.
 void setSourceSizes(ParticleSource& source, int kind, const std::vector<double>& params);
+/// The box's contact law (0 default, 1 Hertz-Mindlin, 2 linear spring-dashpot) and integrator
+/// (0 default, 1 velocity Verlet, 2 explicit Euler); ArgumentError naming `where` otherwise.
+void setContactAndIntegrator(v1::SimulationBox& box, long long contactModel, long long integrator,
+                             const std::string& where);
 /// Applies an input package's reals to the component.
 void applyInputs(Component& component, const Package& package);
 /// Writes the component's latest outputs in the output layout.

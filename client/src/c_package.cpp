@@ -37,18 +37,6 @@ class Reader {
   std::string kind_;
 };
 
-std::string readFile(const std::string& path) {
-  // stdio instead of ifstream: GCC 12's -Wnull-dereference misfires inside <streambuf>.
-  std::FILE* file = std::fopen(path.c_str(), "rb");
-  if (file == nullptr) throw ArgumentError("rigid_body: cannot read STL file '" + path + "'");
-  std::string bytes;
-  char chunk[65536];
-  std::size_t n = 0;
-  while ((n = std::fread(chunk, 1, sizeof chunk, file)) > 0) bytes.append(chunk, n);
-  std::fclose(file);
-  return bytes;
-}
-
 void pushCount(Package& p, const v1::CountAndMass& value) {
   p.ints.push_back(static_cast<long long>(std::min<std::uint64_t>(value.count(), LLONG_MAX)));
   p.reals.push_back(value.mass());
@@ -69,6 +57,18 @@ int copyOut(const std::vector<T>& values, T* out, int capacity, int* count) {
 }
 
 }  // namespace
+
+std::string readStlFile(const std::string& path) {
+  // stdio instead of ifstream: GCC 12's -Wnull-dereference misfires inside <streambuf>.
+  std::FILE* file = std::fopen(path.c_str(), "rb");
+  if (file == nullptr) throw ArgumentError("rigid_body: cannot read STL file '" + path + "'");
+  std::string bytes;
+  char chunk[65536];
+  std::size_t n = 0;
+  while ((n = std::fread(chunk, 1, sizeof chunk, file)) > 0) bytes.append(chunk, n);
+  std::fclose(file);
+  return bytes;
+}
 
 Package* asPackage(dl_package* handle) {
   auto* p = static_cast<Package*>(handle);
@@ -104,6 +104,17 @@ std::unique_ptr<Component> componentFromPackage(const Package& p) {
     const long long threads = r.integer(1, -1);
     if (threads > static_cast<long long>(UINT32_MAX)) throw ArgumentError("simulation_box: ints[1] (threads) is too large");
     if (threads >= 0) c->message().set_threads(static_cast<std::uint32_t>(threads));
+    // The speed/accuracy settings (docs/physics.md, docs/accuracy.md): contact law,
+    // integrator, fidelity preset, largest impact speed, coarse graining.
+    setContactAndIntegrator(c->message(), r.integer(2, 0), r.integer(3, 0), "simulation_box: ints[2..3]: ");
+    const long long fidelity = r.integer(4, 0);
+    if (fidelity < 0 || fidelity > 3) {
+      throw ArgumentError("simulation_box: ints[4] (fidelity) must be 0 (none), 1 (draft), 2 (engineering) or "
+                          "3 (validation), got " + std::to_string(fidelity));
+    }
+    c->message().set_fidelity(static_cast<v1::SimulationBox::Fidelity>(fidelity));
+    if (r.hasReal(14)) c->message().set_max_impact_velocity(r.real(14));
+    if (r.hasReal(15)) c->message().set_coarse_graining(r.real(15));
     out = std::move(c);
   } else if (kind == "material") {
     auto c = std::make_unique<Material>(name);
@@ -196,7 +207,7 @@ std::unique_ptr<Component> componentFromPackage(const Package& p) {
     const long long geometry = r.integer(0, 0);
     if (geometry == 0) c->setStlFile(r.text(3));
     else if (geometry == 1) c->setBox(r.vec(11));
-    else if (geometry == 2) c->setStlData(readFile(r.text(3)));
+    else if (geometry == 2) c->setStlData(readStlFile(r.text(3)));
     else throw ArgumentError("rigid_body: ints[0] (geometry) must be 0 (STL on the server), 1 (box) or 2 (STL on the client)");
     const long long motion = r.integer(1, 0);
     if (motion < 0 || motion > 2) throw ArgumentError("rigid_body: ints[1] (motion) must be 0, 1 or 2");

@@ -18,6 +18,8 @@ Vec3 vec(const double* a, const char* what) {
 
 std::string str(const char* s) { return s != nullptr ? std::string(s) : std::string(); }
 
+
+
 /// NaN or negative: "not given" (the server's default).
 bool given(double value) { return !std::isnan(value) && value >= 0.0; }
 
@@ -37,6 +39,33 @@ int declareComponent(Client& c, std::unique_ptr<Component> component, double int
 }
 
 /// Four vectors as twelve reals x y z, x y z, ... (a wrench pair or the reactions).
+/// w x y z; NULL: no rotation.
+Quat quat(const double* q) { return q != nullptr ? Quat{q[0], q[1], q[2], q[3]} : Quat{}; }
+
+/// A region sensor or sink on an oriented box, fixed or attached to a body.
+template <class Region>
+int declareOrientedBox(dl_client* client, const char* name, double interval, const double* centre,
+                       const double* size, const double* orientation, const char* attachedTo, int* component) {
+  return guarded(client, [&](Client& c) -> int {
+    auto region = std::make_unique<Region>(str(name));
+    region->setBox(vec(centre, "centre"), vec(size, "size"), quat(orientation));
+    if (!str(attachedTo).empty()) region->attachTo(attachedTo);
+    return declareComponent(c, std::move(region), interval, component);
+  });
+}
+
+/// A region sensor or sink on a sphere, fixed or attached to a body.
+template <class Region>
+int declareSphere(dl_client* client, const char* name, double interval, const double* centre, double radius,
+                  const char* attachedTo, int* component) {
+  return guarded(client, [&](Client& c) -> int {
+    auto region = std::make_unique<Region>(str(name));
+    region->setSphere(vec(centre, "centre"), radius);
+    if (!str(attachedTo).empty()) region->attachTo(attachedTo);
+    return declareComponent(c, std::move(region), interval, component);
+  });
+}
+
 void flatten(const std::array<Vec3, 4>& parts, double* out) {
   for (std::size_t i = 0; i < parts.size(); ++i) {
     out[3 * i] = parts[i].x;
@@ -119,6 +148,20 @@ std::unique_ptr<SimulationBox> simulationBox(const char* name, double timeStep, 
 
 }  // namespace
 
+void setContactAndIntegrator(v1::SimulationBox& box, long long contactModel, long long integrator,
+                             const std::string& where) {
+  if (contactModel < 0 || contactModel > 2) {
+    throw ArgumentError(where + "contactModel must be 0 (default), 1 (Hertz-Mindlin) or 2 (linear spring-dashpot), got " +
+                        std::to_string(contactModel));
+  }
+  box.set_contact_model(static_cast<v1::SimulationBox::ContactModel>(contactModel));
+  if (integrator < 0 || integrator > 2) {
+    throw ArgumentError(where + "integrator must be 0 (default), 1 (velocity Verlet) or 2 (explicit Euler), got " +
+                        std::to_string(integrator));
+  }
+  box.set_integrator(static_cast<v1::SimulationBox::Integrator>(integrator));
+}
+
 void setSourceSizes(ParticleSource& source, int kind, const std::vector<double>& params) {
   static constexpr std::array<const char*, 5> kNames = {"one radius", "uniform", "linear", "normal", "discrete"};
   static constexpr std::array<std::size_t, 4> kCounts = {1, 2, 4, 4};
@@ -173,16 +216,7 @@ int dl_declare_simulation_box_ex(dl_client* client, const char* name, double int
   return guarded(client, [&](Client& c) -> int {
     auto box = simulationBox(name, timeStep, endTime, gravity, boundsLower, boundsUpper);
     demlink::v1::SimulationBox& m = box->message();
-    if (contactModel < 0 || contactModel > 2) {
-      throw ArgumentError("contactModel must be 0 (default), 1 (Hertz-Mindlin) or 2 (linear spring-dashpot), got " +
-                          std::to_string(contactModel));
-    }
-    m.set_contact_model(static_cast<demlink::v1::SimulationBox::ContactModel>(contactModel));
-    if (integrator < 0 || integrator > 2) {
-      throw ArgumentError("integrator must be 0 (default), 1 (velocity Verlet) or 2 (explicit Euler), got " +
-                          std::to_string(integrator));
-    }
-    m.set_integrator(static_cast<demlink::v1::SimulationBox::Integrator>(integrator));
+    setContactAndIntegrator(m, contactModel, integrator, "");
     if (std::isfinite(maxImpactVelocity) && maxImpactVelocity > 0.0) m.set_max_impact_velocity(maxImpactVelocity);
     if (given(restitutionTolerance)) box->setRestitutionTolerance(restitutionTolerance);
     if (given(vtkInterval)) m.mutable_output()->set_vtk_interval(vtkInterval);
@@ -258,6 +292,33 @@ int dl_declare_rigid_body_stl(dl_client* client, const char* name, double interv
   });
 }
 
+int dl_declare_cad_part(dl_client* client, const char* name, double interval, const char* localStlFile,
+                        const char* material, const double referencePoint[3], const double pose[7], int motion,
+                        int* component) {
+  return guarded(client, [&](Client& c) -> int {
+    if (motion < 0 || motion > 2) throw ArgumentError("motion must be 0, 1 (PREDICTED) or 2 (LAGGED)");
+    auto b = std::make_unique<RigidBody>(str(name));
+    b->setStlData(readStlFile(str(localStlFile))).setMaterial(str(material));
+    b->setMotion(static_cast<demlink::v1::RigidBody::Motion>(motion));
+    if (referencePoint != nullptr) b->setReferencePoint(vec(referencePoint, "referencePoint"));
+    if (pose != nullptr) b->setInitialPose(vec(pose, "pose"), {pose[3], pose[4], pose[5], pose[6]});
+    return declareComponent(c, std::move(b), interval, component);
+  });
+}
+
+int dl_declare_particle_system(dl_client* client, const char* name, const char* file, int checkpoint,
+                               int* component) {
+  return guarded(client, [&](Client& c) -> int {
+    auto p = std::make_unique<ParticleSystem>(str(name));
+    if (checkpoint != 0) {
+      p->setCheckpointFile(str(file));
+    } else {
+      p->setCsvFile(str(file));
+    }
+    return declareComponent(c, std::move(p), 0.0, component);
+  });
+}
+
 int dl_declare_rigid_body_box(dl_client* client, const char* name, double interval, const double size[3],
                               const char* material, const double pose[7], int motion, int* component) {
   return guarded(client, [&](Client& c) -> int {
@@ -279,14 +340,15 @@ int dl_declare_region_sensor_box(dl_client* client, const char* name, double int
   });
 }
 
+int dl_declare_region_sensor_box_oriented(dl_client* client, const char* name, double interval,
+                                          const double centre[3], const double size[3], const double orientation[4],
+                                          const char* attachedTo, int* component) {
+  return declareOrientedBox<RegionSensor>(client, name, interval, centre, size, orientation, attachedTo, component);
+}
+
 int dl_declare_region_sensor_sphere(dl_client* client, const char* name, double interval, const double centre[3],
                                     double radius, const char* attachedTo, int* component) {
-  return guarded(client, [&](Client& c) -> int {
-    auto s = std::make_unique<RegionSensor>(str(name));
-    s->setSphere(vec(centre, "centre"), radius);
-    if (!str(attachedTo).empty()) s->attachTo(attachedTo);
-    return declareComponent(c, std::move(s), interval, component);
-  });
+  return declareSphere<RegionSensor>(client, name, interval, centre, radius, attachedTo, component);
 }
 
 int dl_declare_flow_sensor_disc(dl_client* client, const char* name, double interval, const double centre[3],
@@ -294,6 +356,18 @@ int dl_declare_flow_sensor_disc(dl_client* client, const char* name, double inte
   return guarded(client, [&](Client& c) -> int {
     auto s = std::make_unique<FlowSensor>(str(name));
     s->setDisc(vec(centre, "centre"), vec(normal, "normal"), radius);
+    if (!str(attachedTo).empty()) s->attachTo(attachedTo);
+    return declareComponent(c, std::move(s), interval, component);
+  });
+}
+
+int dl_declare_flow_sensor_rectangle(dl_client* client, const char* name, double interval, const double centre[3],
+                                     const double normal[3], double length, double width, const double lengthAxis[3],
+                                     const char* attachedTo, int* component) {
+  return guarded(client, [&](Client& c) -> int {
+    auto s = std::make_unique<FlowSensor>(str(name));
+    s->setRectangle(vec(centre, "centre"), vec(normal, "normal"), length, width,
+                    lengthAxis != nullptr ? vec(lengthAxis, "lengthAxis") : Vec3{});
     if (!str(attachedTo).empty()) s->attachTo(attachedTo);
     return declareComponent(c, std::move(s), interval, component);
   });
@@ -347,6 +421,17 @@ int dl_declare_particle_sink_box(dl_client* client, const char* name, double int
     s->setBox(vec(centre, "centre"), vec(size, "size"));
     return declareComponent(c, std::move(s), interval, component);
   });
+}
+
+int dl_declare_particle_sink_box_oriented(dl_client* client, const char* name, double interval,
+                                          const double centre[3], const double size[3], const double orientation[4],
+                                          const char* attachedTo, int* component) {
+  return declareOrientedBox<ParticleSink>(client, name, interval, centre, size, orientation, attachedTo, component);
+}
+
+int dl_declare_particle_sink_sphere(dl_client* client, const char* name, double interval, const double centre[3],
+                                    double radius, const char* attachedTo, int* component) {
+  return declareSphere<ParticleSink>(client, name, interval, centre, radius, attachedTo, component);
 }
 
 int dl_declare_pit_generator(dl_client* client, const char* name, const char* material, const double lower[3],

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <string>
 #include <vector>
@@ -31,6 +32,14 @@ struct ClientGuard {
   dl_client* client = dl_client_create();
   ~ClientGuard() { dl_client_destroy(client); }
 };
+/// Bye, Finished, the fake server's exit; then its log.
+std::vector<std::string> finishAndReadLog(dl_client* client, FakeServerProcess& server, const std::string& log) {
+  EXPECT_EQ(dl_finish(client, "done"), DL_OK);
+  EXPECT_EQ(dl_wait_finished(client), DL_OK) << dl_last_error(client);
+  EXPECT_EQ(server.wait(), 0);
+  return readLines(log);
+}
+
 struct PackageGuard {
   dl_package* package = dl_package_create();
   ~PackageGuard() { dl_package_destroy(package); }
@@ -232,7 +241,8 @@ TEST(ClientCAbi, StatusCodesAndMessages) {
 }
 
 // The optional simulation_box entries of the generic layout (VTK interval, restitution
-// tolerance, threads, expected names, the room frame input) reach the declaration; omitted ones stay unset.
+// tolerance, threads, contact law, integrator, fidelity, impact speed, coarse graining,
+// expected names, the room frame input) reach the declaration; omitted ones stay unset.
 TEST(ClientCAbi, GenericSimulationBoxCarriesOutputThreadsAndNames) {
   const std::string log = logFile("generic_box");
   FakeServerProcess server(1, 1, log);
@@ -242,9 +252,9 @@ TEST(ClientCAbi, GenericSimulationBoxCarriesOutputThreadsAndNames) {
   ASSERT_EQ(dl_connect_to_host(c.client, "127.0.0.1", server.port(), "room", nullptr), DL_OK) << dl_last_error(c.client);
   const double nan = std::nan("");
   const char* boxStrings[] = {"simulation_box", "room", "room", "truck_body"};
-  const long long boxInts[] = {0, 2};
-  const double boxReals[] = {0.001, 2e-4, 1.0, 0.0, 0.0, -9.81, -1.0, -2.0, -3.0, 4.0, 5.0, 6.0, 0.25, 0.05};
-  ASSERT_EQ(dl_set_data(pkg.package, boxInts, 2, boxReals, 14, boxStrings, 4), DL_OK);
+  const long long boxInts[] = {0, 2, 2, 1, 3};
+  const double boxReals[] = {0.001, 2e-4, 1.0, 0.0, 0.0, -9.81, -1.0, -2.0, -3.0, 4.0, 5.0, 6.0, 0.25, 0.05, 3.5, 2.0};
+  ASSERT_EQ(dl_set_data(pkg.package, boxInts, 5, boxReals, 16, boxStrings, 4), DL_OK);
   ASSERT_EQ(dl_send_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
   ASSERT_EQ(dl_wait_compiled(c.client), DL_OK) << dl_last_error(c.client);
   // The frame input: gravity unchanged (NaN), then a_f, Omega, alpha, origin.
@@ -253,14 +263,13 @@ TEST(ClientCAbi, GenericSimulationBoxCarriesOutputThreadsAndNames) {
   ASSERT_EQ(dl_set_data(pkg.package, handle, 1, frame, 15, nullptr, 0), DL_OK);
   ASSERT_EQ(dl_send_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
   ASSERT_EQ(dl_recv_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
-  EXPECT_EQ(dl_finish(c.client, "done"), DL_OK);
-  EXPECT_EQ(dl_wait_finished(c.client), DL_OK) << dl_last_error(c.client);
-  ASSERT_EQ(server.wait(), 0);
-
-  const auto lines = readLines(log);
+  const auto lines = finishAndReadLog(c.client, server, log);
   EXPECT_TRUE(contains(lines, "DECL room", "output { vtk_interval: 0.25 }"));
   EXPECT_TRUE(contains(lines, "DECL room", "threads: 2"));
   EXPECT_TRUE(contains(lines, "DECL room", "restitution_tolerance: 0.05"));
+  EXPECT_TRUE(contains(lines, "DECL room", "contact_model: LINEAR_SPRING_DASHPOT integrator: VELOCITY_VERLET"));
+  EXPECT_TRUE(contains(lines, "DECL room", "max_impact_velocity: 3.5"));
+  EXPECT_TRUE(contains(lines, "DECL room", "fidelity: VALIDATION coarse_graining: 2"));
   EXPECT_TRUE(contains(lines, "DECL room", "expected_names: \"room\" expected_names: \"truck_body\""));
   EXPECT_TRUE(contains(lines, "DECL room", "bounds { lower { x: -1 y: -2 z: -3 } upper { x: 4 y: 5 z: 6 } }"));
 
@@ -270,6 +279,72 @@ TEST(ClientCAbi, GenericSimulationBoxCarriesOutputThreadsAndNames) {
   ASSERT_EQ(dl_set_data(pkg.package, boxInts, 2, badReals, 13, boxStrings, 4), DL_OK);
   EXPECT_EQ(dl_send_package(other.client, pkg.package), DL_ERR_ARGUMENT);
   EXPECT_NE(std::string(dl_last_error(other.client)).find("reals[12]"), std::string::npos);
+  // An unknown contact law or fidelity is refused by its index.
+  const long long badContact[] = {0, 2, 3};
+  ASSERT_EQ(dl_set_data(pkg.package, badContact, 3, boxReals, 14, boxStrings, 4), DL_OK);
+  EXPECT_EQ(dl_send_package(other.client, pkg.package), DL_ERR_ARGUMENT);
+  EXPECT_NE(std::string(dl_last_error(other.client)).find("ints[2..3]: contactModel"), std::string::npos);
+  const long long badFidelity[] = {0, 2, 0, 0, 4};
+  ASSERT_EQ(dl_set_data(pkg.package, badFidelity, 5, boxReals, 14, boxStrings, 4), DL_OK);
+  EXPECT_EQ(dl_send_package(other.client, pkg.package), DL_ERR_ARGUMENT);
+  EXPECT_NE(std::string(dl_last_error(other.client)).find("ints[4] (fidelity)"), std::string::npos);
+}
+
+// The typed declarations of the shapes and files the first typed calls left to the generic
+// layout: a CAD part (its STL's bytes sent), particles from a server file, oriented and
+// attached sensor and sink boxes, a flow rectangle, a sink sphere.
+TEST(ClientCAbi, TypedDeclarationsOfPartsFilesAndEveryRegionShape) {
+  const std::string log = logFile("typed_shapes");
+  const std::string stl = ::testing::TempDir() + "demlink_c_abi_part.stl";
+  {
+    std::FILE* f = std::fopen(stl.c_str(), "wb");
+    ASSERT_NE(f, nullptr);
+    std::fputs("solid part\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\n"
+               "endloop\nendfacet\nendsolid part\n", f);
+    std::fclose(f);
+  }
+  FakeServerProcess server(1, 6, log);
+  ASSERT_NE(server.port(), 0);
+  ClientGuard c;
+  ASSERT_EQ(dl_connect_to_host(c.client, "127.0.0.1", server.port(), "shapes", nullptr), DL_OK) << dl_last_error(c.client);
+  const double centre[3] = {0.5, -0.5, 1.0};
+  const double size[3] = {0.2, 0.3, 0.4};
+  const double turned[4] = {0.0, 0.0, 0.0, 1.0};  // w x y z: half a turn about z
+  const double normal[3] = {0.0, 0.0, 1.0};
+  const double axis[3] = {0.0, 1.0, 0.0};
+  const double pose[7] = {1.0, 2.0, 3.0, 1.0, 0.0, 0.0, 0.0};
+  int handle = -1;
+  ASSERT_EQ(dl_declare_cad_part(c.client, "part", 0.01, stl.c_str(), "steel", nullptr, pose, 2, &handle), DL_OK)
+      << dl_last_error(c.client);
+  EXPECT_EQ(handle, 0);
+  ASSERT_EQ(dl_declare_particle_system(c.client, "bed", "bed.checkpoint", 1, &handle), DL_OK) << dl_last_error(c.client);
+  ASSERT_EQ(dl_declare_region_sensor_box_oriented(c.client, "fill", 0.01, centre, size, turned, "part", &handle), DL_OK)
+      << dl_last_error(c.client);
+  ASSERT_EQ(dl_declare_flow_sensor_rectangle(c.client, "gate", 0.01, centre, normal, 0.6, 0.2, axis, nullptr, &handle),
+            DL_OK)
+      << dl_last_error(c.client);
+  ASSERT_EQ(dl_declare_particle_sink_box_oriented(c.client, "drain", 0.01, centre, size, turned, "part", &handle),
+            DL_OK)
+      << dl_last_error(c.client);
+  ASSERT_EQ(dl_declare_particle_sink_sphere(c.client, "hole", 0.01, centre, 0.25, "", &handle), DL_OK)
+      << dl_last_error(c.client);
+  EXPECT_EQ(handle, 5);
+  // A CAD part whose file is missing is refused on the client, naming the path.
+  EXPECT_EQ(dl_declare_cad_part(c.client, "ghost", 0.01, "/nonexistent.stl", "steel", nullptr, nullptr, 0, &handle),
+            DL_ERR_ARGUMENT);
+  EXPECT_NE(std::string(dl_last_error(c.client)).find("/nonexistent.stl"), std::string::npos);
+  ASSERT_EQ(dl_wait_compiled(c.client), DL_OK) << dl_last_error(c.client);
+  const auto lines = finishAndReadLog(c.client, server, log);
+  EXPECT_TRUE(contains(lines, "DECL part", "stl_data: \"solid part\\n"));
+  EXPECT_TRUE(contains(lines, "DECL part", "motion: LAGGED"));
+  EXPECT_TRUE(contains(lines, "DECL bed", "bed.checkpoint"));
+  EXPECT_TRUE(contains(lines, "DECL fill", "box { centre { x: 0.5 y: -0.5 z: 1 } orientation { z: 1 } size { x: 0.2 y: 0.3 z: 0.4 } }"));
+  EXPECT_TRUE(contains(lines, "DECL fill", "attached_to: \"part\""));
+  EXPECT_TRUE(contains(lines, "DECL gate", "normal { z: 1 } length_axis { y: 1 } length: 0.6 width: 0.2"));
+  EXPECT_TRUE(contains(lines, "DECL drain", "box { centre { x: 0.5 y: -0.5 z: 1 } orientation { z: 1 } size { x: 0.2 y: 0.3 z: 0.4 } }"));
+  EXPECT_TRUE(contains(lines, "DECL drain", "attached_to: \"part\""));
+  EXPECT_TRUE(contains(lines, "DECL hole", "sphere { centre { x: 0.5 y: -0.5 z: 1 } radius: 0.25 }"));
+  std::remove(stl.c_str());
 }
 
 // The source's generic layout as the Modelica ParticleSource fills it: a disc with discrete

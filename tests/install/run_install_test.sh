@@ -4,6 +4,7 @@
 # find_package(DEMLink), and a C program compiled with pkg-config's flags; then installs
 # the C++ client and builds a C++ project against it (find_package(DEMLink COMPONENTS
 # client)), runs it alone and, when SERVER_EXE is given, against a real server; then
+# installs the Modelica package and builds against its Resources alone as a tool does; then
 # installs the Python client and imports it from there (when DEMLINK_PYTHON names a
 # python3 with google.protobuf).
 # Usage: run_install_test.sh BUILD_DIR SOURCE_DIR VERSION [SERVER_EXE]
@@ -49,7 +50,18 @@ if [ -n "$server_exe" ]; then
   DEMLINK_TEST_TIMEOUT=60 bash "$source/tests/python/run_with_server.sh" "$server_exe" env "$work/cpp_consumer/cpp_consumer"
 fi
 
-# 4. The Python client from its install location (Debian's python3-protobuf).
+# 4. The Modelica package from its install location, as a Modelica tool uses it: the
+#    consumer compiled with its Resources/Include only and linked with -ldemlink_c from
+#    Resources/Library/linux64 (that directory as the run path), run with no environment.
+cmake --install "$build" --prefix "$work/prefix" --component modelica >> "$work/install.log"
+resources="$work/prefix/share/modelica/DEMLink/Resources"
+test -f "$work/prefix/share/modelica/DEMLink/package.mo"
+test -f "$resources/Include/demlink_modelica.h"
+cc -std=c99 -Wall -Werror -o "$work/consumer_modelica" "$source/tests/install/consumer/consumer.c" \
+  -I"$resources/Include" -L"$resources/Library/linux64" -ldemlink_c -Wl,-rpath,"$resources/Library/linux64"
+env -u LD_LIBRARY_PATH "$work/consumer_modelica" "$version"
+
+# 5. The Python client from its install location (Debian's python3-protobuf).
 if [ -n "${DEMLINK_PYTHON:-}" ]; then
   cmake --install "$build" --prefix "$work/prefix" --component python >> "$work/install.log"
   PYTHONPATH="$work/prefix/lib/python3/dist-packages" "$DEMLINK_PYTHON" -c "

@@ -32,13 +32,7 @@ int main(int argc, char** argv) {
   }
   ok = sequence_connect(clients, kNames, kCount, argv[1], atoi(argv[2]), 120.0);
   if (ok) {
-    const int boxInts[2] = {kCount, -1};
-    const double boxReals[14] = {kTc, nan, 0.0, 0.0, 0.0, -kG, -0.4, -0.3, -0.2, 0.4, 0.3, 0.6, nan, 0.01};
-    const char* boxStrings[2] = {"simulation_box", "simBox"};
-    const double gravelReals[7] = {0.0, nan, nan, nan, nan, nan, nan};
-    const char* gravelStrings[3] = {"material", "gravel", "gravel"};
-    const double groundReals[7] = {0.0, 0.0, 0.0, -0.1, 0.0, 0.0, 1.0};
-    const char* groundStrings[3] = {"plane", "ground", "gravel"};
+    const double lower[3] = {-0.4, -0.3, -0.2}, upper[3] = {0.4, 0.3, 0.6};
     const int sourceInts[1] = {2};
     const double sourceReals[16] = {kTc,  0.0, 0.0, 0.3, 0.06, 0.04, 0.03, 0.008,
                                     0.01, nan, kRate, 0.0, 0.0, -1.0, 0.0,  kStop};
@@ -49,9 +43,8 @@ int main(int argc, char** argv) {
     const int loadInts[1] = {0};
     const double loadReals[11] = {kTc, 0.0, 0.0, 0.1, 0.3, 0.2, 0.2, 1.0, 0.0, 0.0, 0.0};
     const char* loadStrings[3] = {"region_sensor", "load", "truck"};
-    ok = sequence_declare(clients[kBox], boxInts, 2, boxReals, 14, boxStrings, 2) &&
-         sequence_declare(clients[kGravel], NULL, 0, gravelReals, 7, gravelStrings, 3) &&
-         sequence_declare(clients[kGround], NULL, 0, groundReals, 7, groundStrings, 3) &&
+    ok = sequence_declare_room(clients[kBox], clients[kGravel], clients[kGround], "ground", kTc, kG, lower, upper,
+                               -0.1) &&
          sequence_declare(clients[kSource], sourceInts, 1, sourceReals, 16, sourceStrings, 4) &&
          sequence_declare(clients[kTruck], truckInts, 2, truckReals, 14, truckStrings, 4) &&
          sequence_declare(clients[kLoad], loadInts, 1, loadReals, 11, loadStrings, 3);

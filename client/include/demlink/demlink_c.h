@@ -41,8 +41,13 @@
  *   simulation_box : reals[1] time step [s] (NaN: default), [2] end time [s],
  *                    [3..5] gravity [m/s^2], [6..8] bounds lower, [9..11] bounds upper [m]
  *                    (bounds only when nReals >= 12), [12] VTK output interval [s]
- *                    (optional; NaN: default); ints[0] expected component count,
- *                    ints[1] engine threads (optional; negative: default 1, 0: all cores);
+ *                    (optional; NaN: default), [13] restitution tolerance (optional),
+ *                    [14] max impact velocity [m/s] (optional), [15] coarse graining
+ *                    factor >= 1 (optional); ints[0] expected component count (<= 0:
+ *                    none), ints[1] engine threads (optional; negative: default 1, 0: all
+ *                    cores), ints[2] contact model and ints[3] integrator (optional; as
+ *                    dl_declare_simulation_box_ex), ints[4] fidelity preset (optional;
+ *                    0 none, 1 draft, 2 engineering, 3 validation);
  *                    strings[2..] expected component names.
  *   material       : strings[2] database name ("" none); reals[1] density [kg/m^3],
  *                    [2] Young's modulus [Pa], [3] Poisson ratio, [4] restitution,
@@ -236,17 +241,34 @@ DL_API int dl_declare_single_particle(dl_client* client, const char* name, const
 DL_API int dl_declare_rigid_body_stl(dl_client* client, const char* name, double interval, const char* stlFile,
                                      const char* material, const double referencePoint[3], const double pose[7],
                                      int motion, int* component);
+/* A CAD part: localStlFile is a path on THIS computer; its bytes are sent to the server. */
+DL_API int dl_declare_cad_part(dl_client* client, const char* name, double interval, const char* localStlFile,
+                               const char* material, const double referencePoint[3], const double pose[7],
+                               int motion, int* component);
+/* Particles from a file on the server: a CSV (checkpoint 0) or a checkpoint (1). */
+DL_API int dl_declare_particle_system(dl_client* client, const char* name, const char* file, int checkpoint,
+                                      int* component);
 DL_API int dl_declare_rigid_body_box(dl_client* client, const char* name, double interval, const double size[3],
                                      const char* material, const double pose[7], int motion, int* component);
 DL_API int dl_declare_region_sensor_box(dl_client* client, const char* name, double interval,
                                         const double centre[3], const double size[3], const char* attachedTo,
                                         int* component);
+/* orientation w x y z (NULL: none); attachedTo "" or NULL: fixed in the world. */
+DL_API int dl_declare_region_sensor_box_oriented(dl_client* client, const char* name, double interval,
+                                                 const double centre[3], const double size[3],
+                                                 const double orientation[4], const char* attachedTo,
+                                                 int* component);
 DL_API int dl_declare_region_sensor_sphere(dl_client* client, const char* name, double interval,
                                            const double centre[3], double radius, const char* attachedTo,
                                            int* component);
 DL_API int dl_declare_flow_sensor_disc(dl_client* client, const char* name, double interval,
                                        const double centre[3], const double normal[3], double radius,
                                        const char* attachedTo, int* component);
+/* length along lengthAxis (NULL: the server's default axis), width across [m]. */
+DL_API int dl_declare_flow_sensor_rectangle(dl_client* client, const char* name, double interval,
+                                            const double centre[3], const double normal[3], double length,
+                                            double width, const double lengthAxis[3], const char* attachedTo,
+                                            int* component);
 /* ratePerSecond / rateKgPerSecond: give exactly one (the other negative). */
 DL_API int dl_declare_particle_source_box(dl_client* client, const char* name, double interval,
                                           const char* material, const double centre[3],
@@ -265,6 +287,13 @@ DL_API int dl_declare_particle_source(dl_client* client, const char* name, doubl
                                       int* component);
 DL_API int dl_declare_particle_sink_box(dl_client* client, const char* name, double interval,
                                         const double centre[3], const double size[3], int* component);
+DL_API int dl_declare_particle_sink_box_oriented(dl_client* client, const char* name, double interval,
+                                                 const double centre[3], const double size[3],
+                                                 const double orientation[4], const char* attachedTo,
+                                                 int* component);
+DL_API int dl_declare_particle_sink_sphere(dl_client* client, const char* name, double interval,
+                                           const double centre[3], double radius, const char* attachedTo,
+                                           int* component);
 DL_API int dl_declare_pit_generator(dl_client* client, const char* name, const char* material,
                                     const double lower[3], const double upper[3], double rMin, double rMax,
                                     double targetHeight, uint64_t seed, int* component);

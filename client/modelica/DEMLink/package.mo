@@ -19,7 +19,7 @@ CADPart / CADPartFrame (STL from this computer); the *Frame variants connect to
 Modelica.Mechanics.MultiBody</li>
 <li>Sensors: RegionSensor, FlowSensor</li>
 <li>Visualization: DEMPoints</li>
-<li>Examples: BucketDigging, TruckLoading</li>
+<li>Examples: BucketDigging, TruckLoading, SwitchedSourceAndSink (run-time inputs)</li>
 </ul>
 <p>The C functions are in libdemlink_c (Resources/Library/linux64, header in
 Resources/Include, filled by the CMake target <code>demlink_modelica_resources</code>);

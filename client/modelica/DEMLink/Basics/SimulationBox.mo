@@ -5,7 +5,8 @@ model SimulationBox "Server address, communication interval and the DEM run's se
   parameter String token = "" "Access token when the server requires one" annotation (Dialog(group = "Server"));
   parameter Modelica.Units.SI.Time timeout = 30 "Longest wait for the server in one call" annotation (Dialog(group = "Server"));
   parameter Modelica.Units.SI.Time tc = 1e-3 "Communication interval of the components" annotation (Dialog(group = "Coupling"));
-  parameter Integer nComponents = 1 "Components in the model, this box included: the server compiles once all declared"
+  parameter Integer nComponents = 0
+    "0: the server compiles when every component's initialisation has ended (none to count); > 0: also wait for this many components, this box included"
     annotation (Dialog(group = "Coupling"));
   parameter Modelica.Units.SI.Time timeStep = -1 "DEM time step (negative: the server's limit from the materials)";
   parameter Modelica.Units.SI.Time endTime = 0
@@ -15,9 +16,21 @@ model SimulationBox "Server address, communication interval and the DEM run's se
   parameter Modelica.Units.SI.Position boundsUpper[3] = {5, 5, 5} "Upper corner of the DEM domain";
   parameter Modelica.Units.SI.Time vtkInterval = -1 "VTK output interval of the server (negative: the server's default)"
     annotation (Dialog(group = "Server output"));
-  parameter Integer threads = -1 "Engine threads (negative: 1, 0: all cores)";
-  parameter Real restitutionTolerance = 0.01
-    "Largest restitution error the server's time-step limit allows; larger accepts a larger timeStep (trades accuracy for speed)";
+  parameter Integer threads = -1 "Engine threads (negative: 1, 0: all cores)" annotation (Dialog(group = "Speed and accuracy"));
+  parameter DEMLink.Types.Fidelity fidelity = DEMLink.Types.Fidelity.NoPreset
+    "Preset for the speed/accuracy settings left at their default" annotation (Dialog(group = "Speed and accuracy"));
+  parameter DEMLink.Types.ContactModel contactModel = DEMLink.Types.ContactModel.Default "Contact law"
+    annotation (Dialog(group = "Speed and accuracy"));
+  parameter DEMLink.Types.Integrator integrator = DEMLink.Types.Integrator.Default "Time integrator"
+    annotation (Dialog(group = "Speed and accuracy"));
+  parameter Real restitutionTolerance = -1
+    "Largest restitution error the server's time-step limit allows (negative: 0.01 or the preset's); larger accepts a larger timeStep (trades accuracy for speed)"
+    annotation (Dialog(group = "Speed and accuracy"));
+  parameter Modelica.Units.SI.Velocity maxImpactVelocity = -1
+    "Largest expected impact speed, for the time-step limit (negative: 2 m/s)" annotation (Dialog(group = "Speed and accuracy"));
+  parameter Real coarseGraining = -1
+    "Parcels of this factor times the grains' size from lattices and sources, same mass flow (negative: 1, none)"
+    annotation (Dialog(group = "Speed and accuracy"));
   parameter String expectedNames[:] = fill("", 0)
     "Names of components the server waits for besides the count (e.g. those of another tool's clients)"
     annotation (Dialog(group = "Coupling"));
@@ -46,14 +59,16 @@ model SimulationBox "Server address, communication interval and the DEM run's se
 protected
   Modelica.Blocks.Interfaces.RealInput gravityNow[3] "gravityIn or the gravity parameter";
   Modelica.Blocks.Interfaces.RealInput frameNow[9] "The frame inputs, or zeros";
-  DEMLink.Functions.Client client = DEMLink.Functions.Client();
+  DEMLink.Functions.Client client = DEMLink.Functions.Client(address, port, "simBox", token, timeout);
   Integer status(start = 0, fixed = true);
   Real out[4](each start = 0, each fixed = true);
 initial algorithm
   DEMLink.Functions.connectClient(client, address, port, "simBox", token, timeout);
-  DEMLink.Functions.declare(client, "simulation_box", "simBox", tc, {nComponents, threads},
-    cat(1, {DEMLink.Functions.optional(timeStep), endTime}, gravity, boundsLower, boundsUpper,
-    {DEMLink.Functions.optional(vtkInterval), restitutionTolerance}), expectedNames);
+  DEMLink.Functions.declare(client, "simulation_box", "simBox", tc, {nComponents, threads, Integer(contactModel) - 1,
+    Integer(integrator) - 1, Integer(fidelity) - 1}, cat(1, {DEMLink.Functions.optional(timeStep), endTime}, gravity,
+    boundsLower, boundsUpper, {DEMLink.Functions.optional(vtkInterval), DEMLink.Functions.optional(restitutionTolerance),
+    DEMLink.Functions.optional(maxImpactVelocity), DEMLink.Functions.optional(coarseGraining)}), expectedNames);
+  DEMLink.Functions.declarationsDone(client);
 equation
   connect(gravityIn, gravityNow);
   if not useGravityInput then
@@ -92,9 +107,12 @@ algorithm
 <p>Exactly one <code>inner SimulationBox simBox</code> per model, like the MultiBody
 <code>world</code>: every component reaches the server address, port and communication
 interval through <code>outer simBox</code>. The box declares the DEM run's settings (time
-step, gravity, bounds, VTK output interval, engine threads) and how many components the
-server waits for before it compiles (<code>nComponents</code>, this box included, and
-optionally their names). With <code>useGravityInput</code> the gravity follows the input
+step, gravity, bounds, VTK output interval, and the speed/accuracy settings: engine
+threads, fidelity preset, contact law, integrator, restitution tolerance, largest impact
+speed, coarse graining) and the names of components the server waits for besides this
+model's own (<code>expectedNames</code>, e.g. another tool's clients). The model's own components are not counted: each says at the end of its
+initialisation that its declarations are done, and the server compiles once every
+connected client has said so. With <code>useGravityInput</code> the gravity follows the input
 <code>gravityIn</code> at every sample (the paper's accelerated and tilting rooms, section
 6.2, as far as a gravity vector expresses them). With <code>useFrameInput</code> the room
 itself moves: its linear acceleration, angular velocity and angular acceleration (about

@@ -13,6 +13,7 @@ initial algorithm
     {youngsModulus, poissonRatio, density}, {rayleighAlpha, rayleighBeta}, div(size(fixedRegions, 1), 6), fixedRegions,
     div(size(drivenRegions, 1), 6), drivenRegions, drivenReference, attachedTo);
   DEMLink.Functions.check(client, declareStatus);
+  DEMLink.Functions.declarationsDone(client);
   annotation (Documentation(info = "<html><p>The linear FEM body of the solver paper
 (BMEDEM3D) from a Gmsh mesh on the server. Declared with
 <code>dl_declare_fem_mesh</code>.</p></html>"));

@@ -15,6 +15,7 @@ initial algorithm
     {totalMass, stiffness, damping}, {breakForce, breakStrain}, div(size(fixedRegions, 1), 6), fixedRegions,
     div(size(drivenRegions, 1), 6), drivenRegions, drivenReference, attachedTo);
   DEMLink.Functions.check(client, declareStatus);
+  DEMLink.Functions.declarationsDone(client);
   annotation (Documentation(info = "<html><p>The mass-spring body of the solver paper
 (BMEDEM3D): nodes on a lattice filling [lo, hi], springs between neighbours that break
 above <code>breakForce</code> or <code>breakStrain</code>. Declared with

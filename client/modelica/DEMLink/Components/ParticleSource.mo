@@ -41,6 +41,15 @@ model ParticleSource "Inserts particles into a box or disc at a steady rate (par
   parameter Modelica.Units.SI.Time stopTime = -1 "Insertion stops (negative: never)";
   parameter Integer seed = 1 "Random seed";
   parameter String attachedTo = "" "Rigid body whose mesh the box moves with (empty: fixed)";
+  parameter Boolean use_rate_in = false "Rate from the input rate_in instead of the fixed rate"
+    annotation (Evaluate = true, choices(checkBox = true), Dialog(group = "Run-time inputs"));
+  parameter Boolean use_on_in = false "Insertion switched on and off by the input on_in"
+    annotation (Evaluate = true, choices(checkBox = true), Dialog(group = "Run-time inputs"));
+  Modelica.Blocks.Interfaces.RealInput rate_in if use_rate_in
+    "Rate in the declared unit (particles/s, or kg/s when rateKgPerSecond >= 0), >= 0"
+    annotation (Placement(transformation(extent = {{-140, 40}, {-100, 80}})));
+  Modelica.Blocks.Interfaces.BooleanInput on_in if use_on_in "true: inserting, false: paused"
+    annotation (Placement(transformation(extent = {{-140, -80}, {-100, -40}})));
   Modelica.Blocks.Interfaces.IntegerOutput countTotal(start = 0, fixed = true) "Particles inserted since the start"
     annotation (Placement(transformation(extent = {{100, 50}, {120, 70}})));
   Modelica.Blocks.Interfaces.RealOutput massTotal(unit = "kg", start = 0, fixed = true) "Mass inserted since the start"
@@ -50,11 +59,37 @@ model ParticleSource "Inserts particles into a box or disc at a steady rate (par
   Modelica.Blocks.Interfaces.RealOutput massInterval(unit = "kg", start = 0, fixed = true) "Mass inserted in the last interval"
     annotation (Placement(transformation(extent = {{100, -70}, {120, -50}})));
 protected
+  parameter Real declaredRate = if rateKgPerSecond >= 0 then rateKgPerSecond else ratePerSecond
+    "The declared rate in its unit";
+  Modelica.Blocks.Interfaces.RealInput rateNow "rate_in, or the declared rate";
+  Modelica.Blocks.Interfaces.BooleanInput onNow "on_in, or true";
+  Real sentRate(start = declaredRate, fixed = true) "The rate the server inserts at";
+  Boolean sentOn(start = true, fixed = true) "Whether the server inserts";
   Integer status(start = 0, fixed = true);
   Integer counts[3](each start = 0, each fixed = true);
   Real masses[3](each start = 0, each fixed = true);
+equation
+  connect(rate_in, rateNow);
+  if not use_rate_in then
+    rateNow = declaredRate;
+  end if;
+  connect(on_in, onNow);
+  if not use_on_in then
+    onNow = true;
+  end if;
 algorithm
   when sample(0, tc) then
+    // Run-time inputs when they changed: one-shot, sent with this sample's package and
+    // applied from its step on (the read below sends it).
+    if use_on_in and onNow <> sentOn then
+      DEMLink.Functions.check(client, DEMLink.Functions.External.particleSourceSetEnabled(client, 0,
+        if onNow then 1 else 0));
+      sentOn := onNow;
+    end if;
+    if use_rate_in and DEMLink.Functions.changed({rateNow}, {sentRate}) then
+      DEMLink.Functions.check(client, DEMLink.Functions.External.particleSourceSetRate(client, 0, rateNow));
+      sentRate := rateNow;
+    end if;
     (status, counts, masses) := DEMLink.Functions.External.particleSourceRead(client, 0);
     DEMLink.Functions.checkExchange(client, status);
     countTotal := counts[2];
@@ -65,5 +100,10 @@ algorithm
   annotation (Documentation(info = "<html><p>A box or disc region (docs/sources.md) with one of
 the schema's radius distributions: one radius, uniform, linear pdf, truncated normal or
 discrete (the solver paper's distributions). Declared through the generic layout of the C ABI
-(docs/c_abi.md, particle_source).</p></html>"));
+(docs/c_abi.md, particle_source).</p>
+<p>Run-time inputs (as MSL sources do with <code>use_..._in</code>): with
+<code>use_rate_in</code> the rate follows <code>rate_in</code> (in the declared unit), with
+<code>use_on_in</code> insertion pauses while <code>on_in</code> is false. A change is sent
+at the next sample and applies from that sample's DEM step on; the request accumulated so
+far is kept, so switching on gives no burst. The start and stop times still apply.</p></html>"));
 end ParticleSource;

@@ -2,7 +2,7 @@ within DEMLink.Examples;
 model BucketDigging "A bucket (CADPart) drawn through a gravel pit on a prescribed path; a sensor on the bucket weighs its fill"
   extends Modelica.Icons.Example;
   import Modelica.Constants.pi;
-  inner DEMLink.Basics.SimulationBox simBox(tc = 2e-3, nComponents = 7, timeout = 120, boundsLower = {-0.6, -0.4, -0.05},
+  inner DEMLink.Basics.SimulationBox simBox(tc = 2e-3, timeout = 120, boundsLower = {-0.6, -0.4, -0.05},
     boundsUpper = {0.6, 0.4, 0.6}) annotation (Placement(transformation(extent = {{-90, 60}, {-70, 80}})));
   DEMLink.Components.Material gravel(name = "gravel", databaseName = "gravel")
     annotation (Placement(transformation(extent = {{-60, 60}, {-40, 80}})));

@@ -3,7 +3,7 @@ model TruckLoading "A truck bed on a sprung MultiBody axis (CADPartFrame) loaded
   extends Modelica.Icons.Example;
   inner Modelica.Mechanics.MultiBody.World world(n = {0, 0, -1}, g = 9.81)
     annotation (Placement(transformation(extent = {{-90, -50}, {-70, -30}})));
-  inner DEMLink.Basics.SimulationBox simBox(tc = 2e-3, nComponents = 6, timeout = 120, boundsLower = {-0.4, -0.3, -0.2},
+  inner DEMLink.Basics.SimulationBox simBox(tc = 2e-3, timeout = 120, boundsLower = {-0.4, -0.3, -0.2},
     boundsUpper = {0.4, 0.3, 0.6}) annotation (Placement(transformation(extent = {{-90, 60}, {-70, 80}})));
   DEMLink.Components.Material gravel(name = "gravel", databaseName = "gravel")
     annotation (Placement(transformation(extent = {{-60, 60}, {-40, 80}})));

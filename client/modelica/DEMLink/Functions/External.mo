@@ -31,6 +31,14 @@ package External "The C functions of libdemlink_c (demlink/demlink_c.h) and of R
       annotation (Library = "demlink_c", Include = "#include \"demlink/demlink_c.h\"");
   end connectToHost;
 
+  impure function declarationsDone "dl_declarations_done: this client declares nothing more"
+    extends Modelica.Icons.Function;
+    input Client client;
+    output Integer status;
+    external "C" status = dl_declarations_done(client)
+      annotation (Library = "demlink_c", Include = "#include \"demlink/demlink_c.h\"");
+  end declarationsDone;
+
   impure function declare "dlm_declare: declares a component from the generic layout (demlink_c.h)"
     extends Modelica.Icons.Function;
     input Client client;
@@ -117,18 +125,66 @@ package External "The C functions of libdemlink_c (demlink/demlink_c.h) and of R
       annotation (Library = "demlink_c", Include = "#include \"demlink/demlink_c.h\"");
   end particleSinkRead;
 
-  impure function particleViewRead "dl_particle_view_read"
+  impure function particleViewRead "dlm_particle_view_read: dl_particle_view_read_ex with the ids as Integers"
     extends Modelica.Icons.Function;
     input Client client;
     input Integer handle;
     input Integer capacity;
     output Integer status;
     output Real positions[3 * capacity];
+    output Real velocities[3 * capacity];
     output Real radii[capacity];
+    output Integer ids[capacity];
     output Integer count;
-    external "C" status = dl_particle_view_read(client, handle, capacity, positions, radii, count)
-      annotation (Library = "demlink_c", Include = "#include \"demlink/demlink_c.h\"");
+    external "C" status = dlm_particle_view_read(client, handle, capacity, positions, velocities, radii, ids, count)
+      annotation (Library = "demlink_c", Include = "#include \"demlink_modelica.h\"");
   end particleViewRead;
+
+  impure function particleSourceSetEnabled "dl_particle_source_set_enabled: on (1) / off (0) from the next package on"
+    extends Modelica.Icons.Function;
+    input Client client;
+    input Integer handle;
+    input Integer on;
+    output Integer status;
+    external "C" status = dl_particle_source_set_enabled(client, handle, on)
+      annotation (Library = "demlink_c", Include = "#include \"demlink/demlink_c.h\"");
+  end particleSourceSetEnabled;
+
+  impure function particleSourceSetRate "dl_particle_source_set_rate: the rate in the declared unit from the next package on"
+    extends Modelica.Icons.Function;
+    input Client client;
+    input Integer handle;
+    input Real rate;
+    output Integer status;
+    external "C" status = dl_particle_source_set_rate(client, handle, rate)
+      annotation (Library = "demlink_c", Include = "#include \"demlink/demlink_c.h\"");
+  end particleSourceSetRate;
+
+  impure function particleSinkSetEnabled "dl_particle_sink_set_enabled: on (1) / off (0) from the next package on"
+    extends Modelica.Icons.Function;
+    input Client client;
+    input Integer handle;
+    input Integer on;
+    output Integer status;
+    external "C" status = dl_particle_sink_set_enabled(client, handle, on)
+      annotation (Library = "demlink_c", Include = "#include \"demlink/demlink_c.h\"");
+  end particleSinkSetEnabled;
+
+  impure function regionSensorSetRegion "dlm_region_sensor_set_region: dl_region_sensor_set_region with each part optional"
+    extends Modelica.Icons.Function;
+    input Client client;
+    input Integer handle;
+    input Integer sendPose "1: send centre and orientation";
+    input Real centre[3];
+    input Real orientation[4];
+    input Integer sendSize "1: send the size (box) or radius (sphere)";
+    input Integer sphere "1: a sphere sensor (radius), 0: a box (size)";
+    input Real size[3];
+    input Real radius;
+    output Integer status;
+    external "C" status = dlm_region_sensor_set_region(client, handle, sendPose, centre, orientation, sendSize, sphere,
+      size, radius) annotation (Library = "demlink_c", Include = "#include \"demlink_modelica.h\"");
+  end regionSensorSetRegion;
 
   impure function simulationBoxSetFrame "dl_simulation_box_set_frame: the room's motion from the next package on"
     extends Modelica.Icons.Function;

@@ -18,7 +18,7 @@ package Functions "Calls into libdemlink_c; failures stop the simulation with th
     assert(status == 0 or status == 6, "DEMLink: " + External.lastError(client) + " (status " + String(status) + ")");
   end checkExchange;
 
-  impure function connectClient "dl_set_timeout and dl_connect_to_host"
+  impure function connectClient "dl_set_timeout and dl_connect_to_host (a no-op when the constructor connected)"
     extends Modelica.Icons.Function;
     input Client client;
     input String address;
@@ -44,6 +44,13 @@ package Functions "Calls into libdemlink_c; failures stop the simulation with th
     check(client, External.declare(client, ints, cat(1, {interval}, reals), cat(1, {kind, name}, strings)));
   end declare;
 
+  impure function declarationsDone "The end of a component's initialisation: its declarations are done (the server compiles once every client said so)"
+    extends Modelica.Icons.Function;
+    input Client client;
+  algorithm
+    check(client, External.declarationsDone(client));
+  end declarationsDone;
+
   function optional "A non-negative value, or NaN (\"not given\": the server's default) for a negative one"
     extends Modelica.Icons.Function;
     input Real value;
@@ -51,6 +58,18 @@ package Functions "Calls into libdemlink_c; failures stop the simulation with th
   algorithm
     result := if value >= 0 then value else External.notGiven();
   end optional;
+
+  function changed "True when any element of a differs from the same element of b (Real <> is allowed in functions only)"
+    extends Modelica.Icons.Function;
+    input Real a[:];
+    input Real b[size(a, 1)];
+    output Boolean result;
+  algorithm
+    result := false;
+    for i in 1:size(a, 1) loop
+      result := result or a[i] <> b[i];
+    end for;
+  end changed;
 
   impure function finish "Bye (terminal()); a run that already finished is no error"
     extends Modelica.Icons.Function;

@@ -12,12 +12,14 @@ partial model PartialComponent "Connection, declaration and Bye of one DEMLink c
   parameter String declStrings[:] "Declare package strings from index 2"
     annotation (Dialog(tab = "Declaration", enable = false));
 protected
-  DEMLink.Functions.Client client = DEMLink.Functions.Client() "This component's connection (handle 0 on it)";
+  DEMLink.Functions.Client client = DEMLink.Functions.Client(simBox.address, simBox.port, name, simBox.token,
+    simBox.timeout) "This component's connection (handle 0 on it), connected by its constructor";
 initial algorithm
-  // Connect and declare only: waiting for Compiled here would block before the other
+  // Declare and say so; no wait for Compiled here: it would block before the other
   // components have declared (they run one after the other in this thread).
   DEMLink.Functions.connectClient(client, simBox.address, simBox.port, name, simBox.token, simBox.timeout);
   DEMLink.Functions.declare(client, kind, name, if exchanged then tc else 0, declInts, declReals, declStrings);
+  DEMLink.Functions.declarationsDone(client);
 algorithm
   when terminal() then
     DEMLink.Functions.finish(client);
@@ -25,8 +27,10 @@ algorithm
   annotation (Icon(graphics = {Rectangle(extent = {{-100, 100}, {100, -100}}, lineColor = {95, 75, 45},
     fillColor = {235, 220, 190}, fillPattern = FillPattern.Solid), Text(extent = {{-150, 140}, {150, 105}},
     textString = "%name", textColor = {0, 0, 255})}), Documentation(info = "<html>
-<p>Every component connects its own client in the initial algorithm and declares itself in
-the generic layout of the C ABI; exchanged components read (and send) at
+<p>Every component's own client connects when the tool constructs it (before any initial
+algorithm runs); the initial algorithm declares the component in the generic layout of the
+C ABI and ends with DeclarationsDone, so the server compiles when the last component's
+initialisation ends; exchanged components read (and send) at
 <code>sample(0, tc)</code>, receiving the interval that just ended first, so their outputs
 lag one communication interval; <code>terminal()</code> says Bye. The DEM run ends when
 every component said Bye.</p></html>"));

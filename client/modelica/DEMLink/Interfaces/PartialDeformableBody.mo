@@ -29,7 +29,8 @@ partial model PartialDeformableBody "Connection, driven pose, reactions and Bye 
     "About the world origin" annotation (Placement(transformation(extent = {{100, -70}, {120, -50}})));
   Modelica.Blocks.Interfaces.IntegerOutput brokenSprings(start = 0, fixed = true) "Springs broken so far (0 for FEM)";
 protected
-  DEMLink.Functions.Client client = DEMLink.Functions.Client() "This body's connection";
+  DEMLink.Functions.Client client = DEMLink.Functions.Client(simBox.address, simBox.port, name, simBox.token,
+    simBox.timeout) "This body's connection, connected by its constructor";
   parameter Integer handle(fixed = false) "The body's handle on its connection (set by the declaration)";
   parameter Integer declareStatus(fixed = false) "dl_status of the declaration";
   Integer status(start = 0, fixed = true);

@@ -14,4 +14,12 @@ package Types "Choices of the DEMLink components"
     "Radius distribution of inserted particles (the solver paper's distributions)";
   type BodyMotion = enumeration(Predicted "The body moves on with the sent velocity during the interval (docs/protocol.md)",
     Lagged "The body stays at the sent pose during the interval") "How the server moves a body between two exchanges";
+  type ContactModel = enumeration(Default "The server's default (Hertz-Mindlin)", HertzMindlin "Hertz normal, Mindlin tangential",
+    LinearSpringDashpot "Constant stiffness: cheaper") "Contact law of the DEM run (docs/physics.md)";
+  type Integrator = enumeration(Default "The server's default (velocity Verlet)", VelocityVerlet "Second order, symplectic",
+    ExplicitEuler "First order; for comparison only") "Time integrator of the DEM run";
+  type Fidelity = enumeration(NoPreset "Each setting's own default", Draft "Quick looks: the largest step the limit accepts",
+    Engineering "Design work: bulk quantities within a few per cent",
+    Validation "Comparisons with experiments: restitution within 1 %")
+    "Speed/accuracy preset for the settings left at their default (docs/accuracy.md)";
 end Types;
