@@ -48,6 +48,8 @@ class CosimHarness {
   explicit CosimHarness(const std::filesystem::path& outputRoot, v1::Scene baseScene = {},
                         std::filesystem::path recordFile = {}, bool overwrite = false)
       : host_(options(outputRoot, std::move(baseScene), std::move(recordFile), overwrite)) {}
+  /// A host with options of the test's own (options() as the starting point).
+  explicit CosimHarness(CosimOptions hostOptions) : host_(std::move(hostOptions)) {}
 
   static CosimOptions options(const std::filesystem::path& outputRoot, v1::Scene baseScene,
                                      std::filesystem::path recordFile, bool overwrite = false) {

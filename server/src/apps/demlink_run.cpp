@@ -82,6 +82,7 @@ int run(int argc, char** argv) {
 #endif
 
   demlink::v1::Scene scene = demlink::server::loadSceneFile(line.scene);
+  demlink::server::requireBackendAgrees(scene, backend);
   if (line.end_time) {
     for (demlink::v1::ComponentDeclaration& component : *scene.mutable_components()) {
       if (component.has_simulation_box()) component.mutable_simulation_box()->set_end_time(*line.end_time);

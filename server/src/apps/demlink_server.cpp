@@ -4,7 +4,8 @@
 ///                  [--quiet-period S] [--timeout S] [--assembly-timeout S] [--hello-timeout S]
 ///                  [--max-frame-bytes N] [--max-queued-bytes N] [--max-unwelcomed N]
 ///                  [--progress S] [--spin-wait-us US] [--record FILE] [--replay FILE] [--data-root DIR] [--overwrite]
-///                  [--once | --max-simulations N] [--backend native] [--help] [--version]
+///                  [--once | --max-simulations N] [--backend native|liggghts] [--help] [--version]
+///   mpirun -np N demlink-server --backend liggghts ...   (docs/scale-out.md)
 ///
 /// Prints "demlink-server listening on ADDR:PORT" once it accepts connections (scripts and
 /// tests read the port from it with --port 0). Exit codes: 0 normal end (also SIGINT /
@@ -20,12 +21,18 @@
 #include <cstdlib>
 #include <exception>
 #include <filesystem>
+#include <functional>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <string>
 
 #include "demlink/core/input_error.hpp"
 #include "demlink/server/backend/simulation_backend.hpp"
+#ifdef DEMLINK_HAS_LIGGGHTS
+#include "demlink/server/backend/cosim_lockstep.hpp"
+#include "demlink/server/backend/liggghts_backend.hpp"
+#endif
 #include "demlink/server/cosim/cosim_host.hpp"
 #include "demlink/server/cosim/session_replay.hpp"
 #include "command_line_main.hpp"
@@ -122,7 +129,8 @@ void addOptions(CLI::App& app, CommandLine& line) {
                 })
       ->type_name("DIR");
   cli::addText(app, "--backend", line.backend,
-               "engine: native (default); liggghts runs headless scenes only so far (demlink-run, docs/scale-out.md)")
+               "engine: native (default) or liggghts (LIGGGHTS-PUBLIC on the MPI ranks mpirun started; rank 0 "
+               "serves, docs/scale-out.md)")
       ->type_name("NAME");
   app.add_flag("--overwrite", line.overwrite, "a simulation may write into an output folder that holds a run's outputs");
   CLI::Option* once = app.add_flag("--once", line.once, "exit after the first simulation ends (= --max-simulations 1)");
@@ -187,18 +195,38 @@ int run(int argc, char** argv) {
   if (line.record && line.replay) {
     throw InputError("--record", *line.record, "cannot be combined with --replay");
   }
-  if (demlink::server::parseBackendKind("--backend", line.backend) != demlink::server::BackendKind::Native) {
-    throw InputError("--backend", line.backend,
-                     "co-simulation on LIGGGHTS is not available yet; run headless scenes with "
-                     "demlink-run --backend liggghts (docs/scale-out.md)");
-  }
+  const demlink::server::BackendKind backend = demlink::server::parseBackendKind("--backend", line.backend);
   spdlog::set_pattern("[%H:%M:%S] %^%l%$: %v");
   if (!line.token) {
     if (const char* fromEnvironment = std::getenv("DEMLINK_TOKEN"); fromEnvironment != nullptr && *fromEnvironment) {
       line.token = fromEnvironment;
     }
   }
-  const demlink::server::CosimOptions options = hostOptions(line);
+  demlink::server::CosimOptions options = hostOptions(line);
+  options.backend = backend;
+  // Under MPI rank 0 is the server; the other ranks mirror its host (cosim_lockstep.hpp).
+  std::function<void()> stopMirrors;  // outlives the host, which calls into the leader
+  if (backend == demlink::server::BackendKind::Liggghts) {
+#ifdef DEMLINK_HAS_LIGGGHTS
+    if (line.replay) throw InputError("--replay", *line.replay, "replays run on the native backend");
+    options.liggghts = [](demlink::core::World& world, const std::filesystem::path& logFile) {
+      return std::make_unique<demlink::server::LiggghtsBackend>(world, logFile.string());
+    };
+    if (demlink::server::ensureMpi() != 0) {
+      spdlog::set_level(spdlog::level::warn);  // rank 0 reports
+      demlink::server::runLockstepMirror(options);
+      return 0;
+    }
+    auto leader = std::make_shared<demlink::server::LockstepLeader>();
+    leader->attach(options);
+    stopMirrors = [leader] { leader->close(); };
+    spdlog::info("LIGGGHTS backend on {} MPI rank(s)", demlink::server::mpiRanks());
+#else
+    throw InputError("--backend", line.backend,
+                     "this build has no LIGGGHTS backend (configure with libliggghts-dev and libopenmpi-dev; "
+                     "docs/scale-out.md)");
+#endif
+  }
 
   if (line.replay) {
     const demlink::server::ReplayResult result = demlink::server::replaySession(*line.replay, options);
@@ -240,6 +268,7 @@ int run(int argc, char** argv) {
   std::printf("demlink-server listening on %s:%u\n", server.address().c_str(), static_cast<unsigned>(server.port()));
   std::fflush(stdout);
   server.run();
+  if (stopMirrors) stopMirrors();
   spdlog::info("demlink-server stopped");
   return 0;
 }

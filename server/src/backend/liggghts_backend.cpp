@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "demlink/core/input_error.hpp"
+#include "demlink/server/backend/liggghts_motion.hpp"
 #include "demlink/server/backend/liggghts_script.hpp"
 #include "demlink/server/run/output_directory.hpp"
 #include "demlink/server/run/particle_csv.hpp"
@@ -123,13 +124,43 @@ void LiggghtsBackend::command(const std::string& line) {
   lammps_command(lammps_, line.c_str());
 }
 
+bool LiggghtsBackend::updateMeshMotion() {
+  bool changed = false;
+  motions_.resize(world_.meshes().size());
+  for (std::size_t k = 0; k < motions_.size(); ++k) {
+    const core::MeshBody& mesh = world_.meshes()[k];
+    MeshMotion& motion = motions_[k];
+    if (mesh.linearVelocity() == motion.linear && mesh.angularVelocity() == motion.angular) continue;
+    for (auto id = motion.fixes.rbegin(); id != motion.fixes.rend(); ++id) command("unfix " + *id);
+    motion = {mesh.linearVelocity(), mesh.angularVelocity(), {}};
+    for (const LiggghtsFix& fix : liggghtsMeshMotion(k, mesh.position(), motion.linear, motion.angular)) {
+      command(fix.command);
+      motion.fixes.push_back(fix.id);
+    }
+    changed = true;
+  }
+  return changed;
+}
+
 void LiggghtsBackend::advanceTo(std::uint64_t step) {
   if (step <= step_) return;
   // The first run sets up neighbour lists and forces; later ones continue exactly where
-  // the last stopped (pre no: no re-setup), as one uninterrupted run would.
-  command(fmt::format("run {}{}", step - step_, started_ ? " pre no post no" : " post no"));
+  // the last stopped (pre no: no re-setup), as one uninterrupted run would. A new move
+  // fix is only seen by a run that sets up (LIGGGHTS builds its fix lists there); the
+  // set-up recomputes the forces at the same positions, which changes nothing.
+  const bool refixed = updateMeshMotion();
+  command(fmt::format("run {}{}", step - step_, started_ && !refixed ? " pre no post no" : " post no"));
   started_ = true;
+  const std::uint64_t steps = step - step_;
   step_ = step;
+  world_.advanceClockExternally(steps);
+  for (std::size_t k = 0; k < world_.meshes().size(); ++k) {
+    core::MeshBody& mesh = world_.mesh(k);
+    mesh.advance(static_cast<double>(steps) * world_.settings().time_step);
+    const auto [force, torque] = meshWrench(k);
+    mesh.clearWrench();
+    mesh.addWrench(force, torque);
+  }
 }
 
 std::size_t LiggghtsBackend::particleCount() const {
@@ -177,11 +208,6 @@ void LiggghtsBackend::syncParticles() {
     p.position[i] = core::Vec3(row[0], row[1], row[2]);
     p.velocity[i] = core::Vec3(row[3], row[4], row[5]);
     p.angular_velocity[i] = core::Vec3(row[6], row[7], row[8]);
-  }
-  for (std::size_t k = 0; k < world_.meshes().size(); ++k) {
-    const auto [force, torque] = meshWrench(k);
-    world_.mesh(k).clearWrench();
-    world_.mesh(k).addWrench(force, torque);
   }
 }
 

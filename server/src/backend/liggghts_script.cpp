@@ -33,9 +33,6 @@ std::string refusalReason(Kind kind) {
     case Kind::kFlowSensor:
     case Kind::kTracker:
       return "sinks, sensors and trackers are not mapped by the LIGGGHTS backend yet";
-    case Kind::kRigidBody:
-    case Kind::kParticleView:
-      return "co-simulation components are not mapped by the LIGGGHTS backend yet";
     default:
       return {};
   }
@@ -107,11 +104,6 @@ void requireLiggghtsCompatible(const v1::Scene& scene, const core::World& world)
            "rolling friction is not mapped by the LIGGGHTS backend");
   refuseIf(world.pairTable().anyCohesion(), "material_pair.cohesion_energy_density", "> 0",
            "cohesion is not mapped by the LIGGGHTS backend (its cohesion models differ from ours)");
-  for (const core::MeshBody& mesh : world.meshes()) {
-    refuseIf(mesh.linearVelocity().norm() > 0.0 || mesh.angularVelocity().norm() > 0.0,
-             "mesh " + mesh.name() + ".linear_velocity", "moving",
-             "moving meshes are not mapped by the LIGGGHTS backend yet (fix move/mesh); meshes at rest are");
-  }
   for (const core::PlaneWall& plane : world.planes()) {
     refuseIf(planeAxis(plane.spec.normal) < 0, "plane " + plane.spec.name + ".normal",
              fmt::format("({}, {}, {})", plane.spec.normal.x(), plane.spec.normal.y(), plane.spec.normal.z()),

@@ -17,6 +17,19 @@ BackendKind parseBackendKind(const std::string& field, const std::string& value)
   throw core::InputError(field, value, "unknown backend; expected native or liggghts");
 }
 
+void requireBackendAgrees(const v1::Scene& scene, BackendKind backend) {
+  for (const v1::ComponentDeclaration& component : scene.components()) {
+    if (!component.has_simulation_box()) continue;
+    const v1::SimulationBox::Backend wanted = component.simulation_box().backend();
+    if (wanted == v1::SimulationBox::BACKEND_UNSPECIFIED) continue;
+    if ((wanted == v1::SimulationBox::LIGGGHTS) != (backend == BackendKind::Liggghts)) {
+      throw core::InputError(component.name() + ".simulation_box.backend", v1::SimulationBox::Backend_Name(wanted),
+                             std::string("the scene and the command line (--backend ") +
+                                 (backend == BackendKind::Liggghts ? "liggghts" : "native") + ") must agree");
+    }
+  }
+}
+
 NativeBackend::NativeBackend(core::World& world) : world_(world) {
   if (!world_.initialized()) world_.initialize();
 }

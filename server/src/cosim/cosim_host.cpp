@@ -21,6 +21,8 @@
 
 #include "demlink/core/log_text.hpp"
 #include "demlink/core/names.hpp"
+#include "demlink/core/input_error.hpp"
+#include "demlink/server/backend/liggghts_script.hpp"
 #include "demlink/server/cosim/cosim_compiler.hpp"
 #include "demlink/server/cosim/cosim_simulation.hpp"
 #include "demlink/server/cosim/session_recorder.hpp"
@@ -79,12 +81,14 @@ struct CosimHost::Impl {
   // --- recording -----------------------------------------------------------------
   void record(v1::SessionEvent::Kind kind, ConnectionId id = 0, const v1::ClientMessage* message = nullptr,
               const std::string& text = {}) {
-    if (!recorder) return;
+    if (!recorder && !options.on_event) return;
     v1::SessionEvent event;
     event.set_kind(kind);
     event.set_connection(id);
     if (message != nullptr) *event.mutable_message() = *message;
     event.set_text(text);
+    if (options.on_event) options.on_event(event);
+    if (!recorder) return;
     try {
       recorder->record(std::move(event));
     } catch (const std::exception& error) {
@@ -186,6 +190,36 @@ struct CosimHost::Impl {
     endSimulation(out, cause);
   }
 
+  /// What the engine refuses of a compiled set: a SimulationBox.backend other than the
+  /// server's, and on LIGGGHTS what it cannot run; nullopt if it runs.
+  [[nodiscard]] std::optional<v1::Error> refusedByBackend(const CompiledSimulation& compiled) const {
+    v1::Scene declared;
+    for (const DeclaredComponent& d : compiler.declarations()) *declared.add_components() = d.declaration;
+    try {
+      requireBackendAgrees(declared, options.backend);
+    } catch (const core::InputError& disagreement) {
+      const std::string& field = disagreement.field();  // "<box name>.simulation_box.backend"
+      return makeError(v1::Error::INVALID_DECLARATION, disagreement.what(), field.substr(0, field.find('.')), field,
+                       true);
+    }
+    if (options.backend != BackendKind::Liggghts) return std::nullopt;
+    if (!options.liggghts) {
+      return makeError(v1::Error::INTERNAL, "this server has no LIGGGHTS backend", "", "", true);
+    }
+    try {
+      requireLiggghtsCompatible(declared, compiled.scene->world);
+    } catch (const core::InputError& refusal) {
+      // The refusal names components by their index in the declared set; the client knows names.
+      std::string component;
+      for (const v1::ComponentDeclaration& d : declared.components()) {
+        if (refusal.value() == d.name()) component = d.name();
+      }
+      return makeError(v1::Error::INVALID_DECLARATION, std::string("LIGGGHTS backend: ") + refusal.what(), component,
+                       refusal.field(), true);
+    }
+    return std::nullopt;
+  }
+
   void compile(std::vector<Outgoing>& out, SteadyClock::time_point now) {
     const SteadyClock::time_point workStart = SteadyClock::now();
     CompiledSimulation compiled;
@@ -198,6 +232,13 @@ struct CosimHost::Impl {
       endSimulation(out, "compile failed: " + failure.error.message());
       return;
     }
+    if (std::optional<v1::Error> refused = refusedByBackend(compiled)) {
+      spdlog::error("simulation {}: compile failed: {}", number(),
+                    core::logText(refused->message(), kLogMessageMaxBytes));
+      for (const auto& [id, connection] : connections) send(out, id, *refused);
+      endSimulation(out, "compile failed: " + refused->message());
+      return;
+    }
     std::filesystem::path directory;
     try {
       // Never an earlier simulation's folder, unless told to overwrite (output_directory.hpp).
@@ -205,7 +246,7 @@ struct CosimHost::Impl {
       const std::uint64_t folder =
           options.overwrite ? number() : claimSimulationDirectory(options.output_root, number());
       directory = simulationDirectory(options.output_root, folder);
-      sim = std::make_unique<CosimSimulation>(std::move(compiled), directory);
+      sim = std::make_unique<CosimSimulation>(std::move(compiled), directory, options);
     } catch (const std::exception& error) {
       const v1::Error e = makeError(v1::Error::INTERNAL, std::string("cannot start the simulation: ") + error.what(),
                                     "", "", true);

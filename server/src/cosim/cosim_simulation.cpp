@@ -23,8 +23,12 @@ double secondsSince(Clock::time_point start) { return std::chrono::duration<doub
 
 }  // namespace
 
-CosimSimulation::CosimSimulation(CompiledSimulation compiled, const std::filesystem::path& outputDirectory)
-    : compiled_(std::move(compiled)), directory_(outputDirectory), outputs_(compiled_.components.size()) {
+CosimSimulation::CosimSimulation(CompiledSimulation compiled, const std::filesystem::path& outputDirectory,
+                                 const CosimOptions& options)
+    : compiled_(std::move(compiled)),
+      directory_(outputDirectory),
+      outputs_(compiled_.components.size()),
+      before_engine_(options.before_engine) {
   core::World& w = world();
   for (std::size_t i = 0; i < compiled_.components.size(); ++i) {
     const CosimComponent& c = compiled_.components[i];
@@ -33,18 +37,30 @@ CosimSimulation::CosimSimulation(CompiledSimulation compiled, const std::filesys
       couplings_.emplace(i, core::CoupledMotion(*c.mesh, c.motion));
     }
   }
-  driver_ = std::make_unique<RunDriver>(w, compiled_.scene->run, compiled_.plan, directory_,
-                                        compiled_.box_name + ".simulation_box.output.directory");
-  {
+  if (!options.mirror) {
+    driver_ = std::make_unique<RunDriver>(w, compiled_.scene->run, compiled_.plan, directory_,
+                                          compiled_.box_name + ".simulation_box.output.directory");
     std::ofstream report(directory_ / "compile_report.txt");
     report << compiled_.report.text();
   }
-  backend_ = std::make_unique<NativeBackend>(w);
+  if (options.backend == BackendKind::Liggghts) {
+    beforeEngine();
+    backend_ = options.liggghts(w, options.mirror ? std::filesystem::path() : directory_ / "liggghts.log");
+  } else {
+    backend_ = std::make_unique<NativeBackend>(w);
+  }
   w.setStageTiming(true);  // the run log's per-stage rows
-  driver_->start(w);
+  if (driver_) driver_->start(w);
 }
 
-CosimSimulation::~CosimSimulation() = default;
+CosimSimulation::~CosimSimulation() {
+  // Closing LIGGGHTS is a collective of every rank.
+  if (backend_ && backend_->name() != "native") beforeEngine();
+}
+
+void CosimSimulation::beforeEngine() const {
+  if (before_engine_) before_engine_();
+}
 
 const core::CoupledMotion* CosimSimulation::coupling(std::size_t index) const {
   const auto it = couplings_.find(index);
@@ -97,11 +113,31 @@ std::optional<v1::Error> CosimSimulation::accept(ConnectionId from, const v1::Da
     return makeError(v1::Error::OUT_OF_ORDER, "component \"" + c.name + "\": " + why, c.name, "data.step", true);
   }
   if (auto bad = checkInput(c, package)) return bad;
+  if (auto bad = refusedByEngine(c, package)) return bad;
   if (scheduler_.offer(index, package.step()) != ExchangeScheduler::Offer::Accepted) {
     return makeError(v1::Error::OUT_OF_ORDER, "component \"" + c.name + "\": package not accepted", c.name,
                      "data.step", true);
   }
   inputs_[index] = package;
+  return std::nullopt;
+}
+
+std::optional<v1::Error> CosimSimulation::refusedByEngine(const CosimComponent& c, const v1::DataPackage& package) {
+  if (backend_->name() == "native" || !package.has_simulation_box_input()) return std::nullopt;
+  // LIGGGHTS is given the room and gravity once, at the start (liggghts_script.hpp).
+  const v1::SimulationBoxInput& input = package.simulation_box_input();
+  if (input.has_frame() && !frameOf(input.frame()).isInertial()) {
+    return makeError(v1::Error::INVALID_INPUT,
+                     "component \"" + c.name + "\": the LIGGGHTS backend has no moving room; run it on the native "
+                     "backend",
+                     c.name, "data.simulation_box_input.frame", true);
+  }
+  if (input.has_gravity() &&
+      core::Vec3(input.gravity().x(), input.gravity().y(), input.gravity().z()) != world().gravity()) {
+    return makeError(v1::Error::INVALID_INPUT,
+                     "component \"" + c.name + "\": the LIGGGHTS backend cannot change gravity during a run",
+                     c.name, "data.simulation_box_input.gravity", true);
+  }
   return std::nullopt;
 }
 
@@ -132,7 +168,7 @@ void CosimSimulation::stepWorld() {
   }
   backend_->advanceTo(w.stepCount() + 1);  // couplings and outputs see every step
   for (auto& [index, coupling] : couplings_) coupling.afterStep(w);
-  driver_->afterStep(w);
+  if (driver_) driver_->afterStep(w);
 }
 
 CosimSimulation::Advance CosimSimulation::advance() {
@@ -161,7 +197,10 @@ CosimSimulation::Advance CosimSimulation::advance() {
   if (!stop) return out;
   const Clock::time_point begin = Clock::now();
   const std::uint64_t first = w.stepCount();
+  beforeEngine();
   while (w.stepCount() < *stop) stepWorld();
+  // The outputs at the stop read the particles from the compiled world (no-op natively).
+  backend_->syncParticles();
   outputs_.addStepping(w.stepCount() - first, secondsSince(begin));
   out.stepped = true;
   for (const std::size_t index : scheduler_.advanceTo(*stop)) {
@@ -175,6 +214,7 @@ CosimSimulation::Advance CosimSimulation::advance() {
 }
 
 void CosimSimulation::finish(const std::string& reason) {
+  if (!driver_) return;
   driver_->finish(world(), reason);
   // The measured part of the compile report: known only once the run has stepped.
   std::ofstream report(directory_ / "compile_report.txt", std::ios::app);

@@ -12,6 +12,20 @@
 
 namespace demlink::server {
 
+std::optional<std::vector<Outgoing>> replayEvent(CosimHost& host, const v1::SessionEvent& event,
+                                                 SteadyClock::time_point now) {
+  switch (event.kind()) {
+    case v1::SessionEvent::CONNECTED: return host.connected(event.connection(), event.message().hello(), now);
+    case v1::SessionEvent::RECEIVED: return host.received(event.connection(), event.message(), now);
+    case v1::SessionEvent::DISCONNECTED: return host.disconnected(event.connection(), event.text(), now);
+    case v1::SessionEvent::COMPILE_NOW: return host.compileNow(now);
+    case v1::SessionEvent::TIMEOUT: return host.expireWaitNow(now);
+    case v1::SessionEvent::ASSEMBLY_TIMEOUT: return host.expireAssemblyNow(now);
+    case v1::SessionEvent::SHUTDOWN: return host.shutdown(event.text(), now);
+    default: return std::nullopt;
+  }
+}
+
 ReplayResult replaySession(const std::filesystem::path& file, CosimOptions options) {
   std::ifstream in(file, std::ios::binary);
   if (!in) throw std::runtime_error("cannot read the session record " + file.string());
@@ -54,18 +68,12 @@ ReplayResult replaySession(const std::filesystem::path& file, CosimOptions optio
       ++index;
       continue;
     }
-    switch (event.kind()) {
-      case v1::SessionEvent::CONNECTED: collect(host->connected(event.connection(), event.message().hello(), now)); break;
-      case v1::SessionEvent::RECEIVED: collect(host->received(event.connection(), event.message(), now)); break;
-      case v1::SessionEvent::DISCONNECTED: collect(host->disconnected(event.connection(), event.text(), now)); break;
-      case v1::SessionEvent::COMPILE_NOW: collect(host->compileNow(now)); break;
-      case v1::SessionEvent::TIMEOUT: collect(host->expireWaitNow(now)); break;
-      case v1::SessionEvent::ASSEMBLY_TIMEOUT: collect(host->expireAssemblyNow(now)); break;
-      case v1::SessionEvent::SHUTDOWN: collect(host->shutdown(event.text(), now)); break;
-      default:
-        throw std::runtime_error(file.string() + ": event " + std::to_string(index) + " has unknown kind " +
-                                 std::to_string(static_cast<int>(event.kind())));
+    const std::optional<std::vector<Outgoing>> answers = replayEvent(*host, event, now);
+    if (!answers) {
+      throw std::runtime_error(file.string() + ": event " + std::to_string(index) + " has unknown kind " +
+                               std::to_string(static_cast<int>(event.kind())));
     }
+    collect(*answers);
     ++index;
     ++result.events;
   }

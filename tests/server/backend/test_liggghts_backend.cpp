@@ -108,6 +108,91 @@ endsolid plate
               mpiRanks(), theirs.force().z(), theirs.torque().y(), reference.force().z(), reference.torque().y());
 }
 
+// The 20 mm square plate of SphereOnMeshHasOurWrench, moving at a constant twist, under
+// a sphere of the given material; the scene runs on both engines.
+struct MovingPlateRun {
+  core::Vec3 force_ours, torque_ours, force_theirs, torque_theirs;
+  core::Vec3 sphere_ours, sphere_theirs;
+};
+
+MovingPlateRun runMovingPlate(const std::string& material, const std::string& motion, std::uint64_t steps) {
+  const test::ScratchDir dir;
+  test::writeText(dir.path() / "plate.stl", "solid plate\n facet normal 0 0 1\n  outer loop\n   vertex -0.01 -0.01 0\n"
+                                            "   vertex 0.01 -0.01 0\n   vertex 0.01 0.01 0\n  endloop\n endfacet\n"
+                                            " facet normal 0 0 1\n  outer loop\n   vertex -0.01 -0.01 0\n"
+                                            "   vertex 0.01 0.01 0\n   vertex -0.01 0.01 0\n  endloop\n endfacet\n"
+                                            "endsolid plate\n");
+  const v1::Scene scene = test::sceneOf({
+      R"({"name": "box", "simulation_box": {"time_step": 1e-5, "end_time": 0.1,
+          "bounds": {"lower": {"x": -0.01, "y": -0.01, "z": -0.005}, "upper": {"x": 0.03, "y": 0.03, "z": 0.02}}}})",
+      material,
+      R"({"name": "plate", "mesh_body": {"stl_file": "plate.stl", "material": "beads",
+          "position": {"x": 0.01, "y": 0.01, "z": 0}, )" + motion + "}}",
+      R"({"name": "bead", "single_particle": {"material": "beads",
+          "position": {"x": 0.012, "y": 0.01, "z": 0.00199}, "diameter": 0.004}})",
+  });
+  MovingPlateRun out;
+  TranslatedScene native = translateScene(scene, dir.path());
+  NativeBackend ours(native.world);
+  ours.advanceTo(steps);
+  out.force_ours = ours.world().meshes()[0].force();
+  out.torque_ours = ours.world().meshes()[0].torque();
+  out.sphere_ours = ours.world().particles().position[0];
+  TranslatedScene translated = translateScene(scene, dir.path());
+  requireLiggghtsCompatible(scene, translated.world);
+  LiggghtsBackend backend(translated.world);
+  // In strides, as a co-simulation advances it; the twist is set once, so the fixes stay.
+  for (std::uint64_t step = 0; step < steps;) backend.advanceTo(step += steps / 10);
+  backend.syncParticles();
+  out.force_theirs = backend.world().meshes()[0].force();
+  out.torque_theirs = backend.world().meshes()[0].torque();
+  out.sphere_theirs = backend.world().particles().position[0];
+  EXPECT_NEAR((backend.world().meshes()[0].position() - ours.world().meshes()[0].position()).norm(), 0.0, 1e-12);
+  return out;
+}
+
+TEST(LiggghtsBackend, SlidingMeshCarriesItsReferencePoint) {
+  // Frictionless: the sphere stays where it is while the plate slides 4 mm in x beneath it
+  // (0.04 m/s for 0.1 s), from 2 mm ahead of the plate's reference point to 2 mm behind it:
+  // torque about it (0, -0.002 m g, 0) at the end, (0, +0.002 m g, 0) at the start.
+  const std::string slippery = R"({"name": "beads", "material": {"density": 2500, "youngs_modulus": 5e6,
+      "poisson_ratio": 0.3, "restitution": 0.5, "sliding_friction": 0}})";
+  const MovingPlateRun run = runMovingPlate(slippery, R"("linear_velocity": {"x": 0.04})", 10000);
+  const double r = 0.002;
+  const double weight = 2500.0 * 4.0 / 3.0 * std::numbers::pi * r * r * r * 9.81;
+  EXPECT_NEAR(run.force_ours.z(), -weight, 0.02 * weight);
+  EXPECT_NEAR(run.torque_ours.y(), -0.002 * weight, 0.02 * 0.002 * weight);
+  EXPECT_NEAR(run.force_theirs.z(), run.force_ours.z(), 0.02 * weight) << "ranks " << mpiRanks();
+  EXPECT_NEAR(run.torque_theirs.y(), run.torque_ours.y(), 0.02 * 0.002 * weight);
+  EXPECT_NEAR(run.torque_theirs.x(), run.torque_ours.x(), 0.02 * 0.002 * weight);
+  std::printf("sliding plate on %d rank(s): LIGGGHTS Fz %.6g N, My %.6g N m; ours Fz %.6g N, My %.6g N m\n",
+              mpiRanks(), run.force_theirs.z(), run.torque_theirs.y(), run.force_ours.z(), run.torque_ours.y());
+}
+
+TEST(LiggghtsBackend, TurningAndSlidingMeshDragsTheSphereAsOurs) {
+  // With friction the plate, sliding at 0.05 m/s in y and turning at 2 rad/s about z through
+  // its moving reference point, drags the sphere; where the sphere is after 0.05 s depends on
+  // the wall velocity under it all along (direction of turn, axis through the moving point).
+  const MovingPlateRun run =
+      runMovingPlate(kBeads, R"("linear_velocity": {"y": 0.05}, "angular_velocity": {"z": 2})", 5000);
+  const core::Vec3 start(0.012, 0.01, 0.00199);
+  const core::Vec3 ours = run.sphere_ours - start;
+  const core::Vec3 theirs = run.sphere_theirs - start;
+  EXPECT_GT(ours.head<2>().norm(), 5e-4);  // dragged: about 2/7 of the wall's travel
+  EXPECT_LT((theirs - ours).head<2>().norm(), 0.02 * ours.head<2>().norm())
+      << "ours (" << ours.x() << ", " << ours.y() << "), LIGGGHTS (" << theirs.x() << ", " << theirs.y() << ")";
+  const double r = 0.002;
+  const double weight = 2500.0 * 4.0 / 3.0 * std::numbers::pi * r * r * r * 9.81;
+  EXPECT_NEAR(run.force_theirs.z(), run.force_ours.z(), 0.02 * weight);
+  const double arm = (run.sphere_ours - core::Vec3(0.01, 0.0125, 0)).head<2>().norm();
+  EXPECT_NEAR(run.torque_theirs.x(), run.torque_ours.x(), 0.02 * arm * weight);
+  EXPECT_NEAR(run.torque_theirs.y(), run.torque_ours.y(), 0.02 * arm * weight);
+  std::printf("turning plate on %d rank(s): sphere moved (%.6g, %.6g) mm on LIGGGHTS, (%.6g, %.6g) mm on ours; "
+              "Mx %.6g / %.6g, My %.6g / %.6g N m\n",
+              mpiRanks(), 1e3 * theirs.x(), 1e3 * theirs.y(), 1e3 * ours.x(), 1e3 * ours.y(), run.torque_theirs.x(),
+              run.torque_ours.x(), run.torque_theirs.y(), run.torque_ours.y());
+}
+
 TEST(LiggghtsBackend, ParticleLeavingTheBoxIsRemovedAsByOurEngine) {
   const v1::Scene scene = test::sceneOf({
       R"({"name": "box", "simulation_box": {"time_step": 1e-5, "end_time": 0.01, "max_impact_velocity": 3.0,

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "demlink/core/input_error.hpp"
+#include "demlink/server/backend/liggghts_motion.hpp"
 #include "demlink/server/backend/liggghts_script.hpp"
 #include "demlink/server/backend/simulation_backend.hpp"
 #include "scene_test_support.hpp"
@@ -104,7 +105,7 @@ TEST(LiggghtsRefusals, DeformableBodiesNamed) {
   }
 }
 
-TEST(LiggghtsRefusals, MovingMeshesNamed) {
+TEST(LiggghtsRefusals, MovingMeshesAccepted) {
   const test::ScratchDir dir;
   test::writeText(dir.path() / "tri.stl",
                   "solid t\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 0.01 0 0\n"
@@ -112,18 +113,37 @@ TEST(LiggghtsRefusals, MovingMeshesNamed) {
   std::vector<std::string> components = base();
   components.push_back(R"({"name": "blade", "mesh_body": {"stl_file": "tri.stl", "material": "beads",
       "linear_velocity": {"x": 0.1}}})");
-  const std::string what = refusalOf(test::sceneOf(components), test::sceneOf(components), dir.path());
-  EXPECT_TRUE(has(what, "mesh blade.linear_velocity") && has(what, "move/mesh")) << what;
-  components.back() = R"({"name": "blade", "mesh_body": {"stl_file": "tri.stl", "material": "beads"}})";
   EXPECT_EQ(refusalOf(test::sceneOf(components), test::sceneOf(components), dir.path()), "(accepted)");
   TranslatedScene resting = translateScene(test::sceneOf(components), dir.path());
   const std::string stl = liggghtsStl(resting.world.meshes()[0]);
   EXPECT_TRUE(has(stl, "vertex 0.01 0 0")) << stl;
 }
 
+TEST(LiggghtsMeshMotion, SlideThenTurnAboutTheCarriedReferencePoint) {
+  // Sliding at u = (0.1, 0, 0) m/s while turning at w = (0, 0, 2) rad/s about P = (1, 0, 0):
+  // the linear fix first, then the rotation about P (period pi s), which LIGGGHTS carries
+  // along with the first fix's motion.
+  const std::vector<LiggghtsFix> both =
+      liggghtsMeshMotion(2, core::Vec3(1, 0, 0), core::Vec3(0.1, 0, 0), core::Vec3(0, 0, 2));
+  ASSERT_EQ(both.size(), 2u);
+  EXPECT_EQ(both[0].id, "demlink_mesh2_slide");
+  EXPECT_TRUE(
+      has(both[0].command, "fix demlink_mesh2_slide all move/mesh mesh demlink_mesh2 linear 0.10000000000000001 0 0"))
+      << both[0].command;
+  EXPECT_EQ(both[1].id, "demlink_mesh2_turn");
+  EXPECT_TRUE(
+      has(both[1].command, "move/mesh mesh demlink_mesh2 rotate origin 1 0 0 axis 0 0 1 period 3.1415926535897931"))
+      << both[1].command;
+  const std::vector<LiggghtsFix> turn =
+      liggghtsMeshMotion(0, core::Vec3(0, 3, 0), core::Vec3::Zero(), core::Vec3(0, -4, 0));
+  ASSERT_EQ(turn.size(), 1u);
+  EXPECT_TRUE(has(turn[0].command, "rotate origin 0 3 0 axis 0 -1 0 period 1.5707963267948966")) << turn[0].command;
+  EXPECT_TRUE(liggghtsMeshMotion(0, core::Vec3::Zero(), core::Vec3::Zero(), core::Vec3::Zero()).empty());
+}
+
 TEST(LiggghtsRefusals, SourcesSinksAndSensorsNamed) {
   for (const std::string kind : {"particle_source", "pit_generator", "particle_sink", "region_sensor", "flow_sensor",
-                                 "tracker", "rigid_body", "particle_view", "facet_body"}) {
+                                 "tracker", "facet_body"}) {
     const std::string what = kindRefusal(R"({"name": "thing", ")" + kind + R"(": {}})");
     EXPECT_TRUE(has(what, "components[4]." + kind) && has(what, "thing") && has(what, "native backend")) << what;
   }

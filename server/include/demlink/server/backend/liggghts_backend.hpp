@@ -37,18 +37,22 @@ class LiggghtsBackend final : public SimulationBackend {
   LiggghtsBackend& operator=(const LiggghtsBackend&) = delete;
 
   [[nodiscard]] std::string_view name() const override { return "liggghts"; }
+  /// Runs LIGGGHTS to `step`, moving each mesh at the twist its compiled-world mesh has
+  /// (fix move/mesh, liggghts_motion.hpp; a changed twist re-creates the fixes and makes
+  /// this run set up again), then advances the compiled world's clock and mesh poses by
+  /// the same steps and sets each mesh's wrench in it (meshWrench). A collective.
   void advanceTo(std::uint64_t step) override;
   [[nodiscard]] std::uint64_t stepCount() const override { return step_; }
-  /// Gathers positions, velocities and angular velocities to every rank, removes from the
-  /// compiled world the particles LIGGGHTS lost at the box (lostParticles) and sets each
-  /// mesh's wrench (meshWrench) in it (a collective: every rank must call it).
+  /// Gathers positions, velocities and angular velocities to every rank and removes from
+  /// the compiled world the particles LIGGGHTS lost at the box (lostParticles) (a
+  /// collective: every rank must call it).
   void syncParticles() override;
   /// Particles LIGGGHTS deleted outside the box, as of the last syncParticles().
   [[nodiscard]] const core::RemovalTally& lostParticles() const { return lost_; }
   [[nodiscard]] const core::World& world() const override { return world_; }
   /// Force on mesh `mesh` by the particles [N] and its torque about the mesh's reference
-  /// point [N m], of the last step (fix mesh/surface/stress). syncParticles() also sets
-  /// them as the compiled world's mesh wrench.
+  /// point [N m], of the last step (fix mesh/surface/stress). advanceTo() also sets them
+  /// as the compiled world's mesh wrench.
   [[nodiscard]] std::pair<core::Vec3, core::Vec3> meshWrench(std::size_t mesh) const;
   /// Particles LIGGGHTS holds now [-].
   [[nodiscard]] std::size_t particleCount() const;
@@ -60,6 +64,15 @@ class LiggghtsBackend final : public SimulationBackend {
   void* lammps_ = nullptr;
   std::uint64_t step_ = 0;
   bool started_ = false;
+  /// Per mesh: the twist LIGGGHTS moves it at now and the ids of its move fixes.
+  struct MeshMotion {
+    core::Vec3 linear = core::Vec3::Zero();
+    core::Vec3 angular = core::Vec3::Zero();
+    std::vector<std::string> fixes;
+  };
+  std::vector<MeshMotion> motions_;
+  /// Re-creates the move fixes of every mesh whose twist changed; true if any did.
+  bool updateMeshMotion();
   std::vector<std::uint64_t> tag_ids_;                         ///< atom tag - 1 -> our stable id
   std::unordered_map<std::uint64_t, std::size_t> tag_of_id_;  ///< our stable id -> atom tag
   core::RemovalTally lost_;

@@ -15,9 +15,10 @@
 ///   skin                  neighbor <skin> bin, neigh_modify delay 0
 ///   bounds                the box of read_data, boundary f f f (particles leaving it are lost)
 ///   plane                 fix wall/gran ... primitive type <material> x|y|zplane (axis-aligned)
-///   mesh_body (at rest)   its world-frame triangles as an STL file, fix mesh/surface/stress
+///   mesh_body, rigid_body its world-frame triangles as an STL file, fix mesh/surface/stress
 ///                         (type <material>, reference_point = the body's position), all
-///                         meshes in one fix wall/gran ... mesh
+///                         meshes in one fix wall/gran ... mesh; a moving mesh gets fix
+///                         move/mesh from the backend (liggghts_motion.hpp)
 ///   particles             read_data: id = slot + 1, type, diameter, density, x; velocities
 #include <string>
 #include <vector>
@@ -36,10 +37,8 @@ namespace demlink::server {
 [[nodiscard]] double liggghtsRestitution(double normalDamping, const std::string& field);
 
 /// Refuses, naming the component and the reason, what the LIGGGHTS backend cannot run:
-/// component kinds it does not map (clumps, meshes and facets, deformable bodies, sources,
-/// sinks, sensors, co-simulation bodies), a moving room, and in the compiled world moving
-/// meshes, the
-/// linear law, explicit Euler, rolling friction, cohesion, missing or growing bounds and
+/// component kinds it does not map (clumps, facets, deformable bodies, sources, sinks,
+/// sensors), a moving room, and in the compiled world the linear law, explicit Euler, rolling friction, cohesion, missing or growing bounds and
 /// planes that are not axis-aligned. Throws core::InputError.
 void requireLiggghtsCompatible(const v1::Scene& scene, const core::World& world);
 

@@ -9,6 +9,7 @@
 #include <string_view>
 
 #include "demlink/core/world.hpp"
+#include "demlink/v1/scene.pb.h"
 
 namespace demlink::server {
 
@@ -17,6 +18,10 @@ enum class BackendKind : std::uint8_t { Native, Liggghts };
 
 /// "native" or "liggghts" (case-insensitive); throws core::InputError naming `field`.
 [[nodiscard]] BackendKind parseBackendKind(const std::string& field, const std::string& value);
+
+/// A SimulationBox of `scene` whose `backend` is set must name `backend` (the command
+/// line's); throws core::InputError naming "<box name>.simulation_box.backend" otherwise.
+void requireBackendAgrees(const v1::Scene& scene, BackendKind backend);
 
 class SimulationBackend {
  public:

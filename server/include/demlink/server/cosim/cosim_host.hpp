@@ -20,14 +20,17 @@
 /// flushed and the host is ready for the next simulation (new connections).
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "demlink/server/backend/simulation_backend.hpp"
 #include "demlink/server/net/session_handler.hpp"
 #include "demlink/server/scene/input_limits.hpp"
 #include "demlink/v1/protocol.pb.h"
+#include "demlink/v1/recording.pb.h"
 #include "demlink/v1/scene.pb.h"
 
 namespace demlink::core {
@@ -57,6 +60,23 @@ struct CosimOptions {
   double progress_interval_s = 10.0;
   std::filesystem::path record_file;  ///< non-empty: append every received message (docs/protocol.md)
   std::string server_name = "demlink-server";
+  /// The engine (demlink-server --backend). A SimulationBox.backend that differs from it
+  /// is refused at the compile; on LIGGGHTS, what it cannot run is refused there too
+  /// (requireLiggghtsCompatible).
+  BackendKind backend = BackendKind::Native;
+  /// Builds the LIGGGHTS engine of a compiled world, writing its log to the given file;
+  /// set by demlink-server when it is built with the LIGGGHTS backend.
+  std::function<std::unique_ptr<SimulationBackend>(core::World&, const std::filesystem::path&)> liggghts;
+  /// Called with every event as the host takes it, before it acts on it (the events a
+  /// recording holds; elapsed_s not set). Under MPI, rank 0 forwards them to the other
+  /// ranks, whose hosts replay them (docs/scale-out.md "Co-simulation").
+  std::function<void(const v1::SessionEvent&)> on_event;
+  /// Called before the running simulation calls its engine, which every MPI rank must
+  /// do together: rank 0 broadcasts the events collected since the last call.
+  std::function<void()> before_engine;
+  /// This host mirrors rank 0's on another MPI rank: it drives the engine in lockstep but
+  /// writes no output files.
+  bool mirror = false;
 };
 
 class CosimHost final : public SessionHandler {

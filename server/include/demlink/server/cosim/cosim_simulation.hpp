@@ -9,6 +9,7 @@
 /// RunLog, sensor CSVs, checkpoints, particles_final.csv) plus compile_report.txt.
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -30,7 +31,11 @@ class CosimSimulation {
   /// Creates the output directory and its files (RunDriver, plus compile_report.txt),
   /// writes the first frame. Throws core::InputError / std::runtime_error if the directory
   /// cannot be written or is not empty and the scene's run options do not say overwrite.
-  CosimSimulation(CompiledSimulation compiled, const std::filesystem::path& outputDirectory);
+  /// The engine is options.backend (options.liggghts builds LIGGGHTS, its log
+  /// liggghts.log in the output directory); options.before_engine runs before every
+  /// engine call; options.mirror: no output files (another MPI rank's copy).
+  CosimSimulation(CompiledSimulation compiled, const std::filesystem::path& outputDirectory,
+                  const CosimOptions& options = {});
   ~CosimSimulation();
   CosimSimulation(const CosimSimulation&) = delete;
   CosimSimulation& operator=(const CosimSimulation&) = delete;
@@ -71,6 +76,10 @@ class CosimSimulation {
 
  private:
   void stepWorld();
+  /// An input the engine cannot apply (LIGGGHTS: a moving room, a change of gravity).
+  std::optional<v1::Error> refusedByEngine(const CosimComponent& c, const v1::DataPackage& package);
+  /// options.before_engine, if set.
+  void beforeEngine() const;
 
   CompiledSimulation compiled_;
   std::filesystem::path directory_;
@@ -86,8 +95,9 @@ class CosimSimulation {
   };
   std::map<std::size_t, DeformableDrive> drives_;
   std::map<std::size_t, v1::DataPackage> inputs_;  ///< stored inputs of the current step
-  std::unique_ptr<RunDriver> driver_;
-  std::unique_ptr<SimulationBackend> backend_;  ///< steps the compiled world (the native engine)
+  std::unique_ptr<RunDriver> driver_;  ///< null on a mirror
+  std::function<void()> before_engine_;
+  std::unique_ptr<SimulationBackend> backend_;  ///< steps the compiled world (native or LIGGGHTS)
 };
 
 }  // namespace demlink::server

@@ -7,9 +7,11 @@
 /// waiting for a clock, so the replayed world takes exactly the live run's steps.
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <vector>
 
 #include "demlink/server/cosim/cosim_host.hpp"
+#include "demlink/v1/recording.pb.h"
 
 namespace demlink::server {
 
@@ -20,6 +22,11 @@ struct ReplayResult {
   std::uint64_t simulations = 0;       ///< simulations that ended [-]
   std::uint64_t events = 0;            ///< events replayed (header excluded) [-]
 };
+
+/// Feeds one recorded event (not the HEADER) into `host` at `now`, as the live host took
+/// it; returns what the host answered, or nullopt for an event of unknown kind.
+[[nodiscard]] std::optional<std::vector<Outgoing>> replayEvent(CosimHost& host, const v1::SessionEvent& event,
+                                                               SteadyClock::time_point now);
 
 /// Replays `file`. The recorded scene file and scene directory replace those in `options`;
 /// output_root, quiet period and timeout are taken from `options` (the timers do not run);
