@@ -117,6 +117,7 @@ void NeighbourList::build(const ParticleArrays& particles, std::span<const std::
     offsets_[i + 1] = offsets_[i] + counts[i] + (foreignStart[i + 1] - foreignStart[i]);
   }
   partners_.resize(offsets_[n]);
+  rows_.resize(partners_.size());
   history_.assign(partners_.size(), Vec3::Zero());
   reduced_.resize(partners_.size());
   parallelParts(pool, parts, [&](std::uint32_t part) {
@@ -134,6 +135,7 @@ void NeighbourList::build(const ParticleArrays& particles, std::span<const std::
     for (std::size_t i = begin; i < end; ++i) {
       for (std::uint32_t k = offsets_[i]; k < offsets_[i + 1]; ++k) {
         const std::uint32_t j = partners_[k];
+        rows_[k] = static_cast<std::uint32_t>(i);
         reduced_[k] = {r[i] * r[j] / (r[i] + r[j]), 1.0 / (particles.inv_mass[i] + particles.inv_mass[j])};
       }
     }
@@ -170,7 +172,7 @@ void NeighbourList::build(const ParticleArrays& particles, std::span<const std::
 }
 
 std::size_t NeighbourList::bytes() const {
-  return grid_.bytes() + (offsets_.capacity() + partners_.capacity()) * sizeof(std::uint32_t) +
+  return grid_.bytes() + (offsets_.capacity() + partners_.capacity() + rows_.capacity()) * sizeof(std::uint32_t) +
          (history_.capacity() + position_at_build_.capacity()) * sizeof(Vec3) +
          reduced_.capacity() * sizeof(ReducedPair);
 }
@@ -212,6 +214,11 @@ void NeighbourList::restore(StateReader& in) {
   requireIndices(in, staged.partners_, staged.rowCount(), "neighbour partner");
   requireSameLength(in, staged.history_, staged.partners_, "histories and partners differ in length");
   requireSameLength(in, staged.reduced_, staged.partners_, "pair data and partners differ in length");
+  staged.rows_.resize(staged.partners_.size());
+  for (std::size_t i = 0; i < staged.rowCount(); ++i) {
+    std::fill(staged.rows_.begin() + staged.offsets_[i], staged.rows_.begin() + staged.offsets_[i + 1],
+              static_cast<std::uint32_t>(i));
+  }
   *this = std::move(staged);
 }
 

@@ -1,6 +1,7 @@
 // The Verlet list must find exactly the brute-force contact set, on sparse and
 // dense random configurations, at every step (before and after rebuilds, across
-// cell sorts that reorder slots), and carry contact history across rebuilds.
+// cell sorts that reorder slots), name each pair's row, and carry contact history
+// across rebuilds.
 #include <random>
 #include <set>
 
@@ -31,9 +32,14 @@ std::set<IdPair> checkedListContacts(const World& world) {
   const ParticleArrays& p = world.particles();
   const auto offsets = world.neighbourList().offsets();
   const auto partners = world.neighbourList().partners();
+  const auto rows = world.neighbourList().rows();
+  EXPECT_EQ(rows.size(), partners.size());
   std::set<std::pair<std::uint32_t, std::uint32_t>> slotPairs;
   for (std::size_t i = 0; i < p.size(); ++i) {
     for (std::uint32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
+      if (k < rows.size()) {
+        EXPECT_EQ(rows[k], i) << "rows() must name the row of every listed pair";
+      }
       EXPECT_GT(partners[k], i) << "half list must hold each pair once, owned by the lower slot";
       EXPECT_TRUE(slotPairs.emplace(static_cast<std::uint32_t>(i), partners[k]).second) << "pair listed twice";
     }

@@ -80,6 +80,7 @@ void expectBitIdentical(const World& a, const World& b) {
   const std::vector<std::string> differing = test::differingColumns(a, b);
   EXPECT_TRUE(differing.empty()) << "first differing column: " << (differing.empty() ? "" : differing.front());
   EXPECT_TRUE(std::ranges::equal(a.neighbourList().partners(), b.neighbourList().partners()));
+  EXPECT_TRUE(std::ranges::equal(a.neighbourList().rows(), b.neighbourList().rows()));
   EXPECT_EQ(std::memcmp(a.neighbourList().history().data(), b.neighbourList().history().data(),
                         a.neighbourList().history().size_bytes()),
             0);

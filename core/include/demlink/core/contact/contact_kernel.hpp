@@ -39,16 +39,34 @@ struct ContactStiffness {
   double tangential_stiffness;  ///< S_t [N/m]
 };
 
-/// Force on B for one contact; updates the tangential history xi in place and
-/// writes the (non-negative) normal force magnitude to normalForce.
+/// The terms of a contact that depend on its overlap alone: the law's stiffness and
+/// the damping scale sqrt(S_n m*) [kg/s]. They end in a chain of square roots (the
+/// centre distance, Hertz's sqrt(R* delta), the damping scale) that nothing else of
+/// the contact needs before its normal force, so the pair loop computes them for a
+/// batch of contacts first and lets the processor overlap the chains of several.
+struct ContactElasticTerms {
+  ContactStiffness stiffness;
+  double damping_scale;  ///< sqrt(S_n m*) [kg/s]
+};
+
 template <class Law>
-DEMLINK_FORCE_INLINE Vec3 contactForce(const ContactPairParams& p, const Vec3& n, double overlap, const Vec3& vRel,
-                         double rStar, double mStar, double dt, typename Law::History& xi, double& normalForce) {
-  static_assert(std::is_same_v<typename Law::History, Vec3>, "the shared kernel keeps a tangential spring Vec3");
+DEMLINK_FORCE_INLINE ContactElasticTerms contactElasticTerms(const ContactPairParams& p, double rStar, double mStar,
+                                                             double overlap) {
   const ContactStiffness k = Law::stiffness(p, rStar, overlap);
+  return {k, std::sqrt(k.normal_stiffness * mStar)};
+}
+
+/// Force on B for one contact of elastic terms `e` (contactElasticTerms); updates the
+/// tangential history xi in place and writes the (non-negative) normal force magnitude
+/// to normalForce.
+template <class Law>
+DEMLINK_FORCE_INLINE Vec3 contactForce(const ContactPairParams& p, const Vec3& n, const ContactElasticTerms& e,
+                                       const Vec3& vRel, double dt, typename Law::History& xi, double& normalForce) {
+  static_assert(std::is_same_v<typename Law::History, Vec3>, "the shared kernel keeps a tangential spring Vec3");
+  const ContactStiffness& k = e.stiffness;
+  const double dampingScale = e.damping_scale;
   const double vn = vRel.dot(n);  // < 0 while approaching
   const Vec3 vt = vRel - vn * n;
-  const double dampingScale = std::sqrt(k.normal_stiffness * mStar);
   normalForce = std::max(0.0, k.normal_elastic_force - p.normal_damping * dampingScale * vn);
 
   // Keep the spring in the current tangent plane: drop its normal part and
@@ -84,6 +102,15 @@ DEMLINK_FORCE_INLINE Vec3 contactForce(const ContactPairParams& p, const Vec3& n
     if (k.tangential_stiffness > 0.0) xi = -ft / k.tangential_stiffness;
   }
   return normalForce * n + ft;
+}
+
+/// Force on B for one contact at `overlap` (reduced radius rStar [m], mass mStar [kg]);
+/// updates xi and writes the normal force magnitude as above.
+template <class Law>
+DEMLINK_FORCE_INLINE Vec3 contactForce(const ContactPairParams& p, const Vec3& n, double overlap, const Vec3& vRel,
+                                       double rStar, double mStar, double dt, typename Law::History& xi,
+                                       double& normalForce) {
+  return contactForce<Law>(p, n, contactElasticTerms<Law>(p, rStar, mStar, overlap), vRel, dt, xi, normalForce);
 }
 
 /// EPSD rolling resistance: a constant torque mu_r R* F_n opposing the relative

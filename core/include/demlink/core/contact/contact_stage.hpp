@@ -85,99 +85,117 @@ inline ContactRecord makeContactRecord(ContactKind kind, const ParticleArrays& p
   return r;
 }
 
+/// A touching pair's normal (i to j), centre distance [m], overlap [m] and elastic terms.
+struct TouchingGeometry {
+  Vec3 normal;
+  double distance;
+  double overlap;
+  ContactElasticTerms elastic;
+};
+
 /// Particle-particle contacts of rows [rowBegin, rowEnd) of the half list.
 /// Forces and torques of slot s are added to force[s - base], torque[s - base]
 /// (see PairLoopPartition for why every touched slot is >= base). With
 /// kPasses.recording and `records` set, each contact is appended to *records.
 ///
-/// Each row is taken in blocks of listed pairs: a first pass sorts the pairs into
-/// touching and apart without a branch on the answer (about half the listed pairs of
-/// a settled bed do not touch, in no pattern a branch predictor can learn), then the
-/// apart ones release their springs and the touching ones are evaluated in list
-/// order, so the sums are the same as one pass's.
+/// The rows' pairs are walked as one sequence (NeighbourList::rows() names each
+/// pair's row) in blocks of listed pairs, not row by row: a settled bed lists ~4
+/// pairs per row, and loops that short mispredict their exit once per row. A first
+/// pass sorts a block's pairs into touching and apart without a branch on the answer
+/// (about half the listed pairs of a settled bed do not touch, in no pattern a
+/// branch predictor can learn), then the apart ones release their springs and the
+/// touching ones are evaluated in list order, their overlap-only terms first.
 template <class Law, ForcePasses kPasses>
 void particleContactRows(ParticleArrays& p, NeighbourList& list, const ContactPairTable& table, double dt,
                          std::size_t rowBegin, std::size_t rowEnd, Vec3* force, Vec3* torque, std::size_t base,
                          std::vector<ContactRecord>* records = nullptr) {
   const std::span<const std::uint32_t> offsets = list.offsets();
   const std::span<const std::uint32_t> partners = list.partners();
+  const std::span<const std::uint32_t> rows = list.rows();
   const std::span<Vec3> history = list.history();
   static_assert(kHistoryStorageFits<Law, decltype(list.history())>, "neighbour list history is not Law::History");
   const std::span<const ReducedPair> reduced = list.reduced();
   constexpr std::uint32_t kBlock = 64;
   std::uint32_t touching[kBlock];
   std::uint32_t apart[kBlock];
-  for (std::size_t i = rowBegin; i < rowEnd; ++i) {
-    const Vec3 xi = p.position[i];
-    const double ri = p.radius[i];
-    Vec3 forceI = Vec3::Zero();
-    Vec3 torqueI = Vec3::Zero();
-    for (std::uint32_t blockBegin = offsets[i]; blockBegin < offsets[i + 1]; blockBegin += kBlock) {
-      const std::uint32_t blockEnd = std::min(offsets[i + 1], blockBegin + kBlock);
-      std::uint32_t count = 0;
-      for (std::uint32_t k = blockBegin; k < blockEnd; ++k) {
-        const std::uint32_t j = partners[k];
-        const double radiusSum = ri + p.radius[j];
-        const bool touches = !((p.position[j] - xi).squaredNorm() >= radiusSum * radiusSum);
-        // Both stores always (k - blockBegin - count apart pairs so far), so no branch.
-        touching[count] = k;
-        apart[k - blockBegin - count] = k;
-        count += static_cast<std::uint32_t>(touches);
+  TouchingGeometry geometry[kBlock];
+  const std::uint32_t pairEnd = offsets[rowEnd];
+  for (std::uint32_t blockBegin = offsets[rowBegin]; blockBegin < pairEnd; blockBegin += kBlock) {
+    const std::uint32_t blockEnd = std::min(pairEnd, blockBegin + kBlock);
+    std::uint32_t count = 0;
+    for (std::uint32_t k = blockBegin; k < blockEnd; ++k) {
+      const std::uint32_t i = rows[k];
+      const std::uint32_t j = partners[k];
+      const double radiusSum = p.radius[i] + p.radius[j];
+      const bool touches = !((p.position[j] - p.position[i]).squaredNorm() >= radiusSum * radiusSum);
+      // Both stores always (k - blockBegin - count apart pairs so far), so no branch.
+      touching[count] = k;
+      apart[k - blockBegin - count] = k;
+      count += static_cast<std::uint32_t>(touches);
+    }
+    const std::uint32_t apartCount = blockEnd - blockBegin - count;
+    // Springs of pairs that came apart are released (no store traffic for idle pairs;
+    // tested here, where the answer is nearly always "idle", not in the pass above).
+    for (std::uint32_t m = 0; m < apartCount; ++m) {
+      if (!history[apart[m]].isZero(0.0)) history[apart[m]].setZero();
+    }
+    // The overlap-only terms of the touching pairs first (contactElasticTerms says why).
+    for (std::uint32_t m = 0; m < count; ++m) {
+      const std::uint32_t k = touching[m];
+      const std::uint32_t i = rows[k];
+      const std::uint32_t j = partners[k];
+      const Vec3 d = p.position[j] - p.position[i];
+      const double dist = std::sqrt(d.squaredNorm());
+      // Coincident centres have no defined normal: push along +z rather than produce NaN.
+      // (One reciprocal: Eigen's d / dist would issue three divisions.)
+      TouchingGeometry& g = geometry[m];
+      g.normal = dist > 0.0 ? Vec3(d * (1.0 / dist)) : Vec3::UnitZ();
+      g.distance = dist;
+      g.overlap = p.radius[i] + p.radius[j] - dist;
+      g.elastic = contactElasticTerms<Law>(table(p.material[i], p.material[j]), reduced[k].radius, reduced[k].mass,
+                                           g.overlap);
+    }
+    for (std::uint32_t m = 0; m < count; ++m) {
+      const std::uint32_t k = touching[m];
+      const std::uint32_t i = rows[k];
+      const std::uint32_t j = partners[k];
+      const TouchingGeometry& g = geometry[m];
+      const Vec3& normal = g.normal;
+      const double overlap = g.overlap;
+      const double ri = p.radius[i];
+      const double armI = ri - 0.5 * overlap;
+      const double armJ = p.radius[j] - 0.5 * overlap;
+      const Vec3 vRel = p.velocity[j] - p.velocity[i] -
+                        (armI * p.angular_velocity[i] + armJ * p.angular_velocity[j]).cross(normal);
+      const ContactPairParams& params = table(p.material[i], p.material[j]);
+      double normalForce = 0.0;
+      Vec3 f = contactForce<Law>(params, normal, g.elastic, vRel, dt, history[k], normalForce);
+      if constexpr (kPasses.cohesion) {
+        // Pulls j back towards i; the friction cap (above) and rolling resistance (below) see the
+        // repulsive part alone.
+        f -= (params.cohesion_energy_density * pairContactArea(ri, p.radius[j], g.distance, overlap)) * normal;
       }
-      const std::uint32_t apartCount = blockEnd - blockBegin - count;
-      // Springs of pairs that came apart are released (no store traffic for idle pairs;
-      // tested here, where the answer is nearly always "idle", not in the pass above).
-      for (std::uint32_t m = 0; m < apartCount; ++m) {
-        if (!history[apart[m]].isZero(0.0)) history[apart[m]].setZero();
+      if constexpr (kPasses.recording) {
+        if (records != nullptr) {
+          records->push_back(makeContactRecord(ContactKind::kParticle, p, i, p.id[j], 0, p.position[j],
+                                               p.position[i] + armI * normal, -normal, overlap, -f));
+        }
       }
-      for (std::uint32_t m = 0; m < count; ++m) {
-        const std::uint32_t k = touching[m];
-        const std::uint32_t j = partners[k];
-        const Vec3 d = p.position[j] - xi;
-        const double radiusSum = ri + p.radius[j];
-        const double dist = std::sqrt(d.squaredNorm());
-        // Coincident centres have no defined normal: push along +z rather than produce NaN.
-        // (One reciprocal: Eigen's d / dist would issue three divisions.)
-        const Vec3 normal = dist > 0.0 ? Vec3(d * (1.0 / dist)) : Vec3::UnitZ();
-        const double overlap = radiusSum - dist;
-        const double armI = ri - 0.5 * overlap;
-        const double armJ = p.radius[j] - 0.5 * overlap;
-        const Vec3 vRel = p.velocity[j] - p.velocity[i] -
-                          (armI * p.angular_velocity[i] + armJ * p.angular_velocity[j]).cross(normal);
-        const double rStar = reduced[k].radius;
-        const double mStar = reduced[k].mass;
-        const ContactPairParams& params = table(p.material[i], p.material[j]);
-        double normalForce = 0.0;
-        Vec3 f = contactForce<Law>(params, normal, overlap, vRel, rStar, mStar, dt, history[k], normalForce);
-        if constexpr (kPasses.cohesion) {
-          // Pulls j back towards i; the friction cap (above) and rolling resistance (below) see the
-          // repulsive part alone.
-          f -= (params.cohesion_energy_density * pairContactArea(ri, p.radius[j], dist, overlap)) * normal;
-        }
-        if constexpr (kPasses.recording) {
-          if (records != nullptr) {
-            records->push_back(makeContactRecord(ContactKind::kParticle, p, i, p.id[j], 0, p.position[j],
-                                                 xi + armI * normal, -normal, overlap, -f));
-          }
-        }
-        const Vec3 nxf = normal.cross(f);
-        forceI -= f;
-        torqueI -= armI * nxf;
-        force[j - base] += f;
-        torque[j - base] -= armJ * nxf;
-        if constexpr (kPasses.rolling) {
-          if (params.rolling_friction > 0.0) {
-            const double reducedInertia = 1.0 / (p.inv_inertia[i] + p.inv_inertia[j]);
-            const Vec3 t = rollingResistanceTorque(params.rolling_friction, rStar, normalForce, normal,
-                                                   p.angular_velocity[j] - p.angular_velocity[i], reducedInertia, dt);
-            torque[j - base] += t;
-            torqueI -= t;
-          }
+      const Vec3 nxf = normal.cross(f);
+      force[i - base] -= f;
+      torque[i - base] -= armI * nxf;
+      force[j - base] += f;
+      torque[j - base] -= armJ * nxf;
+      if constexpr (kPasses.rolling) {
+        if (params.rolling_friction > 0.0) {
+          const double reducedInertia = 1.0 / (p.inv_inertia[i] + p.inv_inertia[j]);
+          const Vec3 t = rollingResistanceTorque(params.rolling_friction, reduced[k].radius, normalForce, normal,
+                                                 p.angular_velocity[j] - p.angular_velocity[i], reducedInertia, dt);
+          torque[j - base] += t;
+          torque[i - base] -= t;
         }
       }
     }
-    force[i - base] += forceI;
-    torque[i - base] += torqueI;
   }
 }
 

@@ -45,6 +45,9 @@ class NeighbourList {
 
   [[nodiscard]] std::span<const std::uint32_t> offsets() const { return offsets_; }
   [[nodiscard]] std::span<const std::uint32_t> partners() const { return partners_; }
+  /// The row (slot i) of each listed pair: rows()[k] = i for offsets()[i] <= k < offsets()[i+1],
+  /// so a loop can walk the pairs of many rows as one sequence.
+  [[nodiscard]] std::span<const std::uint32_t> rows() const { return rows_; }
   [[nodiscard]] std::span<const ReducedPair> reduced() const { return reduced_; }
   [[nodiscard]] std::span<Vec3> history() { return history_; }
   [[nodiscard]] std::span<const Vec3> history() const { return history_; }
@@ -72,6 +75,7 @@ class NeighbourList {
   CellGrid grid_;
   std::vector<std::uint32_t> offsets_{0};
   std::vector<std::uint32_t> partners_;
+  std::vector<std::uint32_t> rows_;  ///< derived from offsets_ (not saved)
   std::vector<Vec3> history_;
   std::vector<ReducedPair> reduced_;
   std::vector<Vec3> position_at_build_;
