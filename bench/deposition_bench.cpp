@@ -382,10 +382,12 @@ int run(const Options& o) {
   std::printf("seconds_per_step %.6e\n", o.steps > 0 ? wall / static_cast<double>(o.steps) : 0.0);
   if (const demlink::core::ThreadPool* pool = world.threadPool()) {
     const demlink::core::ThreadPoolStats stats = pool->stats();
-    std::printf("pool_parallel_loops %llu\npool_serial_loops %llu\npool_fallbacks %llu\npool_probes %llu\n",
+    std::printf("pool_parallel_loops %llu\npool_serial_loops %llu\npool_woken_loops %llu\n"
+                "pool_chunks caller %llu workers %llu\n",
                 static_cast<unsigned long long>(stats.parallel_runs),
-                static_cast<unsigned long long>(stats.serial_runs), static_cast<unsigned long long>(stats.fallbacks),
-                static_cast<unsigned long long>(stats.probes));
+                static_cast<unsigned long long>(stats.serial_runs), static_cast<unsigned long long>(stats.woken_runs),
+                static_cast<unsigned long long>(stats.caller_chunks),
+                static_cast<unsigned long long>(stats.worker_chunks));
     const demlink::core::SpinStats spins = demlink::core::SpinGate::instance().stats();
     std::printf("pool_spins ready %llu blocked %llu refused %llu\n",
                 static_cast<unsigned long long>(spins.ready_spinning),

@@ -72,6 +72,8 @@ struct Connection::Impl {
   }
 
   void closeSocket() {
+    // An open connection is one exchange party of the spin gate (spin_wait.hpp).
+    if (open) core::SpinGate::instance().addExchangeParty(-1);
     std::error_code ignored;
     socket.shutdown(asio::ip::tcp::socket::shutdown_both, ignored);
     socket.close(ignored);
@@ -103,6 +105,7 @@ const v1::Welcome& Connection::connect(const std::string& host, std::uint16_t po
     throw ConnectionError("cannot connect to " + host + ":" + std::to_string(port) + ": " + connectError.message());
   }
   impl_->open = true;
+  core::SpinGate::instance().addExchangeParty(1);
   // Small packages every interval: Nagle's algorithm would delay each by up to 40 ms.
   impl_->socket.set_option(asio::ip::tcp::no_delay(true), ec);
 

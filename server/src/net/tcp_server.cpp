@@ -74,7 +74,14 @@ void TcpServer::run() {
     return;
   }
   // Spin-then-block: handlers that are ready run at once; otherwise the loop polls
-  // (non-blocking epoll) within the budget, then blocks for the next event.
+  // (non-blocking epoll) within the budget, then blocks for the next event. The loop is
+  // one exchange party of the spin gate while it runs.
+  core::SpinGate& gate = core::SpinGate::instance();
+  gate.addExchangeParty(1);
+  struct Leave {
+    core::SpinGate& gate;
+    ~Leave() { gate.addExchangeParty(-1); }
+  } leave{gate};
   while (!io_.stopped()) {
     if (io_.poll() > 0) continue;
     if (io_.stopped()) break;
