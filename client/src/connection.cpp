@@ -9,6 +9,7 @@
 
 #include <asio.hpp>
 
+#include "demlink/core/step/spin_history.hpp"
 #include "demlink/core/step/spin_wait.hpp"
 #include "demlink/v1/protocol.pb.h"
 #include "demlink/wire/frame_codec.hpp"
@@ -55,6 +56,7 @@ struct Connection::Impl {
   wire::FrameDecoder decoder;
   std::array<char, 64 * 1024> buffer{};
   bool open = false;
+  core::SpinHistory spin_history;  ///< the receive's recent spins
 
   explicit Impl(std::size_t maxFrame) : decoder(maxFrame) {}
 
@@ -177,7 +179,7 @@ v1::ServerMessage Connection::readMessage(std::chrono::milliseconds timeout) {
     }
     if (!impl_->open) throw ConnectionError("receive on a closed connection");
     // Spin-then-block (spin_wait.hpp): poll for bytes briefly, then block in the reactor.
-    core::spinFor(core::SpinGate::Party::kExchange, spin_budget_, [this] {
+    core::spinFor(impl_->spin_history, core::SpinGate::Party::kExchange, spin_budget_, [this] {
       std::error_code ignored;
       return impl_->socket.available(ignored) > 0 || ignored;
     });

@@ -11,6 +11,7 @@
 #include "connection.hpp"
 #include "demlink/core/input_error.hpp"
 #include "demlink/core/log_text.hpp"
+#include "demlink/core/step/spin_history.hpp"
 
 namespace demlink::server {
 namespace {
@@ -82,10 +83,14 @@ void TcpServer::run() {
     core::SpinGate& gate;
     ~Leave() { gate.addExchangeParty(-1); }
   } leave{gate};
+  // A client paced in real time keeps the loop waiting ~1 interval: it then stops
+  // spinning (SpinHistory).
+  core::SpinHistory history;
   while (!io_.stopped()) {
     if (io_.poll() > 0) continue;
     if (io_.stopped()) break;
-    if (core::spinFor(core::SpinGate::Party::kExchange, budget, [this] { return io_.poll_one() > 0 || io_.stopped(); })) {
+    if (core::spinFor(history, core::SpinGate::Party::kExchange, budget,
+                      [this] { return io_.poll_one() > 0 || io_.stopped(); })) {
       continue;
     }
     io_.run_one();
