@@ -2,7 +2,7 @@
 /// bench/cosim_bench.md, figures in docs/benchmarks.md "Co-simulation").
 ///
 ///   demlink-bench-cosim roundtrip [--clients N] [--exchanges M] [--warmup W] [--kind body|sensor]
-///                                 [--spin off,on,forced] [--runs K]
+///                                 [--spin off,on,forced] [--runs K] [--pace-us P]
 ///   demlink-bench-cosim overhead [--particles P] [--interval S] [--duration S] [--pairs K]
 ///   demlink-bench-cosim            (both, with the defaults: well under two minutes)
 ///
@@ -18,7 +18,9 @@
 /// The spin-then-block variants (--spin, default off,on) alternate K times (--runs) for
 /// each client count; each prints its distribution, the process's CPU time (server and
 /// clients) per exchange and the spin statistics, after the load average and the gate's
-/// count of free CPUs.
+/// count of free CPUs. --pace-us P: each client starts an exchange every P microseconds
+/// (e.g. 1000: a client in real time at a 1 ms interval) instead of back to back, so the
+/// CPU figure shows what spinning costs while waiting for a paced partner.
 ///
 /// overhead: a bed of P spheres (particle_lattice on a floor) with one client RigidBody
 /// (a box pushed through the bed, PREDICTED motion) exchanged at the interval, against the
@@ -317,6 +319,7 @@ struct RoundtripOptions {
   /// on (the default budget behind the free-CPU gate), forced (the budget, gate open).
   std::vector<std::string> spin = {"off", "on"};
   std::size_t runs = 1;  ///< repetitions of the alternation
+  std::size_t pace_us = 0;  ///< one exchange per client every pace_us [us]; 0: back to back
 };
 
 /// How one roundtrip configuration ran.
@@ -340,7 +343,7 @@ v1::Scene emptyWorld(std::size_t clients, double timeStep) {
 
 /// Runs one configuration; returns the per-exchange times of all clients (after warm-up).
 RoundtripRun runRoundtrip(std::size_t clients, std::size_t exchanges, std::size_t warmup, bool sensor,
-                          const std::string& spin) {
+                          const std::string& spin, std::chrono::microseconds pace) {
   constexpr double kTimeStep = 1.0e-4;  // [s]; one exchange = one (empty) step
   const fs::path out = scratchDirectory("roundtrip");
   std::vector<std::vector<std::int64_t>> perClient(clients);
@@ -378,7 +381,12 @@ RoundtripRun runRoundtrip(std::size_t clients, std::size_t exchanges, std::size_
           std::vector<std::int64_t>& ns = perClient[c];
           ns.reserve(exchanges);
           const client::Vec3 at{static_cast<double>(c) * 0.5 - 4.0, 0.0, 0.0};
+          Clock::time_point due = Clock::now();
           for (std::size_t k = 0; k < exchanges + warmup; ++k) {
+            if (pace.count() > 0) {
+              due += pace;
+              std::this_thread::sleep_until(due);
+            }
             if (body != nullptr) {
               body->setPose(at, {});
               body->setVelocity({}, {});
@@ -446,7 +454,8 @@ void roundtrip(const RoundtripOptions& o, bool withFloor) {
     std::vector<core::SpinStats> spins(o.spin.size());
     for (std::size_t r = 0; r < o.runs; ++r) {
       for (std::size_t v = 0; v < o.spin.size(); ++v) {
-        RoundtripRun run = runRoundtrip(clients, exchanges, o.warmup, o.sensor, o.spin[v]);
+        RoundtripRun run = runRoundtrip(clients, exchanges, o.warmup, o.sensor, o.spin[v],
+                                        std::chrono::microseconds(o.pace_us));
         samples[v].insert(samples[v].end(), run.ns.begin(), run.ns.end());
         cpu[v] += run.cpu;
         wall[v] += run.wall;
@@ -761,6 +770,8 @@ std::optional<int> parse(int argc, char** argv, std::string& mode, RoundtripOpti
     }
   });
   cli::addWholeNumber<std::size_t>(app, "--runs", rt.runs, 1, 1000, "roundtrip: repetitions of the alternation (default 1)");
+  cli::addWholeNumber<std::size_t>(app, "--pace-us", rt.pace_us, 0, 1'000'000,
+                                   "roundtrip: one exchange per client every P us (default 0: back to back)");
   cli::addWholeNumber<std::size_t>(app, "--particles", ov.particles, 1, kMany, "overhead: particles (default 10000)");
   cli::addNumber(app, "--interval", ov.interval, {0.0, true}, "overhead: communication interval [s] (default 0.001)");
   cli::addNumber(app, "--duration", ov.duration, {0.0, true}, "overhead: simulated time per run [s] (default 0.25)");

@@ -425,10 +425,12 @@ int run(const Options& o) {
   }
   if (const demlink::core::ThreadPool* pool = world.threadPool()) {
     const demlink::core::ThreadPoolStats stats = pool->stats();
-    std::printf("pool_parallel_loops %llu\npool_serial_loops %llu\npool_fallbacks %llu\npool_probes %llu\n",
+    std::printf("pool_parallel_loops %llu\npool_serial_loops %llu\npool_woken_loops %llu\n"
+                "pool_chunks caller %llu workers %llu\n",
                 static_cast<unsigned long long>(stats.parallel_runs),
-                static_cast<unsigned long long>(stats.serial_runs), static_cast<unsigned long long>(stats.fallbacks),
-                static_cast<unsigned long long>(stats.probes));
+                static_cast<unsigned long long>(stats.serial_runs), static_cast<unsigned long long>(stats.woken_runs),
+                static_cast<unsigned long long>(stats.caller_chunks),
+                static_cast<unsigned long long>(stats.worker_chunks));
     const demlink::core::SpinStats spins = demlink::core::SpinGate::instance().stats();
     std::printf("pool_spins ready %llu blocked %llu refused %llu\n",
                 static_cast<unsigned long long>(spins.ready_spinning),

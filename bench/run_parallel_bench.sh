@@ -9,8 +9,9 @@
 #            process this script starts (`yes > /dev/null`, stopped at the end). Prints the
 #            medians, the time per step, the speed-up t1/t2 (target >= 1.8 on two idle cores
 #            where the step is long enough) and the loaded ratio t2/t1 (target <= 1.1 with one
-#            of two cores busy), and the pool's counters (loops threaded / on the caller,
-#            probes, spin-then-block waits that ended spinning / blocked / were refused).
+#            of two cores busy), and the pool's counters (loops offered to the workers / run
+#            on the caller / that had to wake a sleeping worker, chunks run by the caller and
+#            by the workers, spin-then-block waits that ended spinning / blocked / were refused).
 #            --n 50000 --steps 300 shows the scaling of a long step.
 #   sizes    generated beds of N spheres (demlink-bench-deposition --generate N): mono,
 #            ratio10 (1:10) and cont5 (continuous 1:5), 1 thread, alternating, K runs each;
@@ -27,7 +28,7 @@ set -euo pipefail
 
 script_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 repo=$(cd "$script_dir/.." && pwd)
-usage() { sed -n '4,22p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2; exit 2; }
+usage() { sed -n '4,23p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2; exit 2; }
 
 part=all; n=5000; steps=3000; runs=3; big_n=1000000; big_steps=5
 while (($#)); do

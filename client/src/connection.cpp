@@ -9,6 +9,7 @@
 
 #include <asio.hpp>
 
+#include "demlink/core/step/spin_history.hpp"
 #include "demlink/core/step/spin_wait.hpp"
 #include "demlink/v1/protocol.pb.h"
 #include "demlink/wire/frame_codec.hpp"
@@ -55,6 +56,7 @@ struct Connection::Impl {
   wire::FrameDecoder decoder;
   std::array<char, 64 * 1024> buffer{};
   bool open = false;
+  core::SpinHistory spin_history;  ///< the receive's recent spins
 
   explicit Impl(std::size_t maxFrame) : decoder(maxFrame) {}
 
@@ -72,6 +74,8 @@ struct Connection::Impl {
   }
 
   void closeSocket() {
+    // An open connection is one exchange party of the spin gate (spin_wait.hpp).
+    if (open) core::SpinGate::instance().addExchangeParty(-1);
     std::error_code ignored;
     socket.shutdown(asio::ip::tcp::socket::shutdown_both, ignored);
     socket.close(ignored);
@@ -103,6 +107,7 @@ const v1::Welcome& Connection::connect(const std::string& host, std::uint16_t po
     throw ConnectionError("cannot connect to " + host + ":" + std::to_string(port) + ": " + connectError.message());
   }
   impl_->open = true;
+  core::SpinGate::instance().addExchangeParty(1);
   // Small packages every interval: Nagle's algorithm would delay each by up to 40 ms.
   impl_->socket.set_option(asio::ip::tcp::no_delay(true), ec);
 
@@ -174,7 +179,7 @@ v1::ServerMessage Connection::readMessage(std::chrono::milliseconds timeout) {
     }
     if (!impl_->open) throw ConnectionError("receive on a closed connection");
     // Spin-then-block (spin_wait.hpp): poll for bytes briefly, then block in the reactor.
-    core::spinFor(core::SpinGate::Party::kExchange, spin_budget_, [this] {
+    core::spinFor(impl_->spin_history, core::SpinGate::Party::kExchange, spin_budget_, [this] {
       std::error_code ignored;
       return impl_->socket.available(ignored) > 0 || ignored;
     });

@@ -10,34 +10,21 @@
 namespace demlink::core {
 namespace {
 
-/// Runs of each kind (threaded, caller alone) in one probe of a loop [-].
-constexpr std::uint32_t kProbeRunsEach = 8;
-/// Threads are kept for a loop when its threaded runs took at most this fraction of its
-/// serial runs [-]: a margin against timing noise, so a loop that gains nothing measurable
-/// stays on one thread (fewer cores used for the same time).
-constexpr double kPayingFraction = 0.95;
-/// Threaded time beyond the serial estimate after which a probe or a hold ends at once
-/// [s]: one descheduled worker costs a scheduler slice (~1-4 ms), so on a loaded machine a
-/// probe costs about that, once per hold.
-constexpr double kLossLimit = 2.0e-3;
-/// The gap after a loop, until the next loop starts, that counts towards the loop's run
-/// [s]: the serial code there pays for results left in another core's cache, but a long
-/// gap (output, a co-simulation exchange) is no effect of the loop and would only add noise.
-constexpr double kMaxGap = 1.0e-3;
-/// Runs of the first hold after a probe, and the cap as verdicts repeat [-].
-constexpr std::uint32_t kFirstHold = 64;
-constexpr std::uint32_t kMaxHold = 1u << 16;
-
 /// Waits until `value` differs from `old`: spin within the budget, then sleep on it.
+/// `asleep`, when given, counts the thread while it sleeps.
 template <class T>
-T awaitChange(const std::atomic<T>& value, T old, std::chrono::nanoseconds budget) {
+T awaitChange(const std::atomic<T>& value, T old, std::chrono::nanoseconds budget,
+              std::atomic<std::uint32_t>* asleep = nullptr) {
   T now = old;
   if (spinFor(SpinGate::Party::kDem, budget, [&] { return (now = value.load(std::memory_order_acquire)) != old; })) return now;
+  if (asleep != nullptr) asleep->fetch_add(1, std::memory_order_relaxed);
   for (;;) {
     value.wait(old, std::memory_order_acquire);
     now = value.load(std::memory_order_acquire);
-    if (now != old) return now;
+    if (now != old) break;
   }
+  if (asleep != nullptr) asleep->fetch_sub(1, std::memory_order_relaxed);
+  return now;
 }
 
 constexpr std::uint64_t packTicket(std::uint32_t generation, std::uint32_t chunks, std::uint32_t next) {
@@ -45,10 +32,6 @@ constexpr std::uint64_t packTicket(std::uint32_t generation, std::uint32_t chunk
 }
 constexpr std::uint32_t ticketChunks(std::uint64_t ticket) { return static_cast<std::uint32_t>(ticket >> 16) & 0xFFFF; }
 constexpr std::uint32_t ticketNext(std::uint64_t ticket) { return static_cast<std::uint32_t>(ticket) & 0xFFFF; }
-
-double secondsSince(std::chrono::steady_clock::time_point start, std::chrono::steady_clock::time_point end) {
-  return std::chrono::duration<double>(end - start).count();
-}
 
 }  // namespace
 
@@ -116,28 +99,27 @@ ThreadPool::Site& ThreadPool::siteOf(Task task) {
 void ThreadPool::dispatch(std::uint32_t chunks, Task task, const void* context) {
   if (chunks > kMaxChunks) throw std::length_error("ThreadPool::run: more than 65535 chunks");
   using Clock = std::chrono::steady_clock;
-  const Clock::time_point start = Clock::now();
-  if (last_site_ != nullptr) {
-    const double gap = std::min(secondsSince(last_end_, start), kMaxGap);
-    judge(*last_site_, last_parallel_, last_took_ + gap);
-  }
   Site& site = siteOf(task);
-  // While probing, threaded and serial runs alternate, threaded first.
-  const bool parallel = site.hold_left > 0 ? site.parallel : site.probe_runs % 2 == 0;
-  if (parallel) {
+  const bool allAsleep = asleep_.load(std::memory_order_relaxed) == workers_.size();
+  const Clock::time_point start = Clock::now();
+  std::uint32_t callerChunks = chunks;
+  if (offersToWorkers(chunks, !allAsleep, site.work_seconds)) {
     ++stats_.parallel_runs;
-    runParallel(chunks, task, context);
+    if (allAsleep) ++stats_.woken_runs;
+    callerChunks = runParallel(chunks, task, context);
+    stats_.caller_chunks += callerChunks;
+    stats_.worker_chunks += chunks - callerChunks;
   } else {
     ++stats_.serial_runs;
     for (std::uint32_t chunk = 0; chunk < chunks; ++chunk) task(context, chunk);
   }
-  last_end_ = Clock::now();
-  last_site_ = &site;
-  last_parallel_ = parallel;
-  last_took_ = secondsSince(start, last_end_);
+  // The caller's time stands for the whole loop's work in the share of chunks it ran
+  // (a worker that ran the others worked about as long).
+  const double took = std::chrono::duration<double>(Clock::now() - start).count();
+  site.work_seconds = took * chunks / std::max<std::uint32_t>(callerChunks, 1);
 }
 
-void ThreadPool::runParallel(std::uint32_t chunks, Task task, const void* context) {
+std::uint32_t ThreadPool::runParallel(std::uint32_t chunks, Task task, const void* context) {
   task_ = task;
   context_ = context;
   done_.store(0, std::memory_order_relaxed);
@@ -145,48 +127,11 @@ void ThreadPool::runParallel(std::uint32_t chunks, Task task, const void* contex
   ticket_.store(packTicket(generation, chunks, 0), std::memory_order_release);  // publishes task_, context_
   generation_.store(generation, std::memory_order_release);
   generation_.notify_all();
-  drain();
+  const std::uint32_t ran = drain();
   for (std::uint32_t done = done_.load(std::memory_order_acquire); done != chunks;) {
     done = awaitChange(done_, done, spin_budget_);
   }
-}
-
-void ThreadPool::judge(Site& site, bool parallel, double seconds) {
-  if (site.hold_left > 0) {
-    --site.hold_left;
-    if (parallel) {
-      // A threaded loop that starts losing against its serial time goes to the caller:
-      // the loss is summed with its gains, floored at zero (a CUSUM), so timing noise
-      // around a real gain does not add up, and a gain banked earlier does not hide a
-      // core that another process has taken since.
-      site.loss = std::max(0.0, site.loss + seconds - site.serial_mean);
-      if (site.loss > kLossLimit) {
-        site.parallel = false;
-        site.hold = kFirstHold;
-        site.hold_left = kFirstHold;
-        site.loss = 0.0;
-        ++stats_.fallbacks;
-      }
-    }
-    return;
-  }
-  (parallel ? site.probe_parallel : site.probe_serial) += seconds;
-  ++site.probe_runs;
-  const std::uint32_t each = site.probe_runs / 2;
-  // Compared over equal numbers of runs: after each serial run.
-  const bool lostTooMuch = !parallel && site.probe_parallel - site.probe_serial > kLossLimit;
-  if (!lostTooMuch && site.probe_runs < 2 * kProbeRunsEach) return;
-  ++stats_.probes;
-  const bool pays = !lostTooMuch && site.probe_parallel <= kPayingFraction * site.probe_serial;
-  site.hold = pays == site.parallel && site.hold > 0 ? std::min(2 * site.hold, kMaxHold) : kFirstHold;
-  if (!pays && site.parallel) ++stats_.fallbacks;
-  site.parallel = pays;
-  site.hold_left = site.hold;
-  site.serial_mean = site.probe_serial / std::max<std::uint32_t>(each, 1);
-  site.loss = 0.0;
-  site.probe_runs = 0;
-  site.probe_serial = 0.0;
-  site.probe_parallel = 0.0;
+  return ran;
 }
 
 AutoThreadChoice chooseAutoThreads() {
@@ -208,7 +153,7 @@ AutoThreadChoice chooseAutoThreads() {
 void ThreadPool::workerLoop() {
   std::uint32_t seen = 0;
   for (;;) {
-    seen = awaitChange(generation_, seen, spin_budget_);
+    seen = awaitChange(generation_, seen, spin_budget_, &asleep_);
     if (stop_.load(std::memory_order_relaxed)) return;
     drain();
   }

@@ -11,6 +11,7 @@
 #include "connection.hpp"
 #include "demlink/core/input_error.hpp"
 #include "demlink/core/log_text.hpp"
+#include "demlink/core/step/spin_history.hpp"
 
 namespace demlink::server {
 namespace {
@@ -74,11 +75,22 @@ void TcpServer::run() {
     return;
   }
   // Spin-then-block: handlers that are ready run at once; otherwise the loop polls
-  // (non-blocking epoll) within the budget, then blocks for the next event.
+  // (non-blocking epoll) within the budget, then blocks for the next event. The loop is
+  // one exchange party of the spin gate while it runs.
+  core::SpinGate& gate = core::SpinGate::instance();
+  gate.addExchangeParty(1);
+  struct Leave {
+    core::SpinGate& gate;
+    ~Leave() { gate.addExchangeParty(-1); }
+  } leave{gate};
+  // A client paced in real time keeps the loop waiting ~1 interval: it then stops
+  // spinning (SpinHistory).
+  core::SpinHistory history;
   while (!io_.stopped()) {
     if (io_.poll() > 0) continue;
     if (io_.stopped()) break;
-    if (core::spinFor(core::SpinGate::Party::kExchange, budget, [this] { return io_.poll_one() > 0 || io_.stopped(); })) {
+    if (core::spinFor(history, core::SpinGate::Party::kExchange, budget,
+                      [this] { return io_.poll_one() > 0 || io_.stopped(); })) {
       continue;
     }
     io_.run_one();

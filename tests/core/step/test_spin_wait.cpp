@@ -6,6 +6,7 @@
 #include <chrono>
 #include <thread>
 
+#include "demlink/core/step/spin_history.hpp"
 #include "demlink/core/step/spin_wait.hpp"
 
 namespace demlink::core {
@@ -15,19 +16,53 @@ using Party = SpinGate::Party;
 
 TEST(SpinGate, LeavesOneFreeCpuToThePartyWaitedFor) {
   // 2 idle CPUs, no DEM pool: one exchange spinner, not two.
-  EXPECT_TRUE(SpinGate::admits(Party::kExchange, 2, 0, 0, 0));
-  EXPECT_FALSE(SpinGate::admits(Party::kExchange, 2, 1, 0, 0));
+  EXPECT_TRUE(SpinGate::admits(Party::kExchange, 2, 0, 0, 0, 0));
+  EXPECT_FALSE(SpinGate::admits(Party::kExchange, 2, 1, 0, 0, 0));
   // One CPU busy with another process: none.
-  EXPECT_FALSE(SpinGate::admits(Party::kExchange, 1, 0, 0, 0));
+  EXPECT_FALSE(SpinGate::admits(Party::kExchange, 1, 0, 0, 0, 0));
   // A 2-thread DEM pool (one worker) on 2 free CPUs: the worker's core is not taken.
-  EXPECT_FALSE(SpinGate::admits(Party::kExchange, 2, 0, 2, 1));
-  EXPECT_TRUE(SpinGate::admits(Party::kExchange, 4, 1, 2, 1));
+  EXPECT_FALSE(SpinGate::admits(Party::kExchange, 2, 0, 2, 1, 0));
+  EXPECT_TRUE(SpinGate::admits(Party::kExchange, 4, 1, 2, 1, 0));
+}
+
+TEST(SpinGate, RefusesWhenTheExchangePartiesOutnumberTheFreeCpus) {
+  // A server loop and one client on 2 free CPUs: one of them may spin.
+  EXPECT_TRUE(SpinGate::admits(Party::kExchange, 2, 0, 0, 0, 2));
+  // A server loop and 4 (or 16) clients on 2 free CPUs: a spinner would hold a core one
+  // of the others needs to run.
+  EXPECT_FALSE(SpinGate::admits(Party::kExchange, 2, 0, 0, 0, 5));
+  EXPECT_FALSE(SpinGate::admits(Party::kExchange, 2, 0, 0, 0, 17));
+  // The same 5 parties on 8 free CPUs: they fit.
+  EXPECT_TRUE(SpinGate::admits(Party::kExchange, 8, 0, 0, 0, 5));
+  // A server loop beside a 2-thread DEM pool on 4 free CPUs: 1 party + 1 worker fit.
+  EXPECT_TRUE(SpinGate::admits(Party::kExchange, 4, 0, 2, 1, 1));
+  EXPECT_FALSE(SpinGate::admits(Party::kExchange, 4, 0, 2, 1, 4));
+  // DEM pool threads do not count the exchange parties (the pool's own rule).
+  EXPECT_TRUE(SpinGate::admits(Party::kDem, 2, 0, 2, 1, 5));
+}
+
+TEST(SpinGate, CountsOnlyOtherProcessesWorkAsBusy) {
+  // Over 0.25 s the machine was busy 0.5 CPU-s, all of it this process's 2 threads: the
+  // other processes keep no CPU busy, both CPUs are free (a gate that counted the
+  // process's own threads would see none free and refuse every spin).
+  EXPECT_DOUBLE_EQ(SpinGate::othersBusyOver(0.5, 0.5, 0.25), 0.0);
+  EXPECT_EQ(SpinGate::freeCpusOf(2, SpinGate::othersBusyOver(0.5, 0.5, 0.25)), 2);
+  // One busy loop elsewhere beside one busy thread here: one CPU free.
+  EXPECT_DOUBLE_EQ(SpinGate::othersBusyOver(0.5, 0.25, 0.25), 1.0);
+  EXPECT_EQ(SpinGate::freeCpusOf(2, 1.0), 1);
+  // Accounting noise (the tick-sampled /proc/stat a little below the exact own time).
+  EXPECT_DOUBLE_EQ(SpinGate::othersBusyOver(0.48, 0.5, 0.25), 0.0);
+  EXPECT_EQ(SpinGate::freeCpusOf(2, 0.4), 2);
+  EXPECT_EQ(SpinGate::freeCpusOf(2, 0.6), 1);
+  // Far more load than CPUs: none free, never negative; no period: nothing measured.
+  EXPECT_EQ(SpinGate::freeCpusOf(2, 13.0), 0);
+  EXPECT_DOUBLE_EQ(SpinGate::othersBusyOver(1.0, 0.0, 0.0), 0.0);
 }
 
 TEST(SpinGate, DemThreadsSpinOnlyWhenAllFit) {
-  EXPECT_TRUE(SpinGate::admits(Party::kDem, 2, 0, 2, 1));
-  EXPECT_FALSE(SpinGate::admits(Party::kDem, 1, 0, 2, 1));  // beside one busy process
-  EXPECT_FALSE(SpinGate::admits(Party::kDem, 0, 0, 1, 0));
+  EXPECT_TRUE(SpinGate::admits(Party::kDem, 2, 0, 2, 1, 0));
+  EXPECT_FALSE(SpinGate::admits(Party::kDem, 1, 0, 2, 1, 0));  // beside one busy process
+  EXPECT_FALSE(SpinGate::admits(Party::kDem, 0, 0, 1, 0, 0));
 }
 
 TEST(SpinGate, FreeCpusStayWithinTheUsableOnes) {
@@ -51,6 +86,51 @@ TEST(SpinFor, ReturnsTrueOnceReadyAndFalseWithoutBudget) {
   const SpinStats stats = gate.stats();
   EXPECT_GE(stats.ready_spinning, 1u);
   EXPECT_GE(stats.blocked_after_spin, 1u);
+}
+
+TEST(SpinHistory, AWaiterWhoseEventsComeLateStopsSpinningAndRetriesNowAndThen) {
+  SpinGate::instance().setForced(true);
+  SpinHistory history;
+  const auto budget = std::chrono::microseconds(20);
+  int polls = 0;
+  const auto late = [&] {
+    ++polls;
+    return false;
+  };
+  // Three spins run out of budget: each polled.
+  for (std::uint32_t k = 0; k < SpinHistory::kMissesBeforeBackOff; ++k) {
+    polls = 0;
+    EXPECT_FALSE(spinFor(history, Party::kExchange, budget, late));
+    EXPECT_GT(polls, 0) << "spin " << k;
+  }
+  // Then it blocks at once, except one try in kRetryEvery waits.
+  polls = 0;
+  int tried = 0;
+  for (std::uint32_t k = 0; k < 4 * SpinHistory::kRetryEvery; ++k) {
+    const int before = polls;
+    EXPECT_FALSE(spinFor(history, Party::kExchange, budget, late));
+    if (polls > before) ++tried;
+  }
+  EXPECT_EQ(tried, 4);
+  EXPECT_EQ(history.backedOff(), 4 * (SpinHistory::kRetryEvery - 1));
+  // A retry whose event comes while spinning ends the back-off: the next waits spin.
+  for (std::uint32_t k = 0; k < SpinHistory::kRetryEvery; ++k) {
+    if (spinFor(history, Party::kExchange, budget, [] { return true; })) break;
+  }
+  polls = 0;
+  EXPECT_FALSE(spinFor(history, Party::kExchange, budget, late));
+  EXPECT_GT(polls, 0);
+  SpinGate::instance().setForced(false);
+}
+
+TEST(SpinHistory, ASpinTheGateRefusesIsNoMiss) {
+  // Zero budget (as a refused spin): never polled, never counted against the waiter.
+  SpinHistory history;
+  for (int k = 0; k < 10; ++k) {
+    EXPECT_FALSE(spinFor(history, Party::kExchange, std::chrono::nanoseconds::zero(), [] { return false; }));
+  }
+  EXPECT_TRUE(history.shouldSpin());
+  EXPECT_EQ(history.backedOff(), 0u);
 }
 
 TEST(SpinFor, AnEventFromAnotherThreadEndsTheSpin) {

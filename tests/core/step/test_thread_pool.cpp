@@ -11,6 +11,7 @@
 #include <cmath>
 #include <fstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "demlink/core/step/parallel.hpp"
@@ -53,10 +54,44 @@ TEST(ThreadPool, ClaimsEveryChunkExactlyOnceOverManyLoops) {
   for (std::size_t c = 0; c < runs.size(); ++c) ASSERT_EQ(runs[c].load(), expected[c]) << "chunk " << c;
   const ThreadPoolStats stats = pool.stats();
   EXPECT_EQ(stats.parallel_runs + stats.serial_runs, 3000u);
-  // The first probe of the loop alternates threaded and serial runs: both kinds ran.
-  EXPECT_GE(stats.probes, 1u);
-  EXPECT_GE(stats.parallel_runs, 8u);
-  EXPECT_GE(stats.serial_runs, 8u);
+  std::uint64_t offered = 0;
+  for (int loop = 0; loop < 3000; ++loop) offered += 2 + (loop * 37) % 995;
+  EXPECT_LE(stats.caller_chunks + stats.worker_chunks, offered);
+  EXPECT_GE(stats.parallel_runs, 1u);  // the first run of a loop is always offered
+}
+
+TEST(ThreadPool, OffersLoopsToAwakeWorkersAndLongOnesToSleepingWorkers) {
+  const double worth = ThreadPool::kWakeWorthSeconds;
+  // One chunk: nothing to share.
+  EXPECT_FALSE(ThreadPool::offersToWorkers(1, true, 1.0));
+  // A worker spinning between loops takes a share of any loop of 2+ chunks.
+  EXPECT_TRUE(ThreadPool::offersToWorkers(2, true, 1e-6));
+  // Sleeping workers: woken for a loop not run yet, or one of at least kWakeWorthSeconds.
+  EXPECT_TRUE(ThreadPool::offersToWorkers(5, false, -1.0));
+  EXPECT_TRUE(ThreadPool::offersToWorkers(5, false, worth));
+  EXPECT_FALSE(ThreadPool::offersToWorkers(5, false, 0.5 * worth));
+}
+
+TEST(ThreadPool, WakesSleepingWorkersForLongLoopsOnly) {
+  // No spin budget: workers sleep between loops. Chunks that sleep 1 ms hold at least
+  // 8 ms of work however loaded the machine is: every run is offered, and the worker
+  // runs some chunks (the caller sleeps in its own, so the woken worker claims others).
+  ThreadPool pool(2, std::chrono::nanoseconds::zero());
+  for (int loop = 0; loop < 5; ++loop) {
+    pool.run(8, [](std::uint32_t) { std::this_thread::sleep_for(std::chrono::milliseconds(1)); });
+  }
+  ThreadPoolStats stats = pool.stats();
+  EXPECT_EQ(stats.parallel_runs, 5u);
+  EXPECT_EQ(stats.serial_runs, 0u);
+  EXPECT_EQ(stats.caller_chunks + stats.worker_chunks, 40u);
+  EXPECT_GE(stats.worker_chunks, 1u);
+  // Empty chunks: after its first run (offered, as nothing is known yet) the loop takes
+  // far less than the wake-up it would need, and the caller runs it alone.
+  std::atomic<int> ran{0};
+  for (int loop = 0; loop < 50; ++loop) pool.run(4, [&](std::uint32_t) { ran.fetch_add(1); });
+  EXPECT_EQ(ran.load(), 200);
+  stats = pool.stats();
+  EXPECT_GE(stats.serial_runs, 40u);
 }
 
 TEST(ThreadPool, ChunkOrderedReductionIsIndependentOfThreadCount) {
@@ -78,8 +113,8 @@ TEST(ThreadPool, ChunkOrderedReductionIsIndependentOfThreadCount) {
     return sum;
   };
   const double serial = total(nullptr);
-  // Waits that spin (1 ms, every spinner admitted) or block at once: the same bits, also
-  // over the pool's probes, which run some loops on the caller alone.
+  // Waits that spin (1 ms, every spinner admitted) or block at once: the same bits,
+  // whichever thread claimed which chunk.
   SpinGate::instance().setForced(true);
   for (const auto budget : {std::chrono::nanoseconds(1'000'000), std::chrono::nanoseconds::zero()}) {
     for (std::uint32_t threads = 1; threads <= 4; ++threads) {

@@ -26,7 +26,12 @@
 ///   process's exchange spinners, itself included, plus the DEM pools' workers, stay
 ///   below the free CPUs: one CPU is always left to the party being waited for, and a
 ///   spinner never takes a core a DEM worker needs (2 free CPUs and one DEM thread: one
-///   exchange spinner at a time; two DEM threads: none).
+///   exchange spinner at a time; two DEM threads: none);
+/// - and only while the process's exchange parties (live client connections, running
+///   server network loops), plus the DEM pools' workers, fit in the free CPUs: with
+///   more threads taking turns in the exchanges than free cores (a server and 4
+///   clients on 2 CPUs), a spinner holds a core that one of them needs to run, and
+///   every round trip gets longer.
 /// A partner in another process that spins counts as busy there, so across processes
 /// the rule errs towards blocking.
 ///
@@ -106,20 +111,23 @@ class SpinGate {
   bool enter(Party party) {
     const bool forced = forced_.load(std::memory_order_relaxed);
     const int free = forced ? 0 : freeCpus();
-    if (party == Party::kDem) return forced || admits(party, free, 0, dem_threads_.load(std::memory_order_relaxed), 0);
+    if (party == Party::kDem) return forced || admits(party, free, 0, dem_threads_.load(std::memory_order_relaxed), 0, 0);
     const int workers = dem_workers_.load(std::memory_order_relaxed);
+    const int parties = exchange_parties_.load(std::memory_order_relaxed);
     int now = spinners_.load(std::memory_order_relaxed);
     do {
-      if (!forced && !admits(party, free, now, 0, workers)) return false;
+      if (!forced && !admits(party, free, now, 0, workers, parties)) return false;
     } while (!spinners_.compare_exchange_weak(now, now + 1, std::memory_order_relaxed));
     return true;
   }
 
   /// The rule: may one more `party` spin, with `free` free CPUs, `spinners` exchange
-  /// waits spinning already, `demThreads` threads and `demWorkers` workers in DEM pools.
-  [[nodiscard]] static bool admits(Party party, int free, int spinners, int demThreads, int demWorkers) {
+  /// waits spinning already, `demThreads` threads and `demWorkers` workers in DEM pools,
+  /// and `exchangeParties` exchange parties (addExchangeParty) in the process.
+  [[nodiscard]] static bool admits(Party party, int free, int spinners, int demThreads, int demWorkers,
+                                   int exchangeParties) {
     if (party == Party::kDem) return demThreads <= free;
-    return spinners + 1 + demWorkers < free;
+    return spinners + 1 + demWorkers < free && exchangeParties + demWorkers <= free;
   }
   void leave(Party party) {
     if (party == Party::kExchange) spinners_.fetch_sub(1, std::memory_order_relaxed);
@@ -135,12 +143,29 @@ class SpinGate {
     dem_workers_.fetch_add(threads > 0 ? threads - 1 : threads + 1, std::memory_order_relaxed);
   }
 
+  /// An exchange party (a client connection, a server network loop) starts (+1) or ends (-1).
+  void addExchangeParty(int parties) { exchange_parties_.fetch_add(parties, std::memory_order_relaxed); }
+
   /// Usable CPUs less those busy with other processes (rounded), refreshed at most
   /// every kRefreshPeriod by whichever waiter finds it stale.
   int freeCpus() {
     const std::int64_t now = monotonicNs();
     if (now - refreshed_ns_.load(std::memory_order_relaxed) >= kRefreshPeriodNs) refresh(now);
     return free_cpus_.load(std::memory_order_relaxed);
+  }
+
+  /// CPUs other processes kept busy over a period of `wallSeconds`, in which all CPUs
+  /// were busy for `machineBusySeconds` (/proc/stat) and this process ran for
+  /// `ownSeconds` (all its threads) [-]; at least 0.
+  [[nodiscard]] static double othersBusyOver(double machineBusySeconds, double ownSeconds, double wallSeconds) {
+    if (!(wallSeconds > 0.0)) return 0.0;
+    return std::max(0.0, (machineBusySeconds - ownSeconds) / wallSeconds);
+  }
+  /// Free CPUs of `cpus` usable ones when other processes keep `othersBusy` CPUs busy
+  /// (rounded to the nearest whole CPU), in [0, cpus].
+  [[nodiscard]] static int freeCpusOf(std::uint32_t cpus, double othersBusy) {
+    const double total = static_cast<double>(cpus);
+    return static_cast<int>(total - std::round(std::clamp(othersBusy, 0.0, total)));
   }
 
   /// CPUs other processes kept busy over the last measured period [-].
@@ -192,8 +217,7 @@ class SpinGate {
     const double own = processCpuSeconds();
     double others = 0.0;
     if (busy >= 0.0 && last_busy_ >= 0.0) {
-      const double wall = 1e-9 * static_cast<double>(now - last_ns_);
-      others = std::max(0.0, ((busy - last_busy_) - (own - last_own_)) / wall);
+      others = othersBusyOver(busy - last_busy_, own - last_own_, 1e-9 * static_cast<double>(now - last_ns_));
     } else {
       // No earlier sample (the first call) or no /proc/stat: the load average, which at a
       // process's start holds little of its own work.
@@ -203,8 +227,7 @@ class SpinGate {
     last_own_ = own;
     last_ns_ = now;
     others_busy_.store(others, std::memory_order_relaxed);
-    const double free = static_cast<double>(cpus_) - std::round(std::min(others, static_cast<double>(cpus_)));
-    free_cpus_.store(static_cast<int>(free), std::memory_order_relaxed);
+    free_cpus_.store(freeCpusOf(cpus_, others), std::memory_order_relaxed);
     refreshed_ns_.store(now, std::memory_order_relaxed);
   }
 
@@ -218,6 +241,7 @@ class SpinGate {
   std::atomic<double> others_busy_{0.0};
   std::atomic<bool> forced_{false};
   std::atomic<int> spinners_{0};     ///< exchange waits spinning now
+  std::atomic<int> exchange_parties_{0};  ///< live client connections and server loops
   std::atomic<int> dem_threads_{0};  ///< threads of the live DEM pools
   std::atomic<int> dem_workers_{0};  ///< the same less each pool's caller
   std::atomic<std::uint64_t> ready_{0};

@@ -16,17 +16,19 @@
 /// is left, so a descheduled or slow thread only holds up the chunk it is running,
 /// never a fixed share of the work.
 ///
-/// Never slower than one thread: each loop (told apart by its call site) is judged on
-/// its own, on what it costs the step both ways. While probing, the pool runs the
-/// loop alternately on all threads and on the caller alone and times each run from
-/// its start to the start of the next loop (so the cost of a worker's results in
-/// another core's cache, paid by the serial code after the loop, counts too). A loop
-/// too short to gain from threads (a few chunks of element-wise work on an idle
-/// machine, or anything beside a busy process) is then run on the caller alone, a loop
-/// that gains on all threads, for a hold period that doubles while the verdict stays
-/// the same; a threaded loop that starts losing (another process took a core) returns
-/// to the caller alone at once. Callers make their results independent of which thread
-/// ran which chunk (parallel.hpp), so this decision never changes a result.
+/// When a loop goes to the workers (offersToWorkers): every loop of two or more chunks
+/// while a worker is awake (spinning between loops: a hand-over costs about a
+/// microsecond); while all workers sleep, only a loop whose last run held at least
+/// kWakeWorthSeconds of work, since waking a worker costs tens of microseconds (a futex
+/// wake-up, an inter-processor interrupt under a hypervisor) and a worker that arrives
+/// after the caller has claimed every chunk gains nothing. No serial-against-threaded
+/// timing: a busy core costs little by construction. A worker descheduled by another
+/// process holds up at most the one chunk it is running, the caller claims all the
+/// others, and the caller's join wait spins only while the gate of spin_wait.hpp sees a
+/// free CPU for every pool thread, so it blocks at once and leaves its core to the
+/// descheduled worker (the scheduler pulls it over) when it does not. Callers make their
+/// results independent of which thread ran which chunk (parallel.hpp), so none of this
+/// changes a result.
 #include <array>
 #include <atomic>
 #include <chrono>
@@ -61,16 +63,17 @@ struct AutoThreadChoice {
 /// The thread count for `threads: 0`: the CPUs this process may run on
 /// (sched_getaffinity; std::thread::hardware_concurrency when unknown) less the
 /// ones other work keeps busy (the 1-minute load average, rounded), at least 1.
-/// A count that later proves too high costs little: the pool falls back to the
-/// caller alone while threading does not pay.
+/// A count that later proves too high costs little: a descheduled worker holds up
+/// at most one chunk of a loop (see ThreadPool).
 [[nodiscard]] AutoThreadChoice chooseAutoThreads();
 
 /// How the pool's loops ran so far (for reports and benchmarks).
 struct ThreadPoolStats {
   std::uint64_t parallel_runs = 0;  ///< loops offered to the workers
-  std::uint64_t serial_runs = 0;    ///< loops the caller ran alone (probes included)
-  std::uint64_t fallbacks = 0;      ///< times a loop was put on the caller alone
-  std::uint64_t probes = 0;         ///< serial-against-threaded comparisons made
+  std::uint64_t serial_runs = 0;    ///< loops of 2+ chunks the caller ran alone (too short to wake a worker)
+  std::uint64_t caller_chunks = 0;  ///< chunks of offered loops the caller ran
+  std::uint64_t worker_chunks = 0;  ///< chunks of offered loops the workers ran
+  std::uint64_t woken_runs = 0;     ///< offered loops that found every worker asleep
 };
 
 class ThreadPool {
@@ -102,34 +105,38 @@ class ThreadPool {
 
   [[nodiscard]] ThreadPoolStats stats() const { return stats_; }
 
+  /// Work of a loop below which sleeping workers are not woken for it [s]: a wake-up costs
+  /// ~30-80 us on a 2-vCPU VM, and a worker can at best take half of the work.
+  static constexpr double kWakeWorthSeconds = 150e-6;
+
+  /// The decision rule of the file comment: whether a loop of `chunks` chunks goes to the
+  /// workers, with `workersAwake` (some worker spinning, not asleep) and `workSeconds`
+  /// the work of the loop's last run (its time scaled by all chunks over those the caller
+  /// ran; negative: not run yet).
+  [[nodiscard]] static bool offersToWorkers(std::uint32_t chunks, bool workersAwake, double workSeconds) {
+    if (chunks < 2) return false;
+    return workersAwake || workSeconds < 0.0 || workSeconds >= kWakeWorthSeconds;
+  }
+
  private:
   using Task = void (*)(const void* context, std::uint32_t chunk);
 
-  /// What the pool knows of one loop (call site) [s].
+  /// What the pool knows of one loop (call site).
   struct Site {
     Task task = nullptr;
-    bool parallel = true;        ///< the current verdict
-    std::uint32_t hold_left = 0;  ///< runs before the next probe (0: probing)
-    std::uint32_t hold = 0;       ///< length of the last hold [runs]
-    std::uint32_t probe_runs = 0;  ///< runs of the current probe
-    double probe_serial = 0.0;    ///< summed serial run times of the probe
-    double probe_parallel = 0.0;  ///< summed threaded run times of the probe
-    double serial_mean = 0.0;     ///< mean serial run time of the last probe
-    double loss = 0.0;            ///< threaded time beyond serial_mean during a hold
+    double work_seconds = -1.0;  ///< the last run's work (offersToWorkers) [s]; negative: none yet
   };
-  /// Distinct loops judged separately; further ones share the last entry [-].
+  /// Distinct loops told apart; further ones share the last entry [-].
   static constexpr std::size_t kMaxSites = 32;
 
   void dispatch(std::uint32_t chunks, Task task, const void* context);
-  /// Runs all chunks on the caller and the workers.
-  void runParallel(std::uint32_t chunks, Task task, const void* context);
+  /// Runs all chunks on the caller and the workers; returns how many the caller ran.
+  std::uint32_t runParallel(std::uint32_t chunks, Task task, const void* context);
   /// Claims and runs chunks of the current ticket until none is left; returns how many it ran.
   std::uint32_t drain();
   void stopWorkers();
   void workerLoop();
   Site& siteOf(Task task);
-  /// Records one run of `site` (its time until the next loop started) [s].
-  void judge(Site& site, bool parallel, double seconds);
 
   std::vector<std::thread> workers_;
   /// generation (32 bits) | chunks (16) | next unclaimed chunk (16).
@@ -140,17 +147,13 @@ class ThreadPool {
   Task task_ = nullptr;
   const void* context_ = nullptr;
   std::chrono::nanoseconds spin_budget_;  ///< spin before blocking (spin_wait.hpp)
+  std::atomic<std::uint32_t> asleep_{0};  ///< workers blocked (not spinning) on generation_
   bool in_gate_ = false;                  ///< counted in SpinGate's DEM threads
 
-  // Adaptive threading (caller thread only).
+  // Caller thread only.
   ThreadPoolStats stats_;
   std::array<Site, kMaxSites> sites_{};
   std::size_t site_count_ = 0;
-  Site* last_site_ = nullptr;  ///< the previous loop, whose run ends when the next starts
-  bool last_parallel_ = false;
-  double last_took_ = 0.0;  ///< the previous loop's own time [s]
-  std::chrono::steady_clock::time_point last_start_{};
-  std::chrono::steady_clock::time_point last_end_{};
 };
 
 }  // namespace demlink::core
