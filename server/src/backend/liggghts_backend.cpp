@@ -54,6 +54,19 @@ bool writeFile(const std::filesystem::path& path, const std::string& text) {
   return out.good();
 }
 
+/// The first N values of a LIGGGHTS fix's global vector.
+template <std::size_t N>
+std::array<double, N> fixVector(void* lammps, const std::string& id) {
+  std::array<double, N> values{};
+  for (std::size_t i = 0; i < N; ++i) {
+    auto* value = static_cast<double*>(lammps_extract_fix(lammps, id.c_str(), 0, 1, static_cast<int>(i), 0));
+    if (value == nullptr) throw std::runtime_error("LIGGGHTS has no fix " + id);
+    values[i] = *value;
+    std::free(value);  // lammps_extract_fix returns a malloc'd copy of a global value
+  }
+  return values;
+}
+
 }  // namespace
 
 int ensureMpi() {
@@ -240,26 +253,12 @@ void LiggghtsBackend::syncParticles() {
 }
 
 std::pair<std::uint64_t, double> LiggghtsBackend::sourceInserted(std::size_t source) const {
-  const std::string id = liggghtsInsertFix(source);
-  std::array<double, 2> values{};
-  for (int i = 0; i < 2; ++i) {
-    auto* value = static_cast<double*>(lammps_extract_fix(lammps_, id.c_str(), 0, 1, i, 0));
-    if (value == nullptr) throw std::runtime_error("LIGGGHTS has no fix " + id);
-    values[static_cast<std::size_t>(i)] = *value;
-    std::free(value);  // lammps_extract_fix returns a malloc'd copy of a global value
-  }
+  const std::array<double, 2> values = fixVector<2>(lammps_, liggghtsInsertFix(source));
   return {static_cast<std::uint64_t>(std::llround(values[0])), values[1]};
 }
 
 std::pair<core::Vec3, core::Vec3> LiggghtsBackend::meshWrench(std::size_t mesh) const {
-  const std::string id = liggghtsMeshFix(mesh);
-  std::array<double, 6> values{};
-  for (int i = 0; i < 6; ++i) {
-    auto* value = static_cast<double*>(lammps_extract_fix(lammps_, id.c_str(), 0, 1, i, 0));
-    if (value == nullptr) throw std::runtime_error("LIGGGHTS has no fix " + id);
-    values[static_cast<std::size_t>(i)] = *value;
-    std::free(value);  // lammps_extract_fix returns a malloc'd copy of a global value
-  }
+  const std::array<double, 6> values = fixVector<6>(lammps_, liggghtsMeshFix(mesh));
   return {core::Vec3(values[0], values[1], values[2]), core::Vec3(values[3], values[4], values[5])};
 }
 

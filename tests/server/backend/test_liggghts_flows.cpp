@@ -126,6 +126,8 @@ TEST(LiggghtsFlows, SourceSinkSensorMassBalanceOnBothEngines) {
   const Balance theirs = balanceOf(backend.world(), backend.insertedParticles().mass,
                                    backend.insertedParticles().count, backend.lostParticles().mass);
   expectBalanced(theirs, "LIGGGHTS on " + std::to_string(mpiRanks()) + " rank(s)", false);
+  // The atoms the sink removed were deleted in LIGGGHTS too.
+  EXPECT_EQ(backend.particleCount(), backend.world().particles().size());
   // LIGGGHTS's own tally: every atom it inserted was handed over (none left within a stride).
   const auto [count, mass] = backend.sourceInserted(0);
   EXPECT_EQ(count, theirs.inserted_count);

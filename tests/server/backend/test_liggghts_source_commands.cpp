@@ -17,7 +17,7 @@
 namespace demlink::server {
 namespace {
 
-const std::string kBox = R"({"name": "box", "simulation_box": {"time_step": 1e-5, "end_time": 0.01,
+const std::string kBox = R"({"name": "box", "simulation_box": {"time_step": 5e-6, "end_time": 0.01,
     "bounds": {"lower": {"x": 0, "y": 0, "z": 0}, "upper": {"x": 0.1, "y": 0.1, "z": 0.1}}}})";
 const std::string kBeads = R"({"name": "beads", "material": {"density": 2500, "youngs_modulus": 5e6,
     "poisson_ratio": 0.3, "restitution": 0.5, "sliding_friction": 0.5}})";
@@ -87,11 +87,12 @@ TEST(LiggghtsSourceCommands, BoxSourceInsertsAtOurRate) {
   EXPECT_TRUE(has(commands[0], "particletemplate/sphere") && has(commands[0], "atom_type 1 density constant 2500"))
       << commands[0];
   EXPECT_TRUE(has(commands[kLiggghtsSizeClasses], "particledistribution/discrete/numberbased"));
-  EXPECT_TRUE(has(commands[kLiggghtsSizeClasses + 1], "block 0.01 0.050000000000000003 0.02"))
+  EXPECT_TRUE(has(commands[kLiggghtsSizeClasses + 1], "region demlink_source0_region block 0.01000000000000000") &&
+              has(commands[kLiggghtsSizeClasses + 1], "0.08999999999999999"))
       << commands[kLiggghtsSizeClasses + 1];
   const std::string& insert = commands.back();
   EXPECT_TRUE(has(insert, "fix demlink_source0 all insert/rate/region")) << insert;
-  EXPECT_TRUE(has(insert, "massrate 0.01 ") && has(insert, "mass 0.004") && has(insert, "start 10000") &&
+  EXPECT_TRUE(has(insert, "massrate 0.01 ") && has(insert, "mass 0.004") && has(insert, "start 20000") &&
               has(insert, "vel constant 0 0 -0.5") && has(insert, "all_in yes"))
       << insert;
 }
