@@ -62,7 +62,7 @@ bench_allow_mpi_root
 kind=$([[ $hopper == 1 ]] && echo hopper || echo deposition)
 for threads in 1 2; do
   python3 - "$repo/examples/scenes" "$work/backend_${kind}_t$threads.json" "$n" "$end_time" "$threads" "$kind" <<'PY'
-import json, math, os, sys
+import json, math, os, shutil, sys
 scenes, target, n, end_time, threads, kind = sys.argv[1], sys.argv[2], int(sys.argv[3]), float(sys.argv[4]), \
     int(sys.argv[5]), sys.argv[6]
 if kind == "deposition":
@@ -84,8 +84,10 @@ else:
             continue  # LIGGGHTS has no switched-off walls: the hopper drains while it fills
         if component["name"] == "orifice_plate":
             plate = component.pop("facet_body")
-            component["mesh_body"] = {"stl_file": os.path.join(scenes, plate["stl_file"]),
-                                      "material": plate["material"]}
+            # Scene files may only read files from their own folder: a copy next to it.
+            stl = os.path.basename(plate["stl_file"])
+            shutil.copy(os.path.join(scenes, plate["stl_file"]), os.path.join(os.path.dirname(target), stl))
+            component["mesh_body"] = {"stl_file": stl, "material": plate["material"]}
         if "particle_source" in component:
             source = component["particle_source"]
             source["stop_time"] = n / source["rate_particles_per_s"]

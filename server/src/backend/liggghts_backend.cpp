@@ -277,6 +277,14 @@ RunSummary runHeadlessLiggghts(const v1::Scene& declarations, TranslatedScene& s
   requireLiggghtsCompatible(declarations, world);
   const RunPlan plan = planRun(run, world.settings().time_step, true);
   for (const std::string& warning : plan.warnings) spdlog::warn("{}", warning);
+  if (plan.checkpoint_every > 0) {
+    throw core::InputError(box + ".output.checkpoint_interval", core::formatValue(run.checkpoint_interval),
+                           "checkpoints are not available on the LIGGGHTS backend yet; set it to 0 or run it on "
+                           "the native backend");
+  }
+  if (rank == 0 && run.final_checkpoint) {
+    spdlog::warn("no checkpoint_final.bin: checkpoints are not available on the LIGGGHTS backend yet");
+  }
   const std::filesystem::path directory = run.output_directory;
   if (rank == 0) claimOutputDirectory(directory, run.overwrite, box + ".output.directory");
   MPI_Barrier(MPI_COMM_WORLD);
