@@ -36,8 +36,8 @@ namespace demlink::server {
 [[nodiscard]] double liggghtsRestitution(double normalDamping, const std::string& field);
 
 /// Refuses, naming the component and the reason, what the LIGGGHTS backend cannot run:
-/// component kinds it does not map (clumps, meshes and facets, deformable bodies, sources,
-/// sinks, sensors, co-simulation bodies), a moving room, and in the compiled world moving
+/// component kinds it does not map (clumps, facets, deformable bodies, pit generators,
+/// trackers, co-simulation bodies), a moving room, and in the compiled world moving
 /// meshes, the
 /// linear law, explicit Euler, rolling friction, cohesion, missing or growing bounds and
 /// planes that are not axis-aligned. Throws core::InputError.
