@@ -22,33 +22,31 @@ set -euo pipefail
 script_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 repo=$(cd "$script_dir/.." && pwd)
 
-usage() { sed -n '4,17p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2; exit 2; }
+# shellcheck source=lib/compare_common.sh
+source "$script_dir/lib/compare_common.sh"
+bench_usage_lines='4,17'
 
-n=""; steps=50000; runs=1; thermo=""; np=1; ours_threads=""; rebuild=0
-positional=()
-while (($#)); do
+steps=50000; thermo=""; np=1; ours_threads=""; rebuild=0
+bench_extra_option() {
   case "$1" in
-    --runs) runs=${2:?--runs needs a value}; shift 2 ;;
-    --thermo) thermo=${2:?--thermo needs a value}; shift 2 ;;
-    --np) np=${2:?--np needs a value}; shift 2 ;;
-    --threads) ours_threads=${2:?--threads needs a value}; shift 2 ;;
-    --rebuild) rebuild=1; shift ;;
-    -h|--help) usage ;;
-    -*) echo "unknown option $1" >&2; usage ;;
-    *) positional+=("$1"); shift ;;
+    --thermo) thermo=${2:?--thermo needs a value}; bench_consumed=2 ;;
+    --np) np=${2:?--np needs a value}; bench_consumed=2 ;;
+    --threads) ours_threads=${2:?--threads needs a value}; bench_consumed=2 ;;
+    --rebuild) rebuild=1; bench_consumed=1 ;;
   esac
-done
-((${#positional[@]} >= 1 && ${#positional[@]} <= 2)) || usage
+}
+bench_parse_args "$@"
+((${#positional[@]} >= 1 && ${#positional[@]} <= 2)) || bench_usage
 n=${positional[0]}
 ((${#positional[@]} == 2)) && steps=${positional[1]}
-[[ "$n" =~ ^[0-9]+$ && "$steps" =~ ^[0-9]+$ && "$runs" =~ ^[0-9]+$ && "$np" =~ ^[0-9]+$ ]] || usage
-((runs >= 1 && np >= 1)) || usage
+[[ "$n" =~ ^[0-9]+$ && "$steps" =~ ^[0-9]+$ && "$np" =~ ^[0-9]+$ ]] || bench_usage
+((np >= 1)) || bench_usage
 ours_threads=${ours_threads:-$np}
-[[ "$ours_threads" =~ ^[0-9]+$ ]] && ((ours_threads >= 1)) || usage
+[[ "$ours_threads" =~ ^[0-9]+$ ]] && ((ours_threads >= 1)) || bench_usage
 [[ -n "$thermo" ]] || thermo=$(( steps >= 10 ? steps / 10 : 1 ))
 
 scene=$repo/bench/deposition
-work=${DEMLINK_BENCH_WORK:-$repo/bench/work}
+work=$(bench_work_dir)
 liggghts=${LIGGGHTS:-liggghts}
 bench="$repo/build/release/bench/demlink-bench-deposition"
 
@@ -71,7 +69,6 @@ elif [[ -n "$(find "$repo/core" "$repo/bench/deposition_bench.cpp" -newer "$benc
 fi
 revision=$(git -C "$repo" describe --always --dirty 2>/dev/null || echo unknown)
 
-mkdir -p "$work"
 cd "$work"
 cp "$scene/in.deposition" in.deposition
 if [[ ! -f "init_$n.txt" || ! -f "init_$n.data" ]]; then

@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cmath>
 #include <numeric>
+#include <stdexcept>
+#include <string>
 #include <utility>
 
 #include "demlink/core/contact/contact_law_registry.hpp"
@@ -273,6 +275,14 @@ void World::declareFutureParticles(std::uint32_t material, double minRadius, con
     throw InputError(fieldPrefix + ".material", std::to_string(material), "no such material");
   }
   future_particles_.emplace_back(material, minRadius);
+}
+
+void World::advanceClockTo(std::uint64_t stepCount) {
+  if (stepCount < state_.step_count) {
+    throw std::invalid_argument("World::advanceClockTo: step " + std::to_string(stepCount) + " is behind the clock (" +
+                                std::to_string(state_.step_count) + ")");
+  }
+  state_.step_count = stepCount;
 }
 
 void World::initialize() {

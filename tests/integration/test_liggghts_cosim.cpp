@@ -181,9 +181,8 @@ TEST(LiggghtsCosim, RefusedComponentIsNamedAndTheServerStaysUp) {
     connectTo(connection, port, "feeder");
     client::Session session(connection);
     declareBed(session, 0.001, 5);
-    auto& hopper = session.add<client::ParticleSource>("hopper");
-    hopper.setMaterial("glass").setRadius(0.002).setBox({0.01, 0.01, 0.03}, {0.004, 0.004, 0.004});
-    hopper.setRateParticles(100.0);
+    auto& pit = session.add<client::PitGenerator>("pit");
+    pit.setMaterial("glass").setRadius(0.002).setBox({0.0, 0.0, 0.0}, {0.02, 0.02, 0.01}).setTargetHeight(0.005);
     session.declare();
     std::string refusal;
     try {
@@ -191,8 +190,8 @@ TEST(LiggghtsCosim, RefusedComponentIsNamedAndTheServerStaysUp) {
     } catch (const client::ServerError& error) {
       refusal = error.what();
     }
-    EXPECT_NE(refusal.find("hopper"), std::string::npos) << refusal;
-    EXPECT_NE(refusal.find("particle_source"), std::string::npos) << refusal;
+    EXPECT_NE(refusal.find("pit"), std::string::npos) << refusal;
+    EXPECT_NE(refusal.find("pit_generator"), std::string::npos) << refusal;
     EXPECT_NE(refusal.find("LIGGGHTS"), std::string::npos) << refusal;
   }
   // The next simulation (a bed settling, nothing refused) runs on the same server.

@@ -70,7 +70,7 @@ void FlowSensor::scan(const World& world, bool count) {
     current_.emplace(p.id[i], local);
   }
   std::swap(previous_, current_);
-  const double dt = world.settings().time_step;
+  const double dt = world.settings().time_step * static_cast<double>(observation_spacing_);  // between observations
   const double speed = std::sqrt(fastest) + placement_.speedBound(world, shape_.boundingRadius());
   band_ = std::max(0.5 * largest, 4.0 * speed * dt + world.settings().gravity.norm() * dt * dt);
 }

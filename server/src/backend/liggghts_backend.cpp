@@ -18,12 +18,17 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
+#include <optional>
 #include <stdexcept>
 #include <vector>
 
+#include "demlink/core/components/sampled_component.hpp"
 #include "demlink/core/input_error.hpp"
+#include "demlink/server/backend/liggghts_flows.hpp"
 #include "demlink/server/backend/liggghts_motion.hpp"
 #include "demlink/server/backend/liggghts_script.hpp"
+#include "demlink/server/run/frame_series.hpp"
 #include "demlink/server/run/output_directory.hpp"
 #include "demlink/server/run/particle_csv.hpp"
 #include "demlink/server/run/run_driver.hpp"
@@ -48,6 +53,19 @@ bool writeFile(const std::filesystem::path& path, const std::string& text) {
   std::ofstream out(path);
   out << text;
   return out.good();
+}
+
+/// The first N values of a LIGGGHTS fix's global vector.
+template <std::size_t N>
+std::array<double, N> fixVector(void* lammps, const std::string& id) {
+  std::array<double, N> values{};
+  for (std::size_t i = 0; i < N; ++i) {
+    auto* value = static_cast<double*>(lammps_extract_fix(lammps, id.c_str(), 0, 1, static_cast<int>(i), 0));
+    if (value == nullptr) throw std::runtime_error("LIGGGHTS has no fix " + id);
+    values[i] = *value;
+    std::free(value);  // lammps_extract_fix returns a malloc'd copy of a global value
+  }
+  return values;
 }
 
 }  // namespace
@@ -87,7 +105,11 @@ LiggghtsBackend::LiggghtsBackend(core::World& world, const std::string& logFile)
     meshPaths.push_back(scratchFilePath("stl"));
     meshFiles.push_back(meshPaths.back().string());
   }
-  const std::vector<std::string> commands = liggghtsCommands(world_, data.string(), meshFiles);  // may refuse
+  std::vector<std::string> commands = liggghtsCommands(world_, data.string(), meshFiles);  // may refuse
+  const std::vector<std::string> sources = liggghtsSourceCommands(world_);                // may refuse
+  commands.insert(commands.end(), sources.begin(), sources.end());
+  sources_ = static_cast<std::size_t>(
+      std::count_if(sources.begin(), sources.end(), [](const std::string& line) { return line.find(" insert/") != std::string::npos; }));
   int ok = 1;
   if (rank == 0) ok = writeFile(data, liggghtsDataFile(world_)) ? 1 : 0;
   for (std::size_t k = 0; k < meshPaths.size(); ++k) {
@@ -153,7 +175,7 @@ void LiggghtsBackend::advanceTo(std::uint64_t step) {
   started_ = true;
   const std::uint64_t steps = step - step_;
   step_ = step;
-  world_.advanceClockExternally(steps);
+  world_.advanceClockTo(step);
   for (std::size_t k = 0; k < world_.meshes().size(); ++k) {
     core::MeshBody& mesh = world_.mesh(k);
     mesh.advance(static_cast<double>(steps) * world_.settings().time_step);
@@ -172,17 +194,21 @@ std::size_t LiggghtsBackend::particleCount() const {
 }
 
 void LiggghtsBackend::syncParticles() {
-  // Every rank packs its atoms as (tag, x, v, omega); all ranks receive all of them.
-  constexpr int kRow = 10;
+  // Every rank packs its atoms as (tag, type, radius, mass, x, v, omega); all ranks receive
+  // all of them.
+  constexpr int kRow = 13;
   const int local = *static_cast<int*>(lammps_extract_global(lammps_, "nlocal"));
   const auto* tags = static_cast<const int*>(lammps_extract_atom(lammps_, "id"));
+  const auto* types = static_cast<const int*>(lammps_extract_atom(lammps_, "type"));
+  const auto* radius = static_cast<const double*>(lammps_extract_atom(lammps_, "radius"));
+  const auto* rmass = static_cast<const double*>(lammps_extract_atom(lammps_, "rmass"));
   const auto* const* x = static_cast<double**>(lammps_extract_atom(lammps_, "x"));
   const auto* const* v = static_cast<double**>(lammps_extract_atom(lammps_, "v"));
   const auto* const* omega = static_cast<double**>(lammps_extract_atom(lammps_, "omega"));
   std::vector<double> mine;
   mine.reserve(static_cast<std::size_t>(local) * kRow);
   for (int i = 0; i < local; ++i) {
-    mine.push_back(tags[i]);
+    mine.insert(mine.end(), {static_cast<double>(tags[i]), static_cast<double>(types[i]), radius[i], rmass[i]});
     for (const auto* column : {x, v, omega}) mine.insert(mine.end(), column[i], column[i] + 3);
   }
   const int ranks = mpiRanks();
@@ -196,7 +222,11 @@ void LiggghtsBackend::syncParticles() {
                  MPI_COMM_WORLD);
   // Our particle with stable id tag_ids_[t - 1] is LIGGGHTS's atom t; atoms LIGGGHTS lost
   // (outside the box) leave the world as our engine removes them at the bounds.
-  std::vector<const double*> rowOfTag(tag_ids_.size() + 1, nullptr);
+  std::size_t largestTag = tag_ids_.size();
+  for (std::size_t row = 0; row < all.size(); row += kRow) {
+    largestTag = std::max(largestTag, static_cast<std::size_t>(all[row]));
+  }
+  std::vector<const double*> rowOfTag(largestTag + 1, nullptr);
   for (std::size_t row = 0; row < all.size(); row += kRow) {
     rowOfTag[static_cast<std::size_t>(all[row])] = &all[row + 1];
   }
@@ -205,21 +235,56 @@ void LiggghtsBackend::syncParticles() {
                            lost_);
   for (std::size_t i = 0; i < p.size(); ++i) {
     const double* row = rowOfTag[tag_of_id_.at(p.id[i])];
-    p.position[i] = core::Vec3(row[0], row[1], row[2]);
-    p.velocity[i] = core::Vec3(row[3], row[4], row[5]);
-    p.angular_velocity[i] = core::Vec3(row[6], row[7], row[8]);
+    p.position[i] = core::Vec3(row[3], row[4], row[5]);
+    p.velocity[i] = core::Vec3(row[6], row[7], row[8]);
+    p.angular_velocity[i] = core::Vec3(row[9], row[10], row[11]);
   }
+  // Atoms with tags we have not seen were inserted by a source: they join the world in tag
+  // order (the same on every rank and for any number of ranks).
+  constexpr std::uint64_t kNoParticle = std::numeric_limits<std::uint64_t>::max();
+  const std::size_t known = tag_ids_.size();
+  tag_ids_.resize(largestTag, kNoParticle);
+  for (std::size_t tag = known + 1; tag <= largestTag; ++tag) {
+    const double* row = rowOfTag[tag];
+    if (row == nullptr) continue;  // inserted and lost within one stride
+    core::ParticleSpec spec;
+    spec.material = static_cast<std::uint32_t>(row[0]) - 1;
+    spec.radius = row[1];
+    spec.position = core::Vec3(row[3], row[4], row[5]);
+    spec.velocity = core::Vec3(row[6], row[7], row[8]);
+    spec.angular_velocity = core::Vec3(row[9], row[10], row[11]);
+    const std::uint64_t id = world_.addParticle(spec, "LIGGGHTS insertion");
+    tag_ids_[tag - 1] = id;
+    tag_of_id_.emplace(id, tag);
+    ++inserted_.count;
+    inserted_.mass += p.mass.back();
+  }
+  // advanceTo() has moved the clock and set the mesh wrenches.
+  const std::vector<std::uint64_t> removed = runLiggghtsComponents(world_);
+  if (removed.empty()) return;
+  // Delete the atoms our sinks removed; the next run sets LIGGGHTS up again (its neighbour
+  // lists still hold them).
+  constexpr std::size_t kIdsPerCommand = 500;
+  for (std::size_t first = 0; first < removed.size(); first += kIdsPerCommand) {
+    std::string line = "group demlink_sunk id";
+    for (std::size_t k = first; k < std::min(removed.size(), first + kIdsPerCommand); ++k) {
+      line += fmt::format(" {}", tag_of_id_.at(removed[k]));
+    }
+    command(line);
+  }
+  command("delete_atoms group demlink_sunk compress no");
+  command("group demlink_sunk delete");
+  for (const std::uint64_t id : removed) tag_of_id_.erase(id);
+  started_ = false;
+}
+
+std::pair<std::uint64_t, double> LiggghtsBackend::sourceInserted(std::size_t source) const {
+  const std::array<double, 2> values = fixVector<2>(lammps_, liggghtsInsertFix(source));
+  return {static_cast<std::uint64_t>(std::llround(values[0])), values[1]};
 }
 
 std::pair<core::Vec3, core::Vec3> LiggghtsBackend::meshWrench(std::size_t mesh) const {
-  const std::string id = liggghtsMeshFix(mesh);
-  std::array<double, 6> values{};
-  for (int i = 0; i < 6; ++i) {
-    auto* value = static_cast<double*>(lammps_extract_fix(lammps_, id.c_str(), 0, 1, i, 0));
-    if (value == nullptr) throw std::runtime_error("LIGGGHTS has no fix " + id);
-    values[static_cast<std::size_t>(i)] = *value;
-    std::free(value);  // lammps_extract_fix returns a malloc'd copy of a global value
-  }
+  const std::array<double, 6> values = fixVector<6>(lammps_, liggghtsMeshFix(mesh));
   return {core::Vec3(values[0], values[1], values[2]), core::Vec3(values[3], values[4], values[5])};
 }
 
@@ -238,6 +303,14 @@ RunSummary runHeadlessLiggghts(const v1::Scene& declarations, TranslatedScene& s
   requireLiggghtsCompatible(declarations, world);
   const RunPlan plan = planRun(run, world.settings().time_step, true);
   for (const std::string& warning : plan.warnings) spdlog::warn("{}", warning);
+  if (plan.checkpoint_every > 0) {
+    throw core::InputError(box + ".output.checkpoint_interval", core::formatValue(run.checkpoint_interval),
+                           "checkpoints are not available on the LIGGGHTS backend yet; set it to 0 or run it on "
+                           "the native backend");
+  }
+  if (rank == 0 && run.final_checkpoint) {
+    spdlog::warn("no checkpoint_final.bin: checkpoints are not available on the LIGGGHTS backend yet");
+  }
   const std::filesystem::path directory = run.output_directory;
   if (rank == 0) claimOutputDirectory(directory, run.overwrite, box + ".output.directory");
   MPI_Barrier(MPI_COMM_WORLD);
@@ -247,17 +320,34 @@ RunSummary runHeadlessLiggghts(const v1::Scene& declarations, TranslatedScene& s
   spdlog::info("LIGGGHTS backend: {} particles, {} materials, {} planes on {} MPI rank(s); {} steps of {:.4g} s",
                world.particles().size(), world.materials().size(), world.planes().size(), mpiRanks(), plan.end_step,
                world.settings().time_step);
-  const std::uint64_t stride = plan.frame_every > 0 ? plan.frame_every : plan.end_step;
+  const std::uint64_t frameEvery = plan.frame_every > 0 ? plan.frame_every : plan.end_step;
+  const std::uint64_t stride = liggghtsStride(world, frameEvery);
+  prepareLiggghtsComponents(world, stride);
+  // Rank 0 writes the outputs from the synced world with the native run's writers: the
+  // particle series (output.vtk_interval), summary.csv and a CSV per sink and sensor.
+  std::optional<FrameSeries> frames;
+  if (rank == 0) {
+    (void)core::writeSamplesToCsv(world, directory);
+    frames.emplace(directory, box + ".output.directory");
+    frames->writePlanes(world);
+    frames->writeFrame(world, 0.0);
+  }
+  const auto wallSeconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
   while (backend.stepCount() < plan.end_step) {
     backend.advanceTo(std::min(plan.end_step, (backend.stepCount() / stride + 1) * stride));
     backend.syncParticles();
-    const FrameStats stats = frameStats(world);
-    spdlog::info("t = {:.4f} s | {} particles ({} lost at the box) | kinetic energy {:.4g} J | mean z {:.6g} m | "
-                 "max z {:.6g} m",
-                 backend.time(), stats.particles, backend.lostParticles().count, stats.kinetic_energy, stats.mean_z,
-                 stats.max_z);
+    if (backend.stepCount() % frameEvery != 0 && backend.stepCount() != plan.end_step) continue;
+    const FrameStats stats = frames ? frames->writeFrame(world, wallSeconds()) : frameStats(world);
+    spdlog::info("t = {:.4f} s | {} particles ({} inserted, {} lost at the box) | kinetic energy {:.4g} J | "
+                 "mean z {:.6g} m | max z {:.6g} m",
+                 backend.time(), stats.particles, backend.insertedParticles().count, backend.lostParticles().count,
+                 stats.kinetic_energy, stats.mean_z, stats.max_z);
   }
   if (rank == 0 && run.final_particles_csv) writeParticleCsv(world, directory / "particles_final.csv");
+  for (std::size_t k = 0; k < backend.sourceCount(); ++k) {
+    const auto [count, mass] = backend.sourceInserted(k);
+    spdlog::info("LIGGGHTS source {}: {} particles, {:.6g} kg inserted", k, count, mass);
+  }
 
   RunSummary summary;
   summary.steps = plan.end_step;

@@ -25,14 +25,10 @@ std::string refusalReason(Kind kind) {
     case Kind::kMassSpringBody:
     case Kind::kFemBody:
       return "LIGGGHTS has no deformable bodies";
-    case Kind::kParticleSource:
     case Kind::kPitGenerator:
-      return "sources are not mapped to fix insert by the LIGGGHTS backend yet";
-    case Kind::kParticleSink:
-    case Kind::kRegionSensor:
-    case Kind::kFlowSensor:
+      return "pit generators are not mapped by the LIGGGHTS backend yet (a particle_source is)";
     case Kind::kTracker:
-      return "sinks, sensors and trackers are not mapped by the LIGGGHTS backend yet";
+      return "trackers are not mapped by the LIGGGHTS backend yet (sinks and sensors are)";
     default:
       return {};
   }
@@ -190,7 +186,6 @@ std::vector<std::string> liggghtsCommands(const core::World& world, const std::s
       "boundary f f f",
       "newton off",
       "communicate single vel yes",
-      "read_data " + dataFile,
       fmt::format("neighbor {:.17g} bin", world.neighbourSkin()),
       "neigh_modify delay 0",
       "fix demlink_youngs all property/global youngsModulus peratomtype" + joined(youngs),
@@ -203,6 +198,19 @@ std::vector<std::string> liggghtsCommands(const core::World& world, const std::s
       "pair_coeff * *",
       fmt::format("timestep {:.17g}", world.settings().time_step),
   };
+  // A scene that starts empty (filled by sources) gets its box from create_box: LIGGGHTS's
+  // read_data of no atoms leaves the atoms without ids (no atom map then).
+  const auto created = std::find(commands.begin(), commands.end(), "communicate single vel yes") + 1;
+  if (world.particles().size() > 0) {
+    commands.insert(created, "read_data " + dataFile);
+  } else {
+    const core::DomainBounds bounds = world.settings().bounds.value_or(core::DomainBounds{});
+    commands.insert(created, {fmt::format("region demlink_domain block {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} "
+                                          "units box",
+                                          bounds.lower.x(), bounds.upper.x(), bounds.lower.y(), bounds.upper.y(),
+                                          bounds.lower.z(), bounds.upper.z()),
+                              fmt::format("create_box {} demlink_domain", types)});
+  }
   const core::Vec3 gravity = world.gravity();
   if (gravity.norm() > 0.0) {
     const core::Vec3 direction = gravity.normalized();

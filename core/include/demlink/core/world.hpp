@@ -148,11 +148,12 @@ class World {
   /// What evolves: clock, frame motion, gravity, skin, bounds, counters.
   [[nodiscard]] const WorldState& state() const { return state_; }
   [[nodiscard]] std::uint64_t stepCount() const { return state_.step_count; }
+  /// Moves the clock to `stepCount` (>= the current count) without stepping: for a world
+  /// another engine advances (the LIGGGHTS backend copies its particles in and then runs
+  /// the components' stages on this world at that time). Throws std::invalid_argument
+  /// for a step count behind the clock.
+  void advanceClockTo(std::uint64_t stepCount);
   [[nodiscard]] double time() const { return static_cast<double>(state_.step_count) * settings_.time_step; }
-  /// Moves the clock on by `steps` without stepping: for an external engine (the LIGGGHTS
-  /// backend) that stepped this world's particles and meshes itself, so that whatever
-  /// reads the step count (outputs, couplings) sees the engine's time.
-  void advanceClockExternally(std::uint64_t steps) { state_.step_count += steps; }
   /// Verlet-list skin in force [m] (the default is chosen at initialize()).
   [[nodiscard]] double neighbourSkin() const { return state_.neighbour_skin; }
   [[nodiscard]] ParticleArrays& particles() { return particles_; }

@@ -74,6 +74,11 @@ class FlowSensor final : public SampledComponent {
   [[nodiscard]] double band() const { return band_; }
   [[nodiscard]] const SurfaceShape& shape() const { return shape_; }
   [[nodiscard]] const RegionPlacement& placement() const { return placement_; }
+  /// Steps between two observations [-], >= 1: 1 in our engine (every step); an engine
+  /// that hands the world over only every `steps` steps (the LIGGGHTS backend) sets it so
+  /// the remembered band covers the displacement of that many steps. Crossings are then
+  /// judged on the straight segment between two observations.
+  void setObservationSpacing(std::uint64_t steps) { observation_spacing_ = steps > 0 ? steps : 1; }
 
  private:
   /// Scans the particles, counts crossings against previous_ (when `count`), refills the
@@ -89,6 +94,7 @@ class FlowSensor final : public SampledComponent {
   FlowTally total_;
   FlowTally since_sample_;
   FlowTally last_interval_;
+  std::uint64_t observation_spacing_ = 1;  ///< steps between observations [-]
 };
 
 }  // namespace demlink::core

@@ -43,12 +43,22 @@ class LiggghtsBackend final : public SimulationBackend {
   /// the same steps and sets each mesh's wrench in it (meshWrench). A collective.
   void advanceTo(std::uint64_t step) override;
   [[nodiscard]] std::uint64_t stepCount() const override { return step_; }
-  /// Gathers positions, velocities and angular velocities to every rank and removes from
-  /// the compiled world the particles LIGGGHTS lost at the box (lostParticles) (a
+  /// Gathers positions, velocities and angular velocities to every rank, adds the atoms
+  /// LIGGGHTS's sources inserted to the compiled world (new stable ids, in tag order:
+  /// insertedParticles), removes from it the particles LIGGGHTS lost at the box
+  /// (lostParticles), and runs the sinks and sensors on it at advanceTo()'s clock
+  /// (runLiggghtsComponents), deleting the atoms the sinks removed in LIGGGHTS (a
   /// collective: every rank must call it).
   void syncParticles() override;
   /// Particles LIGGGHTS deleted outside the box, as of the last syncParticles().
   [[nodiscard]] const core::RemovalTally& lostParticles() const { return lost_; }
+  /// Particles LIGGGHTS's sources inserted that a syncParticles() handed over (an atom
+  /// inserted and lost within one stride is in neither tally).
+  [[nodiscard]] const core::RemovalTally& insertedParticles() const { return inserted_; }
+  /// Particles and mass [kg] LIGGGHTS's insertion fix of source `source` reports inserted.
+  [[nodiscard]] std::pair<std::uint64_t, double> sourceInserted(std::size_t source) const;
+  /// Insertion fixes (sources with a positive rate) [-].
+  [[nodiscard]] std::size_t sourceCount() const { return sources_; }
   [[nodiscard]] const core::World& world() const override { return world_; }
   /// Force on mesh `mesh` by the particles [N] and its torque about the mesh's reference
   /// point [N m], of the last step (fix mesh/surface/stress). advanceTo() also sets them
@@ -76,6 +86,8 @@ class LiggghtsBackend final : public SimulationBackend {
   std::vector<std::uint64_t> tag_ids_;                         ///< atom tag - 1 -> our stable id
   std::unordered_map<std::uint64_t, std::size_t> tag_of_id_;  ///< our stable id -> atom tag
   core::RemovalTally lost_;
+  core::RemovalTally inserted_;
+  std::size_t sources_ = 0;  ///< insertion fixes
 };
 
 /// runHeadless on LIGGGHTS: refuses what it cannot run (requireLiggghtsCompatible), steps

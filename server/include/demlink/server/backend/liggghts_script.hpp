@@ -37,8 +37,9 @@ namespace demlink::server {
 [[nodiscard]] double liggghtsRestitution(double normalDamping, const std::string& field);
 
 /// Refuses, naming the component and the reason, what the LIGGGHTS backend cannot run:
-/// component kinds it does not map (clumps, facets, deformable bodies, sources, sinks,
-/// sensors), a moving room, and in the compiled world the linear law, explicit Euler, rolling friction, cohesion, missing or growing bounds and
+/// component kinds it does not map (clumps, facets, deformable bodies, pit generators,
+/// trackers), a moving room, and in the compiled world the linear law, explicit Euler,
+/// rolling friction, cohesion, missing or growing bounds and
 /// planes that are not axis-aligned. Throws core::InputError.
 void requireLiggghtsCompatible(const v1::Scene& scene, const core::World& world);
 
