@@ -54,7 +54,7 @@ double surfaceHeight(const core::ParticleArrays& p) {
 }
 
 CouplingResult runCase(const Knobs& knobs, std::size_t grains, const std::string& settled, double surface,
-                       double duration, const CouplingCase& c, double wallLimit) {
+                       double duration, const CouplingCase& c, double cpuLimit) {
   CouplingResult out(c);
   const auto start = Clock::now();
   World world = bedWorld(knobs, grains);
@@ -76,7 +76,7 @@ CouplingResult runCase(const Knobs& knobs, std::size_t grains, const std::string
   while (world.time() < t0 + duration - 0.5 * dt) {
     const core::RigidPose pose{Vec3(0.5 * kSide, 0.5 * kSide, z), core::Quat::Identity()};
     motion.beginInterval(world, pose, core::RigidTwist{Vec3(0.0, 0.0, v), Vec3::Zero()}, c.interval_steps);
-    advance(world, world.time() + interval, cost, wallLimit, [&] { motion.afterStep(world); });
+    advance(world, world.time() + interval, cost, cpuLimit, [&] { motion.afterStep(world); });
     const double received = motion.endInterval(world).mean_force.z();
     const double force = c.order == ClientOrder::Exchange ? received : heldForce;
     heldForce = received;
@@ -112,19 +112,19 @@ const char* toString(ClientOrder order) {
 }
 
 std::vector<CouplingResult> runCoupling(const Knobs& knobs, std::size_t grains, double settle, double duration,
-                                        const std::vector<CouplingCase>& cases, double wallLimit,
+                                        const std::vector<CouplingCase>& cases, double cpuLimit,
                                         const std::function<void(const CouplingResult&)>& done) {
   World world = bedWorld(knobs, grains);
   world.initialize();
   SceneResult cost;
-  advance(world, settle, cost, wallLimit);
+  advance(world, settle, cost, cpuLimit);
   const double surface = surfaceHeight(world.particles());
   std::ostringstream settled;
   world.saveCheckpoint(settled);
   std::vector<CouplingResult> results;
   for (const CouplingCase& c : cases) {
     try {
-      results.push_back(runCase(knobs, grains, settled.str(), surface, duration, c, wallLimit));
+      results.push_back(runCase(knobs, grains, settled.str(), surface, duration, c, cpuLimit));
     } catch (const std::exception& error) {
       CouplingResult failed(c);
       failed.status = std::string("broke: ") + error.what();

@@ -46,7 +46,7 @@ struct CouplingResult {
 /// `duration` seconds, handing each result to `done` as it finishes.
 [[nodiscard]] std::vector<CouplingResult> runCoupling(const Knobs& knobs, std::size_t grains, double settle,
                                                       double duration, const std::vector<CouplingCase>& cases,
-                                                      double wallLimit,
+                                                      double cpuLimit,
                                                       const std::function<void(const CouplingResult&)>& done = {});
 
 }  // namespace demlink::study

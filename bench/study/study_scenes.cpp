@@ -1,5 +1,7 @@
 #include "study_scenes.hpp"
 
+#include <time.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -165,17 +167,23 @@ core::SimulationSettings studySettings(const Knobs& knobs) {
   return s;
 }
 
-void advance(World& world, double until, SceneResult& result, double wallLimit,
+double threadCpuSeconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+void advance(World& world, double until, SceneResult& result, double cpuLimit,
              const std::function<void()>& afterStep) {
-  const auto start = Clock::now();
+  const double cpuStart = threadCpuSeconds();
   const double dt = world.settings().time_step;
   long n = 0;
   while (world.time() < until - 0.5 * dt) {
     world.step();
     result.particle_steps += static_cast<double>(world.particles().size());
     if (afterStep) afterStep();
-    if (++n % 2048 == 0 && secondsSince(start) > wallLimit) {
-      throw std::runtime_error("wall-time limit reached at t = " + std::to_string(world.time()) + " s");
+    if (++n % 2048 == 0 && threadCpuSeconds() - cpuStart > cpuLimit) {
+      throw std::runtime_error("CPU-time limit reached at t = " + std::to_string(world.time()) + " s");
     }
   }
   for (const Vec3& x : world.particles().position) {
@@ -268,7 +276,7 @@ SceneResult runBed(const Knobs& knobs, const Budget& budget, bool cohesive) {
   auto bedWorld = [&](double cohesionEnergyDensity) {
     World world(studySettings(knobs));
     core::Material material = studyMaterial(knobs);
-    material.cohesion_energy_density = cohesionEnergyDensity;
+    material.cohesion_energy_density = core::CoarseGraining{knobs.coarse}.cohesionEnergyDensity(cohesionEnergyDensity);
     world.addMaterial(material);
     world.addPlane({"floor", Vec3::Zero(), Vec3::UnitZ(), 0});
     addWalls(world, Vec3(length, width, 0.0));
@@ -281,11 +289,9 @@ SceneResult runBed(const Knobs& knobs, const Budget& budget, bool cohesive) {
   };
   World dry = bedWorld(0.0);
   dry.initialize();
-  advance(dry, budget.bed_settle, result, budget.wall_limit);
+  advance(dry, budget.bed_settle, result, budget.cpu_limit);
   // The cohesive case wets the same settled bed (a rained cohesive bed would settle looser
-  // and hide what cohesion adds). k_c is kept under coarse graining: at the same delta / R
-  // the overlap area grows like alpha^2, as every contact force does in the constant-stress
-  // scaling.
+  // and hide what cohesion adds). Parcels take k_c through core::CoarseGraining's law.
   std::optional<World> wet;
   if (cohesive) {
     std::ostringstream settled;
@@ -306,7 +312,7 @@ SceneResult runBed(const Knobs& knobs, const Budget& budget, bool cohesive) {
   const double dragStart = world.time() + budget.drag_time / 3.0;
   double impulse = 0.0, counted = 0.0;
   const double dt = world.settings().time_step;
-  advance(world, budget.bed_settle + budget.drag_time, result, budget.wall_limit, [&] {
+  advance(world, budget.bed_settle + budget.drag_time, result, budget.cpu_limit, [&] {
     if (world.time() > dragStart) {
       impulse += -world.meshes()[0].force().x() * dt;
       counted += dt;
@@ -328,7 +334,7 @@ SceneResult runHeap(const Knobs& knobs, const Budget& budget) {
   addLattice(world, parcels(knobs, scaledCount(budget.heap_grains, budget.scale)), r,
              Vec3(-0.5 * footprint, -0.5 * footprint, 0.0), Vec3(0.5 * footprint, 0.5 * footprint, 0.0), knobs.seed);
   world.initialize();
-  advance(world, budget.heap_time, result, budget.wall_limit);
+  advance(world, budget.heap_time, result, budget.cpu_limit);
   // Heap surface: the highest sphere top in rings about the centre; the angle is the
   // slope of a line through the rings between 20 % and 80 % of the heap's radius.
   const auto& p = world.particles();
@@ -376,7 +382,7 @@ SceneResult runHopper(const Knobs& knobs, const Budget& budget) {
   addLattice(world, parcels(knobs, scaledCount(budget.hopper_grains, budget.scale)), parcelRadius(knobs), Vec3(0.0, 0.0, 0.002),
              Vec3(side, side, 0.0), knobs.seed);
   world.initialize();
-  advance(world, budget.hopper_fill, result, budget.wall_limit);
+  advance(world, budget.hopper_fill, result, budget.cpu_limit);
   const auto& p = world.particles();
   auto heldMass = [&] {
     double mass = 0.0;
@@ -389,7 +395,7 @@ SceneResult runHopper(const Knobs& knobs, const Budget& budget) {
   const double sampleEvery = 0.01;  // [s]
   const double firstSample = budget.hopper_fill + std::min(0.05, 0.25 * budget.hopper_flow);
   for (double t = firstSample; t < budget.hopper_fill + budget.hopper_flow + 1e-9; t += sampleEvery) {
-    advance(world, t, result, budget.wall_limit);
+    advance(world, t, result, budget.cpu_limit);
     times.push_back(world.time());
     masses.push_back(heldMass());
   }

@@ -55,7 +55,9 @@ struct Budget {
   double heap_time = 0.4;            ///< [s]
   double hopper_fill = 0.25;         ///< [s]
   double hopper_flow = 0.2;          ///< [s]
-  double wall_limit = 600.0;         ///< a scene that runs longer is abandoned [s]
+  /// A scene whose thread used more CPU seconds is abandoned [s]: CPU, not wall, so a
+  /// loaded machine does not break scenes that an idle one runs.
+  double cpu_limit = 600.0;
 };
 
 /// The reference material: glass-like grains with a "real" modulus of 1e8 Pa (scaled by
@@ -92,9 +94,11 @@ struct SceneResult {
 [[nodiscard]] SceneResult runHeap(const Knobs& knobs, const Budget& budget);
 [[nodiscard]] SceneResult runHopper(const Knobs& knobs, const Budget& budget);
 
+/// CPU seconds this thread has used (a scene runs on one thread) [s].
+[[nodiscard]] double threadCpuSeconds();
 /// Steps `world` to `until` [s], counting particle-steps into `result`; throws
-/// std::runtime_error if the wall time passes `wallLimit` or a position is not finite.
-void advance(demlink::core::World& world, double until, SceneResult& result, double wallLimit,
+/// std::runtime_error if this thread's CPU time passes `cpuLimit` or a position is not finite.
+void advance(demlink::core::World& world, double until, SceneResult& result, double cpuLimit,
              const std::function<void()>& afterStep = {});
 
 /// A cubic lattice of `count` spheres of material 0 over the footprint of [lo, hi] (x

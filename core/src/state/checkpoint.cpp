@@ -21,6 +21,12 @@
 /// source's rate or state, a sink's state or region or a sensor's region): per such
 /// component its name and its WorldComponent::saveInputs payload.
 ///
+/// Mesh loads (section MLOD, after INPT, written only when the run accumulates them,
+/// World::setContactOutput mesh_loads): per mesh its triangle count and every
+/// TriangleLoad (current forces and the impulse and work integrals), so a restored run's
+/// mesh frames continue the uninterrupted run's integrals. A world without mesh loads
+/// skips the section; a file without it starts the integrals at zero.
+///
 /// Reading is in two phases: read and check the whole file into staging objects,
 /// then replace the world's state, so a bad file leaves the world as it was.
 /// Deformable bodies restore themselves; each is saved first, so a failure of a
@@ -188,6 +194,38 @@ Clock readClock(StateReader& in) {
 
 /// Rows and near-list slots are numbered as at the last build: the current slots
 /// unless a slot mapping is pending; without a pending rebuild they are the particles.
+void writeMeshLoads(StateWriter& out, const std::vector<std::vector<TriangleLoad>>& meshes) {
+  out.write<std::uint64_t>(meshes.size());
+  for (const std::vector<TriangleLoad>& loads : meshes) {
+    out.write<std::uint64_t>(loads.size());
+    for (const TriangleLoad& load : loads) {
+      out.write(load.force);
+      for (double value : {load.normal_force, load.tangential_force, load.normal_impulse, load.tangential_impulse,
+                           load.archard_work, load.friction_work}) {
+        out.write(value);
+      }
+    }
+  }
+}
+
+std::vector<std::vector<TriangleLoad>> readMeshLoads(StateReader& in, const std::vector<MeshBody>& meshes) {
+  readMatchingCount(in, "mesh", meshes.size());
+  std::vector<std::vector<TriangleLoad>> loads(meshes.size());
+  for (std::size_t m = 0; m < meshes.size(); ++m) {
+    readMatchingCount(in, "triangle of mesh " + meshes[m].name(), meshes[m].triangles().size());
+    loads[m].resize(meshes[m].triangles().size());
+    for (TriangleLoad& load : loads[m]) {
+      load.force = in.read<Vec3>();
+      for (double* value : {&load.normal_force, &load.tangential_force, &load.normal_impulse,
+                            &load.tangential_impulse, &load.archard_work, &load.friction_work}) {
+        *value = in.read<double>();
+      }
+    }
+  }
+  in.requireEnd();
+  return loads;
+}
+
 void checkRowsAgainstParticles(const StateReader& clockSection, const StateReader& nbrl, const Clock& clock,
                                std::size_t rows, std::size_t particles) {
   requireIndices(clockSection, clock.pending, particles, "pending slot map entry", true);
@@ -259,6 +297,7 @@ void World::saveCheckpoint(std::ostream& out) const {
     });
   }
   if (anyInputsChanged(components_)) w.section("INPT", [&] { saveComponentInputs(w, components_); });
+  if (contact_output_.mesh_loads && !mesh_loads_.empty()) w.section("MLOD", [&] { writeMeshLoads(w, mesh_loads_); });
   w.section("END ", [] {});
   out.write(w.bytes().data(), static_cast<std::streamsize>(w.bytes().size()));
   if (!out) throw std::runtime_error("checkpoint: writing failed");
@@ -340,6 +379,11 @@ void World::restoreCheckpoint(std::string_view bytes, const std::string& source)
     inputs = readComponentInputs(inpt, components_);
   }
   std::vector<std::optional<StateReader>>* inputsOrNone = inputs.empty() ? nullptr : &inputs;
+  std::optional<std::vector<std::vector<TriangleLoad>>> meshLoads;
+  if (!file.atEnd() && file.peekTag() == "MLOD") {
+    StateReader mlod = file.section("MLOD", "mesh_loads");
+    meshLoads = readMeshLoads(mlod, meshes_);
+  }
   (void)file.section("END ", "end");
   file.requireEnd();
   std::vector<MeshNearList> deformableNear(deformables_.size());
@@ -400,6 +444,9 @@ void World::restoreCheckpoint(std::string_view bytes, const std::string& source)
   rebuild_pending_ = clock.rebuild_pending;
   pending_new_slot_of_old_ = clock.pending;
   partition_.plan(neighbours_.offsets(), neighbours_.partners());
+  if (contact_output_.mesh_loads) {
+    mesh_loads_ = meshLoads ? std::move(*meshLoads) : std::vector<std::vector<TriangleLoad>>{};
+  }
 }
 
 std::string readCheckpointBytes(const std::filesystem::path& path) {

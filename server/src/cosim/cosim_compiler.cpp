@@ -25,6 +25,7 @@
 #include "demlink/server/run/deformable_series.hpp"
 #include "demlink/server/scene/translate_deformables.hpp"
 #include "demlink/server/scene/translate_rigid_body.hpp"
+#include "demlink/server/run/contact_output_plan.hpp"
 
 namespace demlink::server {
 namespace {
@@ -427,18 +428,16 @@ CompiledSimulation CosimCompiler::compile(const std::filesystem::path& sceneDire
     out.components.push_back(std::move(c));
   }
 
-  try {
-    world.initialize();
-  } catch (const core::InputError& error) {
-    // The world names its settings by the box's scene path (translateScene), which
-    // failureOf turns into the box's component name.
-    throw failureOf(error, declared_, out.box_name);
-  }
-
   // The same seconds -> steps rule as a headless run (run_driver.hpp); end_time 0: until
-  // every client said Bye.
+  // every client said Bye. Planned first: the contact output it asks for must be on
+  // before initialize(), whose force evaluation is the contacts' step-0 frame.
   try {
     out.plan = planRun(out.scene->run, dt, false);
+    const core::ContactOutputSettings contacts = contactOutputOf(out.scene->run, out.plan);
+    if (contacts.active()) world.setContactOutput(contacts);
+    // The world names its settings by the box's scene path (translateScene), which
+    // failureOf turns into the box's component name.
+    world.initialize();
   } catch (const core::InputError& error) {
     throw failureOf(error, declared_, out.box_name);
   }

@@ -20,6 +20,7 @@
 #include "demlink/core/components/particle_source.hpp"
 #include "demlink/core/components/sampled_component.hpp"
 #include "demlink/server/backend/simulation_backend.hpp"
+#include "demlink/server/run/contact_output_plan.hpp"
 #include "demlink/server/run/deformable_series.hpp"
 #include "demlink/server/run/frame_series.hpp"
 #include "demlink/server/run/run_driver.hpp"
@@ -128,7 +129,12 @@ RunSummary runHeadless(TranslatedScene& scene) {
   }
 
   const Clock::time_point initStart = Clock::now();
-  if (!world.initialized()) world.initialize();  // errors already name the scene (translateScene)
+  if (!world.initialized()) {
+    // Contact output first: initialize()'s force evaluation is the contacts' step-0 frame.
+    const core::ContactOutputSettings contacts = contactOutputOf(run, planRun(run, world.settings().time_step, true));
+    if (contacts.active()) world.setContactOutput(contacts);
+    world.initialize();  // errors already name the scene (translateScene)
+  }
   if (!run.restore_file.empty()) {
     core::restoreCheckpointFile(world, run.restore_file);
     spdlog::info("restored {} at t = {:.6g} s ({} particles)", run.restore_file, world.time(),

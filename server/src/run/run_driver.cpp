@@ -11,6 +11,7 @@
 #include "demlink/core/components/sampled_component.hpp"
 #include "demlink/core/state/checkpoint.hpp"
 #include "demlink/core/step/interval_steps.hpp"
+#include "demlink/server/run/contact_output_plan.hpp"
 #include "demlink/server/run/output_directory.hpp"
 #include "demlink/server/run/particle_csv.hpp"
 
@@ -32,6 +33,11 @@ void timed(double& seconds, Write&& write) {
   const Clock::time_point begin = Clock::now();
   write();
   seconds += secondsSince(begin);
+}
+
+/// Contact output is on and the world recorded the contacts of its current step.
+bool contactsRecordedNow(const core::World& world, const RunPlan& plan) {
+  return plan.contact_every > 0 && world.contactSnapshot().valid && world.contactSnapshot().step == world.stepCount();
 }
 
 }  // namespace
@@ -62,7 +68,7 @@ RunDriver::RunDriver(core::World& world, const RunOptions& run, RunPlan plan, co
       deformables_(directory, world),
       log_(directory / "run_log.csv") {
   run_.output_directory = directory.string();
-  const core::ContactOutputSettings contacts{plan_.contact_every, run_.mesh_loads};
+  const core::ContactOutputSettings contacts = contactOutputOf(run_, plan_);
   if (contacts.active()) world.setContactOutput(contacts);
   log_.writeConfiguration(world, run_, plan_.end_step);
   sensor_files_ = core::writeSamplesToCsv(world, directory);
@@ -80,7 +86,12 @@ void RunDriver::start(const core::World& world) {
     deformables_.writeFrame(world);
   });
   last_frame_step_ = world.stepCount();
+  // The step-0 frame (or a restored step's, if recorded): the runner asked for contact
+  // output before initialize() (contact_output_plan.hpp).
+  if (contactsRecordedNow(world, plan_)) writeContacts(world);
 }
+
+
 
 void RunDriver::writeFrame(const core::World& world) {
   timed(timing_.output_seconds, [&] {
@@ -111,8 +122,7 @@ void RunDriver::afterStep(const core::World& world) {
   const std::uint64_t step = world.stepCount();
   deformables_.afterStep(world);
   if ((plan_.frame_every > 0 && step % plan_.frame_every == 0) || step == plan_.end_step) writeFrame(world);
-  if (plan_.contact_every > 0 && step % plan_.contact_every == 0 && world.contactSnapshot().valid &&
-      world.contactSnapshot().step == step) {
+  if (plan_.contact_every > 0 && step % plan_.contact_every == 0 && contactsRecordedNow(world, plan_)) {
     writeContacts(world);
   }
   if (plan_.checkpoint_every > 0 && step % plan_.checkpoint_every == 0) {

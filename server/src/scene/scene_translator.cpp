@@ -189,18 +189,20 @@ RunOptions toRunOptions(const v1::SimulationBox& box, const std::string& prefix,
   return run;
 }
 
-/// Pass 2: registers every material; returns name -> world index.
-MaterialNames addMaterials(const v1::Scene& scene, core::World& world) {
+/// Pass 2: registers every material (its cohesion through the coarse-graining law);
+/// returns name -> world index.
+MaterialNames addMaterials(const v1::Scene& scene, const core::CoarseGraining& coarse, core::World& world) {
   MaterialNames names;
   std::map<std::string, int> declaredBy;
   for (int i = 0; i < scene.components_size(); ++i) {
     const v1::ComponentDeclaration& component = scene.components(i);
     if (!component.has_material()) continue;
     const std::string prefix = componentPath(i) + ".material";
-    const core::Material material = translateMaterial(component.material(), component.name(), prefix);
+    core::Material material = translateMaterial(component.material(), component.name(), prefix);
+    material.cohesion_energy_density = coarse.cohesionEnergyDensity(material.cohesion_energy_density);
     const auto [it, inserted] = declaredBy.emplace(material.name, i);
     if (!inserted) {
-      throw InputError(prefix + ".name", quoted(material.name),
+      throw InputError(prefix + ".name", quoted(std::as_const(material.name)),
                        "material name already used by " + componentPath(it->second));
     }
     names.emplace(material.name, world.addMaterial(material));
@@ -289,8 +291,8 @@ TranslatedScene translateScene(const v1::Scene& scene, const FileScope& files, S
   TranslatedScene out{core::World(std::move(settings), boxPrefix), toRunOptions(box, boxPrefix, use),
                       std::move(fidelity), coarse};
 
-  const MaterialNames materials = addMaterials(scene, out.world);
-  addMaterialPairs(scene, materials, out.world);
+  const MaterialNames materials = addMaterials(scene, coarse, out.world);
+  addMaterialPairs(scene, materials, coarse, out.world);
   addClumpTemplates(scene, out.world);
   const MaterialResolver resolve = [&](const std::string& name, const std::string& field) {
     return resolveMaterial(materials, name, field);
@@ -381,9 +383,10 @@ std::vector<std::string> coarseGrainingReportLines(const core::CoarseGraining& c
   return {fmt::format("coarse graining: factor {:g} (docs/accuracy.md): particle_lattice and particle_source make "
                       "parcels of {:g} x the grains' radius, each with the mass of {:.4g} grains (lattice counts / "
                       "{:g} per axis, rate_particles_per_s / {:.4g}, rate_kg_per_s kept); linear_normal_stiffness "
-                      "x {:g}; density, modulus, restitution, friction and cohesion kept",
+                      "x {:g}; cohesion_energy_density x {:g} (the bed Bond number kept); density, modulus, "
+                      "restitution and friction kept",
                       coarse.factor, coarse.factor, std::pow(coarse.factor, 3), coarse.factor,
-                      std::pow(coarse.factor, 3), coarse.factor)};
+                      std::pow(coarse.factor, 3), coarse.linearStiffness(1.0), coarse.cohesionEnergyDensity(1.0))};
 }
 
 }  // namespace demlink::server

@@ -48,7 +48,7 @@ core::Material translateMaterial(const v1::Material& declared, const std::string
 }
 
 void addMaterialPairs(const v1::Scene& scene, const std::map<std::string, std::uint32_t>& materials,
-                      core::World& world) {
+                      const core::CoarseGraining& coarse, core::World& world) {
   std::map<std::pair<std::uint32_t, std::uint32_t>, int> declaredBy;
   for (int i = 0; i < scene.components_size(); ++i) {
     const v1::ComponentDeclaration& component = scene.components(i);
@@ -61,7 +61,9 @@ void addMaterialPairs(const v1::Scene& scene, const std::map<std::string, std::u
     if (pair.has_restitution()) values.restitution = pair.restitution();
     if (pair.has_sliding_friction()) values.sliding_friction = pair.sliding_friction();
     if (pair.has_rolling_friction()) values.rolling_friction = pair.rolling_friction();
-    if (pair.has_cohesion_energy_density()) values.cohesion_energy_density = pair.cohesion_energy_density();
+    if (pair.has_cohesion_energy_density()) {
+      values.cohesion_energy_density = coarse.cohesionEnergyDensity(pair.cohesion_energy_density());
+    }
     if (!values.restitution && !values.sliding_friction && !values.rolling_friction &&
         !values.cohesion_energy_density) {
       throw InputError(prefix, core::quotedLogText(component.name()),

@@ -13,9 +13,15 @@
 ///   - Linear spring: k_n must grow like alpha (k_n ~ E R) to keep delta / R. A stiffness
 ///     derived from Hertz (SimulationSettings::linear_normal_stiffness = 0) follows by
 ///     itself; an explicit one is scaled by linearStiffness().
-///   - Cohesion (hook for a cohesive law, not implemented here): the Bond number
-///     F_coh / (m g) ~ Gamma R / (rho g R^3) is kept when a surface energy Gamma [J/m^2]
-///     grows like alpha^2 (cohesionEnergy()).
+///   - Cohesion, the simplified JKR law F = k_c A (contact area A = pi a^2, a^2 ~ 2 R* delta):
+///     k_c is kept (cohesionEnergyDensity()). At the same delta / R the area grows like
+///     alpha^2, as every other contact force does, so the bed Bond number F_coh / (rho g h
+///     d^2) -- cohesive force against the overburden a contact carries at depth h -- is the
+///     grains', and so are the cohesive energy density U_coh / V = k_c * O((delta / R)^2)
+///     and the Rumpf tensile strength ~ F_coh / d^2 (Bierwisch et al.'s criterion: every
+///     energy density kept). The single-parcel Bond number F_coh / (m g) falls like 1 / alpha:
+///     a parcel is as strong as the alpha^2 grain contacts across its face, not as one grain.
+///     Keeping that one instead (k_c ~ alpha) would make the bulk alpha times stronger.
 /// The critical time step grows like alpha (contact duration ~ R), so the cost of a
 /// simulated second falls like alpha^-4; what is lost is every effect of the grain size
 /// against the geometry (orifice / grain, wall / grain ratios).
@@ -35,8 +41,9 @@ struct CoarseGraining {
   [[nodiscard]] std::size_t count(std::size_t grains) const;
   /// Linear-law normal stiffness for the parcels from the grains' one [N/m].
   [[nodiscard]] double linearStiffness(double grainStiffness) const { return factor * grainStiffness; }
-  /// Surface energy of a cohesive law for the parcels from the grains' one [J/m^2].
-  [[nodiscard]] double cohesionEnergy(double grainEnergy) const { return factor * factor * grainEnergy; }
+  /// Cohesion energy density k_c [J/m^3] of the simplified JKR law for the parcels from the
+  /// grains' one: kept (see above; docs/accuracy.md "Coarse graining" derives it).
+  [[nodiscard]] double cohesionEnergyDensity(double grainValue) const { return grainValue; }
 };
 
 }  // namespace demlink::core

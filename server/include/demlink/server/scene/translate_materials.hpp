@@ -7,6 +7,7 @@
 #include <string>
 
 #include "demlink/core/materials/material.hpp"
+#include "demlink/core/particles/coarse_graining.hpp"
 #include "demlink/core/world.hpp"
 #include "demlink/v1/scene.pb.h"
 
@@ -23,8 +24,8 @@ namespace demlink::server {
 /// Registers every material_pair component with the world. `materials` maps
 /// declared material names to world indices. Throws core::InputError naming
 /// "components[i].material_pair.<field>" for an unknown material, a bad value
-/// or a pair overridden twice.
+/// or a pair overridden twice. A cohesion energy density goes through `coarse`'s law.
 void addMaterialPairs(const v1::Scene& scene, const std::map<std::string, std::uint32_t>& materials,
-                      core::World& world);
+                      const core::CoarseGraining& coarse, core::World& world);
 
 }  // namespace demlink::server
