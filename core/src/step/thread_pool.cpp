@@ -123,7 +123,11 @@ void ThreadPool::dispatch(std::uint32_t chunks, Task task, const void* context) 
   const bool allAsleep = asleep_.load(std::memory_order_relaxed) == workers_.size();
   const Clock::time_point start = Clock::now();
   std::uint32_t callerChunks = chunks;
-  if (offersToWorkers(chunks, !allAsleep, site.work_seconds)) {
+  // The gate is asked only when the answer matters (it may read /proc/stat every 250 ms).
+  const bool coresFree = allAsleep && site.work_seconds >= kWakeWorthSeconds &&
+                         site.work_seconds < kWakeWorthBusySeconds &&
+                         SpinGate::instance().freeCpus() >= static_cast<int>(size());
+  if (offersToWorkers(chunks, !allAsleep, site.work_seconds, coresFree)) {
     ++stats_.parallel_runs;
     if (allAsleep) ++stats_.woken_runs;
     callerChunks = runParallel(chunks, task, context);

@@ -102,14 +102,20 @@ TEST(ThreadPool, EachThreadStartsAtTheFrontOfItsHomeRange) {
 
 TEST(ThreadPool, OffersLoopsToAwakeWorkersAndLongOnesToSleepingWorkers) {
   const double worth = ThreadPool::kWakeWorthSeconds;
+  const double busyWorth = ThreadPool::kWakeWorthBusySeconds;
   // One chunk: nothing to share.
-  EXPECT_FALSE(ThreadPool::offersToWorkers(1, true, 1.0));
+  EXPECT_FALSE(ThreadPool::offersToWorkers(1, true, 1.0, true));
   // A worker spinning between loops takes a share of any loop of 2+ chunks.
-  EXPECT_TRUE(ThreadPool::offersToWorkers(2, true, 1e-6));
-  // Sleeping workers: woken for a loop not run yet, or one of at least kWakeWorthSeconds.
-  EXPECT_TRUE(ThreadPool::offersToWorkers(5, false, -1.0));
-  EXPECT_TRUE(ThreadPool::offersToWorkers(5, false, worth));
-  EXPECT_FALSE(ThreadPool::offersToWorkers(5, false, 0.5 * worth));
+  EXPECT_TRUE(ThreadPool::offersToWorkers(2, true, 1e-6, false));
+  // Sleeping workers with free cores: woken for a loop not run yet, or one of at least
+  // kWakeWorthSeconds.
+  EXPECT_TRUE(ThreadPool::offersToWorkers(5, false, -1.0, true));
+  EXPECT_TRUE(ThreadPool::offersToWorkers(5, false, worth, true));
+  EXPECT_FALSE(ThreadPool::offersToWorkers(5, false, 0.5 * worth, true));
+  // Sleeping workers without free cores: only for loops of kWakeWorthBusySeconds or more.
+  EXPECT_FALSE(ThreadPool::offersToWorkers(5, false, worth, false));
+  EXPECT_FALSE(ThreadPool::offersToWorkers(5, false, 0.5 * busyWorth, false));
+  EXPECT_TRUE(ThreadPool::offersToWorkers(5, false, busyWorth, false));
 }
 
 TEST(ThreadPool, WakesSleepingWorkersForLongLoopsOnly) {

@@ -25,10 +25,14 @@
 /// When a loop goes to the workers (offersToWorkers): every loop of two or more chunks
 /// while a worker is awake (spinning between loops: a hand-over costs about a
 /// microsecond); while all workers sleep, only a loop whose last run held at least
-/// kWakeWorthSeconds of work, since waking a worker costs tens of microseconds (a futex
-/// wake-up, an inter-processor interrupt under a hypervisor) and a worker that arrives
-/// after the caller has claimed every chunk gains nothing. No serial-against-threaded
-/// timing: a busy core costs little by construction. A worker descheduled by another
+/// kWakeWorthSeconds of work while the gate of spin_wait.hpp sees a free CPU for every
+/// pool thread, or at least kWakeWorthBusySeconds whatever the gate sees. Waking a worker
+/// costs tens of microseconds (a futex wake-up, an inter-processor interrupt under a
+/// hypervisor), a worker that arrives after the caller has claimed every chunk gains
+/// nothing, and one without a free core arrives late or not at all while the caller
+/// still pays the wake-up and waits for its chunk in flight: beside one busy process,
+/// waking it for every loop of 0.1-0.6 ms made two threads 1.1-1.2x slower than one
+/// (50,000 particles). No serial-against-threaded timing. A worker descheduled by another
 /// process holds up at most the one chunk it is running, the caller claims all the
 /// others, and the caller's join wait spins only while the gate of spin_wait.hpp sees a
 /// free CPU for every pool thread, so it blocks at once and leaves its core to the
@@ -124,14 +128,21 @@ class ThreadPool {
   /// Work of a loop below which sleeping workers are not woken for it [s]: a wake-up costs
   /// ~30-80 us on a 2-vCPU VM, and a worker can at best take half of the work.
   static constexpr double kWakeWorthSeconds = 150e-6;
+  /// Work of a loop worth waking sleeping workers for even when the gate sees no free CPU
+  /// for them [s]: a worker that shares a core with another process still takes a part
+  /// of a loop this long, and the wake-up is small beside it.
+  static constexpr double kWakeWorthBusySeconds = 2e-3;
 
   /// The decision rule of the file comment: whether a loop of `chunks` chunks goes to the
-  /// workers, with `workersAwake` (some worker spinning, not asleep) and `workSeconds`
-  /// the work of the loop's last run (its time scaled by all chunks over those the caller
-  /// ran; negative: not run yet).
-  [[nodiscard]] static bool offersToWorkers(std::uint32_t chunks, bool workersAwake, double workSeconds) {
+  /// workers, with `workersAwake` (some worker spinning, not asleep), `workSeconds` the
+  /// work of the loop's last run (its time scaled by all chunks over those the caller
+  /// ran; negative: not run yet) and `coresFree` (the gate sees a free CPU for every pool
+  /// thread).
+  [[nodiscard]] static bool offersToWorkers(std::uint32_t chunks, bool workersAwake, double workSeconds,
+                                            bool coresFree) {
     if (chunks < 2) return false;
-    return workersAwake || workSeconds < 0.0 || workSeconds >= kWakeWorthSeconds;
+    if (workersAwake || workSeconds < 0.0 || workSeconds >= kWakeWorthBusySeconds) return true;
+    return coresFree && workSeconds >= kWakeWorthSeconds;
   }
 
  private:
