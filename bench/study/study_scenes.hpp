@@ -74,7 +74,8 @@ inline constexpr double kRestitutionTolerance = 0.1;
 /// Settings for `knobs`: the time step is dt_fraction times the critical limit of the
 /// scene's smallest particle (unsafe steps allowed: the atlas probes past the limit).
 [[nodiscard]] demlink::core::SimulationSettings studySettings(const Knobs& knobs);
-/// The critical limit for `knobs` [s].
+/// The critical limit for `knobs` with velocity Verlet (the integrator knob is compared at
+/// the same step) [s].
 [[nodiscard]] double criticalLimit(const Knobs& knobs);
 
 /// What a scene run measured and what it cost.
