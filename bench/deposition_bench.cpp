@@ -80,6 +80,7 @@ struct Options {
   std::uint32_t threads = 1;
   std::uint64_t window = 250;
   std::uint64_t window_from = 25000;
+  bool stage_times = false;
 };
 
 /// Parses the command line (demlink/cli/command_line.hpp); an exit code when the program
@@ -113,6 +114,8 @@ std::optional<int> parseOptions(int argc, char** argv, Options& o) {
   cli::addWholeNumber<std::uint64_t>(app, "--window-from", o.window_from, 0,
                                      std::numeric_limits<std::uint64_t>::max(),
                                      "first step of the windowed CPU time (default 25000: the settled bed)");
+  app.add_flag("--stage-times", o.stage_times,
+               "print each stage's sampled wall time per step (World::setStageTiming) at the end");
   if (const std::optional<int> exitCode = cli::parse(app, argc, argv)) return exitCode;
   if (o.init_file.empty() && o.generate == 0) {
     std::fprintf(stderr, "give init_N.txt or --generate N\n");
@@ -323,6 +326,7 @@ int run(const Options& o) {
     world.addPlane(plane, std::string("planes[") + def.name + "]");
   }
   world.initialize();
+  world.setStageTiming(o.stage_times);
   const double setupSeconds = std::chrono::duration<double>(Clock::now() - setupStart).count();
 
   const auto& report = world.timeStepReport();
@@ -422,6 +426,16 @@ int run(const Options& o) {
                 perStep * kthSmallest(windowSeconds, 0), perStep * kthSmallest(windowSeconds, windowSeconds.size() / 2),
                 windowSeconds.size(), static_cast<unsigned long long>(o.window),
                 static_cast<unsigned long long>(o.window_from));
+  }
+  if (o.stage_times && o.steps > 0) {
+    // Sampled (stage_sampling.hpp), so a stage's figure is its mean per step.
+    for (std::size_t k = 0; k < demlink::core::kStageCount; ++k) {
+      const double seconds = world.stageSeconds()[k];
+      if (seconds > 0.0) {
+        std::printf("stage_us_per_step %s %.2f\n", std::string(demlink::core::stageTable()[k].name).c_str(),
+                    1e6 * seconds / static_cast<double>(o.steps));
+      }
+    }
   }
   if (const demlink::core::ThreadPool* pool = world.threadPool()) {
     const demlink::core::ThreadPoolStats stats = pool->stats();

@@ -211,6 +211,7 @@ def plot_tradeoff(settings, path):
             ax.annotate(label, (x, y), fontsize=7, xytext=(3, 3), textcoords="offset points")
     ax.set_xscale("log")
     ax.set_yscale("symlog", linthresh=1.0)
+    ax.set_ylim(bottom=0.0)  # an absolute error: no negative half of the symlog axis
     ax.set_xlabel("speed-up against the finest run (bulk scenes' %s)" % COST_COLUMN[0])
     ax.set_ylabel("largest resolved |relative error| of packing, angle, discharge, e [%]")
     ax.grid(True, which="both", alpha=0.3)

@@ -24,6 +24,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <future>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -95,11 +96,11 @@ Budget smokeBudget() {
   return b;
 }
 
-SceneResult runScene(const std::string& scene, const Knobs& knobs, const Budget& budget) {
+SceneResult runScene(const std::string& scene, const Knobs& knobs, const Budget& budget, SettledBed settled = {}) {
   try {
     if (scene == "impact") return runImpact(knobs);
-    if (scene == "bed") return runBed(knobs, budget);
-    if (scene == "bed_cohesive") return runBed(knobs, budget, true);
+    if (scene == "bed") return runBed(knobs, budget, false, settled);
+    if (scene == "bed_cohesive") return runBed(knobs, budget, true, settled);
     if (scene == "heap") return runHeap(knobs, budget);
     return runHopper(knobs, budget);
   } catch (const std::exception& error) {
@@ -348,14 +349,29 @@ int main(int argc, char** argv) {
   }
   std::vector<Row> rows;
   for (std::uint32_t seed = 1; seed <= seeds; ++seed) {
-    for (const Setting& s : sweep) {
-      Knobs knobs = s.knobs;
-      if (seeds > 1) knobs.seed = seed;
-      for (const std::string& scene : scenes) {
-        // The impact of two spheres has no jitter: one seed measures it.
-        if (scene != "impact" || seed == 1) rows.push_back({&s, knobs, 0.0, SceneResult(scene)});
+    // A seed's cohesive strokes after all its other scenes: each starts from the bed its
+    // dry row settled (SettledBed), which by then has long been claimed by a worker.
+    for (const bool cohesive : {false, true}) {
+      for (const Setting& s : sweep) {
+        Knobs knobs = s.knobs;
+        if (seeds > 1) knobs.seed = seed;
+        for (const std::string& scene : scenes) {
+          // The impact of two spheres has no jitter: one seed measures it.
+          if ((scene == "bed_cohesive") == cohesive && (scene != "impact" || seed == 1)) {
+            rows.push_back({&s, knobs, 0.0, SceneResult(scene)});
+          }
+        }
       }
     }
+  }
+  // Settled dry beds by setting and seed: written by the bed row, read by bed_cohesive.
+  std::mutex bedsMutex;
+  std::map<std::pair<const Setting*, std::uint64_t>, std::promise<std::string>> settledPromises;
+  std::map<std::pair<const Setting*, std::uint64_t>, std::shared_future<std::string>> settledBeds;
+  for (const Row& row : rows) {
+    if (row.result.scene != "bed") continue;
+    const auto key = std::make_pair(row.setting, row.knobs.seed);
+    settledBeds[key] = settledPromises[key].get_future().share();
   }
   // Rows go to the files as they finish (errors NaN), so a stopped sweep keeps what it
   // measured; the files are rewritten with the errors at the end.
@@ -370,9 +386,22 @@ int main(int argc, char** argv) {
     for (std::size_t i = next++; i < rows.size(); i = next++) {
       Row& row = rows[i];
       row.dt = row.knobs.dt_fraction * criticalLimit(row.knobs);
+      const auto key = std::make_pair(row.setting, row.knobs.seed);
+      std::string settled;
+      SettledBed share;
+      if (row.result.scene == "bed") {
+        share.to = &settled;
+      } else if (row.result.scene == "bed_cohesive" && settledBeds.contains(key)) {
+        settled = settledBeds.at(key).get();  // empty when the dry bed broke: settle here
+        if (!settled.empty()) share.from = &settled;
+      }
       const double cpuStart = threadCpuSeconds();
-      row.result = runScene(row.result.scene, row.knobs, budget);
+      row.result = runScene(row.result.scene, row.knobs, budget, share);
       row.cpu = threadCpuSeconds() - cpuStart;
+      if (row.result.scene == "bed") {
+        const std::lock_guard lock(bedsMutex);
+        settledPromises.at(key).set_value(std::move(settled));
+      }
       const std::lock_guard lock(printing);
       partialAtlas << atlasLines(row, {}) << std::flush;
       std::printf("%-14s %-22s seed %-3llu %-12s %-40.40s wall %7.1f s", row.setting->knob.c_str(),

@@ -74,7 +74,8 @@ inline constexpr double kRestitutionTolerance = 0.1;
 /// Settings for `knobs`: the time step is dt_fraction times the critical limit of the
 /// scene's smallest particle (unsafe steps allowed: the atlas probes past the limit).
 [[nodiscard]] demlink::core::SimulationSettings studySettings(const Knobs& knobs);
-/// The critical limit for `knobs` [s].
+/// The critical limit for `knobs` with velocity Verlet (the integrator knob is compared at
+/// the same step) [s].
 [[nodiscard]] double criticalLimit(const Knobs& knobs);
 
 /// What a scene run measured and what it cost.
@@ -89,8 +90,16 @@ struct SceneResult {
 };
 
 [[nodiscard]] SceneResult runImpact(const Knobs& knobs);
-/// The bed and blade; `cohesive` gives the grains Budget::cohesion_energy_density.
-[[nodiscard]] SceneResult runBed(const Knobs& knobs, const Budget& budget, bool cohesive = false);
+/// The settled dry bed of one setting and seed, shared by its dry and cohesive strokes so
+/// the bed settles once (a checkpoint, World::saveCheckpoint).
+struct SettledBed {
+  const std::string* from = nullptr;  ///< start from this settled bed instead of settling one
+  std::string* to = nullptr;          ///< the settled bed is written here
+};
+/// The bed and blade; `cohesive` gives the grains Budget::cohesion_energy_density. With
+/// `settled.from`, the run starts from that bed and its cost is the blade's stroke alone.
+[[nodiscard]] SceneResult runBed(const Knobs& knobs, const Budget& budget, bool cohesive = false,
+                                 SettledBed settled = {});
 [[nodiscard]] SceneResult runHeap(const Knobs& knobs, const Budget& budget);
 [[nodiscard]] SceneResult runHopper(const Knobs& knobs, const Budget& budget);
 

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 #include <system_error>
 
@@ -27,19 +28,40 @@ T awaitChange(const std::atomic<T>& value, T old, std::chrono::nanoseconds budge
   return now;
 }
 
-constexpr std::uint64_t packTicket(std::uint32_t generation, std::uint32_t chunks, std::uint32_t next) {
-  return (static_cast<std::uint64_t>(generation) << 32) | (static_cast<std::uint64_t>(chunks) << 16) | next;
+/// A home range's word: generation (32 bits) | front (16) | back (16); chunks [front, back)
+/// are unclaimed.
+constexpr std::uint64_t packRange(std::uint32_t generation, std::uint32_t front, std::uint32_t back) {
+  return (static_cast<std::uint64_t>(generation) << 32) | (static_cast<std::uint64_t>(front) << 16) | back;
 }
-constexpr std::uint32_t ticketChunks(std::uint64_t ticket) { return static_cast<std::uint32_t>(ticket >> 16) & 0xFFFF; }
-constexpr std::uint32_t ticketNext(std::uint64_t ticket) { return static_cast<std::uint32_t>(ticket) & 0xFFFF; }
+constexpr std::uint32_t rangeGeneration(std::uint64_t word) { return static_cast<std::uint32_t>(word >> 32); }
+constexpr std::uint32_t rangeFront(std::uint64_t word) { return static_cast<std::uint32_t>(word >> 16) & 0xFFFF; }
+constexpr std::uint32_t rangeBack(std::uint64_t word) { return static_cast<std::uint32_t>(word) & 0xFFFF; }
+
+/// Claims the first (owner) or last (thief) unclaimed chunk of `range` in loop `generation`.
+bool claim(std::atomic<std::uint64_t>& range, std::uint32_t generation, bool fromFront, std::uint32_t& chunk) {
+  std::uint64_t word = range.load(std::memory_order_acquire);
+  for (;;) {
+    // A range of another loop (a worker that woke late) or an empty one has nothing for us.
+    if (rangeGeneration(word) != generation) return false;
+    const std::uint32_t front = rangeFront(word);
+    const std::uint32_t back = rangeBack(word);
+    if (front >= back) return false;
+    const std::uint64_t claimed = fromFront ? packRange(generation, front + 1, back) : packRange(generation, front, back - 1);
+    if (range.compare_exchange_weak(word, claimed, std::memory_order_acq_rel, std::memory_order_acquire)) {
+      chunk = fromFront ? front : back - 1;
+      return true;
+    }
+  }
+}
 
 }  // namespace
 
 ThreadPool::ThreadPool(std::uint32_t threads, std::chrono::nanoseconds spinBudget)
-    : spin_budget_(std::clamp(spinBudget, std::chrono::nanoseconds::zero(), kMaxSpinBudget)) {
+    : ranges_(std::max<std::uint32_t>(threads, 1)),
+      spin_budget_(std::clamp(spinBudget, std::chrono::nanoseconds::zero(), kMaxSpinBudget)) {
   workers_.reserve(threads > 0 ? threads - 1 : 0);
   try {
-    for (std::uint32_t t = 1; t < threads; ++t) workers_.emplace_back([this] { workerLoop(); });
+    for (std::uint32_t t = 1; t < threads; ++t) workers_.emplace_back([this, t] { workerLoop(t); });
     SpinGate::instance().addDemPool(static_cast<int>(size()));
     in_gate_ = true;
   } catch (const std::system_error& error) {
@@ -66,23 +88,21 @@ ThreadStartError::ThreadStartError(std::uint32_t started, std::uint32_t requeste
                          " threads: " + cause),
       started_(started) {}
 
-std::uint32_t ThreadPool::drain() {
+std::uint32_t ThreadPool::drain(std::uint32_t self, std::uint32_t generation) {
+  const auto threads = static_cast<std::uint32_t>(ranges_.size());
   std::uint32_t ran = 0;
-  std::uint64_t ticket = ticket_.load(std::memory_order_acquire);
-  for (;;) {
-    // The ticket carries its generation and chunk count: a claim on a finished loop's
-    // ticket fails, because the caller replaces the ticket before it changes the task.
-    if (ticketNext(ticket) >= ticketChunks(ticket)) return ran;
-    if (!ticket_.compare_exchange_weak(ticket, ticket + 1, std::memory_order_acq_rel, std::memory_order_acquire)) {
-      continue;
+  std::uint32_t chunk = 0;
+  // The home range first, front to back: a thread keeps the same chunks (and so the same
+  // particles in its cache) from loop to loop; then the others' ranges from their backs.
+  for (std::uint32_t k = 0; k < threads; ++k) {
+    std::atomic<std::uint64_t>& range = ranges_[(self + k) % threads].word;
+    while (claim(range, generation, k == 0, chunk)) {
+      task_(context_, chunk);
+      ++ran;
     }
-    const std::uint32_t chunk = ticketNext(ticket);
-    const std::uint32_t chunks = ticketChunks(ticket);
-    task_(context_, chunk);
-    ++ran;
-    if (done_.fetch_add(1, std::memory_order_acq_rel) + 1 == chunks) done_.notify_one();
-    ticket = ticket_.load(std::memory_order_acquire);
   }
+  if (ran > 0 && done_.fetch_add(ran, std::memory_order_acq_rel) + ran == chunks_) done_.notify_one();
+  return ran;
 }
 
 ThreadPool::Site& ThreadPool::siteOf(Task task) {
@@ -103,7 +123,11 @@ void ThreadPool::dispatch(std::uint32_t chunks, Task task, const void* context) 
   const bool allAsleep = asleep_.load(std::memory_order_relaxed) == workers_.size();
   const Clock::time_point start = Clock::now();
   std::uint32_t callerChunks = chunks;
-  if (offersToWorkers(chunks, !allAsleep, site.work_seconds)) {
+  // The gate is asked only when the answer matters (it may read /proc/stat every 250 ms).
+  const bool coresFree = allAsleep && site.work_seconds >= kWakeWorthSeconds &&
+                         site.work_seconds < kWakeWorthBusySeconds &&
+                         SpinGate::instance().freeCpus() >= static_cast<int>(size());
+  if (offersToWorkers(chunks, !allAsleep, site.work_seconds, coresFree)) {
     ++stats_.parallel_runs;
     if (allAsleep) ++stats_.woken_runs;
     callerChunks = runParallel(chunks, task, context);
@@ -122,16 +146,29 @@ void ThreadPool::dispatch(std::uint32_t chunks, Task task, const void* context) 
 std::uint32_t ThreadPool::runParallel(std::uint32_t chunks, Task task, const void* context) {
   task_ = task;
   context_ = context;
+  chunks_ = chunks;
   done_.store(0, std::memory_order_relaxed);
   const std::uint32_t generation = generation_.load(std::memory_order_relaxed) + 1;
-  ticket_.store(packTicket(generation, chunks, 0), std::memory_order_release);  // publishes task_, context_
+  const auto threads = static_cast<std::uint64_t>(ranges_.size());
+  for (std::uint64_t t = 0; t < threads; ++t) {
+    // Home ranges by thread index: contiguous, depending only on chunks and the pool's size.
+    ranges_[t].word.store(packRange(generation, static_cast<std::uint32_t>(chunks * t / threads),
+                                    static_cast<std::uint32_t>(chunks * (t + 1) / threads)),
+                          std::memory_order_release);  // publishes task_, context_, chunks_
+  }
   generation_.store(generation, std::memory_order_release);
   generation_.notify_all();
-  const std::uint32_t ran = drain();
+  const std::uint32_t ran = drain(0, generation);
   for (std::uint32_t done = done_.load(std::memory_order_acquire); done != chunks;) {
     done = awaitChange(done_, done, spin_budget_);
   }
   return ran;
+}
+
+std::chrono::nanoseconds defaultPoolSpinBudget() {
+  constexpr std::chrono::nanoseconds kPoolSpinBudget{200'000};
+  const char* text = std::getenv("DEMLINK_SPIN_WAIT_US");
+  return text != nullptr && *text != '\0' ? defaultSpinBudget() : kPoolSpinBudget;
 }
 
 AutoThreadChoice chooseAutoThreads() {
@@ -150,12 +187,12 @@ AutoThreadChoice chooseAutoThreads() {
   return {threads, reason};
 }
 
-void ThreadPool::workerLoop() {
+void ThreadPool::workerLoop(std::uint32_t self) {
   std::uint32_t seen = 0;
   for (;;) {
     seen = awaitChange(generation_, seen, spin_budget_, &asleep_);
     if (stop_.load(std::memory_order_relaxed)) return;
-    drain();
+    drain(self, seen);
   }
 }
 

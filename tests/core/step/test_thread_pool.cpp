@@ -10,6 +10,8 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -60,16 +62,60 @@ TEST(ThreadPool, ClaimsEveryChunkExactlyOnceOverManyLoops) {
   EXPECT_GE(stats.parallel_runs, 1u);  // the first run of a loop is always offered
 }
 
+TEST(ThreadPool, EachThreadStartsAtTheFrontOfItsHomeRange) {
+  // 2 threads, 8 chunks: the caller's home range is chunks 0-3, the worker's 4-7. Each
+  // thread claims its own range front first, then steals from the other's back: the
+  // caller's first chunk is always 0, and the worker's first chunk, when it comes in time
+  // to find its range untouched by the caller's stealing, is 4. With one shared ticket
+  // the chunks fell to whichever thread came first, and each loop found half of its data
+  // in the other core's cache.
+  ThreadPool pool(2);
+  const std::thread::id caller = std::this_thread::get_id();
+  int workerLoops = 0;
+  for (int loop = 0; loop < 20; ++loop) {
+    std::mutex mutex;
+    std::vector<std::pair<std::thread::id, std::uint32_t>> order;
+    pool.run(8, [&](std::uint32_t chunk) {
+      {
+        const std::lock_guard lock(mutex);
+        order.emplace_back(std::this_thread::get_id(), chunk);
+      }
+      std::this_thread::sleep_for(std::chrono::microseconds(300));
+    });
+    ASSERT_EQ(order.size(), 8u);
+    std::optional<std::uint32_t> callerFirst, workerFirst;
+    for (const auto& [thread, chunk] : order) {
+      std::optional<std::uint32_t>& first = thread == caller ? callerFirst : workerFirst;
+      if (!first) first = chunk;
+    }
+    ASSERT_TRUE(callerFirst.has_value());
+    EXPECT_EQ(*callerFirst, 0u) << "loop " << loop;
+    if (workerFirst && *workerFirst >= 4) {  // its own range, not a stolen caller chunk
+      ++workerLoops;
+      EXPECT_EQ(*workerFirst, 4u) << "loop " << loop;
+    }
+  }
+  // Each chunk sleeps 300 us, so a loop lasts >= 1.2 ms even if the caller runs it alone:
+  // time enough for the worker to wake and take part in some of the loops.
+  EXPECT_GE(workerLoops, 1);
+}
+
 TEST(ThreadPool, OffersLoopsToAwakeWorkersAndLongOnesToSleepingWorkers) {
   const double worth = ThreadPool::kWakeWorthSeconds;
+  const double busyWorth = ThreadPool::kWakeWorthBusySeconds;
   // One chunk: nothing to share.
-  EXPECT_FALSE(ThreadPool::offersToWorkers(1, true, 1.0));
+  EXPECT_FALSE(ThreadPool::offersToWorkers(1, true, 1.0, true));
   // A worker spinning between loops takes a share of any loop of 2+ chunks.
-  EXPECT_TRUE(ThreadPool::offersToWorkers(2, true, 1e-6));
-  // Sleeping workers: woken for a loop not run yet, or one of at least kWakeWorthSeconds.
-  EXPECT_TRUE(ThreadPool::offersToWorkers(5, false, -1.0));
-  EXPECT_TRUE(ThreadPool::offersToWorkers(5, false, worth));
-  EXPECT_FALSE(ThreadPool::offersToWorkers(5, false, 0.5 * worth));
+  EXPECT_TRUE(ThreadPool::offersToWorkers(2, true, 1e-6, false));
+  // Sleeping workers with free cores: woken for a loop not run yet, or one of at least
+  // kWakeWorthSeconds.
+  EXPECT_TRUE(ThreadPool::offersToWorkers(5, false, -1.0, true));
+  EXPECT_TRUE(ThreadPool::offersToWorkers(5, false, worth, true));
+  EXPECT_FALSE(ThreadPool::offersToWorkers(5, false, 0.5 * worth, true));
+  // Sleeping workers without free cores: only for loops of kWakeWorthBusySeconds or more.
+  EXPECT_FALSE(ThreadPool::offersToWorkers(5, false, worth, false));
+  EXPECT_FALSE(ThreadPool::offersToWorkers(5, false, 0.5 * busyWorth, false));
+  EXPECT_TRUE(ThreadPool::offersToWorkers(5, false, busyWorth, false));
 }
 
 TEST(ThreadPool, WakesSleepingWorkersForLongLoopsOnly) {

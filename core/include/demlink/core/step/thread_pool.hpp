@@ -11,18 +11,28 @@
 /// step costs well under a microsecond instead of a futex wake-up (tens of us), then
 /// sleeps on a futex via C++20 std::atomic::wait, giving the core away.
 ///
-/// Work claiming: run(chunks, body) publishes the chunks; the caller and every
-/// awake worker claim the next unclaimed chunk through one atomic ticket until none
-/// is left, so a descheduled or slow thread only holds up the chunk it is running,
-/// never a fixed share of the work.
+/// Work claiming: run(chunks, body) gives every thread (the caller is thread 0) a home
+/// range of contiguous chunks, the same for every loop of the same size. A thread claims
+/// its home range front to back, then the others' ranges from their backs, each claim
+/// one compare-and-swap on the range's own cache line. Why home ranges: the step's loops
+/// stream the same particles one after another, so a thread that gets the same chunks
+/// again finds them in its own cache; with one shared ticket the chunks landed on the
+/// threads at random and each loop pulled half of its data from the other core's cache:
+/// two threads were slower than one on two idle cores (docs/benchmarks.md). Stealing
+/// from the back keeps the rest: a descheduled or slow thread only holds up the chunk
+/// it is running, never a fixed share of the work.
 ///
 /// When a loop goes to the workers (offersToWorkers): every loop of two or more chunks
 /// while a worker is awake (spinning between loops: a hand-over costs about a
 /// microsecond); while all workers sleep, only a loop whose last run held at least
-/// kWakeWorthSeconds of work, since waking a worker costs tens of microseconds (a futex
-/// wake-up, an inter-processor interrupt under a hypervisor) and a worker that arrives
-/// after the caller has claimed every chunk gains nothing. No serial-against-threaded
-/// timing: a busy core costs little by construction. A worker descheduled by another
+/// kWakeWorthSeconds of work while the gate of spin_wait.hpp sees a free CPU for every
+/// pool thread, or at least kWakeWorthBusySeconds whatever the gate sees. Waking a worker
+/// costs tens of microseconds (a futex wake-up, an inter-processor interrupt under a
+/// hypervisor), a worker that arrives after the caller has claimed every chunk gains
+/// nothing, and one without a free core arrives late or not at all while the caller
+/// still pays the wake-up and waits for its chunk in flight: beside one busy process,
+/// waking it for every loop of 0.1-0.6 ms made two threads 1.1-1.2x slower than one
+/// (50,000 particles). No serial-against-threaded timing. A worker descheduled by another
 /// process holds up at most the one chunk it is running, the caller claims all the
 /// others, and the caller's join wait spins only while the gate of spin_wait.hpp sees a
 /// free CPU for every pool thread, so it blocks at once and leaves its core to the
@@ -54,6 +64,16 @@ class ThreadStartError : public std::runtime_error {
   std::uint32_t started_;
 };
 
+/// How long a pool thread spins between loops before it sleeps, when nothing else is
+/// asked for [ns]: DEMLINK_SPIN_WAIT_US when set (0 = never), otherwise 200 us. Longer
+/// than an exchange wait's 50 us because a step's serial stretches (plane and mesh
+/// contacts, sensors, the watchdog) last ~50-200 us at 50,000 particles, and a worker
+/// that sleeps through one pays a wake-up (30-80 us on a 2-vCPU VM) and starts the next
+/// loop late; measured at 50,000 particles, 2 threads on idle cores: 1.38x the 1-thread
+/// speed with 50 us, 1.59x with 200 us, 1.62x with 500 us. Spinning is still gated to
+/// free CPUs (spin_wait.hpp).
+[[nodiscard]] std::chrono::nanoseconds defaultPoolSpinBudget();
+
 /// What `threads: 0` (auto) resolves to, and why.
 struct AutoThreadChoice {
   std::uint32_t threads = 1;
@@ -84,7 +104,7 @@ class ThreadPool {
   /// A pool of `threads` threads in total: the calling thread plus threads-1 workers.
   /// Throws ThreadStartError (after joining the workers it started) when one cannot start.
   /// `spinBudget`: how long a waiting thread polls before it sleeps (zero: never).
-  explicit ThreadPool(std::uint32_t threads, std::chrono::nanoseconds spinBudget = defaultSpinBudget());
+  explicit ThreadPool(std::uint32_t threads, std::chrono::nanoseconds spinBudget = defaultPoolSpinBudget());
   ~ThreadPool();
   ThreadPool(const ThreadPool&) = delete;
   ThreadPool& operator=(const ThreadPool&) = delete;
@@ -108,14 +128,21 @@ class ThreadPool {
   /// Work of a loop below which sleeping workers are not woken for it [s]: a wake-up costs
   /// ~30-80 us on a 2-vCPU VM, and a worker can at best take half of the work.
   static constexpr double kWakeWorthSeconds = 150e-6;
+  /// Work of a loop worth waking sleeping workers for even when the gate sees no free CPU
+  /// for them [s]: a worker that shares a core with another process still takes a part
+  /// of a loop this long, and the wake-up is small beside it.
+  static constexpr double kWakeWorthBusySeconds = 2e-3;
 
   /// The decision rule of the file comment: whether a loop of `chunks` chunks goes to the
-  /// workers, with `workersAwake` (some worker spinning, not asleep) and `workSeconds`
-  /// the work of the loop's last run (its time scaled by all chunks over those the caller
-  /// ran; negative: not run yet).
-  [[nodiscard]] static bool offersToWorkers(std::uint32_t chunks, bool workersAwake, double workSeconds) {
+  /// workers, with `workersAwake` (some worker spinning, not asleep), `workSeconds` the
+  /// work of the loop's last run (its time scaled by all chunks over those the caller
+  /// ran; negative: not run yet) and `coresFree` (the gate sees a free CPU for every pool
+  /// thread).
+  [[nodiscard]] static bool offersToWorkers(std::uint32_t chunks, bool workersAwake, double workSeconds,
+                                            bool coresFree) {
     if (chunks < 2) return false;
-    return workersAwake || workSeconds < 0.0 || workSeconds >= kWakeWorthSeconds;
+    if (workersAwake || workSeconds < 0.0 || workSeconds >= kWakeWorthBusySeconds) return true;
+    return coresFree && workSeconds >= kWakeWorthSeconds;
   }
 
  private:
@@ -132,20 +159,26 @@ class ThreadPool {
   void dispatch(std::uint32_t chunks, Task task, const void* context);
   /// Runs all chunks on the caller and the workers; returns how many the caller ran.
   std::uint32_t runParallel(std::uint32_t chunks, Task task, const void* context);
-  /// Claims and runs chunks of the current ticket until none is left; returns how many it ran.
-  std::uint32_t drain();
+  /// Thread `self` claims and runs chunks of loop `generation` until none is left (its home
+  /// range, then the others'); returns how many it ran.
+  std::uint32_t drain(std::uint32_t self, std::uint32_t generation);
   void stopWorkers();
-  void workerLoop();
+  void workerLoop(std::uint32_t self);
   Site& siteOf(Task task);
 
+  /// One thread's home range of the current loop, on a cache line of its own.
+  struct alignas(64) Range {
+    std::atomic<std::uint64_t> word{0};  ///< generation (32 bits) | front (16) | back (16)
+  };
+
   std::vector<std::thread> workers_;
-  /// generation (32 bits) | chunks (16) | next unclaimed chunk (16).
-  std::atomic<std::uint64_t> ticket_{0};
-  std::atomic<std::uint32_t> generation_{0};  ///< bumped per offered loop; workers sleep on it
-  std::atomic<std::uint32_t> done_{0};        ///< chunks finished in the current loop
-  std::atomic<bool> stop_{false};
+  std::vector<Range> ranges_;  ///< one per thread, the caller's first
+  alignas(64) std::atomic<std::uint32_t> generation_{0};  ///< bumped per offered loop; workers sleep on it
+  alignas(64) std::atomic<std::uint32_t> done_{0};        ///< chunks finished in the current loop
+  alignas(64) std::atomic<bool> stop_{false};
   Task task_ = nullptr;
   const void* context_ = nullptr;
+  std::uint32_t chunks_ = 0;  ///< chunks of the current loop
   std::chrono::nanoseconds spin_budget_;  ///< spin before blocking (spin_wait.hpp)
   std::atomic<std::uint32_t> asleep_{0};  ///< workers blocked (not spinning) on generation_
   bool in_gate_ = false;                  ///< counted in SpinGate's DEM threads
