@@ -193,6 +193,16 @@ std::size_t LiggghtsBackend::particleCount() const {
   return static_cast<std::size_t>(total);
 }
 
+double LiggghtsBackend::particleMass() const {
+  const int local = *static_cast<int*>(lammps_extract_global(lammps_, "nlocal"));
+  const auto* rmass = static_cast<const double*>(lammps_extract_atom(lammps_, "rmass"));
+  double mine = 0.0;
+  for (int i = 0; i < local; ++i) mine += rmass[i];
+  double total = 0.0;
+  MPI_Allreduce(&mine, &total, 1, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+  return total;
+}
+
 void LiggghtsBackend::syncParticles() {
   // Every rank packs its atoms as (tag, type, radius, mass, x, v, omega); all ranks receive
   // all of them.

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+#include <tuple>
 
 #include "demlink/core/input_error.hpp"
 
@@ -20,17 +21,42 @@ std::string refusalReason(Kind kind) {
   switch (kind) {
     case Kind::kClumpTemplate:
       return "LIGGGHTS-PUBLIC has no multisphere clumps (fix multisphere is in the premium version only)";
-    case Kind::kFacetBody:
-      return "facet bodies are not mapped by the LIGGGHTS backend yet (a mesh_body at rest is)";
     case Kind::kMassSpringBody:
     case Kind::kFemBody:
       return "LIGGGHTS has no deformable bodies";
-    case Kind::kPitGenerator:
-      return "pit generators are not mapped by the LIGGGHTS backend yet (a particle_source is)";
     case Kind::kTracker:
       return "trackers are not mapped by the LIGGGHTS backend yet (sinks and sensors are)";
     default:
       return {};
+  }
+}
+
+/// What of a component the LIGGGHTS backend cannot run although it maps its kind: a facet
+/// body that is not FIXED or has a collision window, a pit generator of clumps. Throws
+/// core::InputError naming the field.
+void refuseUnmappedFields(const v1::ComponentDeclaration& component, const std::string& field) {
+  const std::string reason = "; run it on the native backend";
+  if (component.has_facet_body()) {
+    const v1::FacetBody& facet = component.facet_body();
+    const v1::FacetBody::Role role = facet.role();
+    if (role != v1::FacetBody::FIXED && role != v1::FacetBody::ROLE_UNSPECIFIED) {
+      throw core::InputError(field + ".role", v1::FacetBody::Role_Name(role),
+                             "facet body " + component.name() + ": only FIXED facet bodies are mapped to LIGGGHTS (a "
+                             "mesh at rest); role " + v1::FacetBody::Role_Name(role) + " is not" + reason);
+    }
+    for (const auto& [given, name, value] :
+         {std::tuple{facet.has_active_from(), ".active_from", facet.active_from()},
+          std::tuple{facet.has_active_until(), ".active_until", facet.active_until()}}) {
+      if (given) {
+        throw core::InputError(field + name, core::formatValue(value),
+                               "facet body " + component.name() + ": LIGGGHTS's walls cannot be switched on or off "
+                               "in time" + reason);
+      }
+    }
+  }
+  if (component.has_pit_generator() && !component.pit_generator().clump_template().empty()) {
+    throw core::InputError(field + ".clump_template", component.pit_generator().clump_template(),
+                           "pit generator " + component.name() + ": LIGGGHTS-PUBLIC has no multisphere clumps" + reason);
   }
 }
 
@@ -76,6 +102,7 @@ void requireLiggghtsCompatible(const v1::Scene& scene, const core::World& world)
     const std::string field = fmt::format("components[{}].{}", i, kindName(component));
     const std::string reason = refusalReason(component.kind_case());
     refuseIf(!reason.empty(), field, component.name(), reason + "; run it on the native backend");
+    refuseUnmappedFields(component, field);
     if (component.has_simulation_box()) box = fmt::format("components[{}].simulation_box", i);
   }
   const core::SimulationSettings& settings = world.settings();

@@ -108,6 +108,78 @@ endsolid plate
               mpiRanks(), theirs.force().z(), theirs.torque().y(), reference.force().z(), reference.torque().y());
 }
 
+TEST(LiggghtsBackend, SphereOnFixedFacetFloorRestsAsOnOurs) {
+  // The pit floor of the excavator site in small: a FIXED facet body of two triangles.
+  const v1::Scene scene = test::sceneOf({
+      R"({"name": "box", "simulation_box": {"time_step": 1e-5, "end_time": 0.1,
+          "bounds": {"lower": {"x": 0, "y": 0, "z": -0.005}, "upper": {"x": 0.02, "y": 0.02, "z": 0.02}}}})",
+      kBeads,
+      R"({"name": "floor", "facet_body": {"role": "FIXED", "material": "beads", "triangles": {"triangles": [
+          {"a": {"x": 0, "y": 0, "z": 0}, "b": {"x": 0.02, "y": 0, "z": 0}, "c": {"x": 0.02, "y": 0.02, "z": 0}},
+          {"a": {"x": 0, "y": 0, "z": 0}, "b": {"x": 0.02, "y": 0.02, "z": 0}, "c": {"x": 0, "y": 0.02, "z": 0}}]}}})",
+      R"({"name": "bead", "single_particle": {"material": "beads",
+          "position": {"x": 0.012, "y": 0.009, "z": 0.002}, "diameter": 0.004}})",
+  });
+  TranslatedScene native = translateScene(scene, {});
+  NativeBackend ours(native.world);
+  ours.advanceTo(10000);
+  TranslatedScene translated = translateScene(scene, {});
+  requireLiggghtsCompatible(scene, translated.world);
+  LiggghtsBackend backend(translated.world);
+  backend.advanceTo(10000);
+  backend.syncParticles();
+  const double r = 0.002;
+  const double m = 2500.0 * 4.0 / 3.0 * std::numbers::pi * r * r * r;
+  const double effective = 5e6 / (2.0 * (1.0 - 0.3 * 0.3));
+  const double overlap = std::pow(m * 9.81 / (4.0 / 3.0 * effective * std::sqrt(r)), 2.0 / 3.0);
+  const double theirs = r - backend.world().particles().position[0].z();
+  const double reference = r - ours.world().particles().position[0].z();
+  EXPECT_NEAR(reference, overlap, 0.01 * overlap);
+  EXPECT_NEAR(theirs, overlap, 0.01 * overlap) << "ranks " << mpiRanks();
+  EXPECT_NEAR(theirs, reference, 0.01 * overlap);
+  EXPECT_NEAR(backend.world().meshes()[0].force().z(), -m * 9.81, 0.01 * m * 9.81);
+  std::printf("sphere on a FIXED facet floor, %d rank(s): overlap LIGGGHTS %.6g m, ours %.6g m, Hertz %.6g m\n",
+              mpiRanks(), theirs, reference, overlap);
+}
+
+TEST(LiggghtsBackend, PitGeneratorBedReachesLiggghtsAndStaysAtRest) {
+  // A pit of 2-2.5 mm beads settled by our engine before the run, in an open FIXED facet box.
+  const v1::Scene scene = test::sceneOf({
+      R"({"name": "box", "simulation_box": {"time_step": 1e-5, "end_time": 0.05,
+          "bounds": {"lower": {"x": -0.001, "y": -0.001, "z": -0.001}, "upper": {"x": 0.041, "y": 0.041, "z": 0.05}}}})",
+      kBeads,
+      R"({"name": "tub", "facet_body": {"role": "FIXED", "material": "beads", "box": {
+          "centre": {"x": 0.02, "y": 0.02, "z": 0.02}, "size": {"x": 0.04, "y": 0.04, "z": 0.04}, "open_top": true}}})",
+      R"({"name": "pit", "pit_generator": {"material": "beads", "sizes": {"uniform": {"r_min": 0.002, "r_max": 0.0025}},
+          "lower": {"x": 0, "y": 0, "z": 0}, "upper": {"x": 0.04, "y": 0.04, "z": 0.04}, "target_height": 0.02,
+          "seed": "7"}})",
+  });
+  TranslatedScene translated = translateScene(scene, {});
+  requireLiggghtsCompatible(scene, translated.world);
+  const core::ParticleArrays& p = translated.world.particles();
+  ASSERT_GT(p.size(), 100u);
+  double mass = 0.0;
+  for (const double m : p.mass) mass += m;
+  const double initial = meanZ(translated.world);
+  LiggghtsBackend backend(translated.world);
+  EXPECT_EQ(backend.particleCount(), p.size()) << "ranks " << mpiRanks();
+  EXPECT_NEAR(backend.particleMass(), mass, 1e-12 * mass);
+  // The bed was settled by our contact law and copied at rest; it relaxes by the same small
+  // amount under both engines' Hertz-Mindlin (0.05 s).
+  backend.advanceTo(5000);
+  backend.syncParticles();
+  TranslatedScene native = translateScene(scene, {});
+  NativeBackend ours(native.world);
+  ours.advanceTo(5000);
+  EXPECT_EQ(backend.particleCount(), p.size());
+  const double theirs = meanZ(backend.world());
+  const double reference = meanZ(ours.world());
+  EXPECT_NEAR(theirs, reference, 5e-6) << "ranks " << mpiRanks();  // a fifth of the relaxation
+  std::printf("pit on %d rank(s): %zu beads, %.6g kg; mean z %.6g m at the start, after 0.05 s %.6g m on LIGGGHTS, "
+              "%.6g m on ours\n",
+              mpiRanks(), p.size(), mass, initial, theirs, reference);
+}
+
 // The 20 mm square plate of SphereOnMeshHasOurWrench, moving at a constant twist, under
 // a sphere of the given material; the scene runs on both engines.
 struct MovingPlateRun {

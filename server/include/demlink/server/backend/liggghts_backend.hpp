@@ -66,6 +66,8 @@ class LiggghtsBackend final : public SimulationBackend {
   [[nodiscard]] std::pair<core::Vec3, core::Vec3> meshWrench(std::size_t mesh) const;
   /// Particles LIGGGHTS holds now [-].
   [[nodiscard]] std::size_t particleCount() const;
+  /// Their mass [kg] (a collective).
+  [[nodiscard]] double particleMass() const;
   /// Runs one LIGGGHTS command on every rank (all must call it).
   void command(const std::string& line);
 
