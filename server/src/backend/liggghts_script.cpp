@@ -117,14 +117,10 @@ void requireLiggghtsCompatible(const v1::Scene& scene, const core::World& world)
            "LIGGGHTS's box does not grow; declare fixed bounds");
   for (std::uint32_t m = 0; m < world.materials().size(); ++m) {
     const core::Material& material = world.materials()[m];
-    refuseIf(material.rolling_friction > 0.0, "material " + material.name + ".rolling_friction",
-             core::formatValue(material.rolling_friction), "rolling friction is not mapped by the LIGGGHTS backend");
     refuseIf(material.cohesion_energy_density > 0.0, "material " + material.name + ".cohesion_energy_density",
              core::formatValue(material.cohesion_energy_density),
              "cohesion is not mapped by the LIGGGHTS backend (its cohesion models differ from ours)");
   }
-  refuseIf(world.pairTable().anyRollingFriction(), "material_pair.rolling_friction", "> 0",
-           "rolling friction is not mapped by the LIGGGHTS backend");
   refuseIf(world.pairTable().anyCohesion(), "material_pair.cohesion_energy_density", "> 0",
            "cohesion is not mapped by the LIGGGHTS backend (its cohesion models differ from ours)");
   for (const core::PlaneWall& plane : world.planes()) {
@@ -192,6 +188,7 @@ std::vector<std::string> liggghtsCommands(const core::World& world, const std::s
   }
   std::vector<double> restitution;
   std::vector<double> friction;
+  std::vector<double> rolling;
   const core::ContactPairTable& table = world.pairTable();
   for (std::uint32_t a = 0; a < types; ++a) {
     for (std::uint32_t b = 0; b < types; ++b) {
@@ -200,12 +197,18 @@ std::vector<std::string> liggghtsCommands(const core::World& world, const std::s
         restitution.push_back(liggghtsRestitution(
             pair.normal_damping, "material pair " + materials[a].name + " / " + materials[b].name + ".restitution"));
         friction.push_back(pair.sliding_friction);
+        rolling.push_back(pair.rolling_friction);
       } else {  // no contact of this pair can occur; LIGGGHTS still wants a value
         restitution.push_back(0.5);
         friction.push_back(0.5 * (materials[a].sliding_friction + materials[b].sliding_friction));
+        rolling.push_back(0.0);
       }
     }
   }
+  // Our rolling resistance is a constant directional torque (docs/physics.md): LIGGGHTS's
+  // rolling_friction cdt, in the particle pairs and at every wall.
+  const std::string law = table.anyRollingFriction() ? "model hertz tangential history rolling_friction cdt"
+                                                     : "model hertz tangential history";
   std::vector<std::string> commands = {
       "units si",
       "atom_style granular",
@@ -221,10 +224,15 @@ std::vector<std::string> liggghtsCommands(const core::World& world, const std::s
                   joined(restitution)),
       fmt::format("fix demlink_friction all property/global coefficientFriction peratomtypepair {}{}", types,
                   joined(friction)),
-      "pair_style gran model hertz tangential history",
+      "pair_style gran " + law,
       "pair_coeff * *",
       fmt::format("timestep {:.17g}", world.settings().time_step),
   };
+  if (table.anyRollingFriction()) {
+    commands.insert(std::find(commands.begin(), commands.end(), "pair_style gran " + law),
+                    fmt::format("fix demlink_rolling all property/global coefficientRollingFriction peratomtypepair {}{}",
+                                types, joined(rolling)));
+  }
   // A scene that starts empty (filled by sources) gets its box from create_box: LIGGGHTS's
   // read_data of no atoms leaves the atoms without ids (no atom map then).
   const auto created = std::find(commands.begin(), commands.end(), "communicate single vel yes") + 1;
@@ -249,9 +257,8 @@ std::vector<std::string> liggghtsCommands(const core::World& world, const std::s
     const core::PlaneSpec& plane = world.planes()[k].spec;
     const int axis = planeAxis(plane.normal);
     if (axis < 0) throw core::InputError("plane " + plane.name + ".normal", "tilted", "not axis-aligned");
-    commands.push_back(fmt::format("fix demlink_plane{} all wall/gran model hertz tangential history primitive type {} "
-                                   "{} {:.17g}",
-                                   k, plane.material + 1, planeNames[axis], plane.point[axis]));
+    commands.push_back(fmt::format("fix demlink_plane{} all wall/gran {} primitive type {} {} {:.17g}", k, law,
+                                   plane.material + 1, planeNames[axis], plane.point[axis]));
   }
   std::string meshIds;
   for (std::size_t k = 0; k < world.meshes().size(); ++k) {
@@ -263,9 +270,8 @@ std::vector<std::string> liggghtsCommands(const core::World& world, const std::s
     meshIds += fmt::format(" {}", liggghtsMeshFix(k));
   }
   if (!world.meshes().empty()) {
-    commands.push_back(fmt::format("fix demlink_meshes all wall/gran model hertz tangential history mesh n_meshes {} "
-                                   "meshes{}",
-                                   world.meshes().size(), meshIds));
+    commands.push_back(
+        fmt::format("fix demlink_meshes all wall/gran {} mesh n_meshes {} meshes{}", law, world.meshes().size(), meshIds));
   }
   commands.push_back("fix demlink_integrate all nve/sphere");
   commands.push_back("thermo_modify lost ignore norm no");

@@ -55,6 +55,38 @@ TEST(LiggghtsBackend, RestingSphereHasHertzOverlap) {
   EXPECT_NEAR(backend.time(), 0.1, 1e-12);
 }
 
+TEST(LiggghtsBackend, RollingSphereDeceleratesAsOurs) {
+  // A sphere rolling without slipping at 0.1 m/s on a plane with rolling friction mu_r = 0.1:
+  // a constant directional torque mu_r R m g decelerates it at 5/7 mu_r g (0.7007 m/s^2) on
+  // both engines (ours: docs/physics.md; LIGGGHTS: rolling_friction cdt).
+  const v1::Scene scene = test::sceneOf({
+      R"({"name": "box", "simulation_box": {"time_step": 1e-5, "end_time": 0.05,
+          "bounds": {"lower": {"x": 0, "y": 0, "z": 0}, "upper": {"x": 0.04, "y": 0.02, "z": 0.02}}}})",
+      R"({"name": "beads", "material": {"density": 2500, "youngs_modulus": 5e6, "poisson_ratio": 0.3,
+          "restitution": 0.5, "sliding_friction": 0.5, "rolling_friction": 0.1}})",
+      plane("floor", R"({"z": 0})", R"({"z": 1})"),
+      R"({"name": "bead", "single_particle": {"material": "beads", "position": {"x": 0.01, "y": 0.01, "z": 0.001997},
+          "velocity": {"x": 0.1}, "angular_velocity": {"y": 50}, "diameter": 0.004}})",
+  });
+  TranslatedScene native = translateScene(scene, {});
+  NativeBackend ours(native.world);
+  ours.advanceTo(5000);
+  TranslatedScene translated = translateScene(scene, {});
+  requireLiggghtsCompatible(scene, translated.world);
+  LiggghtsBackend backend(translated.world);
+  backend.advanceTo(5000);
+  backend.syncParticles();
+  const double expected = 0.1 - 5.0 / 7.0 * 0.1 * 9.81 * 0.05;  // 0.06497 m/s
+  const double theirs = backend.world().particles().velocity[0].x();
+  const double reference = ours.world().particles().velocity[0].x();
+  const double lost = 0.1 - expected;
+  EXPECT_NEAR(reference, expected, 0.02 * lost);
+  EXPECT_NEAR(theirs, expected, 0.02 * lost) << "ranks " << mpiRanks();
+  std::printf("rolling sphere after 0.05 s on %d rank(s): v = %.6g m/s on LIGGGHTS, %.6g m/s on ours, %.6g m/s "
+              "closed form\n",
+              mpiRanks(), theirs, reference, expected);
+}
+
 TEST(LiggghtsBackend, SphereOnMeshHasOurWrench) {
   const test::ScratchDir dir;
   // A 20 mm square plate in the STL frame's z = 0 plane, its reference point at its centre.

@@ -203,12 +203,34 @@ TEST(LiggghtsRefusals, CohesionNamed) {
   EXPECT_TRUE(has(what, "cohesion_energy_density") && has(what, "cohesion is not mapped")) << what;
 }
 
-TEST(LiggghtsRefusals, RollingFrictionNamed) {
+TEST(LiggghtsScript, RollingFrictionIsConstantDirectionalTorque) {
   std::vector<std::string> components = base();
   components[1] = R"({"name": "beads", "material": {"density": 2500, "youngs_modulus": 5e6, "poisson_ratio": 0.3,
       "restitution": 0.5, "sliding_friction": 0.5, "rolling_friction": 0.1}})";
-  const std::string what = refusal(components);
-  EXPECT_TRUE(has(what, "material beads.rolling_friction") && has(what, "rolling friction")) << what;
+  EXPECT_EQ(refusal(components), "(accepted)");
+  TranslatedScene translated = translateScene(test::sceneOf(components), {});
+  translated.world.initialize();
+  const std::vector<std::string> commands = liggghtsCommands(translated.world, "scene.data");
+  const auto line = [&](const std::string& start) {
+    const auto found = std::find_if(commands.begin(), commands.end(),
+                                    [&](const std::string& c) { return c.starts_with(start); });
+    return found == commands.end() ? std::string("(missing)") : *found;
+  };
+  EXPECT_EQ(line("pair_style"), "pair_style gran model hertz tangential history rolling_friction cdt");
+  EXPECT_TRUE(has(line("fix demlink_plane0"), "wall/gran model hertz tangential history rolling_friction cdt primitive"))
+      << line("fix demlink_plane0");
+  // beads and the floor's rigid twin: mu_r 0.1 for every pair.
+  const std::size_t types = translated.world.materials().size();
+  std::string values;
+  for (std::size_t k = 0; k < types * types; ++k) values += " 0.10000000000000001";
+  EXPECT_EQ(line("fix demlink_rolling"), "fix demlink_rolling all property/global coefficientRollingFriction "
+                                         "peratomtypepair " + std::to_string(types) + values);
+  // Without rolling friction the law and the fixes stay as they were.
+  TranslatedScene plain = translateScene(test::sceneOf(base()), {});
+  plain.world.initialize();
+  for (const std::string& command : liggghtsCommands(plain.world, "scene.data")) {
+    EXPECT_FALSE(has(command, "rolling")) << command;
+  }
 }
 
 TEST(LiggghtsRefusals, TiltedPlaneNamed) {

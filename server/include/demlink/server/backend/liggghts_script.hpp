@@ -11,6 +11,8 @@
 ///                         (mixing and material_pair overrides included); the restitution
 ///                         is the one LIGGGHTS must be given for its damping to equal ours
 ///                         (liggghtsRestitution)
+///   rolling friction      pair (a, b)'s mu_r: coefficientRollingFriction per type pair,
+///                         rolling_friction cdt in pair_style gran and every wall/gran
 ///   time step, gravity    timestep, fix gravity
 ///   skin                  neighbor <skin> bin, neigh_modify delay 0
 ///   bounds                the box of read_data, boundary f f f (particles leaving it are lost)
@@ -43,7 +45,7 @@ namespace demlink::server {
 /// component kinds it does not map (clumps, deformable bodies, trackers), facet bodies
 /// that are not FIXED or have a collision window, pit generators of clumps, a moving
 /// room, and in the compiled world the linear law, explicit Euler,
-/// rolling friction, cohesion, missing or growing bounds and
+/// cohesion, missing or growing bounds and
 /// planes that are not axis-aligned. Throws core::InputError.
 void requireLiggghtsCompatible(const v1::Scene& scene, const core::World& world);
 
