@@ -172,7 +172,7 @@ std::string liggghtsStl(const core::MeshBody& mesh) {
 }
 
 std::vector<std::string> liggghtsCommands(const core::World& world, const std::string& dataFile,
-                                          const std::vector<std::string>& meshFiles) {
+                                          const std::vector<std::string>& meshFiles, const std::string& restartFile) {
   if (meshFiles.size() != world.meshes().size()) {
     throw std::invalid_argument("liggghtsCommands: one STL file per mesh expected");
   }
@@ -236,7 +236,9 @@ std::vector<std::string> liggghtsCommands(const core::World& world, const std::s
   // A scene that starts empty (filled by sources) gets its box from create_box: LIGGGHTS's
   // read_data of no atoms leaves the atoms without ids (no atom map then).
   const auto created = std::find(commands.begin(), commands.end(), "communicate single vel yes") + 1;
-  if (world.particles().size() > 0) {
+  if (!restartFile.empty()) {
+    commands.insert(created, "read_restart " + restartFile);
+  } else if (world.particles().size() > 0) {
     commands.insert(created, "read_data " + dataFile);
   } else {
     const core::DomainBounds bounds = world.settings().bounds.value_or(core::DomainBounds{});

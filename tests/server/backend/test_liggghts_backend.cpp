@@ -3,12 +3,15 @@
 /// Hertz's closed form, and the deposition scene's final mean height against our engine.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <numbers>
 #include <string>
 #include <vector>
 
+#include "demlink/core/state/checkpoint.hpp"
 #include "demlink/server/backend/liggghts_backend.hpp"
 #include "demlink/server/backend/liggghts_script.hpp"
 #include "scene_test_support.hpp"
@@ -362,6 +365,50 @@ TEST(LiggghtsBackend, DepositionMeanHeightMatchesNativeEngine) {
                                                    << " m, ours " << reference << " m";
   std::printf("deposition mean z on %d rank(s): LIGGGHTS %.6g m, ours %.6g m (%.2f %%)\n", mpiRanks(), theirs,
               reference, 100.0 * (theirs - reference) / reference);
+}
+
+TEST(LiggghtsCheckpoint, SettlingBedContinuesAfterARestart) {
+  // The deposition scene checkpointed at 0.15 s, half way, and restarted in a new LIGGGHTS
+  // instance: at 0.3 s it matches the unbroken run (the contact histories of the resting
+  // contacts come back from the restart file; its first force evaluation after the restart
+  // uses full-step velocities, so it is not bit-exact).
+  const v1::Scene scene = depositionScene();
+  const test::ScratchDir dir;
+  const std::filesystem::path checkpoint = dir.path() / "ck.bin";
+  TranslatedScene unbrokenScene = translateScene(scene, {});
+  LiggghtsBackend unbroken(unbrokenScene.world);
+  unbroken.advanceTo(15000);
+  unbroken.advanceTo(30000);
+  unbroken.syncParticles();
+  {
+    TranslatedScene firstScene = translateScene(scene, {});
+    LiggghtsBackend first(firstScene.world);
+    first.advanceTo(15000);
+    first.syncParticles();
+    first.writeCheckpoint(checkpoint);
+  }
+  TranslatedScene restartedScene = translateScene(scene, {});
+  restartedScene.world.initialize();
+  core::restoreCheckpointFile(restartedScene.world, checkpoint);
+  LiggghtsBackend restarted(restartedScene.world, "", checkpoint);
+  EXPECT_EQ(restarted.stepCount(), 15000u);
+  restarted.advanceTo(30000);
+  restarted.syncParticles();
+  const core::ParticleArrays& a = unbroken.world().particles();
+  const core::ParticleArrays& b = restarted.world().particles();
+  ASSERT_EQ(a.size(), b.size());
+  double worst = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    ASSERT_EQ(a.id[i], b.id[i]);
+    worst = std::max(worst, (a.position[i] - b.position[i]).norm());
+  }
+  const double za = meanZ(unbroken.world());
+  const double zb = meanZ(restarted.world());
+  EXPECT_LT(worst, 0.001) << "half the smallest radius";
+  EXPECT_NEAR(zb, za, 0.005 * za);
+  std::printf("bed restarted at 0.15 s on %d rank(s): at 0.3 s largest position difference %.3g m, mean z %.9g m "
+              "(unbroken %.9g m, %.3g %%)\n",
+              mpiRanks(), worst, zb, za, 100.0 * (zb - za) / za);
 }
 
 }  // namespace

@@ -60,8 +60,11 @@ void requireLiggghtsCompatible(const v1::Scene& scene, const core::World& world)
 [[nodiscard]] std::string liggghtsMeshFix(std::size_t mesh);
 
 /// The commands that set up the run, in order: read_data reads `dataFile`, mesh k's
-/// fix reads meshFiles[k] (one per world mesh).
+/// fix reads meshFiles[k] (one per world mesh). With `restartFile`, read_restart reads the
+/// atoms (and the per-atom state of the fixes and pair style: contact histories) from it
+/// instead, and every setting and fix is given again after it.
 [[nodiscard]] std::vector<std::string> liggghtsCommands(const core::World& world, const std::string& dataFile,
-                                                        const std::vector<std::string>& meshFiles = {});
+                                                        const std::vector<std::string>& meshFiles = {},
+                                                        const std::string& restartFile = {});
 
 }  // namespace demlink::server
