@@ -44,6 +44,9 @@ if ((small)); then
 fi
 server_cmd=("$bin/server/demlink-server")
 truck_flags=()
+# Every rank settles the pit before the compile answers, and a busy machine makes that
+# slow: the clients wait up to half an hour for it (their default is 300 s).
+client_flags=(--timeout 1800)
 if [[ $backend == liggghts ]]; then
   server_cmd+=(--backend liggghts)
   truck_flags+=(--stand-still)
@@ -68,13 +71,13 @@ echo "demo_cosim: server on 127.0.0.1:$port; output in $out"
 # The truck declares the SimulationBox first; the server compiles once the excavator's
 # bucket and fill sensor are declared too (the box's expected_names).
 "$bin/examples/truck/demlink-truck" --host 127.0.0.1 --port "$port" --scenario excavator --dumps "$cycles" \
-  --output "$out/truck" ${truck_flags[@]+"${truck_flags[@]}"} \
+  --output "$out/truck" "${client_flags[@]}" ${truck_flags[@]+"${truck_flags[@]}"} \
   >"$out/truck.log" 2>&1 &
 truck=$!
 pids+=("$truck")
 sleep 1
 "$bin/examples/excavator/demlink-excavator" --host 127.0.0.1 --port "$port" --cycles "$cycles" \
-  --output "$out/excavator" >"$out/excavator.log" 2>&1 &
+  --output "$out/excavator" "${client_flags[@]}" >"$out/excavator.log" 2>&1 &
 excavator=$!
 pids+=("$excavator")
 
