@@ -14,6 +14,7 @@
 #include "demlink/core/state/checkpoint.hpp"
 #include "demlink/server/backend/liggghts_backend.hpp"
 #include "demlink/server/backend/liggghts_script.hpp"
+#include "liggghts_test_support.hpp"
 #include "scene_test_support.hpp"
 #include "test_support.hpp"
 
@@ -373,7 +374,7 @@ TEST(LiggghtsCheckpoint, SettlingBedContinuesAfterARestart) {
   // contacts come back from the restart file; its first force evaluation after the restart
   // uses full-step velocities, so it is not bit-exact).
   const v1::Scene scene = depositionScene();
-  const test::ScratchDir dir;
+  const test::RankSharedDir dir;  // the checkpoint is written by rank 0
   const std::filesystem::path checkpoint = dir.path() / "ck.bin";
   TranslatedScene unbrokenScene = translateScene(scene, {});
   LiggghtsBackend unbroken(unbrokenScene.world);

@@ -23,6 +23,7 @@
 #include "demlink/server/backend/liggghts_backend.hpp"
 #include "demlink/server/backend/liggghts_flows.hpp"
 #include "demlink/server/backend/liggghts_script.hpp"
+#include "liggghts_test_support.hpp"
 #include "scene_test_support.hpp"
 #include "test_support.hpp"
 
@@ -165,7 +166,7 @@ TEST(LiggghtsCheckpoint, RestartedRunContinuesAsTheUnbrokenRun) {
   // A checkpoint at 40 ms, while the source still inserts, some spheres are in flight and
   // some lie on the floor or have been sunk; the restarted run goes on to 150 ms.
   constexpr std::uint64_t kCheckpointStep = 8000;
-  test::ScratchDir dir;
+  const test::RankSharedDir dir;  // the checkpoint is written by rank 0
   const std::filesystem::path checkpoint = dir.path() / "ck.bin";
   RainRun unbroken;
   runRain(unbroken, kEndStep);
