@@ -7,7 +7,7 @@
 #include <string>
 #include <system_error>
 
-namespace demlink::test {
+namespace demlink::server::test {
 
 /// A scratch folder the MPI ranks of one test run share: named after their common parent
 /// (mpirun's launcher) instead of each rank's own process, so what rank 0 writes (a
@@ -33,4 +33,4 @@ class RankSharedDir {
   std::filesystem::path path_;
 };
 
-}  // namespace demlink::test
+}  // namespace demlink::server::test
