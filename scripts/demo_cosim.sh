@@ -7,12 +7,29 @@
 # pit + bucket + truck + spill + removed, peak cylinder force). The truck drives off once
 # CYCLES dumps have settled on its body. Exit code 1 if a process failed or mass is not
 # balanced (or less than 90 % of what the bucket carried reached the truck).
-#   scripts/demo_cosim.sh [OUT_DIR] [CYCLES]        (defaults: out/cosim_demo, 2)
+#   scripts/demo_cosim.sh [OUT_DIR] [CYCLES] [--backend native|liggghts] [--ranks N] [--small]
+#   (defaults: out/cosim_demo, 2, native, 1 rank, the full site)
+# --backend liggghts runs the server on LIGGGHTS-PUBLIC under `mpirun -np N` (N > 1; one
+# rank: no mpirun) and the truck with --stand-still (LIGGGHTS has no moving room: the truck
+# is loaded, then says Bye without driving). --small: the site with a 1.6 m pit (about
+# 1,100 particles instead of 4,400; make_site_scene.py --pit-half-x 0.8), for machines on
+# which the full site is too slow (docs/scale-out.md has the wall times).
 # Expects a release build (scripts/build.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-out=${1:-out/cosim_demo}
-cycles=${2:-2}
+backend=native ranks=1 small=0 positional=()
+while (($#)); do
+  case $1 in
+    --backend) backend=$2; shift 2 ;;
+    --ranks) ranks=$2; shift 2 ;;
+    --small) small=1; shift ;;
+    *) positional+=("$1"); shift ;;
+  esac
+done
+[[ $backend == native || $backend == liggghts ]] || { echo "demo_cosim: --backend $backend: expected native or liggghts" >&2; exit 2; }
+[[ $ranks =~ ^[1-9][0-9]*$ ]] || { echo "demo_cosim: --ranks $ranks: expected a whole number >= 1" >&2; exit 2; }
+out=${positional[0]:-out/cosim_demo}
+cycles=${positional[1]:-2}
 bin=build/release
 for exe in "$bin/server/demlink-server" "$bin/examples/truck/demlink-truck" "$bin/examples/excavator/demlink-excavator"; do
   [[ -x "$exe" ]] || { echo "demo_cosim: $exe is missing; build first (scripts/build.sh)" >&2; exit 2; }
@@ -20,26 +37,47 @@ done
 rm -rf "$out" && mkdir -p "$out"
 start=$(date +%s)
 
-"$bin/server/demlink-server" --port 0 --once --scene examples/cosim/site_scene.json --output "$out/server" \
+scene=examples/cosim/site_scene.json
+if ((small)); then
+  scene=$out/site_scene_small.json
+  python3 examples/cosim/make_site_scene.py --pit-half-x 0.8 --output "$scene"
+fi
+server_cmd=("$bin/server/demlink-server")
+truck_flags=()
+# Every rank settles the pit before the compile answers, and a busy machine makes that
+# slow: the clients wait up to half an hour for it (their default is 300 s).
+client_flags=(--timeout 1800)
+if [[ $backend == liggghts ]]; then
+  server_cmd+=(--backend liggghts)
+  truck_flags+=(--stand-still)
+  if ((ranks > 1)); then
+    # Open MPI refuses root without these (containers); more ranks than cores need --oversubscribe.
+    export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+    server_cmd=(mpirun --oversubscribe -np "$ranks" "${server_cmd[@]}")
+  fi
+fi
+echo "demo_cosim: $backend backend on $ranks rank(s), scene $scene"
+"${server_cmd[@]}" --port 0 --once --scene "$scene" --output "$out/server" \
   >"$out/server.log" 2>&1 &
 server=$!
 pids=("$server")
 trap 'kill "${pids[@]}" 2>/dev/null || true' EXIT
 source scripts/lib/child_server.sh
-port=$(wait_for_server_port "$out/server.log" "$server") ||
+# mpirun and LIGGGHTS take a while to start on a loaded machine.
+port=$(wait_for_server_port "$out/server.log" "$server" 120) ||
   { echo "demo_cosim: the server did not start:" >&2; cat "$out/server.log" >&2; exit 1; }
 echo "demo_cosim: server on 127.0.0.1:$port; output in $out"
 
 # The truck declares the SimulationBox first; the server compiles once the excavator's
 # bucket and fill sensor are declared too (the box's expected_names).
 "$bin/examples/truck/demlink-truck" --host 127.0.0.1 --port "$port" --scenario excavator --dumps "$cycles" \
-  --output "$out/truck" \
+  --output "$out/truck" "${client_flags[@]}" ${truck_flags[@]+"${truck_flags[@]}"} \
   >"$out/truck.log" 2>&1 &
 truck=$!
 pids+=("$truck")
 sleep 1
 "$bin/examples/excavator/demlink-excavator" --host 127.0.0.1 --port "$port" --cycles "$cycles" \
-  --output "$out/excavator" >"$out/excavator.log" 2>&1 &
+  --output "$out/excavator" "${client_flags[@]}" >"$out/excavator.log" 2>&1 &
 excavator=$!
 pids+=("$excavator")
 

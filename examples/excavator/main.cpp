@@ -52,6 +52,7 @@ struct Options {
   std::string output = "out/excavator";
   double timeout_s = 300.0;  // the compile includes the pit generation
   double log_interval_s = 0.5;  // simulated time between log lines; 0: every sample
+  double stop_at_s = 0.0;       // say Bye at this simulated time; 0: after the cycles
 };
 
 /// Parses the command line (demlink/cli/command_line.hpp); an exit code when the program
@@ -72,6 +73,10 @@ std::optional<int> parse(int argc, char** argv, Options& o) {
       ->type_name("S");
   cli::addNumber(app, "--log-interval", o.log_interval_s, {0.0, false, 1e6},
                  "simulated time between log lines (default 0.5 s; 0: every sample)")
+      ->type_name("S");
+  cli::addNumber(app, "--stop-at", o.stop_at_s, {0.0, false, 1e6},
+                 "say Bye at this simulated time even if the cycles are not done [s] (default 0: after the cycles; "
+                 "short test runs)")
       ->type_name("S");
   return cli::parse(app, argc, argv);
 }
@@ -159,6 +164,7 @@ int run(const Options& opt) {
       break;
     }
     const double t = session.time();
+    if (opt.stop_at_s > 0.0 && t >= opt.stop_at_s) break;
     const ex::Vec3 force = fromClient(bucket.meanForce());
     const ex::Vec3 torque = fromClient(bucket.meanTorque());
     const double fillMass = fill.mass();
@@ -208,7 +214,7 @@ int run(const Options& opt) {
   }
   const double simulated = session.time();
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
-  if (!finishedEarly) session.finish("excavator: all cycles done");
+  if (!finishedEarly) session.finish(op.done() ? "excavator: all cycles done" : "excavator: stopped at --stop-at");
   csv.flush();
 
   std::ofstream summary(std::filesystem::path(opt.output) / "excavator_summary.txt");

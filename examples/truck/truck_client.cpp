@@ -14,7 +14,10 @@
 /// the bed. One exchange per communication interval; the suspension model (truck_model.hpp)
 /// takes one RK4 step per interval with the DEM wrench of the interval that just ended.
 /// Phases: loading -> settling -> holding (at rest, the static reference) -> accelerating
-/// -> turning -> done (room inertial again, Bye).
+/// -> turning -> done (room inertial again, Bye). With --stand-still the truck never drives
+/// (for engines without a moving room, such as the LIGGGHTS backend): holding -> done, and
+/// no package ever carries a room frame; the body still rides on its suspension and the
+/// load is reported as before.
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -70,6 +73,7 @@ struct Options {
   double max_time = 0.0;        ///< [s] start driving at the latest here (0: source 30 s, excavator 600 s)
   double timeout = 300.0;       ///< [s] bound of every wait for the server (the compile may generate a pit)
   double log_interval = 0.5;    ///< [s] simulated time between log lines; 0: every sample
+  bool stand_still = false;     ///< never move the room: holding -> done
   std::string material = "gravel";
 };
 
@@ -131,6 +135,9 @@ std::optional<int> parse(int argc, char** argv, Options& o) {
   cli::addNumber(app, "--log-interval", o.log_interval, {0.0},
                  "simulated time between log lines [s] (default 0.5; 0: every sample)")
       ->type_name("S");
+  app.add_flag("--stand-still", o.stand_still,
+               "never drive: no room motion is sent (for the LIGGGHTS backend); the body still rides on its "
+               "suspension, the load is reported, and the truck says Bye after holding");
   if (const std::optional<int> exitCode = cli::parse(app, argc, argv)) return exitCode;
   if (!o.expected_given && !o.source) o.expected = {"bucket", "bucket_fill"};  // demlink-excavator's components
   if (o.max_time <= 0.0) o.max_time = o.source ? 30.0 : 600.0;
@@ -400,7 +407,7 @@ int run(const Options& o) {
         if ((steady && t - phaseStart >= o.steady_time) || t >= o.max_time) enter(Phase::Holding);
         break;
       case Phase::Holding:
-        if (t - phaseStart >= 0.2) enter(Phase::Accelerating);
+        if (t - phaseStart >= 0.2) enter(o.stand_still ? Phase::Done : Phase::Accelerating);
         break;
       case Phase::Accelerating:
         if (t - phaseStart >= accelerateTime - 0.5 * tc) enter(Phase::Turning);
@@ -464,7 +471,7 @@ int run(const Options& o) {
                                          omegaBody[2] * armN[0] - omegaBody[0] * armN[2],
                                          n.z_rate + omegaBody[0] * armN[1] - omegaBody[1] * armN[0]};
     const double yawNext = yawRate + yawAcc * tc;
-    if (phase == Phase::Accelerating || phase == Phase::Turning || phase == Phase::Done) {
+    if (!o.stand_still && (phase == Phase::Accelerating || phase == Phase::Turning || phase == Phase::Done)) {
       link.send({kRoom},
                 {kNan, kNan, kNan, frameAcc[0], frameAcc[1], frameAcc[2], 0.0, 0.0, phase == Phase::Done ? 0.0 : yawRate,
                  0.0, 0.0, phase == Phase::Done ? 0.0 : yawAcc, cgRest[0], cgRest[1], 0.0},

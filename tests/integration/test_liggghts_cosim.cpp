@@ -71,6 +71,11 @@ void connectTo(client::Connection& connection, int port, const std::string& name
 /// The scene every run declares: a bed of 96 spheres on a floor (a box blade is added to
 /// push into it).
 /// `expected`: the components of the whole simulation (these four and the caller's).
+/// A component declared as it is (kinds the client library has no class for).
+struct Raw : client::Component {
+  explicit Raw(const v1::ComponentDeclaration& d) : client::Component(d.name()) { declaration() = d; }
+};
+
 void declareBed(client::Session& session, double endTime, std::uint32_t expected) {
   auto& box = session.add<client::SimulationBox>("box");
   box.setTimeStep(kDt).setEndTime(endTime).setInitialGravity({0.0, 0.0, -9.81}).setExpectedCount(expected);
@@ -88,10 +93,7 @@ void declareBed(client::Session& session, double endTime, std::uint32_t expected
   lattice.mutable_counts()->set_nx(6);
   lattice.mutable_counts()->set_ny(8);
   lattice.mutable_counts()->set_nz(2);
-  struct Bed : client::Component {
-    explicit Bed(const v1::ComponentDeclaration& d) : client::Component(d.name()) { declaration() = d; }
-  };
-  session.add<Bed>(bed);
+  session.add<Raw>(bed);
 }
 
 /// The blade's mean force along x per interval [N], and how the run finished.
@@ -181,8 +183,11 @@ TEST(LiggghtsCosim, RefusedComponentIsNamedAndTheServerStaysUp) {
     connectTo(connection, port, "feeder");
     client::Session session(connection);
     declareBed(session, 0.001, 5);
-    auto& pit = session.add<client::PitGenerator>("pit");
-    pit.setMaterial("glass").setRadius(0.002).setBox({0.0, 0.0, 0.0}, {0.02, 0.02, 0.01}).setTargetHeight(0.005);
+    v1::ComponentDeclaration tracker;  // the client library has no tracker class
+    tracker.set_name("scoop");
+    tracker.mutable_tracker()->add_particle_ids(1);
+    tracker.mutable_tracker()->set_sample_every_steps(1);
+    session.add<Raw>(tracker);
     session.declare();
     std::string refusal;
     try {
@@ -190,8 +195,8 @@ TEST(LiggghtsCosim, RefusedComponentIsNamedAndTheServerStaysUp) {
     } catch (const client::ServerError& error) {
       refusal = error.what();
     }
-    EXPECT_NE(refusal.find("pit"), std::string::npos) << refusal;
-    EXPECT_NE(refusal.find("pit_generator"), std::string::npos) << refusal;
+    EXPECT_NE(refusal.find("scoop"), std::string::npos) << refusal;
+    EXPECT_NE(refusal.find("tracker"), std::string::npos) << refusal;
     EXPECT_NE(refusal.find("LIGGGHTS"), std::string::npos) << refusal;
   }
   // The next simulation (a bed settling, nothing refused) runs on the same server.

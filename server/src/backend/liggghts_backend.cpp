@@ -19,12 +19,15 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <numeric>
 #include <optional>
 #include <stdexcept>
 #include <vector>
 
 #include "demlink/core/components/sampled_component.hpp"
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/state/checkpoint.hpp"
+#include "demlink/core/state/state_stream.hpp"
 #include "demlink/server/backend/liggghts_flows.hpp"
 #include "demlink/server/backend/liggghts_motion.hpp"
 #include "demlink/server/backend/liggghts_script.hpp"
@@ -88,13 +91,24 @@ int mpiRanks() {
   return ranks;
 }
 
-LiggghtsBackend::LiggghtsBackend(core::World& world, const std::string& logFile) : world_(world) {
+LiggghtsBackend::LiggghtsBackend(core::World& world, const std::string& logFile, const std::filesystem::path& restore)
+    : world_(world) {
   const int rank = ensureMpi();
   if (!world_.initialized()) world_.initialize();
   step_ = world_.stepCount();
-  for (const std::uint64_t id : world_.particles().id) {  // read_data gives slot k tag k + 1
-    tag_ids_.push_back(id);
-    tag_of_id_.emplace(id, tag_ids_.size());
+  std::filesystem::path restartFile;
+  if (restore.empty()) {
+    for (const std::uint64_t id : world_.particles().id) {  // read_data gives slot k tag k + 1
+      tag_ids_.push_back(id);
+      tag_of_id_.emplace(id, tag_ids_.size());
+    }
+  } else {
+    restoreTagMap(restore);
+    restartFile = std::filesystem::path(restore).replace_extension(".liggghts");
+    if (!std::filesystem::exists(restartFile)) {
+      throw core::InputError("restore", restore.string(),
+                             "the LIGGGHTS restart file " + restartFile.string() + " that belongs to it is missing");
+    }
   }
   // Rank 0 writes the data file (read_data reads it there only); every rank writes its own
   // copy of the meshes, whichever rank LIGGGHTS reads them on.
@@ -105,13 +119,14 @@ LiggghtsBackend::LiggghtsBackend(core::World& world, const std::string& logFile)
     meshPaths.push_back(scratchFilePath("stl"));
     meshFiles.push_back(meshPaths.back().string());
   }
-  std::vector<std::string> commands = liggghtsCommands(world_, data.string(), meshFiles);  // may refuse
+  std::vector<std::string> commands =
+      liggghtsCommands(world_, data.string(), meshFiles, restartFile.string());  // may refuse
   const std::vector<std::string> sources = liggghtsSourceCommands(world_);                // may refuse
   commands.insert(commands.end(), sources.begin(), sources.end());
   sources_ = static_cast<std::size_t>(
       std::count_if(sources.begin(), sources.end(), [](const std::string& line) { return line.find(" insert/") != std::string::npos; }));
   int ok = 1;
-  if (rank == 0) ok = writeFile(data, liggghtsDataFile(world_)) ? 1 : 0;
+  if (rank == 0 && restore.empty()) ok = writeFile(data, liggghtsDataFile(world_)) ? 1 : 0;
   for (std::size_t k = 0; k < meshPaths.size(); ++k) {
     if (!writeFile(meshPaths[k], liggghtsStl(world_.meshes()[k]))) ok = 0;
   }
@@ -132,8 +147,68 @@ LiggghtsBackend::LiggghtsBackend(core::World& world, const std::string& logFile)
   if (const std::size_t read = particleCount(); read != world_.particles().size()) {
     lammps_close(lammps_);  // the destructor does not run for a constructor that throws
     lammps_ = nullptr;
-    throw std::runtime_error(fmt::format("LIGGGHTS read {} of the scene's {} particles (outside the bounds?)", read,
-                                         world_.particles().size()));
+    throw std::runtime_error(fmt::format("LIGGGHTS read {} of the scene's {} particles ({})", read,
+                                         world_.particles().size(),
+                                         restore.empty() ? "outside the bounds?" : "restart and checkpoint disagree"));
+  }
+  if (!restore.empty()) {
+    const auto ntimestep = *static_cast<std::int64_t*>(lammps_extract_global(lammps_, "ntimestep"));
+    if (static_cast<std::uint64_t>(ntimestep) != step_) {
+      throw core::InputError("restore", restore.string(),
+                             fmt::format("its LIGGGHTS restart is at step {}, the checkpoint at step {}", ntimestep,
+                                         step_));
+    }
+  }
+}
+
+namespace {
+constexpr char kTagMapMagic[9] = "DEMLLGID";
+}  // namespace
+
+void LiggghtsBackend::writeCheckpoint(const std::filesystem::path& base) {
+  const std::filesystem::path restart = std::filesystem::path(base).replace_extension(".liggghts");
+  command("write_restart " + restart.string());
+  if (ensureMpi() == 0) {
+    core::writeCheckpointFile(world_, std::filesystem::path(base).replace_extension(".bin"));
+    core::StateWriter out;
+    out.writeBytes(kTagMapMagic, 8);
+    out.section("LTAG", [&] {
+      out.write<std::uint64_t>(step_);
+      out.writeVector(tag_ids_);
+      for (const core::RemovalTally* tally : {&lost_, &inserted_}) {
+        out.write<std::uint64_t>(tally->count);
+        out.write<double>(tally->mass);
+      }
+    });
+    const std::filesystem::path ids = std::filesystem::path(base).replace_extension(".liggghts_ids");
+    if (!writeFile(ids, out.bytes())) throw std::runtime_error("cannot write " + ids.string());
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+}
+
+void LiggghtsBackend::restoreTagMap(const std::filesystem::path& restore) {
+  const std::filesystem::path path = std::filesystem::path(restore).replace_extension(".liggghts_ids");
+  const std::string bytes = core::readCheckpointBytes(path);
+  core::StateReader file(bytes, path.string(), "header");
+  char magic[8] = {};
+  file.readBytes(magic, 8);
+  if (std::string_view(magic, 8) != std::string_view(kTagMapMagic, 8)) file.fail("magic", "not a LIGGGHTS tag map");
+  core::StateReader in = file.section("LTAG", "tag map");
+  core::requireEqual(in, "step", in.read<std::uint64_t>(), step_);
+  tag_ids_ = in.readVector<std::uint64_t>();
+  for (core::RemovalTally* tally : {&lost_, &inserted_}) {
+    tally->count = in.read<std::uint64_t>();
+    tally->mass = in.read<double>();
+  }
+  in.requireEnd();
+  // The map of the particles the world still holds (those sinks removed or LIGGGHTS lost
+  // keep their tag in tag_ids_, so a tag is never given to a new particle twice).
+  std::unordered_map<std::uint64_t, std::size_t> tagOfId;
+  for (std::size_t tag = 1; tag <= tag_ids_.size(); ++tag) tagOfId.emplace(tag_ids_[tag - 1], tag);
+  for (const std::uint64_t id : world_.particles().id) {
+    const auto found = tagOfId.find(id);
+    if (found == tagOfId.end()) file.fail(std::to_string(id), "the checkpoint's particle id has no LIGGGHTS tag");
+    tag_of_id_.emplace(id, found->second);
   }
 }
 
@@ -191,6 +266,16 @@ std::size_t LiggghtsBackend::particleCount() const {
   const long long mine = local;
   MPI_Allreduce(&mine, &total, 1, MPI_LONG_LONG, MPI_SUM, MPI_COMM_WORLD);
   return static_cast<std::size_t>(total);
+}
+
+double LiggghtsBackend::particleMass() const {
+  const int local = *static_cast<int*>(lammps_extract_global(lammps_, "nlocal"));
+  const auto* rmass = static_cast<const double*>(lammps_extract_atom(lammps_, "rmass"));
+  double mine = 0.0;
+  for (int i = 0; i < local; ++i) mine += rmass[i];
+  double total = 0.0;
+  MPI_Allreduce(&mine, &total, 1, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+  return total;
 }
 
 void LiggghtsBackend::syncParticles() {
@@ -296,32 +381,34 @@ RunSummary runHeadlessLiggghts(const v1::Scene& declarations, TranslatedScene& s
   if (run.output_directory.empty()) {
     throw core::InputError(box + ".output.directory", "\"\"", "no output directory given");
   }
-  if (!run.restore_file.empty()) {
-    throw core::InputError("restore", run.restore_file, "checkpoints are not available on the LIGGGHTS backend");
-  }
   if (!world.initialized()) world.initialize();
   requireLiggghtsCompatible(declarations, world);
+  if (!run.restore_file.empty()) {
+    core::restoreCheckpointFile(world, run.restore_file);
+    spdlog::info("restored {} at t = {:.6g} s ({} particles)", run.restore_file, world.time(),
+                 world.particles().size());
+  }
   const RunPlan plan = planRun(run, world.settings().time_step, true);
   for (const std::string& warning : plan.warnings) spdlog::warn("{}", warning);
-  if (plan.checkpoint_every > 0) {
-    throw core::InputError(box + ".output.checkpoint_interval", core::formatValue(run.checkpoint_interval),
-                           "checkpoints are not available on the LIGGGHTS backend yet; set it to 0 or run it on "
-                           "the native backend");
-  }
-  if (rank == 0 && run.final_checkpoint) {
-    spdlog::warn("no checkpoint_final.bin: checkpoints are not available on the LIGGGHTS backend yet");
+  if (world.stepCount() >= plan.end_step) {
+    throw core::InputError(box + ".end_time", core::formatValue(run.end_time),
+                           "the restored checkpoint is already at t = " + core::formatValue(world.time()) +
+                               " s; nothing left to run");
   }
   const std::filesystem::path directory = run.output_directory;
   if (rank == 0) claimOutputDirectory(directory, run.overwrite, box + ".output.directory");
   MPI_Barrier(MPI_COMM_WORLD);
 
   const auto start = std::chrono::steady_clock::now();
-  LiggghtsBackend backend(world, (directory / "liggghts.log").string());
+  const std::uint64_t startStep = world.stepCount();
+  LiggghtsBackend backend(world, (directory / "liggghts.log").string(), run.restore_file);
   spdlog::info("LIGGGHTS backend: {} particles, {} materials, {} planes on {} MPI rank(s); {} steps of {:.4g} s",
                world.particles().size(), world.materials().size(), world.planes().size(), mpiRanks(), plan.end_step,
                world.settings().time_step);
   const std::uint64_t frameEvery = plan.frame_every > 0 ? plan.frame_every : plan.end_step;
-  const std::uint64_t stride = liggghtsStride(world, frameEvery);
+  const std::uint64_t checkpointEvery = plan.checkpoint_every;
+  const std::uint64_t stride =
+      liggghtsStride(world, checkpointEvery > 0 ? std::gcd(frameEvery, checkpointEvery) : frameEvery);
   prepareLiggghtsComponents(world, stride);
   // Rank 0 writes the outputs from the synced world with the native run's writers: the
   // particle series (output.vtk_interval), summary.csv and a CSV per sink and sensor.
@@ -332,10 +419,15 @@ RunSummary runHeadlessLiggghts(const v1::Scene& declarations, TranslatedScene& s
     frames->writePlanes(world);
     frames->writeFrame(world, 0.0);
   }
+  std::uint64_t checkpoints = 0;
   const auto wallSeconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
   while (backend.stepCount() < plan.end_step) {
     backend.advanceTo(std::min(plan.end_step, (backend.stepCount() / stride + 1) * stride));
     backend.syncParticles();
+    if (checkpointEvery > 0 && backend.stepCount() % checkpointEvery == 0) {
+      backend.writeCheckpoint(directory / fmt::format("checkpoint_{:06}.bin", backend.stepCount() / checkpointEvery));
+      ++checkpoints;
+    }
     if (backend.stepCount() % frameEvery != 0 && backend.stepCount() != plan.end_step) continue;
     const FrameStats stats = frames ? frames->writeFrame(world, wallSeconds()) : frameStats(world);
     spdlog::info("t = {:.4f} s | {} particles ({} inserted, {} lost at the box) | kinetic energy {:.4g} J | "
@@ -344,13 +436,18 @@ RunSummary runHeadlessLiggghts(const v1::Scene& declarations, TranslatedScene& s
                  stats.kinetic_energy, stats.mean_z, stats.max_z);
   }
   if (rank == 0 && run.final_particles_csv) writeParticleCsv(world, directory / "particles_final.csv");
+  if (run.final_checkpoint) {
+    backend.writeCheckpoint(directory / "checkpoint_final.bin");
+    ++checkpoints;
+  }
   for (std::size_t k = 0; k < backend.sourceCount(); ++k) {
     const auto [count, mass] = backend.sourceInserted(k);
     spdlog::info("LIGGGHTS source {}: {} particles, {:.6g} kg inserted", k, count, mass);
   }
 
   RunSummary summary;
-  summary.steps = plan.end_step;
+  summary.steps = backend.stepCount() - startStep;
+  summary.checkpoints = checkpoints;
   summary.final_particles = world.particles().size();
   summary.final_time = backend.time();
   summary.final_kinetic_energy = world.kineticEnergy();

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+#include <tuple>
 
 #include "demlink/core/input_error.hpp"
 
@@ -20,17 +21,42 @@ std::string refusalReason(Kind kind) {
   switch (kind) {
     case Kind::kClumpTemplate:
       return "LIGGGHTS-PUBLIC has no multisphere clumps (fix multisphere is in the premium version only)";
-    case Kind::kFacetBody:
-      return "facet bodies are not mapped by the LIGGGHTS backend yet (a mesh_body at rest is)";
     case Kind::kMassSpringBody:
     case Kind::kFemBody:
       return "LIGGGHTS has no deformable bodies";
-    case Kind::kPitGenerator:
-      return "pit generators are not mapped by the LIGGGHTS backend yet (a particle_source is)";
     case Kind::kTracker:
       return "trackers are not mapped by the LIGGGHTS backend yet (sinks and sensors are)";
     default:
       return {};
+  }
+}
+
+/// What of a component the LIGGGHTS backend cannot run although it maps its kind: a facet
+/// body that is not FIXED or has a collision window, a pit generator of clumps. Throws
+/// core::InputError naming the field.
+void refuseUnmappedFields(const v1::ComponentDeclaration& component, const std::string& field) {
+  const std::string reason = "; run it on the native backend";
+  if (component.has_facet_body()) {
+    const v1::FacetBody& facet = component.facet_body();
+    const v1::FacetBody::Role role = facet.role();
+    if (role != v1::FacetBody::FIXED && role != v1::FacetBody::ROLE_UNSPECIFIED) {
+      throw core::InputError(field + ".role", v1::FacetBody::Role_Name(role),
+                             "facet body " + component.name() + ": only FIXED facet bodies are mapped to LIGGGHTS (a "
+                             "mesh at rest); role " + v1::FacetBody::Role_Name(role) + " is not" + reason);
+    }
+    for (const auto& [given, name, value] :
+         {std::tuple{facet.has_active_from(), ".active_from", facet.active_from()},
+          std::tuple{facet.has_active_until(), ".active_until", facet.active_until()}}) {
+      if (given) {
+        throw core::InputError(field + name, core::formatValue(value),
+                               "facet body " + component.name() + ": LIGGGHTS's walls cannot be switched on or off "
+                               "in time" + reason);
+      }
+    }
+  }
+  if (component.has_pit_generator() && !component.pit_generator().clump_template().empty()) {
+    throw core::InputError(field + ".clump_template", component.pit_generator().clump_template(),
+                           "pit generator " + component.name() + ": LIGGGHTS-PUBLIC has no multisphere clumps" + reason);
   }
 }
 
@@ -76,6 +102,7 @@ void requireLiggghtsCompatible(const v1::Scene& scene, const core::World& world)
     const std::string field = fmt::format("components[{}].{}", i, kindName(component));
     const std::string reason = refusalReason(component.kind_case());
     refuseIf(!reason.empty(), field, component.name(), reason + "; run it on the native backend");
+    refuseUnmappedFields(component, field);
     if (component.has_simulation_box()) box = fmt::format("components[{}].simulation_box", i);
   }
   const core::SimulationSettings& settings = world.settings();
@@ -90,14 +117,10 @@ void requireLiggghtsCompatible(const v1::Scene& scene, const core::World& world)
            "LIGGGHTS's box does not grow; declare fixed bounds");
   for (std::uint32_t m = 0; m < world.materials().size(); ++m) {
     const core::Material& material = world.materials()[m];
-    refuseIf(material.rolling_friction > 0.0, "material " + material.name + ".rolling_friction",
-             core::formatValue(material.rolling_friction), "rolling friction is not mapped by the LIGGGHTS backend");
     refuseIf(material.cohesion_energy_density > 0.0, "material " + material.name + ".cohesion_energy_density",
              core::formatValue(material.cohesion_energy_density),
              "cohesion is not mapped by the LIGGGHTS backend (its cohesion models differ from ours)");
   }
-  refuseIf(world.pairTable().anyRollingFriction(), "material_pair.rolling_friction", "> 0",
-           "rolling friction is not mapped by the LIGGGHTS backend");
   refuseIf(world.pairTable().anyCohesion(), "material_pair.cohesion_energy_density", "> 0",
            "cohesion is not mapped by the LIGGGHTS backend (its cohesion models differ from ours)");
   for (const core::PlaneWall& plane : world.planes()) {
@@ -149,7 +172,7 @@ std::string liggghtsStl(const core::MeshBody& mesh) {
 }
 
 std::vector<std::string> liggghtsCommands(const core::World& world, const std::string& dataFile,
-                                          const std::vector<std::string>& meshFiles) {
+                                          const std::vector<std::string>& meshFiles, const std::string& restartFile) {
   if (meshFiles.size() != world.meshes().size()) {
     throw std::invalid_argument("liggghtsCommands: one STL file per mesh expected");
   }
@@ -165,6 +188,7 @@ std::vector<std::string> liggghtsCommands(const core::World& world, const std::s
   }
   std::vector<double> restitution;
   std::vector<double> friction;
+  std::vector<double> rolling;
   const core::ContactPairTable& table = world.pairTable();
   for (std::uint32_t a = 0; a < types; ++a) {
     for (std::uint32_t b = 0; b < types; ++b) {
@@ -173,12 +197,18 @@ std::vector<std::string> liggghtsCommands(const core::World& world, const std::s
         restitution.push_back(liggghtsRestitution(
             pair.normal_damping, "material pair " + materials[a].name + " / " + materials[b].name + ".restitution"));
         friction.push_back(pair.sliding_friction);
+        rolling.push_back(pair.rolling_friction);
       } else {  // no contact of this pair can occur; LIGGGHTS still wants a value
         restitution.push_back(0.5);
         friction.push_back(0.5 * (materials[a].sliding_friction + materials[b].sliding_friction));
+        rolling.push_back(0.0);
       }
     }
   }
+  // Our rolling resistance is a constant directional torque (docs/physics.md): LIGGGHTS's
+  // rolling_friction cdt, in the particle pairs and at every wall.
+  const std::string law = table.anyRollingFriction() ? "model hertz tangential history rolling_friction cdt"
+                                                     : "model hertz tangential history";
   std::vector<std::string> commands = {
       "units si",
       "atom_style granular",
@@ -194,14 +224,21 @@ std::vector<std::string> liggghtsCommands(const core::World& world, const std::s
                   joined(restitution)),
       fmt::format("fix demlink_friction all property/global coefficientFriction peratomtypepair {}{}", types,
                   joined(friction)),
-      "pair_style gran model hertz tangential history",
+      "pair_style gran " + law,
       "pair_coeff * *",
       fmt::format("timestep {:.17g}", world.settings().time_step),
   };
+  if (table.anyRollingFriction()) {
+    commands.insert(std::find(commands.begin(), commands.end(), "pair_style gran " + law),
+                    fmt::format("fix demlink_rolling all property/global coefficientRollingFriction peratomtypepair {}{}",
+                                types, joined(rolling)));
+  }
   // A scene that starts empty (filled by sources) gets its box from create_box: LIGGGHTS's
   // read_data of no atoms leaves the atoms without ids (no atom map then).
   const auto created = std::find(commands.begin(), commands.end(), "communicate single vel yes") + 1;
-  if (world.particles().size() > 0) {
+  if (!restartFile.empty()) {
+    commands.insert(created, "read_restart " + restartFile);
+  } else if (world.particles().size() > 0) {
     commands.insert(created, "read_data " + dataFile);
   } else {
     const core::DomainBounds bounds = world.settings().bounds.value_or(core::DomainBounds{});
@@ -222,9 +259,8 @@ std::vector<std::string> liggghtsCommands(const core::World& world, const std::s
     const core::PlaneSpec& plane = world.planes()[k].spec;
     const int axis = planeAxis(plane.normal);
     if (axis < 0) throw core::InputError("plane " + plane.name + ".normal", "tilted", "not axis-aligned");
-    commands.push_back(fmt::format("fix demlink_plane{} all wall/gran model hertz tangential history primitive type {} "
-                                   "{} {:.17g}",
-                                   k, plane.material + 1, planeNames[axis], plane.point[axis]));
+    commands.push_back(fmt::format("fix demlink_plane{} all wall/gran {} primitive type {} {} {:.17g}", k, law,
+                                   plane.material + 1, planeNames[axis], plane.point[axis]));
   }
   std::string meshIds;
   for (std::size_t k = 0; k < world.meshes().size(); ++k) {
@@ -236,9 +272,8 @@ std::vector<std::string> liggghtsCommands(const core::World& world, const std::s
     meshIds += fmt::format(" {}", liggghtsMeshFix(k));
   }
   if (!world.meshes().empty()) {
-    commands.push_back(fmt::format("fix demlink_meshes all wall/gran model hertz tangential history mesh n_meshes {} "
-                                   "meshes{}",
-                                   world.meshes().size(), meshIds));
+    commands.push_back(
+        fmt::format("fix demlink_meshes all wall/gran {} mesh n_meshes {} meshes{}", law, world.meshes().size(), meshIds));
   }
   commands.push_back("fix demlink_integrate all nve/sphere");
   commands.push_back("thermo_modify lost ignore norm no");

@@ -3,14 +3,18 @@
 /// Hertz's closed form, and the deposition scene's final mean height against our engine.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <numbers>
 #include <string>
 #include <vector>
 
+#include "demlink/core/state/checkpoint.hpp"
 #include "demlink/server/backend/liggghts_backend.hpp"
 #include "demlink/server/backend/liggghts_script.hpp"
+#include "liggghts_test_support.hpp"
 #include "scene_test_support.hpp"
 #include "test_support.hpp"
 
@@ -53,6 +57,38 @@ TEST(LiggghtsBackend, RestingSphereHasHertzOverlap) {
   EXPECT_NEAR(r - z, overlap, 0.01 * overlap) << "ranks " << mpiRanks();
   EXPECT_EQ(backend.stepCount(), 10000u);
   EXPECT_NEAR(backend.time(), 0.1, 1e-12);
+}
+
+TEST(LiggghtsBackend, RollingSphereDeceleratesAsOurs) {
+  // A sphere rolling without slipping at 0.1 m/s on a plane with rolling friction mu_r = 0.1:
+  // a constant directional torque mu_r R m g decelerates it at 5/7 mu_r g (0.7007 m/s^2) on
+  // both engines (ours: docs/physics.md; LIGGGHTS: rolling_friction cdt).
+  const v1::Scene scene = test::sceneOf({
+      R"({"name": "box", "simulation_box": {"time_step": 1e-5, "end_time": 0.05,
+          "bounds": {"lower": {"x": 0, "y": 0, "z": 0}, "upper": {"x": 0.04, "y": 0.02, "z": 0.02}}}})",
+      R"({"name": "beads", "material": {"density": 2500, "youngs_modulus": 5e6, "poisson_ratio": 0.3,
+          "restitution": 0.5, "sliding_friction": 0.5, "rolling_friction": 0.1}})",
+      plane("floor", R"({"z": 0})", R"({"z": 1})"),
+      R"({"name": "bead", "single_particle": {"material": "beads", "position": {"x": 0.01, "y": 0.01, "z": 0.001997},
+          "velocity": {"x": 0.1}, "angular_velocity": {"y": 50}, "diameter": 0.004}})",
+  });
+  TranslatedScene native = translateScene(scene, {});
+  NativeBackend ours(native.world);
+  ours.advanceTo(5000);
+  TranslatedScene translated = translateScene(scene, {});
+  requireLiggghtsCompatible(scene, translated.world);
+  LiggghtsBackend backend(translated.world);
+  backend.advanceTo(5000);
+  backend.syncParticles();
+  const double expected = 0.1 - 5.0 / 7.0 * 0.1 * 9.81 * 0.05;  // 0.06497 m/s
+  const double theirs = backend.world().particles().velocity[0].x();
+  const double reference = ours.world().particles().velocity[0].x();
+  const double lost = 0.1 - expected;
+  EXPECT_NEAR(reference, expected, 0.02 * lost);
+  EXPECT_NEAR(theirs, expected, 0.02 * lost) << "ranks " << mpiRanks();
+  std::printf("rolling sphere after 0.05 s on %d rank(s): v = %.6g m/s on LIGGGHTS, %.6g m/s on ours, %.6g m/s "
+              "closed form\n",
+              mpiRanks(), theirs, reference, expected);
 }
 
 TEST(LiggghtsBackend, SphereOnMeshHasOurWrench) {
@@ -106,6 +142,78 @@ endsolid plate
   EXPECT_NEAR(theirs.torque().x(), reference.torque().x(), 0.02 * 0.002 * weight);
   std::printf("mesh wrench on %d rank(s): LIGGGHTS Fz %.6g N, My %.6g N m; ours Fz %.6g N, My %.6g N m\n",
               mpiRanks(), theirs.force().z(), theirs.torque().y(), reference.force().z(), reference.torque().y());
+}
+
+TEST(LiggghtsBackend, SphereOnFixedFacetFloorRestsAsOnOurs) {
+  // The pit floor of the excavator site in small: a FIXED facet body of two triangles.
+  const v1::Scene scene = test::sceneOf({
+      R"({"name": "box", "simulation_box": {"time_step": 1e-5, "end_time": 0.1,
+          "bounds": {"lower": {"x": 0, "y": 0, "z": -0.005}, "upper": {"x": 0.02, "y": 0.02, "z": 0.02}}}})",
+      kBeads,
+      R"({"name": "floor", "facet_body": {"role": "FIXED", "material": "beads", "triangles": {"triangles": [
+          {"a": {"x": 0, "y": 0, "z": 0}, "b": {"x": 0.02, "y": 0, "z": 0}, "c": {"x": 0.02, "y": 0.02, "z": 0}},
+          {"a": {"x": 0, "y": 0, "z": 0}, "b": {"x": 0.02, "y": 0.02, "z": 0}, "c": {"x": 0, "y": 0.02, "z": 0}}]}}})",
+      R"({"name": "bead", "single_particle": {"material": "beads",
+          "position": {"x": 0.012, "y": 0.009, "z": 0.002}, "diameter": 0.004}})",
+  });
+  TranslatedScene native = translateScene(scene, {});
+  NativeBackend ours(native.world);
+  ours.advanceTo(10000);
+  TranslatedScene translated = translateScene(scene, {});
+  requireLiggghtsCompatible(scene, translated.world);
+  LiggghtsBackend backend(translated.world);
+  backend.advanceTo(10000);
+  backend.syncParticles();
+  const double r = 0.002;
+  const double m = 2500.0 * 4.0 / 3.0 * std::numbers::pi * r * r * r;
+  const double effective = 5e6 / (2.0 * (1.0 - 0.3 * 0.3));
+  const double overlap = std::pow(m * 9.81 / (4.0 / 3.0 * effective * std::sqrt(r)), 2.0 / 3.0);
+  const double theirs = r - backend.world().particles().position[0].z();
+  const double reference = r - ours.world().particles().position[0].z();
+  EXPECT_NEAR(reference, overlap, 0.01 * overlap);
+  EXPECT_NEAR(theirs, overlap, 0.01 * overlap) << "ranks " << mpiRanks();
+  EXPECT_NEAR(theirs, reference, 0.01 * overlap);
+  EXPECT_NEAR(backend.world().meshes()[0].force().z(), -m * 9.81, 0.01 * m * 9.81);
+  std::printf("sphere on a FIXED facet floor, %d rank(s): overlap LIGGGHTS %.6g m, ours %.6g m, Hertz %.6g m\n",
+              mpiRanks(), theirs, reference, overlap);
+}
+
+TEST(LiggghtsBackend, PitGeneratorBedReachesLiggghtsAndStaysAtRest) {
+  // A pit of 2-2.5 mm beads settled by our engine before the run, in an open FIXED facet box.
+  const v1::Scene scene = test::sceneOf({
+      R"({"name": "box", "simulation_box": {"time_step": 1e-5, "end_time": 0.05,
+          "bounds": {"lower": {"x": -0.001, "y": -0.001, "z": -0.001}, "upper": {"x": 0.041, "y": 0.041, "z": 0.05}}}})",
+      kBeads,
+      R"({"name": "tub", "facet_body": {"role": "FIXED", "material": "beads", "box": {
+          "centre": {"x": 0.02, "y": 0.02, "z": 0.02}, "size": {"x": 0.04, "y": 0.04, "z": 0.04}, "open_top": true}}})",
+      R"({"name": "pit", "pit_generator": {"material": "beads", "sizes": {"uniform": {"r_min": 0.002, "r_max": 0.0025}},
+          "lower": {"x": 0, "y": 0, "z": 0}, "upper": {"x": 0.04, "y": 0.04, "z": 0.04}, "target_height": 0.02,
+          "seed": "7"}})",
+  });
+  TranslatedScene translated = translateScene(scene, {});
+  requireLiggghtsCompatible(scene, translated.world);
+  const core::ParticleArrays& p = translated.world.particles();
+  ASSERT_GT(p.size(), 100u);
+  double mass = 0.0;
+  for (const double m : p.mass) mass += m;
+  const double initial = meanZ(translated.world);
+  LiggghtsBackend backend(translated.world);
+  EXPECT_EQ(backend.particleCount(), p.size()) << "ranks " << mpiRanks();
+  EXPECT_NEAR(backend.particleMass(), mass, 1e-12 * mass);
+  // The bed was settled by our contact law and copied at rest; it relaxes by the same small
+  // amount under both engines' Hertz-Mindlin (0.05 s).
+  backend.advanceTo(5000);
+  backend.syncParticles();
+  TranslatedScene native = translateScene(scene, {});
+  NativeBackend ours(native.world);
+  ours.advanceTo(5000);
+  EXPECT_EQ(backend.particleCount(), p.size());
+  const double theirs = meanZ(backend.world());
+  const double reference = meanZ(ours.world());
+  EXPECT_NEAR(theirs, reference, 5e-6) << "ranks " << mpiRanks();  // a fifth of the relaxation
+  std::printf("pit on %d rank(s): %zu beads, %.6g kg; mean z %.6g m at the start, after 0.05 s %.6g m on LIGGGHTS, "
+              "%.6g m on ours\n",
+              mpiRanks(), p.size(), mass, initial, theirs, reference);
 }
 
 // The 20 mm square plate of SphereOnMeshHasOurWrench, moving at a constant twist, under
@@ -258,6 +366,50 @@ TEST(LiggghtsBackend, DepositionMeanHeightMatchesNativeEngine) {
                                                    << " m, ours " << reference << " m";
   std::printf("deposition mean z on %d rank(s): LIGGGHTS %.6g m, ours %.6g m (%.2f %%)\n", mpiRanks(), theirs,
               reference, 100.0 * (theirs - reference) / reference);
+}
+
+TEST(LiggghtsCheckpoint, SettlingBedContinuesAfterARestart) {
+  // The deposition scene checkpointed at 0.15 s, half way, and restarted in a new LIGGGHTS
+  // instance: at 0.3 s it matches the unbroken run (the contact histories of the resting
+  // contacts come back from the restart file; its first force evaluation after the restart
+  // uses full-step velocities, so it is not bit-exact).
+  const v1::Scene scene = depositionScene();
+  const test::RankSharedDir dir;  // the checkpoint is written by rank 0
+  const std::filesystem::path checkpoint = dir.path() / "ck.bin";
+  TranslatedScene unbrokenScene = translateScene(scene, {});
+  LiggghtsBackend unbroken(unbrokenScene.world);
+  unbroken.advanceTo(15000);
+  unbroken.advanceTo(30000);
+  unbroken.syncParticles();
+  {
+    TranslatedScene firstScene = translateScene(scene, {});
+    LiggghtsBackend first(firstScene.world);
+    first.advanceTo(15000);
+    first.syncParticles();
+    first.writeCheckpoint(checkpoint);
+  }
+  TranslatedScene restartedScene = translateScene(scene, {});
+  restartedScene.world.initialize();
+  core::restoreCheckpointFile(restartedScene.world, checkpoint);
+  LiggghtsBackend restarted(restartedScene.world, "", checkpoint);
+  EXPECT_EQ(restarted.stepCount(), 15000u);
+  restarted.advanceTo(30000);
+  restarted.syncParticles();
+  const core::ParticleArrays& a = unbroken.world().particles();
+  const core::ParticleArrays& b = restarted.world().particles();
+  ASSERT_EQ(a.size(), b.size());
+  double worst = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    ASSERT_EQ(a.id[i], b.id[i]);
+    worst = std::max(worst, (a.position[i] - b.position[i]).norm());
+  }
+  const double za = meanZ(unbroken.world());
+  const double zb = meanZ(restarted.world());
+  EXPECT_LT(worst, 0.001) << "half the smallest radius";
+  EXPECT_NEAR(zb, za, 0.005 * za);
+  std::printf("bed restarted at 0.15 s on %d rank(s): at 0.3 s largest position difference %.3g m, mean z %.9g m "
+              "(unbroken %.9g m, %.3g %%)\n",
+              mpiRanks(), worst, zb, za, 100.0 * (zb - za) / za);
 }
 
 }  // namespace

@@ -142,14 +142,48 @@ TEST(LiggghtsMeshMotion, SlideThenTurnAboutTheCarriedReferencePoint) {
 }
 
 TEST(LiggghtsRefusals, UnmappedKindsNamed) {
-  for (const std::string kind : {"pit_generator", "tracker", "facet_body"}) {
-    const std::string what = kindRefusal(R"({"name": "thing", ")" + kind + R"(": {}})");
-    EXPECT_TRUE(has(what, "components[4]." + kind) && has(what, "thing") && has(what, "native backend")) << what;
-  }
-  // Sources, sinks and sensors are mapped (liggghts_flows): their kind passes.
-  for (const std::string kind : {"particle_source", "particle_sink", "region_sensor", "flow_sensor"}) {
+  const std::string what = kindRefusal(R"({"name": "thing", "tracker": {}})");
+  EXPECT_TRUE(has(what, "components[4].tracker") && has(what, "thing") && has(what, "native backend")) << what;
+  // Sources, sinks and sensors are mapped (liggghts_flows), FIXED facet bodies go as meshes at
+  // rest and a pit generator's bed as initial particles: their kind passes.
+  for (const std::string kind : {"particle_source", "particle_sink", "region_sensor", "flow_sensor", "facet_body",
+                                 "pit_generator"}) {
     EXPECT_EQ(kindRefusal(R"({"name": "thing", ")" + kind + R"(": {}})"), "(accepted)") << kind;
   }
+}
+
+TEST(LiggghtsRefusals, FacetRolesOtherThanFixedNamed) {
+  for (const std::string role : {"MOVING", "NON_COLLIDING"}) {
+    const std::string what = kindRefusal(R"({"name": "lid", "facet_body": {"role": ")" + role + R"("}})");
+    EXPECT_TRUE(has(what, "components[4].facet_body.role = " + role) && has(what, "lid") &&
+                has(what, "only FIXED") && has(what, "native backend"))
+        << what;
+  }
+  const std::string window = kindRefusal(R"({"name": "gate", "facet_body": {"role": "FIXED", "active_until": 0.5}})");
+  EXPECT_TRUE(has(window, "components[4].facet_body.active_until = 0.5") && has(window, "switched on or off")) << window;
+  const std::string clumps = kindRefusal(R"({"name": "pit", "pit_generator": {"clump_template": "rock"}})");
+  EXPECT_TRUE(has(clumps, "components[4].pit_generator.clump_template = rock") && has(clumps, "multisphere"))
+      << clumps;
+}
+
+TEST(LiggghtsScript, FixedFacetBodyIsAMeshAtRest) {
+  std::vector<std::string> components = base();
+  components.push_back(R"({"name": "shelf", "facet_body": {"role": "FIXED", "material": "beads",
+      "triangles": {"triangles": [{"a": {"x": 0.01, "y": 0.01, "z": 0.02}, "b": {"x": 0.09, "y": 0.01, "z": 0.02},
+                                   "c": {"x": 0.09, "y": 0.09, "z": 0.02}}]}}})");
+  EXPECT_EQ(refusal(components), "(accepted)");
+  TranslatedScene translated = translateScene(test::sceneOf(components), {});
+  translated.world.initialize();
+  ASSERT_EQ(translated.world.meshes().size(), 1u);
+  const std::vector<std::string> commands = liggghtsCommands(translated.world, "scene.data", {"shelf.stl"});
+  const auto has_line = [&](const std::string& part) {
+    return std::any_of(commands.begin(), commands.end(), [&](const std::string& c) { return has(c, part); });
+  };
+  EXPECT_TRUE(has_line("fix demlink_mesh0 all mesh/surface/stress file shelf.stl type "));
+  EXPECT_TRUE(has_line("wall/gran model hertz tangential history mesh n_meshes 1 meshes demlink_mesh0"));
+  EXPECT_FALSE(has_line("move/mesh"));
+  const std::string stl = liggghtsStl(translated.world.meshes()[0]);
+  EXPECT_TRUE(has(stl, "vertex 0.089999999999999997 0.089999999999999997 0.02")) << stl;
 }
 
 TEST(LiggghtsRefusals, MovingRoomNamed) {
@@ -169,12 +203,34 @@ TEST(LiggghtsRefusals, CohesionNamed) {
   EXPECT_TRUE(has(what, "cohesion_energy_density") && has(what, "cohesion is not mapped")) << what;
 }
 
-TEST(LiggghtsRefusals, RollingFrictionNamed) {
+TEST(LiggghtsScript, RollingFrictionIsConstantDirectionalTorque) {
   std::vector<std::string> components = base();
   components[1] = R"({"name": "beads", "material": {"density": 2500, "youngs_modulus": 5e6, "poisson_ratio": 0.3,
       "restitution": 0.5, "sliding_friction": 0.5, "rolling_friction": 0.1}})";
-  const std::string what = refusal(components);
-  EXPECT_TRUE(has(what, "material beads.rolling_friction") && has(what, "rolling friction")) << what;
+  EXPECT_EQ(refusal(components), "(accepted)");
+  TranslatedScene translated = translateScene(test::sceneOf(components), {});
+  translated.world.initialize();
+  const std::vector<std::string> commands = liggghtsCommands(translated.world, "scene.data");
+  const auto line = [&](const std::string& start) {
+    const auto found = std::find_if(commands.begin(), commands.end(),
+                                    [&](const std::string& c) { return c.starts_with(start); });
+    return found == commands.end() ? std::string("(missing)") : *found;
+  };
+  EXPECT_EQ(line("pair_style"), "pair_style gran model hertz tangential history rolling_friction cdt");
+  EXPECT_TRUE(has(line("fix demlink_plane0"), "wall/gran model hertz tangential history rolling_friction cdt primitive"))
+      << line("fix demlink_plane0");
+  // beads and the floor's rigid twin: mu_r 0.1 for every pair.
+  const std::size_t types = translated.world.materials().size();
+  std::string values;
+  for (std::size_t k = 0; k < types * types; ++k) values += " 0.10000000000000001";
+  EXPECT_EQ(line("fix demlink_rolling"), "fix demlink_rolling all property/global coefficientRollingFriction "
+                                         "peratomtypepair " + std::to_string(types) + values);
+  // Without rolling friction the law and the fixes stay as they were.
+  TranslatedScene plain = translateScene(test::sceneOf(base()), {});
+  plain.world.initialize();
+  for (const std::string& command : liggghtsCommands(plain.world, "scene.data")) {
+    EXPECT_FALSE(has(command, "rolling")) << command;
+  }
 }
 
 TEST(LiggghtsRefusals, TiltedPlaneNamed) {

@@ -8,6 +8,7 @@
 /// engine never needs MPI; MPI is initialised here on first use (a process started
 /// without mpirun runs as a singleton of one rank) and finalised at exit.
 #include <cstdint>
+#include <filesystem>
 #include <memory>
 #include <unordered_map>
 #include <utility>
@@ -31,7 +32,11 @@ class LiggghtsBackend final : public SimulationBackend {
   /// core::InputError for what liggghtsCommands refuses, std::runtime_error if
   /// LIGGGHTS fails.
   /// LIGGGHTS writes its log to `logFile` (empty: no log).
-  LiggghtsBackend(core::World& world, const std::string& logFile = {});
+  /// `restore`: a checkpoint writeCheckpoint() wrote (its `.bin`), already restored into
+  /// `world` (core::restoreCheckpointFile); LIGGGHTS then reads the atoms from its
+  /// `.liggghts` restart file and the backend its tag-to-id map and tallies from its
+  /// `.liggghts_ids` file (core::InputError naming a missing or inconsistent file).
+  LiggghtsBackend(core::World& world, const std::string& logFile = {}, const std::filesystem::path& restore = {});
   ~LiggghtsBackend() override;
   LiggghtsBackend(const LiggghtsBackend&) = delete;
   LiggghtsBackend& operator=(const LiggghtsBackend&) = delete;
@@ -66,8 +71,16 @@ class LiggghtsBackend final : public SimulationBackend {
   [[nodiscard]] std::pair<core::Vec3, core::Vec3> meshWrench(std::size_t mesh) const;
   /// Particles LIGGGHTS holds now [-].
   [[nodiscard]] std::size_t particleCount() const;
+  /// Their mass [kg] (a collective).
+  [[nodiscard]] double particleMass() const;
   /// Runs one LIGGGHTS command on every rank (all must call it).
   void command(const std::string& line);
+  /// Writes a checkpoint after a syncParticles() (a collective): `<base>.bin`, our
+  /// checkpoint of the compiled world (its particles as LIGGGHTS holds them, the sinks'
+  /// and sensors' state, the clock, the meshes; core/state/checkpoint.hpp), by rank 0;
+  /// `<base>.liggghts`, LIGGGHTS's write_restart (atoms, contact histories, fix states);
+  /// `<base>.liggghts_ids`, the tag-to-id map and the inserted / lost tallies, by rank 0.
+  void writeCheckpoint(const std::filesystem::path& base);
 
  private:
   core::World& world_;
@@ -83,6 +96,8 @@ class LiggghtsBackend final : public SimulationBackend {
   std::vector<MeshMotion> motions_;
   /// Re-creates the move fixes of every mesh whose twist changed; true if any did.
   bool updateMeshMotion();
+  /// Reads the `.liggghts_ids` file of checkpoint `restore` into the members below.
+  void restoreTagMap(const std::filesystem::path& restore);
   std::vector<std::uint64_t> tag_ids_;                         ///< atom tag - 1 -> our stable id
   std::unordered_map<std::uint64_t, std::size_t> tag_of_id_;  ///< our stable id -> atom tag
   core::RemovalTally lost_;
@@ -90,9 +105,12 @@ class LiggghtsBackend final : public SimulationBackend {
   std::size_t sources_ = 0;  ///< insertion fixes
 };
 
-/// runHeadless on LIGGGHTS: refuses what it cannot run (requireLiggghtsCompatible), steps
-/// to the end time in strides of output.vtk_interval (a progress line each), then rank 0
-/// writes particles_final.csv into the output directory. Every rank must call it.
+/// runHeadless on LIGGGHTS: refuses what it cannot run (requireLiggghtsCompatible), restores
+/// run.restore_file (a LiggghtsBackend checkpoint's `.bin`) if given, steps to the end time
+/// in strides that land on every output.vtk_interval (a progress line each) and
+/// output.checkpoint_interval (checkpoint_NNNNNN.*, LiggghtsBackend::writeCheckpoint), then
+/// rank 0 writes particles_final.csv and checkpoint_final.* into the output directory.
+/// Every rank must call it.
 RunSummary runHeadlessLiggghts(const v1::Scene& declarations, TranslatedScene& scene);
 
 }  // namespace demlink::server

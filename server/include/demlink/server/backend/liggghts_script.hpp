@@ -11,15 +11,20 @@
 ///                         (mixing and material_pair overrides included); the restitution
 ///                         is the one LIGGGHTS must be given for its damping to equal ours
 ///                         (liggghtsRestitution)
+///   rolling friction      pair (a, b)'s mu_r: coefficientRollingFriction per type pair,
+///                         rolling_friction cdt in pair_style gran and every wall/gran
 ///   time step, gravity    timestep, fix gravity
 ///   skin                  neighbor <skin> bin, neigh_modify delay 0
 ///   bounds                the box of read_data, boundary f f f (particles leaving it are lost)
 ///   plane                 fix wall/gran ... primitive type <material> x|y|zplane (axis-aligned)
-///   mesh_body, rigid_body its world-frame triangles as an STL file, fix mesh/surface/stress
+///   mesh_body, rigid_body, its world-frame triangles as an STL file, fix mesh/surface/stress
+///   FIXED facet_body
 ///                         (type <material>, reference_point = the body's position), all
 ///                         meshes in one fix wall/gran ... mesh; a moving mesh gets fix
 ///                         move/mesh from the backend (liggghts_motion.hpp)
 ///   particles             read_data: id = slot + 1, type, diameter, density, x; velocities
+///                         (a pit_generator's bed is settled by our engine before the run and
+///                         arrives here as initial particles)
 #include <string>
 #include <vector>
 
@@ -37,9 +42,10 @@ namespace demlink::server {
 [[nodiscard]] double liggghtsRestitution(double normalDamping, const std::string& field);
 
 /// Refuses, naming the component and the reason, what the LIGGGHTS backend cannot run:
-/// component kinds it does not map (clumps, facets, deformable bodies, pit generators,
-/// trackers), a moving room, and in the compiled world the linear law, explicit Euler,
-/// rolling friction, cohesion, missing or growing bounds and
+/// component kinds it does not map (clumps, deformable bodies, trackers), facet bodies
+/// that are not FIXED or have a collision window, pit generators of clumps, a moving
+/// room, and in the compiled world the linear law, explicit Euler,
+/// cohesion, missing or growing bounds and
 /// planes that are not axis-aligned. Throws core::InputError.
 void requireLiggghtsCompatible(const v1::Scene& scene, const core::World& world);
 
@@ -54,8 +60,11 @@ void requireLiggghtsCompatible(const v1::Scene& scene, const core::World& world)
 [[nodiscard]] std::string liggghtsMeshFix(std::size_t mesh);
 
 /// The commands that set up the run, in order: read_data reads `dataFile`, mesh k's
-/// fix reads meshFiles[k] (one per world mesh).
+/// fix reads meshFiles[k] (one per world mesh). With `restartFile`, read_restart reads the
+/// atoms (and the per-atom state of the fixes and pair style: contact histories) from it
+/// instead, and every setting and fix is given again after it.
 [[nodiscard]] std::vector<std::string> liggghtsCommands(const core::World& world, const std::string& dataFile,
-                                                        const std::vector<std::string>& meshFiles = {});
+                                                        const std::vector<std::string>& meshFiles = {},
+                                                        const std::string& restartFile = {});
 
 }  // namespace demlink::server
