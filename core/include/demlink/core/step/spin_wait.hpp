@@ -2,7 +2,7 @@
 /// The one spin-then-block rule of every wait that is on the critical path: the thread
 /// pool's workers between loops and its caller at a join (thread_pool.cpp), the server's
 /// network loop between packages (TcpServer::run) and the C++ client's receive (and the
-/// C ABI built on it); these two also follow their recent waits (spin_history.hpp).
+/// C ABI built on it).
 ///
 /// Why: a thread blocked in the kernel (futex, epoll_wait, recv) takes tens of
 /// microseconds to run again after its event, more under a hypervisor, where the wake-up
@@ -26,9 +26,7 @@
 ///   process's exchange spinners, itself included, plus the DEM pools' workers, stay
 ///   below the free CPUs: one CPU is always left to the party being waited for, and a
 ///   spinner never takes a core a DEM worker needs (2 free CPUs and one DEM thread: one
-///   exchange spinner at a time; two DEM threads: none). No CPU is kept for a partner
-///   that is itself one of the process's exchange parties (a server loop and its client
-///   in one process), so there both may spin;
+///   exchange spinner at a time; two DEM threads: none);
 /// - and only while the process's exchange parties (live client connections, running
 ///   server network loops), plus the DEM pools' workers, fit in the free CPUs: with
 ///   more threads taking turns in the exchanges than free cores (a server and 4

@@ -57,10 +57,8 @@ struct TcpServerOptions {
   /// setting, so tests leave it off.
   bool stop_on_signals = false;
   /// How long the network loop polls for the next event before it blocks in epoll_wait
-  /// (core/step/spin_wait.hpp: spun only while a free CPU allows it, and
-  /// core/step/spin_history.hpp: only while its recent waits say the next package comes
-  /// within this time from a client that is awake); zero: block at once. A blocked loop
-  /// takes tens of microseconds to wake, which dominates a short exchange.
+  /// (core/step/spin_wait.hpp: spun only while a free CPU allows it); zero: block at once.
+  /// A blocked loop takes tens of microseconds to wake, which dominates a short exchange.
   std::chrono::nanoseconds spin_wait = core::defaultSpinBudget();
 };
 
