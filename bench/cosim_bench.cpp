@@ -14,7 +14,8 @@
 /// steady_clock; the distribution over all clients after a warm-up is printed. With N > 1
 /// clients a round trip includes waiting for the slowest of them, since the server only
 /// advances when every due package is in. Without --clients it runs N = 1, 4 and 16, and
-/// first a raw loopback ping-pong (same socket options, no protobuf, no host): the floor.
+/// first a raw loopback ping-pong (same socket options, no protobuf, no host): the floor,
+/// with both threads blocking in their reads and with both polling.
 /// The spin-then-block variants (--spin, default off,on) alternate K times (--runs) for
 /// each client count; each prints its distribution, the process's CPU time (server and
 /// clients) per exchange and the spin statistics, after the load average and the gate's
@@ -279,54 +280,24 @@ fs::path scratchDirectory(const std::string& what) {
 // --- raw loopback floor ----------------------------------------------------------------
 
 /// Ping-pong of a 50-byte message between two threads over loopback TCP with TCP_NODELAY:
-/// the kernel's share of a round trip on this machine.
-Distribution loopbackFloor(std::size_t exchanges, std::size_t warmup) {
+/// the kernel's share of a round trip on this machine. `polling`: both threads poll their
+/// socket (non-blocking recv) instead of blocking in the read, the floor of a round trip
+/// whose two parties are awake (no wake-ups).
+Distribution loopbackFloor(std::size_t exchanges, std::size_t warmup, bool polling) {
   constexpr std::size_t kBytes = 50;
   asio::io_context io;
   asio::ip::tcp::acceptor acceptor(io, asio::ip::tcp::endpoint(asio::ip::make_address("127.0.0.1"), 0));
   const std::uint16_t port = acceptor.local_endpoint().port();
   const std::size_t total = exchanges + warmup;
-  std::thread echo([&] {
-    asio::ip::tcp::socket socket(io);
-    acceptor.accept(socket);
-    socket.set_option(asio::ip::tcp::no_delay(true));
-    std::array<char, kBytes> buffer{};
-    for (std::size_t k = 0; k < total; ++k) {
-      asio::read(socket, asio::buffer(buffer));
-      asio::write(socket, asio::buffer(buffer));
+  // Reads exactly kBytes; false when the peer is gone.
+  auto readAll = [polling](asio::ip::tcp::socket& socket, std::array<char, kBytes>& data) {
+    if (!polling) {
+      asio::read(socket, asio::buffer(data));
+      return true;
     }
-  });
-  asio::io_context clientIo;
-  asio::ip::tcp::socket socket(clientIo);
-  socket.connect(asio::ip::tcp::endpoint(asio::ip::make_address("127.0.0.1"), port));
-  socket.set_option(asio::ip::tcp::no_delay(true));
-  std::array<char, kBytes> buffer{};
-  std::vector<std::int64_t> ns;
-  ns.reserve(exchanges);
-  for (std::size_t k = 0; k < total; ++k) {
-    const Clock::time_point t0 = Clock::now();
-    asio::write(socket, asio::buffer(buffer));
-    asio::read(socket, asio::buffer(buffer));
-    const Clock::time_point t1 = Clock::now();
-    if (k >= warmup) ns.push_back(std::chrono::duration_cast<std::chrono::nanoseconds>(t1 - t0).count());
-  }
-  echo.join();
-  return distributionOf(ns);
-}
-
-/// The same ping-pong with both threads polling their socket (non-blocking recv) instead
-/// of blocking: the floor of a round trip whose two parties are awake (no wake-ups).
-Distribution loopbackSpinningFloor(std::size_t exchanges, std::size_t warmup) {
-  constexpr std::size_t kBytes = 50;
-  asio::io_context io;
-  asio::ip::tcp::acceptor acceptor(io, asio::ip::tcp::endpoint(asio::ip::make_address("127.0.0.1"), 0));
-  const std::uint16_t port = acceptor.local_endpoint().port();
-  const std::size_t total = exchanges + warmup;
-  // Reads exactly kBytes, polling; false when the peer is gone.
-  auto readSpinning = [](int fd, char* data) {
     std::size_t got = 0;
     while (got < kBytes) {
-      const ssize_t n = ::recv(fd, data + got, kBytes - got, MSG_DONTWAIT);
+      const ssize_t n = ::recv(socket.native_handle(), data.data() + got, kBytes - got, MSG_DONTWAIT);
       if (n > 0) {
         got += static_cast<std::size_t>(n);
       } else if (n == 0 || (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR)) {
@@ -343,7 +314,7 @@ Distribution loopbackSpinningFloor(std::size_t exchanges, std::size_t warmup) {
     socket.set_option(asio::ip::tcp::no_delay(true));
     std::array<char, kBytes> buffer{};
     for (std::size_t k = 0; k < total; ++k) {
-      if (!readSpinning(socket.native_handle(), buffer.data())) return;
+      if (!readAll(socket, buffer)) return;
       asio::write(socket, asio::buffer(buffer));
     }
   });
@@ -357,7 +328,7 @@ Distribution loopbackSpinningFloor(std::size_t exchanges, std::size_t warmup) {
   for (std::size_t k = 0; k < total; ++k) {
     const Clock::time_point t0 = Clock::now();
     asio::write(socket, asio::buffer(buffer));
-    if (!readSpinning(socket.native_handle(), buffer.data())) break;
+    if (!readAll(socket, buffer)) break;
     const Clock::time_point t1 = Clock::now();
     if (k >= warmup) ns.push_back(std::chrono::duration_cast<std::chrono::nanoseconds>(t1 - t0).count());
   }
@@ -493,8 +464,8 @@ void roundtrip(const RoundtripOptions& o, bool withFloor) {
               o.sensor ? "one region_sensor" : "one rigid_body (12-triangle box)");
   if (withFloor) {
     const std::size_t n = o.exchanges > 0 ? o.exchanges : 20000;
-    printDistribution("raw loopback ping-pong (50 B)", loopbackFloor(n, o.warmup));
-    printDistribution("  the same, both polling", loopbackSpinningFloor(n, o.warmup));
+    printDistribution("raw loopback ping-pong (50 B)", loopbackFloor(n, o.warmup, false));
+    printDistribution("  the same, both polling", loopbackFloor(n, o.warmup, true));
   }
   std::vector<std::size_t> counts = {1, 4, 16};
   if (o.clients > 0) counts = {o.clients};
