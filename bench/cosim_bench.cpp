@@ -14,7 +14,8 @@
 /// steady_clock; the distribution over all clients after a warm-up is printed. With N > 1
 /// clients a round trip includes waiting for the slowest of them, since the server only
 /// advances when every due package is in. Without --clients it runs N = 1, 4 and 16, and
-/// first a raw loopback ping-pong (same socket options, no protobuf, no host): the floor.
+/// first a raw loopback ping-pong (same socket options, no protobuf, no host): the floor,
+/// with both threads blocking in their reads and with both polling.
 /// The spin-then-block variants (--spin, default off,on) alternate K times (--runs) for
 /// each client count; each prints its distribution, the process's CPU time (server and
 /// clients) per exchange and the spin statistics, after the load average and the gate's
@@ -31,6 +32,7 @@
 /// Why plain main and not Google Benchmark: the quantity is a distribution of single events
 /// (round trips) or a pair of long runs, not a throughput loop.
 #include <sys/resource.h>
+#include <sys/socket.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -38,6 +40,7 @@
 #include <array>
 #include <atomic>
 #include <chrono>
+#include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -59,6 +62,7 @@
 #include "demlink/client/rigid_body.hpp"
 #include "demlink/client/sensor_components.hpp"
 #include "demlink/client/session.hpp"
+#include "demlink/core/step/spin_history.hpp"
 #include "demlink/core/step/spin_wait.hpp"
 #include "demlink/core/walls/coupled_motion.hpp"
 #include "demlink/core/world.hpp"
@@ -150,14 +154,16 @@ class TimedHandler final : public server::SessionHandler {
   }
   std::vector<server::Outgoing> received(server::ConnectionId from, const v1::ClientMessage& message,
                                          server::SteadyClock::time_point now) override {
-    if (!message.has_data()) return inner_.received(from, message, now);
+    // Only the overhead part counts: the thread CPU clock is a system call (~1.5 us on a
+    // paravirtualised VM), twice per package on the round trip's critical path.
+    if (!record_ || !message.has_data()) return inner_.received(from, message, now);
     const double cpu = threadCpuSeconds();
     if (packages_ == 0) first_cpu_ = cpu;
     const Clock::time_point begin = Clock::now();
     std::vector<server::Outgoing> out = inner_.received(from, message, now);
     const Clock::duration inHost = Clock::now() - begin;
     host_seconds_ += secondsOf(inHost);
-    if (record_) host_ns_.push_back(std::chrono::duration_cast<std::chrono::nanoseconds>(inHost).count());
+    host_ns_.push_back(std::chrono::duration_cast<std::chrono::nanoseconds>(inHost).count());
     ++packages_;
     last_cpu_ = threadCpuSeconds();
     host_cpu_ += last_cpu_ - cpu;
@@ -175,8 +181,9 @@ class TimedHandler final : public server::SessionHandler {
     return inner_.shutdown(reason, now);
   }
 
-  /// Keep the wall time in the host of every package (reserve `count`); only for one client
-  /// with one component, where packages and exchanges correspond one to one.
+  /// Count and time the packages, keeping the wall time in the host of every package
+  /// (reserve `count`); only for one client with one component, where packages and
+  /// exchanges correspond one to one. Off (the round trip): nothing is timed.
   void recordEach(std::size_t count) {
     record_ = true;
     host_ns_.reserve(count);
@@ -273,20 +280,41 @@ fs::path scratchDirectory(const std::string& what) {
 // --- raw loopback floor ----------------------------------------------------------------
 
 /// Ping-pong of a 50-byte message between two threads over loopback TCP with TCP_NODELAY:
-/// the kernel's share of a round trip on this machine.
-Distribution loopbackFloor(std::size_t exchanges, std::size_t warmup) {
+/// the kernel's share of a round trip on this machine. `polling`: both threads poll their
+/// socket (non-blocking recv) instead of blocking in the read, the floor of a round trip
+/// whose two parties are awake (no wake-ups).
+Distribution loopbackFloor(std::size_t exchanges, std::size_t warmup, bool polling) {
   constexpr std::size_t kBytes = 50;
   asio::io_context io;
   asio::ip::tcp::acceptor acceptor(io, asio::ip::tcp::endpoint(asio::ip::make_address("127.0.0.1"), 0));
   const std::uint16_t port = acceptor.local_endpoint().port();
   const std::size_t total = exchanges + warmup;
+  // Reads exactly kBytes; false when the peer is gone.
+  auto readAll = [polling](asio::ip::tcp::socket& socket, std::array<char, kBytes>& data) {
+    if (!polling) {
+      asio::read(socket, asio::buffer(data));
+      return true;
+    }
+    std::size_t got = 0;
+    while (got < kBytes) {
+      const ssize_t n = ::recv(socket.native_handle(), data.data() + got, kBytes - got, MSG_DONTWAIT);
+      if (n > 0) {
+        got += static_cast<std::size_t>(n);
+      } else if (n == 0 || (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR)) {
+        return false;
+      } else {
+        core::cpuRelax();
+      }
+    }
+    return true;
+  };
   std::thread echo([&] {
     asio::ip::tcp::socket socket(io);
     acceptor.accept(socket);
     socket.set_option(asio::ip::tcp::no_delay(true));
     std::array<char, kBytes> buffer{};
     for (std::size_t k = 0; k < total; ++k) {
-      asio::read(socket, asio::buffer(buffer));
+      if (!readAll(socket, buffer)) return;
       asio::write(socket, asio::buffer(buffer));
     }
   });
@@ -300,7 +328,7 @@ Distribution loopbackFloor(std::size_t exchanges, std::size_t warmup) {
   for (std::size_t k = 0; k < total; ++k) {
     const Clock::time_point t0 = Clock::now();
     asio::write(socket, asio::buffer(buffer));
-    asio::read(socket, asio::buffer(buffer));
+    if (!readAll(socket, buffer)) break;
     const Clock::time_point t1 = Clock::now();
     if (k >= warmup) ns.push_back(std::chrono::duration_cast<std::chrono::nanoseconds>(t1 - t0).count());
   }
@@ -328,6 +356,7 @@ struct RoundtripRun {
   double wall = 0.0;             ///< [s]
   double cpu = 0.0;              ///< process CPU time, server and clients [s]
   core::SpinStats spins;         ///< spin-then-block waits during the run
+  core::SpinHistoryStats history;  ///< waits that blocked at once on their history
 };
 
 /// Empty world: one material, a SimulationBox with fixed bounds, no particles.
@@ -352,6 +381,7 @@ RoundtripRun runRoundtrip(std::size_t clients, std::size_t exchanges, std::size_
   core::SpinGate& gate = core::SpinGate::instance();
   gate.setForced(spin == "forced");
   const core::SpinStats spinsBefore = gate.stats();
+  const core::SpinHistoryStats historyBefore = core::SpinHistory::stats();
   const double cpuBefore = processCpuSeconds();
   const Clock::time_point begin = Clock::now();
   {
@@ -412,6 +442,8 @@ RoundtripRun runRoundtrip(std::size_t clients, std::size_t exchanges, std::size_
   run.spins = {spinsAfter.ready_spinning - spinsBefore.ready_spinning,
                spinsAfter.blocked_after_spin - spinsBefore.blocked_after_spin,
                spinsAfter.refused - spinsBefore.refused};
+  const core::SpinHistoryStats historyAfter = core::SpinHistory::stats();
+  run.history = {historyAfter.partner_asleep - historyBefore.partner_asleep, historyAfter.late - historyBefore.late};
   gate.setForced(false);
   std::error_code ignored;
   fs::remove_all(out, ignored);
@@ -432,7 +464,8 @@ void roundtrip(const RoundtripOptions& o, bool withFloor) {
               o.sensor ? "one region_sensor" : "one rigid_body (12-triangle box)");
   if (withFloor) {
     const std::size_t n = o.exchanges > 0 ? o.exchanges : 20000;
-    printDistribution("raw loopback ping-pong (50 B)", loopbackFloor(n, o.warmup));
+    printDistribution("raw loopback ping-pong (50 B)", loopbackFloor(n, o.warmup, false));
+    printDistribution("  the same, both polling", loopbackFloor(n, o.warmup, true));
   }
   std::vector<std::size_t> counts = {1, 4, 16};
   if (o.clients > 0) counts = {o.clients};
@@ -452,6 +485,7 @@ void roundtrip(const RoundtripOptions& o, bool withFloor) {
     std::vector<std::vector<std::int64_t>> samples(o.spin.size());
     std::vector<double> cpu(o.spin.size(), 0.0), wall(o.spin.size(), 0.0);
     std::vector<core::SpinStats> spins(o.spin.size());
+    std::vector<core::SpinHistoryStats> history(o.spin.size());
     for (std::size_t r = 0; r < o.runs; ++r) {
       for (std::size_t v = 0; v < o.spin.size(); ++v) {
         RoundtripRun run = runRoundtrip(clients, exchanges, o.warmup, o.sensor, o.spin[v],
@@ -462,6 +496,8 @@ void roundtrip(const RoundtripOptions& o, bool withFloor) {
         spins[v].ready_spinning += run.spins.ready_spinning;
         spins[v].blocked_after_spin += run.spins.blocked_after_spin;
         spins[v].refused += run.spins.refused;
+        history[v].partner_asleep += run.history.partner_asleep;
+        history[v].late += run.history.late;
       }
     }
     const auto total = static_cast<double>(o.runs * clients * (exchanges + o.warmup));  // exchanges, all clients
@@ -473,11 +509,14 @@ void roundtrip(const RoundtripOptions& o, bool withFloor) {
       // CPU of server and clients per client exchange; at a 1 ms interval in real time an
       // exchange per client is due every ms, so this per ms is the share of one core.
       std::printf("%-34s %zu x %zu exchanges per client after %zu warm-up, %.1f s wall; CPU %.1f us per exchange "
-                  "(%.1f %% of a core at one exchange per ms); spins: %llu ready, %llu blocked, %llu refused\n",
+                  "(%.1f %% of a core at one exchange per ms); spins: %llu ready, %llu blocked, %llu refused; "
+                  "blocked at once: %llu partner asleep, %llu late\n",
                   "", o.runs, exchanges, o.warmup, wall[v], 1e6 * cpu[v] / total, 100.0 * 1e3 * cpu[v] / total,
                   static_cast<unsigned long long>(spins[v].ready_spinning),
                   static_cast<unsigned long long>(spins[v].blocked_after_spin),
-                  static_cast<unsigned long long>(spins[v].refused));
+                  static_cast<unsigned long long>(spins[v].refused),
+                  static_cast<unsigned long long>(history[v].partner_asleep),
+                  static_cast<unsigned long long>(history[v].late));
     }
     std::fflush(stdout);
   }

@@ -4,7 +4,12 @@
 /// way to abort a pending read), so the connection is unusable after a timeout.
 #include "demlink/client/connection.hpp"
 
+#include <sys/socket.h>
+#include <sys/types.h>
+
 #include <array>
+#include <cerrno>
+#include <cstring>
 #include <string_view>
 
 #include <asio.hpp>
@@ -55,10 +60,46 @@ struct Connection::Impl {
   asio::ip::tcp::socket socket{io};
   wire::FrameDecoder decoder;
   std::array<char, 64 * 1024> buffer{};
+  std::string frame;  ///< the frame being sent (its capacity kept between sends)
   bool open = false;
-  core::SpinHistory spin_history;  ///< the receive's recent spins
+  core::SpinHistory spin_history;  ///< the receive's recent waits
 
   explicit Impl(std::size_t maxFrame) : decoder(maxFrame) {}
+
+  /// What a read that does not block found.
+  enum class Read { kNothing, kBytes, kEnd };
+  /// Reads what the socket holds now, without blocking, into the decoder. kEnd: end of
+  /// stream or an error, which the blocking read then reports.
+  Read readNow() {
+    const ssize_t n = ::recv(socket.native_handle(), buffer.data(), buffer.size(), MSG_DONTWAIT);
+    if (n > 0) {
+      decoder.feed(std::string_view(buffer.data(), static_cast<std::size_t>(n)));
+      return Read::kBytes;
+    }
+    if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR)) return Read::kNothing;
+    return Read::kEnd;
+  }
+
+  /// Sends what the socket takes now without blocking, from `offset` of the frame; the
+  /// new offset. Throws ConnectionError on a socket error.
+  std::size_t sendNow(std::size_t offset) {
+    while (offset < frame.size()) {
+      const ssize_t n = ::send(socket.native_handle(), frame.data() + offset, frame.size() - offset,
+                               MSG_DONTWAIT | MSG_NOSIGNAL);
+      if (n > 0) {
+        offset += static_cast<std::size_t>(n);
+      } else if (n < 0 && errno == EINTR) {
+        continue;
+      } else if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
+        break;
+      } else {
+        const std::string why = n < 0 ? std::strerror(errno) : "nothing sent";
+        closeSocket();
+        throw ConnectionError("send failed: " + why);
+      }
+    }
+    return offset;
+  }
 
   /// Runs the pending operation for at most `timeout`; on expiry closes the socket, lets
   /// the cancelled handler run, and throws.
@@ -129,9 +170,14 @@ const v1::Welcome& Connection::connect(const std::string& host, std::uint16_t po
 
 void Connection::send(const v1::ClientMessage& message) {
   if (!isOpen()) throw ConnectionError("send on a closed connection");
-  const std::string frame = wire::encodeFrame(message);
+  impl_->frame.clear();
+  wire::appendFrame(message, impl_->frame);
+  // A package fits the socket's buffer: one non-blocking send, no reactor. The rest, if
+  // the buffer is full, is written through Asio within the timeout.
+  const std::size_t sent = impl_->sendNow(0);
+  if (sent == impl_->frame.size()) return;
   std::error_code writeError = asio::error::would_block;
-  asio::async_write(impl_->socket, asio::buffer(frame),
+  asio::async_write(impl_->socket, asio::buffer(impl_->frame.data() + sent, impl_->frame.size() - sent),
                     [&](const std::error_code& e, std::size_t) { writeError = e; });
   impl_->runFor(options_.timeout, "send completion");
   if (writeError) {
@@ -178,11 +224,16 @@ v1::ServerMessage Connection::readMessage(std::chrono::milliseconds timeout) {
       throw ConnectionError("bad frame from the server: " + impl_->decoder.errorMessage());
     }
     if (!impl_->open) throw ConnectionError("receive on a closed connection");
-    // Spin-then-block (spin_wait.hpp): poll for bytes briefly, then block in the reactor.
-    core::spinFor(impl_->spin_history, core::SpinGate::Party::kExchange, spin_budget_, [this] {
-      std::error_code ignored;
-      return impl_->socket.available(ignored) > 0 || ignored;
-    });
+    // Spin-then-block (spin_history.hpp): read without blocking for a short while when
+    // the recent waits say the answer comes soon, then block in the reactor.
+    Impl::Read now = Impl::Read::kNothing;
+    if (core::spinFor(impl_->spin_history, core::SpinGate::Party::kExchange, spin_budget_, [&] {
+          now = impl_->readNow();
+          return now != Impl::Read::kNothing;
+        }) &&
+        now == Impl::Read::kBytes) {
+      continue;
+    }
     std::error_code readError = asio::error::would_block;
     std::size_t received = 0;
     impl_->socket.async_read_some(asio::buffer(impl_->buffer), [&](const std::error_code& e, std::size_t n) {
@@ -191,6 +242,7 @@ v1::ServerMessage Connection::readMessage(std::chrono::milliseconds timeout) {
     });
     impl_->runFor(std::max(deadline - std::chrono::steady_clock::now(), std::chrono::steady_clock::duration::zero()),
                   "message from the server");
+    impl_->spin_history.arrived(core::SpinHistory::Clock::now(), false);
     if (readError) {
       impl_->closeSocket();
       if (readError == asio::error::eof) throw ConnectionError("the server closed the connection");

@@ -79,12 +79,17 @@ void TcpServer::run() {
   // one exchange party of the spin gate while it runs.
   core::SpinGate& gate = core::SpinGate::instance();
   gate.addExchangeParty(1);
+  gate.addServerLoop(1);
   struct Leave {
     core::SpinGate& gate;
-    ~Leave() { gate.addExchangeParty(-1); }
+    ~Leave() {
+      gate.addServerLoop(-1);
+      gate.addExchangeParty(-1);
+    }
   } leave{gate};
-  // A client paced in real time keeps the loop waiting ~1 interval: it then stops
-  // spinning (SpinHistory).
+  // Whether a wait spins follows the loop's recent waits (SpinHistory): a loop that took
+  // longer than the budget over a package (its client has blocked since) or whose clients
+  // are paced far beyond the budget blocks at once.
   core::SpinHistory history;
   while (!io_.stopped()) {
     if (io_.poll() > 0) continue;
@@ -94,6 +99,7 @@ void TcpServer::run() {
       continue;
     }
     io_.run_one();
+    history.arrived(core::SpinHistory::Clock::now(), false);
   }
 }
 

@@ -6,7 +6,6 @@
 #include <chrono>
 #include <thread>
 
-#include "demlink/core/step/spin_history.hpp"
 #include "demlink/core/step/spin_wait.hpp"
 
 namespace demlink::core {
@@ -23,6 +22,16 @@ TEST(SpinGate, LeavesOneFreeCpuToThePartyWaitedFor) {
   // A 2-thread DEM pool (one worker) on 2 free CPUs: the worker's core is not taken.
   EXPECT_FALSE(SpinGate::admits(Party::kExchange, 2, 0, 2, 1, 0));
   EXPECT_TRUE(SpinGate::admits(Party::kExchange, 4, 1, 2, 1, 0));
+}
+
+TEST(SpinGate, KeepsNoCpuForAPartnerInTheSameProcess) {
+  // A server loop and its one client in one process on 2 free CPUs: both parties have a
+  // core, so both may spin (the second spinner too).
+  EXPECT_TRUE(SpinGate::admits(Party::kExchange, 2, 1, 0, 0, 2, true));
+  EXPECT_FALSE(SpinGate::admits(Party::kExchange, 2, 2, 0, 0, 2, true));
+  // Still never more parties than free CPUs, nor a DEM worker's core.
+  EXPECT_FALSE(SpinGate::admits(Party::kExchange, 2, 0, 0, 0, 5, true));
+  EXPECT_FALSE(SpinGate::admits(Party::kExchange, 2, 1, 2, 1, 1, true));
 }
 
 TEST(SpinGate, RefusesWhenTheExchangePartiesOutnumberTheFreeCpus) {
@@ -86,51 +95,6 @@ TEST(SpinFor, ReturnsTrueOnceReadyAndFalseWithoutBudget) {
   const SpinStats stats = gate.stats();
   EXPECT_GE(stats.ready_spinning, 1u);
   EXPECT_GE(stats.blocked_after_spin, 1u);
-}
-
-TEST(SpinHistory, AWaiterWhoseEventsComeLateStopsSpinningAndRetriesNowAndThen) {
-  SpinGate::instance().setForced(true);
-  SpinHistory history;
-  const auto budget = std::chrono::microseconds(20);
-  int polls = 0;
-  const auto late = [&] {
-    ++polls;
-    return false;
-  };
-  // Three spins run out of budget: each polled.
-  for (std::uint32_t k = 0; k < SpinHistory::kMissesBeforeBackOff; ++k) {
-    polls = 0;
-    EXPECT_FALSE(spinFor(history, Party::kExchange, budget, late));
-    EXPECT_GT(polls, 0) << "spin " << k;
-  }
-  // Then it blocks at once, except one try in kRetryEvery waits.
-  polls = 0;
-  int tried = 0;
-  for (std::uint32_t k = 0; k < 4 * SpinHistory::kRetryEvery; ++k) {
-    const int before = polls;
-    EXPECT_FALSE(spinFor(history, Party::kExchange, budget, late));
-    if (polls > before) ++tried;
-  }
-  EXPECT_EQ(tried, 4);
-  EXPECT_EQ(history.backedOff(), 4 * (SpinHistory::kRetryEvery - 1));
-  // A retry whose event comes while spinning ends the back-off: the next waits spin.
-  for (std::uint32_t k = 0; k < SpinHistory::kRetryEvery; ++k) {
-    if (spinFor(history, Party::kExchange, budget, [] { return true; })) break;
-  }
-  polls = 0;
-  EXPECT_FALSE(spinFor(history, Party::kExchange, budget, late));
-  EXPECT_GT(polls, 0);
-  SpinGate::instance().setForced(false);
-}
-
-TEST(SpinHistory, ASpinTheGateRefusesIsNoMiss) {
-  // Zero budget (as a refused spin): never polled, never counted against the waiter.
-  SpinHistory history;
-  for (int k = 0; k < 10; ++k) {
-    EXPECT_FALSE(spinFor(history, Party::kExchange, std::chrono::nanoseconds::zero(), [] { return false; }));
-  }
-  EXPECT_TRUE(history.shouldSpin());
-  EXPECT_EQ(history.backedOff(), 0u);
 }
 
 TEST(SpinFor, AnEventFromAnotherThreadEndsTheSpin) {

@@ -114,20 +114,25 @@ class SpinGate {
     if (party == Party::kDem) return forced || admits(party, free, 0, dem_threads_.load(std::memory_order_relaxed), 0, 0);
     const int workers = dem_workers_.load(std::memory_order_relaxed);
     const int parties = exchange_parties_.load(std::memory_order_relaxed);
+    const int loops = server_loops_.load(std::memory_order_relaxed);
+    const bool partnersInside = loops > 0 && parties > loops;
     int now = spinners_.load(std::memory_order_relaxed);
     do {
-      if (!forced && !admits(party, free, now, 0, workers, parties)) return false;
+      if (!forced && !admits(party, free, now, 0, workers, parties, partnersInside)) return false;
     } while (!spinners_.compare_exchange_weak(now, now + 1, std::memory_order_relaxed));
     return true;
   }
 
   /// The rule: may one more `party` spin, with `free` free CPUs, `spinners` exchange
   /// waits spinning already, `demThreads` threads and `demWorkers` workers in DEM pools,
-  /// and `exchangeParties` exchange parties (addExchangeParty) in the process.
+  /// and `exchangeParties` exchange parties (addExchangeParty) in the process;
+  /// `partnersInside`: the parties' partners are in this process too (a server loop and
+  /// client connections: benchmarks, tests), so no CPU is kept for a partner elsewhere.
   [[nodiscard]] static bool admits(Party party, int free, int spinners, int demThreads, int demWorkers,
-                                   int exchangeParties) {
+                                   int exchangeParties, bool partnersInside = false) {
     if (party == Party::kDem) return demThreads <= free;
-    return spinners + 1 + demWorkers < free && exchangeParties + demWorkers <= free;
+    const int keptForPartner = partnersInside ? 0 : 1;
+    return spinners + 1 + demWorkers + keptForPartner <= free && exchangeParties + demWorkers <= free;
   }
   void leave(Party party) {
     if (party == Party::kExchange) spinners_.fetch_sub(1, std::memory_order_relaxed);
@@ -145,6 +150,9 @@ class SpinGate {
 
   /// An exchange party (a client connection, a server network loop) starts (+1) or ends (-1).
   void addExchangeParty(int parties) { exchange_parties_.fetch_add(parties, std::memory_order_relaxed); }
+  /// Of those, a server network loop starts (+1) or ends (-1): with one and a client
+  /// connection in the process, the exchange partners are both here (admits).
+  void addServerLoop(int loops) { server_loops_.fetch_add(loops, std::memory_order_relaxed); }
 
   /// Usable CPUs less those busy with other processes (rounded), refreshed at most
   /// every kRefreshPeriod by whichever waiter finds it stale.
@@ -242,6 +250,7 @@ class SpinGate {
   std::atomic<bool> forced_{false};
   std::atomic<int> spinners_{0};     ///< exchange waits spinning now
   std::atomic<int> exchange_parties_{0};  ///< live client connections and server loops
+  std::atomic<int> server_loops_{0};      ///< running server network loops (also parties)
   std::atomic<int> dem_threads_{0};  ///< threads of the live DEM pools
   std::atomic<int> dem_workers_{0};  ///< the same less each pool's caller
   std::atomic<std::uint64_t> ready_{0};
