@@ -92,16 +92,20 @@ std::uint32_t ThreadPool::drain(std::uint32_t self, std::uint32_t generation) {
   const auto threads = static_cast<std::uint32_t>(ranges_.size());
   std::uint32_t ran = 0;
   std::uint32_t chunk = 0;
+  // The loop's size, read while this thread holds an unfinished chunk of it: once its
+  // done_ count completes the loop, the caller may already be setting up the next one.
+  std::uint32_t chunks = 0;
   // The home range first, front to back: a thread keeps the same chunks (and so the same
   // particles in its cache) from loop to loop; then the others' ranges from their backs.
   for (std::uint32_t k = 0; k < threads; ++k) {
     std::atomic<std::uint64_t>& range = ranges_[(self + k) % threads].word;
     while (claim(range, generation, k == 0, chunk)) {
+      if (ran == 0) chunks = chunks_;
       task_(context_, chunk);
       ++ran;
     }
   }
-  if (ran > 0 && done_.fetch_add(ran, std::memory_order_acq_rel) + ran == chunks_) done_.notify_one();
+  if (ran > 0 && done_.fetch_add(ran, std::memory_order_acq_rel) + ran == chunks) done_.notify_one();
   return ran;
 }
 
