@@ -364,8 +364,8 @@ int main(int argc, char** argv) {
       }
     }
   }
-  // Settled dry beds by setting and seed: written by the bed row, read by bed_cohesive.
-  std::mutex bedsMutex;
+  // Settled dry beds by setting and seed: written by the bed row, read by bed_cohesive
+  // (the maps are not changed once the workers start, each promise is set by one worker).
   std::map<std::pair<const Setting*, std::uint64_t>, std::promise<std::string>> settledPromises;
   std::map<std::pair<const Setting*, std::uint64_t>, std::shared_future<std::string>> settledBeds;
   for (const Row& row : rows) {
@@ -398,10 +398,7 @@ int main(int argc, char** argv) {
       const double cpuStart = threadCpuSeconds();
       row.result = runScene(row.result.scene, row.knobs, budget, share);
       row.cpu = threadCpuSeconds() - cpuStart;
-      if (row.result.scene == "bed") {
-        const std::lock_guard lock(bedsMutex);
-        settledPromises.at(key).set_value(std::move(settled));
-      }
+      if (row.result.scene == "bed") settledPromises.at(key).set_value(std::move(settled));
       const std::lock_guard lock(printing);
       partialAtlas << atlasLines(row, {}) << std::flush;
       std::printf("%-14s %-22s seed %-3llu %-12s %-40.40s wall %7.1f s", row.setting->knob.c_str(),
