@@ -1,6 +1,7 @@
 #include "demlink/core/particles/neighbour_list.hpp"
 
 #include <algorithm>
+#include <array>
 #include <utility>
 
 #include "demlink/core/state/state_stream.hpp"
@@ -41,34 +42,82 @@ struct ForeignPair {
 /// are found from the smaller particle only, see CellGrid). Partners j > i go to
 /// `out` (row by row, ascending; counts[i] per row), the others to `foreign`.
 /// kClumps: skip partners of the same clump.
+///
+/// Slots are kept in cell order (World sorts them), so consecutive rows mostly share
+/// a cell and its 27 neighbours, which are looked up once for them; and a cell's slots
+/// are ascending, so in the own level the partners j <= i of a cell are skipped
+/// without reading their positions.
 template <bool kClumps>
 void findPartners(const CellGrid& grid, std::span<const Vec3> x, std::span<const double> r,
                   std::span<const std::uint64_t> clump, double skin, std::size_t begin, std::size_t end,
                   std::vector<std::uint32_t>& out, std::vector<std::uint32_t>& counts,
                   std::vector<ForeignPair>& foreign) {
+  struct Cached {
+    bool valid = false;
+    CellGrid::CellCoords cell{};
+    CellGrid::NearCells near;
+  };
+  std::array<Cached, CellGrid::kMaxLevels> cached{};
+  // out[0, used) holds the partners found; out itself is only grown (doubling) so
+  // candidates can be written before they are tested.
+  std::size_t used = out.size();
+  auto room = [&](std::size_t more) {
+    if (out.size() < used + more) out.resize(std::max(2 * out.size(), used + more));
+  };
   for (std::size_t i = begin; i < end; ++i) {
-    const std::size_t rowStart = out.size();
+    const std::size_t rowStart = used;
     const std::uint32_t own = grid.levelOfSlot(i);
     const auto self = static_cast<std::uint32_t>(i);
+    const Vec3 xi = x[i];
+    const double ri = r[i];
+    auto consider = [&](std::uint32_t j) {
+      if constexpr (kClumps) {
+        if (clump[i] != 0 && clump[i] == clump[j]) return;
+      }
+      const double cutoff = ri + r[j] + skin;
+      if ((x[j] - xi).squaredNorm() >= cutoff * cutoff) return;
+      if (j > self) {
+        room(1);
+        out[used++] = j;
+      } else {
+        foreign.push_back({j, self});
+      }
+    };
     for (std::size_t level = own; level < grid.levelCount(); ++level) {
-      grid.forEachNear(level, x[i], [&](std::uint32_t j) {
-        if (level == own && j <= self) return;
+      Cached& c = cached[level];
+      const CellGrid::CellCoords cell = grid.cellOf(level, xi);
+      if (!c.valid || cell != c.cell) c = {true, cell, grid.nearCells(level, cell)};
+      if (level != own) {
+        grid.forEachNearCell(level, c.near, [&](std::span<const std::uint32_t> slots) {
+          for (const std::uint32_t j : slots) consider(j);
+        });
+        continue;
+      }
+      grid.forEachNearCell(level, c.near, [&](std::span<const std::uint32_t> slots) {
+        if (slots.back() <= self) return;
+        auto k = std::upper_bound(slots.begin(), slots.end(), self);
         if constexpr (kClumps) {
-          if (clump[i] != 0 && clump[i] == clump[j]) return;
-        }
-        const double cutoff = r[i] + r[j] + skin;
-        if ((x[j] - x[i]).squaredNorm() >= cutoff * cutoff) return;
-        if (j > self) {
-          out.push_back(j);
+          for (; k != slots.end(); ++k) consider(*k);
         } else {
-          foreign.push_back({j, self});
+          // Every candidate is written and the end moves past the partners only: no
+          // branch on a test that fails for most candidates in no learnable pattern.
+          room(static_cast<std::size_t>(slots.end() - k));
+          std::uint32_t* w = out.data() + used;
+          for (; k != slots.end(); ++k) {
+            const std::uint32_t j = *k;
+            const double cutoff = ri + r[j] + skin;
+            *w = j;
+            w += static_cast<std::size_t>((x[j] - xi).squaredNorm() < cutoff * cutoff);
+          }
+          used = static_cast<std::size_t>(w - out.data());
         }
       });
     }
     // Ascending partners: deterministic order independent of cell traversal.
-    std::sort(out.begin() + static_cast<std::ptrdiff_t>(rowStart), out.end());
-    counts[i] = static_cast<std::uint32_t>(out.size() - rowStart);
+    std::sort(out.begin() + static_cast<std::ptrdiff_t>(rowStart), out.begin() + static_cast<std::ptrdiff_t>(used));
+    counts[i] = static_cast<std::uint32_t>(used - rowStart);
   }
+  out.resize(used);
 }
 
 }  // namespace

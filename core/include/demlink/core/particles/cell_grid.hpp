@@ -42,20 +42,61 @@ class CellGrid {
   /// Occupied cells of a level.
   [[nodiscard]] std::size_t cellCount(std::size_t level) const { return levels_[level].keys.size(); }
 
+  /// Integer coordinates of a cell of one level.
+  using CellCoords = std::array<std::int64_t, 3>;
+  /// The occupied cells among the 27 around one cell: per row (dz, dy), the indices
+  /// [first, last) of its occupied cells x-1 .. x+1 (see nearCells()).
+  struct NearCells {
+    std::array<std::uint32_t, 9> first{};
+    std::array<std::uint32_t, 9> last{};
+  };
+
+  /// The cell of level `level` holding x.
+  [[nodiscard]] CellCoords cellOf(std::size_t level, const Vec3& x) const { return coords(levels_[level], x); }
+
+  /// The occupied cells around cell c of level `level`. Nine hash lookups, not 27: x is
+  /// the key's lowest field, so a row's cells x-1 .. x+1 are neighbours in the sorted
+  /// keys, and the first occupied one leads to the others. Particles of one cell share
+  /// the answer (NeighbourList keeps it from one particle to the next).
+  [[nodiscard]] NearCells nearCells(std::size_t level, const CellCoords& c) const {
+    const Level& l = levels_[level];
+    NearCells near;
+    std::size_t row = 0;
+    for (std::int64_t dz = -1; dz <= 1; ++dz) {
+      for (std::int64_t dy = -1; dy <= 1; ++dy, ++row) {
+        std::uint32_t cell = kNoCell;
+        for (std::int64_t dx = -1; dx <= 1 && cell == kNoCell; ++dx) cell = find(l, c[0] + dx, c[1] + dy, c[2] + dz);
+        if (cell == kNoCell) continue;
+        // find() succeeded, so y and z are in the occupied range; x + 1 is clamped to it
+        // so the key cannot carry into y.
+        const std::uint64_t lastKey = pack(std::min(c[0] + 1, l.highest[0]), c[1] + dy, c[2] + dz);
+        std::uint32_t last = cell + 1;
+        while (last < l.keys.size() && l.keys[last] <= lastKey) ++last;
+        near.first[row] = cell;
+        near.last[row] = last;
+      }
+    }
+    return near;
+  }
+
+  /// Calls visitCell(slots) for every cell of `near` (level `level`), in key order
+  /// (z, then y, then x); `slots` are the cell's slots, ascending.
+  template <class VisitCell>
+  void forEachNearCell(std::size_t level, const NearCells& near, const VisitCell& visitCell) const {
+    const Level& l = levels_[level];
+    for (std::size_t row = 0; row < near.first.size(); ++row) {
+      for (std::uint32_t cell = near.first[row]; cell < near.last[row]; ++cell) {
+        visitCell(std::span<const std::uint32_t>(l.slots.data() + l.start[cell], l.start[cell + 1] - l.start[cell]));
+      }
+    }
+  }
+
   /// Calls visit(j) for every slot j of level `level` in the 27 cells around x.
   template <class Visit>
   void forEachNear(std::size_t level, const Vec3& x, const Visit& visit) const {
-    const Level& l = levels_[level];
-    const auto c = coords(l, x);
-    for (std::int64_t dz = -1; dz <= 1; ++dz) {
-      for (std::int64_t dy = -1; dy <= 1; ++dy) {
-        for (std::int64_t dx = -1; dx <= 1; ++dx) {
-          const std::uint32_t cell = find(l, c[0] + dx, c[1] + dy, c[2] + dz);
-          if (cell == kNoCell) continue;
-          for (std::uint32_t k = l.start[cell]; k < l.start[cell + 1]; ++k) visit(l.slots[k]);
-        }
-      }
-    }
+    forEachNearCell(level, nearCells(level, cellOf(level, x)), [&](std::span<const std::uint32_t> slots) {
+      for (const std::uint32_t j : slots) visit(j);
+    });
   }
 
   /// Calls visit(j) for every slot j, of every level, whose cell meets the box [lo, hi]
