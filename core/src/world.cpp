@@ -622,15 +622,14 @@ void World::computeForces() {
     r.index = index;
     return r;
   };
-  // Pair chunks, each into its own buffer; then every slot sums the buffers covering
-  // it in chunk order (PairLoopPartition); then planes and meshes, in order (the
-  // passes of stage forces in stage_table.hpp).
+  // Pair chunks, each into its own rows and its spill buffer; then every slot adds the
+  // spills reaching it in chunk order (PairLoopPartition); then planes and meshes, in
+  // order (the passes of stage forces in stage_table.hpp).
   ThreadPool* pool = pool_.get();
   parallelParts(pool, parts.chunks(), [&](std::uint32_t chunk) {
-    parts.clear(chunk);
+    const ChunkForces out = parts.start(chunk, p.force, p.torque);
     particleContactRows<Law, kPasses>(p, neighbours_, pair_table_, dt, parts.rowBegin(chunk), parts.rowEnd(chunk),
-                                      parts.force(chunk), parts.torque(chunk), parts.rowBegin(chunk),
-                                      chunkRecords(chunk));
+                                      out, chunkRecords(chunk));
   });
   parallelParts(pool, parts.chunks(), [&](std::uint32_t chunk) { parts.gather(chunk, p.force, p.torque); });
   // Slots the list has no rows for yet (none between rebuilds, kept for safety).

@@ -35,16 +35,18 @@ void PairLoopPartition::plan(std::span<const std::uint32_t> offsets, std::span<c
     if (row_begin_.size() < 2 && rows > 0) row_begin_.push_back(rows);
     const std::size_t kept = row_begin_.size() - 1;
     reach_.assign(kept, 0);
-    buffer_start_.assign(kept + 1, 0);
+    spill_start_.assign(kept + 1, 0);
+    std::size_t windows = 0;
     for (std::size_t c = 0; c < kept; ++c) {
       std::size_t reach = row_begin_[c + 1];
       const auto first = partners.begin() + offsets[row_begin_[c]];
       const auto last = partners.begin() + offsets[row_begin_[c + 1]];
       if (first != last) reach = std::max<std::size_t>(reach, *std::max_element(first, last) + 1);
       reach_[c] = reach;
-      buffer_start_[c + 1] = buffer_start_[c] + (reach - row_begin_[c]);
+      spill_start_[c + 1] = spill_start_[c] + (reach - row_begin_[c + 1]);
+      windows += reach - row_begin_[c];
     }
-    if (kept <= 1 || 2 * buffer_start_[kept] <= kWindowSlotsPerTwoRows * rows + 8192) break;
+    if (kept <= 1 || 2 * windows <= kWindowSlotsPerTwoRows * rows + 8192) break;
     wanted = (wanted + 1) / 2;
   }
   const std::size_t chunks = row_begin_.size() - 1;
@@ -55,42 +57,48 @@ void PairLoopPartition::plan(std::span<const std::uint32_t> offsets, std::span<c
     while (reach_[lowest] <= row_begin_[c]) ++lowest;
     first_covering_[c] = lowest;
   }
-  force_.resize(buffer_start_.back());
-  torque_.resize(buffer_start_.back());
+  force_.resize(spill_start_.back());
+  torque_.resize(spill_start_.back());
   if (force_.capacity() > 2 * force_.size() + 4096) {
     force_.shrink_to_fit();
     torque_.shrink_to_fit();
   }
 }
 
-void PairLoopPartition::clear(std::uint32_t chunk) {
-  std::fill(force_.begin() + static_cast<std::ptrdiff_t>(buffer_start_[chunk]),
-            force_.begin() + static_cast<std::ptrdiff_t>(buffer_start_[chunk + 1]), Vec3::Zero());
-  std::fill(torque_.begin() + static_cast<std::ptrdiff_t>(buffer_start_[chunk]),
-            torque_.begin() + static_cast<std::ptrdiff_t>(buffer_start_[chunk + 1]), Vec3::Zero());
+ChunkForces PairLoopPartition::start(std::uint32_t chunk, std::span<Vec3> force, std::span<Vec3> torque) {
+  const auto begin = static_cast<std::ptrdiff_t>(row_begin_[chunk]);
+  const auto end = static_cast<std::ptrdiff_t>(row_begin_[chunk + 1]);
+  std::fill(force.begin() + begin, force.begin() + end, Vec3::Zero());
+  std::fill(torque.begin() + begin, torque.begin() + end, Vec3::Zero());
+  Vec3* spillForce = force_.data() + spill_start_[chunk];
+  Vec3* spillTorque = torque_.data() + spill_start_[chunk];
+  const std::size_t spill = spill_start_[chunk + 1] - spill_start_[chunk];
+  std::fill(spillForce, spillForce + spill, Vec3::Zero());
+  std::fill(spillTorque, spillTorque + spill, Vec3::Zero());
+  return {force.data(), torque.data(), spillForce, spillTorque, row_begin_[chunk + 1]};
 }
 
 void PairLoopPartition::gather(std::uint32_t chunk, std::span<Vec3> force, std::span<Vec3> torque) const {
   const std::size_t begin = row_begin_[chunk];
   const std::size_t end = row_begin_[chunk + 1];
-  std::fill(force.begin() + static_cast<std::ptrdiff_t>(begin), force.begin() + static_cast<std::ptrdiff_t>(end),
-            Vec3::Zero());
-  std::fill(torque.begin() + static_cast<std::ptrdiff_t>(begin), torque.begin() + static_cast<std::ptrdiff_t>(end),
-            Vec3::Zero());
-  for (std::uint32_t c = first_covering_[chunk]; c <= chunk; ++c) {
-    const std::size_t stop = std::min(end, reach_[c]);
-    const Vec3* f = force_.data() + buffer_start_[c];
-    const Vec3* t = torque_.data() + buffer_start_[c];
-    for (std::size_t s = begin; s < stop; ++s) {
-      force[s] += f[s - row_begin_[c]];
-      torque[s] += t[s - row_begin_[c]];
+  // The sum the old per-chunk windows gave, term for term: 0, the earlier chunks' spills
+  // in chunk order, then this chunk's own sum (already in force[s]).
+  for (std::size_t s = begin; s < end; ++s) {
+    Vec3 f = Vec3::Zero();
+    Vec3 t = Vec3::Zero();
+    for (std::uint32_t c = first_covering_[chunk]; c < chunk; ++c) {
+      if (s >= reach_[c]) continue;
+      f += force_[spill_start_[c] + (s - row_begin_[c + 1])];
+      t += torque_[spill_start_[c] + (s - row_begin_[c + 1])];
     }
+    force[s] = f + force[s];
+    torque[s] = t + torque[s];
   }
 }
 
 std::size_t PairLoopPartition::bytes() const {
   return (force_.capacity() + torque_.capacity()) * sizeof(Vec3) +
-         (row_begin_.capacity() + reach_.capacity() + buffer_start_.capacity()) * sizeof(std::size_t) +
+         (row_begin_.capacity() + reach_.capacity() + spill_start_.capacity()) * sizeof(std::size_t) +
          first_covering_.capacity() * sizeof(std::uint32_t);
 }
 

@@ -20,6 +20,7 @@
 #include "demlink/core/walls/mesh_near_list.hpp"
 #include "demlink/core/particles/neighbour_list.hpp"
 #include "demlink/core/particles/particle_arrays.hpp"
+#include "demlink/core/step/pair_loop_partition.hpp"
 #include "demlink/core/walls/plane_wall.hpp"
 
 namespace demlink::core {
@@ -94,8 +95,8 @@ struct TouchingGeometry {
 };
 
 /// Particle-particle contacts of rows [rowBegin, rowEnd) of the half list.
-/// Forces and torques of slot s are added to force[s - base], torque[s - base]
-/// (see PairLoopPartition for why every touched slot is >= base). With
+/// Forces and torques go where `out` says (PairLoopPartition: rows below
+/// out.own_end straight into the columns, the rest into the chunk's spill). With
 /// kPasses.recording and `records` set, each contact is appended to *records.
 ///
 /// The rows' pairs are walked as one sequence (NeighbourList::rows() names each
@@ -107,7 +108,7 @@ struct TouchingGeometry {
 /// touching ones are evaluated in list order, their overlap-only terms first.
 template <class Law, ForcePasses kPasses>
 void particleContactRows(ParticleArrays& p, NeighbourList& list, const ContactPairTable& table, double dt,
-                         std::size_t rowBegin, std::size_t rowEnd, Vec3* force, Vec3* torque, std::size_t base,
+                         std::size_t rowBegin, std::size_t rowEnd, const ChunkForces& out,
                          std::vector<ContactRecord>* records = nullptr) {
   const std::span<const std::uint32_t> offsets = list.offsets();
   const std::span<const std::uint32_t> partners = list.partners();
@@ -182,17 +183,19 @@ void particleContactRows(ParticleArrays& p, NeighbourList& list, const ContactPa
         }
       }
       const Vec3 nxf = normal.cross(f);
-      force[i - base] -= f;
-      torque[i - base] -= armI * nxf;
-      force[j - base] += f;
-      torque[j - base] -= armJ * nxf;
+      // i is one of the chunk's own rows (i < j, so only j may spill).
+      out.force[i] -= f;
+      out.torque[i] -= armI * nxf;
+      out.forceOf(j) += f;
+      Vec3& torqueJ = out.torqueOf(j);
+      torqueJ -= armJ * nxf;
       if constexpr (kPasses.rolling) {
         if (params.rolling_friction > 0.0) {
           const double reducedInertia = 1.0 / (p.inv_inertia[i] + p.inv_inertia[j]);
           const Vec3 t = rollingResistanceTorque(params.rolling_friction, reduced[k].radius, normalForce, normal,
                                                  p.angular_velocity[j] - p.angular_velocity[i], reducedInertia, dt);
-          torque[j - base] += t;
-          torque[i - base] -= t;
+          torqueJ += t;
+          out.torque[i] -= t;
         }
       }
     }

@@ -3,10 +3,13 @@
 /// pairs for the threaded pair loop. The cut depends only on the list, never on the
 /// thread count. A pair (i, j) has j > i, so chunk c (rows [rowBegin(c), rowEnd(c)))
 /// only touches slots in [rowBegin(c), reach(c)), reach(c) being one past its
-/// largest partner: each chunk accumulates into its own buffer over that window,
-/// and gather() then sums, for every slot, the buffers covering it in chunk order.
-/// No atomics, and forces that are bit-identical whichever thread ran which chunk
-/// and for any thread count (1 included).
+/// largest partner. No other chunk touches the particle columns of c's own rows
+/// while the pairs run (earlier chunks reach them only through their spill), so c
+/// adds straight into them and keeps only what lands beyond its rows, in
+/// [rowEnd(c), reach(c)), in its own spill buffer. gather() then adds, for every
+/// slot, the spill of every earlier chunk reaching it, in chunk order, before the
+/// slot's own chunk's sum. No atomics, and forces that are bit-identical whichever
+/// thread ran which chunk and for any thread count (1 included).
 ///
 /// Slots are kept in cell order (World re-sorts them), so a window reaches about one
 /// layer of cells beyond its rows; plan() grows the chunks when the windows together
@@ -19,12 +22,29 @@
 
 namespace demlink::core {
 
+/// Where one chunk's pair loop adds its forces and torques [N, N m]: slots below
+/// own_end (its own rows) into the particle columns, the others into its spill.
+struct ChunkForces {
+  Vec3* force;         ///< particle column, index slot
+  Vec3* torque;
+  Vec3* spill_force;   ///< index slot - own_end
+  Vec3* spill_torque;
+  std::size_t own_end;
+
+  [[nodiscard]] Vec3& forceOf(std::size_t slot) const {
+    return slot < own_end ? force[slot] : spill_force[slot - own_end];
+  }
+  [[nodiscard]] Vec3& torqueOf(std::size_t slot) const {
+    return slot < own_end ? torque[slot] : spill_torque[slot - own_end];
+  }
+};
+
 class PairLoopPartition {
  public:
   /// Pairs per chunk before growing [-].
   static constexpr std::uint64_t kPairsPerChunk = 512;
 
-  /// Cuts rows into chunks and sizes their buffers.
+  /// Cuts rows into chunks and sizes their spill buffers.
   void plan(std::span<const std::uint32_t> offsets, std::span<const std::uint32_t> partners);
 
   [[nodiscard]] std::uint32_t chunks() const { return static_cast<std::uint32_t>(row_begin_.size() - 1); }
@@ -32,13 +52,11 @@ class PairLoopPartition {
   [[nodiscard]] std::size_t rowEnd(std::uint32_t chunk) const { return row_begin_[chunk + 1]; }
   /// One past the largest slot chunk `chunk` touches.
   [[nodiscard]] std::size_t reach(std::uint32_t chunk) const { return reach_[chunk]; }
-  /// Buffers of chunk `chunk`: index slot - rowBegin(chunk), length reach - rowBegin.
-  [[nodiscard]] Vec3* force(std::uint32_t chunk) { return force_.data() + buffer_start_[chunk]; }
-  [[nodiscard]] Vec3* torque(std::uint32_t chunk) { return torque_.data() + buffer_start_[chunk]; }
-  /// Zeroes chunk `chunk`'s buffers (before its pairs run).
-  void clear(std::uint32_t chunk);
-  /// Writes force[s] and torque[s] for the slots s of chunk `chunk`'s rows: the sum of
-  /// every buffer covering s, in chunk order.
+  /// Zeroes chunk `chunk`'s own rows of force and torque and its spill (before its
+  /// pairs run) and says where its pairs add.
+  ChunkForces start(std::uint32_t chunk, std::span<Vec3> force, std::span<Vec3> torque);
+  /// Completes force[s] and torque[s] for the slots s of chunk `chunk`'s rows: the
+  /// spills of the earlier chunks reaching s, in chunk order, then the chunk's own sum.
   void gather(std::uint32_t chunk, std::span<Vec3> force, std::span<Vec3> torque) const;
   /// Bytes held by the buffers and the plan.
   [[nodiscard]] std::size_t bytes() const;
@@ -46,7 +64,7 @@ class PairLoopPartition {
  private:
   std::vector<std::size_t> row_begin_{0};
   std::vector<std::size_t> reach_;
-  std::vector<std::size_t> buffer_start_{0};
+  std::vector<std::size_t> spill_start_{0};
   std::vector<std::uint32_t> first_covering_;  ///< lowest chunk whose window reaches rowBegin(c)
   std::vector<Vec3> force_;
   std::vector<Vec3> torque_;
