@@ -168,6 +168,7 @@ void NeighbourList::build(const ParticleArrays& particles, std::span<const std::
   partners_.resize(offsets_[n]);
   rows_.resize(partners_.size());
   history_.assign(partners_.size(), Vec3::Zero());
+  sprung_.assign(partners_.size(), 0);
   reduced_.resize(partners_.size());
   parallelParts(pool, parts, [&](std::uint32_t part) {
     const std::size_t begin = chunkBegin(n, parts, part);
@@ -211,7 +212,9 @@ void NeighbourList::build(const ParticleArrays& particles, std::span<const std::
         const auto rowEnd = partners_.begin() + offsets_[a + 1];
         const auto it = std::lower_bound(rowBegin, rowEnd, b);
         if (it != rowEnd && *it == b) {
-          history_[static_cast<std::size_t>(it - partners_.begin())] = flipped ? Vec3(-oldHistory[k]) : oldHistory[k];
+          const auto pair = static_cast<std::size_t>(it - partners_.begin());
+          history_[pair] = flipped ? Vec3(-oldHistory[k]) : oldHistory[k];
+          sprung_[pair] = 1;
         }
       }
     }
@@ -221,7 +224,8 @@ void NeighbourList::build(const ParticleArrays& particles, std::span<const std::
 }
 
 std::size_t NeighbourList::bytes() const {
-  return grid_.bytes() + (offsets_.capacity() + partners_.capacity() + rows_.capacity()) * sizeof(std::uint32_t) +
+  return grid_.bytes() + sprung_.capacity() +
+         (offsets_.capacity() + partners_.capacity() + rows_.capacity()) * sizeof(std::uint32_t) +
          (history_.capacity() + position_at_build_.capacity()) * sizeof(Vec3) +
          reduced_.capacity() * sizeof(ReducedPair);
 }
@@ -268,6 +272,8 @@ void NeighbourList::restore(StateReader& in) {
     std::fill(staged.rows_.begin() + staged.offsets_[i], staged.rows_.begin() + staged.offsets_[i + 1],
               static_cast<std::uint32_t>(i));
   }
+  staged.sprung_.resize(staged.history_.size());
+  for (std::size_t k = 0; k < staged.history_.size(); ++k) staged.sprung_[k] = staged.history_[k].isZero(0.0) ? 0 : 1;
   *this = std::move(staged);
 }
 

@@ -102,10 +102,12 @@ struct TouchingGeometry {
 /// The rows' pairs are walked as one sequence (NeighbourList::rows() names each
 /// pair's row) in blocks of listed pairs, not row by row: a settled bed lists ~4
 /// pairs per row, and loops that short mispredict their exit once per row. A first
-/// pass sorts a block's pairs into touching and apart without a branch on the answer
-/// (about half the listed pairs of a settled bed do not touch, in no pattern a
-/// branch predictor can learn), then the apart ones release their springs and the
-/// touching ones are evaluated in list order, their overlap-only terms first.
+/// pass sorts a block's pairs into touching and just separated without a branch on
+/// the answer (about half the listed pairs of a settled bed do not touch, in no
+/// pattern a branch predictor can learn), keeping NeighbourList::sprung() up to date;
+/// then the separated ones release their springs and the touching ones are evaluated
+/// in list order, their overlap-only terms first. Pairs that stay apart never load
+/// their history.
 template <class Law, ForcePasses kPasses>
 void particleContactRows(ParticleArrays& p, NeighbourList& list, const ContactPairTable& table, double dt,
                          std::size_t rowBegin, std::size_t rowEnd, const ChunkForces& out,
@@ -116,29 +118,34 @@ void particleContactRows(ParticleArrays& p, NeighbourList& list, const ContactPa
   const std::span<Vec3> history = list.history();
   static_assert(kHistoryStorageFits<Law, decltype(list.history())>, "neighbour list history is not Law::History");
   const std::span<const ReducedPair> reduced = list.reduced();
+  const std::span<std::uint8_t> sprung = list.sprung();
   constexpr std::uint32_t kBlock = 64;
   std::uint32_t touching[kBlock];
-  std::uint32_t apart[kBlock];
+  std::uint32_t separated[kBlock];
   TouchingGeometry geometry[kBlock];
   const std::uint32_t pairEnd = offsets[rowEnd];
   for (std::uint32_t blockBegin = offsets[rowBegin]; blockBegin < pairEnd; blockBegin += kBlock) {
     const std::uint32_t blockEnd = std::min(pairEnd, blockBegin + kBlock);
     std::uint32_t count = 0;
+    std::uint32_t separatedCount = 0;
     for (std::uint32_t k = blockBegin; k < blockEnd; ++k) {
       const std::uint32_t i = rows[k];
       const std::uint32_t j = partners[k];
       const double radiusSum = p.radius[i] + p.radius[j];
-      const bool touches = !((p.position[j] - p.position[i]).squaredNorm() >= radiusSum * radiusSum);
-      // Both stores always (k - blockBegin - count apart pairs so far), so no branch.
+      const auto touches =
+          static_cast<std::uint8_t>(!((p.position[j] - p.position[i]).squaredNorm() >= radiusSum * radiusSum));
+      const std::uint8_t had = sprung[k];
+      sprung[k] = touches;
+      // Both stores always, so no branch.
       touching[count] = k;
-      apart[k - blockBegin - count] = k;
-      count += static_cast<std::uint32_t>(touches);
+      separated[separatedCount] = k;
+      count += touches;
+      separatedCount += static_cast<std::uint32_t>(had & (touches ^ 1u));
     }
-    const std::uint32_t apartCount = blockEnd - blockBegin - count;
-    // Springs of pairs that came apart are released (no store traffic for idle pairs;
-    // tested here, where the answer is nearly always "idle", not in the pass above).
-    for (std::uint32_t m = 0; m < apartCount; ++m) {
-      if (!history[apart[m]].isZero(0.0)) history[apart[m]].setZero();
+    // Springs of pairs that came apart are released (and only if set: no store for a
+    // spring that never built up).
+    for (std::uint32_t m = 0; m < separatedCount; ++m) {
+      if (!history[separated[m]].isZero(0.0)) history[separated[m]].setZero();
     }
     // The overlap-only terms of the touching pairs first (contactElasticTerms says why).
     for (std::uint32_t m = 0; m < count; ++m) {

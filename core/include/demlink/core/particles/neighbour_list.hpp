@@ -51,6 +51,10 @@ class NeighbourList {
   [[nodiscard]] std::span<const ReducedPair> reduced() const { return reduced_; }
   [[nodiscard]] std::span<Vec3> history() { return history_; }
   [[nodiscard]] std::span<const Vec3> history() const { return history_; }
+  /// Per pair, 1 where its history may be non-zero: the pair touched at the last force
+  /// evaluation, or was carried over with a spring by the last build. The pair loop keeps
+  /// it, so pairs that stay apart cost one byte, not their 24-byte history.
+  [[nodiscard]] std::span<std::uint8_t> sprung() { return sprung_; }
   [[nodiscard]] std::size_t pairCount() const { return partners_.size(); }
   /// Rows (particle slots) of the last build.
   [[nodiscard]] std::size_t rowCount() const { return offsets_.empty() ? 0 : offsets_.size() - 1; }
@@ -77,6 +81,7 @@ class NeighbourList {
   std::vector<std::uint32_t> partners_;
   std::vector<std::uint32_t> rows_;  ///< derived from offsets_ (not saved)
   std::vector<Vec3> history_;
+  std::vector<std::uint8_t> sprung_;  ///< derived from history_ by build() and restore() (not saved)
   std::vector<ReducedPair> reduced_;
   std::vector<Vec3> position_at_build_;
 };
