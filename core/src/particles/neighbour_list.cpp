@@ -95,7 +95,10 @@ void findPartners(const CellGrid& grid, std::span<const Vec3> x, std::span<const
       }
       grid.forEachNearCell(level, c.near, [&](std::span<const std::uint32_t> slots) {
         if (slots.back() <= self) return;
-        auto k = std::upper_bound(slots.begin(), slots.end(), self);
+        // A cell's slots are ascending and few: a forward scan finds the first j > i in
+        // one or two steps (cells after i's own hold only such slots).
+        auto k = slots.begin();
+        while (*k <= self) ++k;
         if constexpr (kClumps) {
           for (; k != slots.end(); ++k) consider(*k);
         } else {
