@@ -140,6 +140,11 @@ LiggghtsBackend::LiggghtsBackend(core::World& world, const std::string& logFile,
   for (std::string& arg : args) argv.push_back(arg.data());
   lammps_open(static_cast<int>(argv.size()), argv.data(), MPI_COMM_WORLD, &lammps_);
   for (const std::string& line : commands) command(line);
+  // The move fixes' variables come before any other (liggghts_motion.hpp).
+  motions_.resize(world_.meshes().size());
+  for (std::size_t k = 0; k < motions_.size(); ++k) {
+    for (const std::string& line : liggghtsMeshMotionSetup(k)) command(line);
+  }
   MPI_Barrier(MPI_COMM_WORLD);
   std::error_code ignored;
   std::filesystem::remove(data, ignored);
@@ -222,21 +227,24 @@ void LiggghtsBackend::command(const std::string& line) {
 }
 
 bool LiggghtsBackend::updateMeshMotion() {
-  bool changed = false;
-  motions_.resize(world_.meshes().size());
+  bool created = false;
+  const double dt = world_.settings().time_step;
   for (std::size_t k = 0; k < motions_.size(); ++k) {
     const core::MeshBody& mesh = world_.meshes()[k];
     MeshMotion& motion = motions_[k];
     if (mesh.linearVelocity() == motion.linear && mesh.angularVelocity() == motion.angular) continue;
-    for (auto id = motion.fixes.rbegin(); id != motion.fixes.rend(); ++id) command("unfix " + *id);
-    motion = {mesh.linearVelocity(), mesh.angularVelocity(), {}};
-    for (const LiggghtsFix& fix : liggghtsMeshMotion(k, mesh.position(), motion.linear, motion.angular)) {
-      command(fix.command);
-      motion.fixes.push_back(fix.id);
+    for (const std::string& line : liggghtsMeshTwist(k, mesh.linearVelocity(), mesh.angularVelocity(), dt)) {
+      command(line);
     }
-    changed = true;
+    if (!motion.fixed) {
+      for (const LiggghtsFix& fix : liggghtsMeshMotionFixes(k, mesh.position())) command(fix.command);
+      motion.fixed = true;
+      created = true;
+    }
+    motion.linear = mesh.linearVelocity();
+    motion.angular = mesh.angularVelocity();
   }
-  return changed;
+  return created;
 }
 
 void LiggghtsBackend::advanceTo(std::uint64_t step) {
@@ -244,7 +252,8 @@ void LiggghtsBackend::advanceTo(std::uint64_t step) {
   // The first run sets up neighbour lists and forces; later ones continue exactly where
   // the last stopped (pre no: no re-setup), as one uninterrupted run would. A new move
   // fix is only seen by a run that sets up (LIGGGHTS builds its fix lists there); the
-  // set-up recomputes the forces at the same positions, which changes nothing.
+  // set-up recomputes the forces at the same positions, which changes nothing. A changed
+  // twist of a mesh whose fixes exist needs none: they read it from variables each step.
   const bool refixed = updateMeshMotion();
   command(fmt::format("run {}{}", step - step_, started_ && !refixed ? " pre no post no" : " post no"));
   started_ = true;
