@@ -81,7 +81,7 @@ class LiggghtsBackend final : public SimulationBackend {
   /// and sensors' state, the clock, the meshes; core/state/checkpoint.hpp), by rank 0;
   /// `<base>.liggghts`, LIGGGHTS's write_restart (atoms, contact histories, fix states);
   /// `<base>.liggghts_ids`, the tag-to-id map and the inserted / lost tallies, by rank 0.
-  void writeCheckpoint(const std::filesystem::path& base);
+  void writeCheckpoint(const std::filesystem::path& base) override;
 
  private:
   core::World& world_;
