@@ -295,11 +295,14 @@ TEST(LiggghtsCosim, RefusedComponentIsNamedAndTheServerStaysUp) {
     connectTo(connection, port, "feeder");
     client::Session session(connection);
     declareBed(session, 0.001, 5);
-    v1::ComponentDeclaration tracker;  // the client library has no tracker class
-    tracker.set_name("scoop");
-    tracker.mutable_tracker()->add_particle_ids(1);
-    tracker.mutable_tracker()->set_sample_every_steps(1);
-    session.add<Raw>(tracker);
+    v1::ComponentDeclaration clump;  // the client library has no clump template class
+    clump.set_name("scoop");
+    for (const double x : {-0.001, 0.001}) {
+      v1::ClumpSphere& sphere = *clump.mutable_clump_template()->add_spheres();
+      sphere.mutable_offset()->set_x(x);
+      sphere.set_radius(0.001);
+    }
+    session.add<Raw>(clump);
     session.declare();
     std::string refusal;
     try {
@@ -308,7 +311,7 @@ TEST(LiggghtsCosim, RefusedComponentIsNamedAndTheServerStaysUp) {
       refusal = error.what();
     }
     EXPECT_NE(refusal.find("scoop"), std::string::npos) << refusal;
-    EXPECT_NE(refusal.find("tracker"), std::string::npos) << refusal;
+    EXPECT_NE(refusal.find("clump_template"), std::string::npos) << refusal;
     EXPECT_NE(refusal.find("LIGGGHTS"), std::string::npos) << refusal;
   }
   // The next simulation (a bed settling, nothing refused) runs on the same server.

@@ -24,8 +24,6 @@ std::string refusalReason(Kind kind) {
     case Kind::kMassSpringBody:
     case Kind::kFemBody:
       return "LIGGGHTS has no deformable bodies";
-    case Kind::kTracker:
-      return "trackers are not mapped by the LIGGGHTS backend yet (sinks and sensors are)";
     default:
       return {};
   }
@@ -53,6 +51,11 @@ void refuseUnmappedFields(const v1::ComponentDeclaration& component, const std::
                                "in time" + reason);
       }
     }
+  }
+  if (component.has_tracker() && component.tracker().nodes_size() > 0) {
+    throw core::InputError(field + ".nodes[0]", component.tracker().nodes(0),
+                           "tracker " + component.name() + ": LIGGGHTS has no deformable bodies, so no nodes to track" +
+                               reason);
   }
   if (component.has_pit_generator() && !component.pit_generator().clump_template().empty()) {
     throw core::InputError(field + ".clump_template", component.pit_generator().clump_template(),

@@ -10,11 +10,14 @@
 #include <fstream>
 #include <limits>
 #include <numbers>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "demlink/core/components/particle_tracker.hpp"
 #include "demlink/core/state/checkpoint.hpp"
 #include "demlink/server/backend/liggghts_backend.hpp"
+#include "demlink/server/backend/liggghts_flows.hpp"
 #include "demlink/server/backend/liggghts_script.hpp"
 #include "liggghts_test_support.hpp"
 #include "scene_test_support.hpp"
@@ -360,6 +363,65 @@ TEST(LiggghtsBackend, MeshFollowsATwistThatChangesEveryInterval) {
   EXPECT_LT(worst, 1.5e-7) << "LIGGGHTS's mesh is off ours after 20 twists";
   std::printf("plate after 20 twists on %d rank(s): vertices moved up to %.4g m, LIGGGHTS's up to %.3g m from ours\n",
               mpiRanks(), travel, worst);
+}
+
+/// The scene's tracker.
+const core::ParticleTracker& trackerOf(const core::World& world) {
+  for (const auto& component : world.components()) {
+    if (const auto* tracker = dynamic_cast<const core::ParticleTracker*>(component.get())) return *tracker;
+  }
+  throw std::runtime_error("no tracker");
+}
+
+TEST(LiggghtsBackend, TrackerFollowsTheSlidingSphereAsOnOurs) {
+  // A sphere set down on a plane at 0.05 m/s slides, friction turns the slide into rolling
+  // at 5/7 of that speed (Coulomb friction, mu = 0.5, on both engines), and it rolls on; a
+  // tracker samples it every 5 ms for 0.3 s on both engines. (A bouncing sphere would
+  // compare the two engines' wall restitution, not the tracker.) On LIGGGHTS its
+  // trajectory stays within 20 um of ours, its velocity within 1 % of the start speed, and
+  // the contact force it reports is the plane's m g up (LIGGGHTS's force less gravity).
+  const v1::Scene scene = test::sceneOf({
+      R"({"name": "box", "simulation_box": {"time_step": 1e-5, "end_time": 0.3,
+          "bounds": {"lower": {"x": -0.02, "y": -0.02, "z": -0.005}, "upper": {"x": 0.05, "y": 0.02, "z": 0.03}}}})",
+      kBeads,
+      plane("floor", R"({"z": 0})", R"({"z": 1})"),
+      R"({"name": "bead", "single_particle": {"material": "beads", "position": {"z": 0.002}, "diameter": 0.004,
+          "velocity": {"x": 0.05}}})",
+      R"({"name": "spy", "tracker": {"particle_ids": [1], "sample_every_steps": 500}})",
+  });
+  TranslatedScene native = translateScene(scene, {});
+  NativeBackend ours(native.world);
+  TranslatedScene translated = translateScene(scene, {});
+  requireLiggghtsCompatible(scene, translated.world);
+  LiggghtsBackend backend(translated.world);
+  ASSERT_EQ(liggghtsStride(translated.world, 0), 500u);
+  const double r = 0.002;
+  const double weight = 2500.0 * 4.0 / 3.0 * std::numbers::pi * r * r * r * 9.81;
+  double worstPosition = 0.0, worstVelocity = 0.0, worstForce = 0.0;
+  for (std::uint64_t step = 500; step <= 30000; step += 500) {
+    ours.advanceTo(step);
+    backend.advanceTo(step);
+    backend.syncParticles();
+    const core::TrackedParticle& a = trackerOf(ours.world()).particles()[0];
+    const core::TrackedParticle& b = trackerOf(backend.world()).particles()[0];
+    ASSERT_EQ(b.status, core::TrackedParticle::Status::Present);
+    ASSERT_EQ(trackerOf(backend.world()).sampleCount(), step / 500 + 1) << "one sample per stride, and at t = 0";
+    worstPosition = std::max(worstPosition, (a.position - b.position).norm());
+    worstVelocity = std::max(worstVelocity, (a.velocity - b.velocity).norm());
+    if (step >= 5000) worstForce = std::max(worstForce, (b.force - core::Vec3(0, 0, weight)).norm());
+  }
+  const core::TrackedParticle& a = trackerOf(ours.world()).particles()[0];
+  const core::TrackedParticle& b = trackerOf(backend.world()).particles()[0];
+  EXPECT_NEAR(a.velocity.x(), 5.0 / 7.0 * 0.05, 0.01 * 0.05) << "rolling";
+  EXPECT_LT(worstPosition, 2e-5) << "ranks " << mpiRanks();
+  EXPECT_LT(worstVelocity, 0.01 * 0.05);
+  EXPECT_NEAR(a.force.z(), weight, 0.01 * weight);
+  EXPECT_LT(worstForce, 0.01 * weight) << "LIGGGHTS's contact force from 50 ms on";
+  std::printf("tracked sphere on %d rank(s): trajectory within %.3g m of ours, velocity within %.3g m/s, contact "
+              "force within %.3g N of m g (%.6g N); at 0.3 s x = %.6g m, vx = %.6g m/s on LIGGGHTS, %.6g m, %.6g m/s "
+              "on ours\n",
+              mpiRanks(), worstPosition, worstVelocity, worstForce, weight, b.position.x(), b.velocity.x(),
+              a.position.x(), a.velocity.x());
 }
 
 TEST(LiggghtsBackend, ParticleLeavingTheBoxIsRemovedAsByOurEngine) {

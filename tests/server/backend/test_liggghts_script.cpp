@@ -163,12 +163,16 @@ TEST(LiggghtsMeshMotion, FixesReadVariablesThatNameTheTwistsValues) {
 }
 
 TEST(LiggghtsRefusals, UnmappedKindsNamed) {
-  const std::string what = kindRefusal(R"({"name": "thing", "tracker": {}})");
-  EXPECT_TRUE(has(what, "components[4].tracker") && has(what, "thing") && has(what, "native backend")) << what;
-  // Sources, sinks and sensors are mapped (liggghts_flows), FIXED facet bodies go as meshes at
-  // rest and a pit generator's bed as initial particles: their kind passes.
-  for (const std::string kind : {"particle_source", "particle_sink", "region_sensor", "flow_sensor", "facet_body",
-                                 "pit_generator"}) {
+  // A tracker of nodes: LIGGGHTS has no deformable bodies.
+  const std::string what = kindRefusal(R"({"name": "thing", "tracker": {"nodes": ["cloth/3"]}})");
+  EXPECT_TRUE(has(what, "components[4].tracker.nodes[0] = cloth/3") && has(what, "thing") &&
+              has(what, "no deformable bodies") && has(what, "native backend"))
+      << what;
+  // Sources, sinks, sensors and particle trackers are mapped (liggghts_flows), FIXED facet
+  // bodies go as meshes at rest and a pit generator's bed as initial particles: their kind
+  // passes.
+  for (const std::string kind : {"particle_source", "particle_sink", "region_sensor", "flow_sensor", "tracker",
+                                 "facet_body", "pit_generator"}) {
     EXPECT_EQ(kindRefusal(R"({"name": "thing", ")" + kind + R"(": {}})"), "(accepted)") << kind;
   }
 }
