@@ -231,6 +231,14 @@ std::vector<std::string> liggghtsCommands(const core::World& world, const std::s
       "pair_coeff * *",
       fmt::format("timestep {:.17g}", world.settings().time_step),
   };
+  // Ranks split the box across gravity, never along it: a bed settles flat, and a split
+  // along gravity leaves the ranks above it nothing to do (docs/scale-out.md "Benchmark").
+  if (const core::Vec3 g = world.gravity().cwiseAbs(); g.maxCoeff() > 0.0) {
+    Eigen::Index down = 0;
+    g.maxCoeff(&down);
+    const char* grids[] = {"processors 1 * *", "processors * 1 *", "processors * * 1"};
+    commands.insert(std::find(commands.begin(), commands.end(), "boundary f f f") + 1, grids[down]);
+  }
   if (table.anyRollingFriction()) {
     commands.insert(std::find(commands.begin(), commands.end(), "pair_style gran " + law),
                     fmt::format("fix demlink_rolling all property/global coefficientRollingFriction peratomtypepair {}{}",

@@ -191,6 +191,27 @@ TEST(LiggghtsRefusals, FacetRolesOtherThanFixedNamed) {
       << clumps;
 }
 
+TEST(LiggghtsScript, RanksSplitTheBoxAcrossGravity) {
+  // A bed settles flat: the ranks' grid has one layer along gravity, before the box exists.
+  for (const auto& [gravity, grid] : {std::pair{R"("gravity": {"z": -9.81}, )", "processors * * 1"},
+                                      std::pair{R"("gravity": {"x": 3, "y": -1}, )", "processors 1 * *"},
+                                      std::pair{R"("gravity": {"y": 9.81, "z": 1}, )", "processors * 1 *"},
+                                      std::pair{R"("gravity": {}, )", "(none)"}}) {
+    const std::string box = R"({"name": "box", "simulation_box": {"time_step": 1e-5, "end_time": 0.01, )" +
+                            std::string(gravity) +
+                            R"("bounds": {"lower": {"x": 0, "y": 0, "z": 0}, "upper": {"x": 0.1, "y": 0.1, "z": 0.1}}}})";
+    TranslatedScene translated = translateScene(test::sceneOf({box, kBeads, kFloor, kBead}), {});
+    translated.world.initialize();
+    const std::vector<std::string> commands = liggghtsCommands(translated.world, "scene.data");
+    const auto processors = std::find_if(commands.begin(), commands.end(),
+                                         [](const std::string& c) { return c.starts_with("processors"); });
+    EXPECT_EQ(processors == commands.end() ? std::string("(none)") : *processors, grid) << gravity;
+    if (processors != commands.end()) {
+      EXPECT_LT(processors, std::find(commands.begin(), commands.end(), "read_data scene.data")) << gravity;
+    }
+  }
+}
+
 TEST(LiggghtsScript, FixedFacetBodyIsAMeshAtRest) {
   std::vector<std::string> components = base();
   components.push_back(R"({"name": "shelf", "facet_body": {"role": "FIXED", "material": "beads",
