@@ -32,9 +32,9 @@ constexpr std::uint64_t kInterval = 10;    // steps per exchange
 constexpr std::uint64_t kExchanges = 150;  // 0.015 s
 constexpr double kSpeed = 0.3;             // blade push along +x [m/s]
 
-/// demlink-server --backend liggghts on `ranks` MPI ranks (1: started directly; 0: the
-/// native backend, for comparison).
-Child startServer(int ranks, const std::filesystem::path& out, const std::vector<std::string>& extra = {}) {
+/// The command line's start for `ranks` MPI ranks: the launcher and its flags, or nothing
+/// for one rank (started directly, a singleton MPI process).
+std::vector<std::string> launcher(int ranks) {
   std::vector<std::string> line;
   if (ranks > 1) {
     line = {DEMLINK_MPIEXEC, "-np", std::to_string(ranks)};
@@ -42,6 +42,13 @@ Child startServer(int ranks, const std::filesystem::path& out, const std::vector
       if (!flag.empty()) line.push_back(flag);
     }
   }
+  return line;
+}
+
+/// demlink-server --backend liggghts on `ranks` MPI ranks (1: started directly; 0: the
+/// native backend, for comparison).
+Child startServer(int ranks, const std::filesystem::path& out, const std::vector<std::string>& extra = {}) {
+  std::vector<std::string> line = launcher(ranks);
   line.push_back(DEMLINK_SERVER_EXE);
   for (const std::string& argument :
        std::vector<std::string>{"--port", "0", "--backend", ranks > 0 ? "liggghts" : "native", "--output",
@@ -197,13 +204,7 @@ std::map<std::uint64_t, std::array<double, 3>> finalPositions(const std::filesys
 
 /// demlink-run with `arguments` on `ranks` MPI ranks; its exit code.
 int runHeadless(int ranks, const std::vector<std::string>& arguments) {
-  std::vector<std::string> line;
-  if (ranks > 1) {
-    line = {DEMLINK_MPIEXEC, "-np", std::to_string(ranks)};
-    for (const std::string& flag : std::vector<std::string>{DEMLINK_MPIEXEC_FLAGS}) {
-      if (!flag.empty()) line.push_back(flag);
-    }
-  }
+  std::vector<std::string> line = launcher(ranks);
   line.push_back(DEMLINK_RUN_EXE);
   line.insert(line.end(), arguments.begin(), arguments.end());
   Child run(line);

@@ -96,26 +96,19 @@ TEST(LiggghtsBackend, RollingSphereDeceleratesAsOurs) {
               mpiRanks(), theirs, reference, expected);
 }
 
+/// plate.stl in `folder`: a 20 mm square plate in its frame's z = 0 plane, centred on the origin.
+void writePlateStl(const std::filesystem::path& folder) {
+  test::writeText(folder / "plate.stl", "solid plate\n facet normal 0 0 1\n  outer loop\n   vertex -0.01 -0.01 0\n"
+                                        "   vertex 0.01 -0.01 0\n   vertex 0.01 0.01 0\n  endloop\n endfacet\n"
+                                        " facet normal 0 0 1\n  outer loop\n   vertex -0.01 -0.01 0\n"
+                                        "   vertex 0.01 0.01 0\n   vertex -0.01 0.01 0\n  endloop\n endfacet\n"
+                                        "endsolid plate\n");
+}
+
 TEST(LiggghtsBackend, SphereOnMeshHasOurWrench) {
   const test::ScratchDir dir;
   // A 20 mm square plate in the STL frame's z = 0 plane, its reference point at its centre.
-  test::writeText(dir.path() / "plate.stl", R"(solid plate
- facet normal 0 0 1
-  outer loop
-   vertex -0.01 -0.01 0
-   vertex 0.01 -0.01 0
-   vertex 0.01 0.01 0
-  endloop
- endfacet
- facet normal 0 0 1
-  outer loop
-   vertex -0.01 -0.01 0
-   vertex 0.01 0.01 0
-   vertex -0.01 0.01 0
-  endloop
- endfacet
-endsolid plate
-)");
+  writePlateStl(dir.path());
   const v1::Scene scene = test::sceneOf({
       R"({"name": "box", "simulation_box": {"time_step": 1e-5, "end_time": 0.1,
           "bounds": {"lower": {"x": -0.001, "y": -0.001, "z": -0.005}, "upper": {"x": 0.021, "y": 0.021, "z": 0.02}}}})",
@@ -230,11 +223,7 @@ struct MovingPlateRun {
 
 MovingPlateRun runMovingPlate(const std::string& material, const std::string& motion, std::uint64_t steps) {
   const test::ScratchDir dir;
-  test::writeText(dir.path() / "plate.stl", "solid plate\n facet normal 0 0 1\n  outer loop\n   vertex -0.01 -0.01 0\n"
-                                            "   vertex 0.01 -0.01 0\n   vertex 0.01 0.01 0\n  endloop\n endfacet\n"
-                                            " facet normal 0 0 1\n  outer loop\n   vertex -0.01 -0.01 0\n"
-                                            "   vertex 0.01 0.01 0\n   vertex -0.01 0.01 0\n  endloop\n endfacet\n"
-                                            "endsolid plate\n");
+  writePlateStl(dir.path());
   const v1::Scene scene = test::sceneOf({
       R"({"name": "box", "simulation_box": {"time_step": 1e-5, "end_time": 0.1,
           "bounds": {"lower": {"x": -0.01, "y": -0.01, "z": -0.005}, "upper": {"x": 0.03, "y": 0.03, "z": 0.02}}}})",
@@ -314,11 +303,7 @@ TEST(LiggghtsBackend, MeshFollowsATwistThatChangesEveryInterval) {
   // engine puts it, to 1.5e-7 m; the 20 mm plate's corners move by more than 4 mm. Rates
   // w instead of the exact step angles (first order) miss by 4.5e-7 m here.
   const test::RankSharedDir dir;
-  test::writeText(dir.path() / "plate.stl", "solid plate\n facet normal 0 0 1\n  outer loop\n   vertex -0.01 -0.01 0\n"
-                                            "   vertex 0.01 -0.01 0\n   vertex 0.01 0.01 0\n  endloop\n endfacet\n"
-                                            " facet normal 0 0 1\n  outer loop\n   vertex -0.01 -0.01 0\n"
-                                            "   vertex 0.01 0.01 0\n   vertex -0.01 0.01 0\n  endloop\n endfacet\n"
-                                            "endsolid plate\n");
+  writePlateStl(dir.path());
   const v1::Scene scene = test::sceneOf({
       R"({"name": "box", "simulation_box": {"time_step": 1e-5, "end_time": 0.1,
           "bounds": {"lower": {"x": -0.05, "y": -0.05, "z": -0.05}, "upper": {"x": 0.05, "y": 0.05, "z": 0.05}}}})",
