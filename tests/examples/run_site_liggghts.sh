@@ -7,8 +7,9 @@
 # 1,100 particles) and the excavator stopped at 8.8 s (--stop-at), when it has dug, curled
 # and lifted its first load out of the pit: every part of the coupling has run (FIXED facet
 # bodies, the pit generator's bed, the bucket's moving mesh and its wrench, the fill sensor
-# riding on it, the truck's body and load sensor) in a few minutes instead of the hour a
-# full two-cycle site takes on LIGGGHTS on 2 cores. Every wait is bounded.
+# riding on it, the truck's body and load sensor) in about half the time of the whole
+# cycle (scripts/demo_cosim.sh --backend liggghts --ranks 2 --small: 504 s on 2 cores,
+# docs/scale-out.md). Every wait is bounded.
 # usage: run_site_liggghts.sh SERVER_EXE TRUCK_EXE EXCAVATOR_EXE MPIEXEC SOURCE_DIR WORKDIR
 set -euo pipefail
 scale=${DEMLINK_TEST_TIME_SCALE:-1}

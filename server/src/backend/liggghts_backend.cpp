@@ -140,6 +140,11 @@ LiggghtsBackend::LiggghtsBackend(core::World& world, const std::string& logFile,
   for (std::string& arg : args) argv.push_back(arg.data());
   lammps_open(static_cast<int>(argv.size()), argv.data(), MPI_COMM_WORLD, &lammps_);
   for (const std::string& line : commands) command(line);
+  // The move fixes' variables come before any other (liggghts_motion.hpp).
+  motions_.resize(world_.meshes().size());
+  for (std::size_t k = 0; k < motions_.size(); ++k) {
+    for (const std::string& line : liggghtsMeshMotionSetup(k)) command(line);
+  }
   MPI_Barrier(MPI_COMM_WORLD);
   std::error_code ignored;
   std::filesystem::remove(data, ignored);
@@ -222,21 +227,24 @@ void LiggghtsBackend::command(const std::string& line) {
 }
 
 bool LiggghtsBackend::updateMeshMotion() {
-  bool changed = false;
-  motions_.resize(world_.meshes().size());
+  bool created = false;
+  const double dt = world_.settings().time_step;
   for (std::size_t k = 0; k < motions_.size(); ++k) {
     const core::MeshBody& mesh = world_.meshes()[k];
     MeshMotion& motion = motions_[k];
     if (mesh.linearVelocity() == motion.linear && mesh.angularVelocity() == motion.angular) continue;
-    for (auto id = motion.fixes.rbegin(); id != motion.fixes.rend(); ++id) command("unfix " + *id);
-    motion = {mesh.linearVelocity(), mesh.angularVelocity(), {}};
-    for (const LiggghtsFix& fix : liggghtsMeshMotion(k, mesh.position(), motion.linear, motion.angular)) {
-      command(fix.command);
-      motion.fixes.push_back(fix.id);
+    for (const std::string& line : liggghtsMeshTwist(k, mesh.linearVelocity(), mesh.angularVelocity(), dt)) {
+      command(line);
     }
-    changed = true;
+    if (!motion.fixed) {
+      for (const LiggghtsFix& fix : liggghtsMeshMotionFixes(k, mesh.position())) command(fix.command);
+      motion.fixed = true;
+      created = true;
+    }
+    motion.linear = mesh.linearVelocity();
+    motion.angular = mesh.angularVelocity();
   }
-  return changed;
+  return created;
 }
 
 void LiggghtsBackend::advanceTo(std::uint64_t step) {
@@ -244,7 +252,8 @@ void LiggghtsBackend::advanceTo(std::uint64_t step) {
   // The first run sets up neighbour lists and forces; later ones continue exactly where
   // the last stopped (pre no: no re-setup), as one uninterrupted run would. A new move
   // fix is only seen by a run that sets up (LIGGGHTS builds its fix lists there); the
-  // set-up recomputes the forces at the same positions, which changes nothing.
+  // set-up recomputes the forces at the same positions, which changes nothing. A changed
+  // twist of a mesh whose fixes exist needs none: they read it from variables each step.
   const bool refixed = updateMeshMotion();
   command(fmt::format("run {}{}", step - step_, started_ && !refixed ? " pre no post no" : " post no"));
   started_ = true;
@@ -279,9 +288,9 @@ double LiggghtsBackend::particleMass() const {
 }
 
 void LiggghtsBackend::syncParticles() {
-  // Every rank packs its atoms as (tag, type, radius, mass, x, v, omega); all ranks receive
-  // all of them.
-  constexpr int kRow = 13;
+  // Every rank packs its atoms as (tag, type, radius, mass, x, v, omega, f); all ranks
+  // receive all of them. f is the last force evaluation's, fix gravity's m g included.
+  constexpr int kRow = 16;
   const int local = *static_cast<int*>(lammps_extract_global(lammps_, "nlocal"));
   const auto* tags = static_cast<const int*>(lammps_extract_atom(lammps_, "id"));
   const auto* types = static_cast<const int*>(lammps_extract_atom(lammps_, "type"));
@@ -290,11 +299,12 @@ void LiggghtsBackend::syncParticles() {
   const auto* const* x = static_cast<double**>(lammps_extract_atom(lammps_, "x"));
   const auto* const* v = static_cast<double**>(lammps_extract_atom(lammps_, "v"));
   const auto* const* omega = static_cast<double**>(lammps_extract_atom(lammps_, "omega"));
+  const auto* const* force = static_cast<double**>(lammps_extract_atom(lammps_, "f"));
   std::vector<double> mine;
   mine.reserve(static_cast<std::size_t>(local) * kRow);
   for (int i = 0; i < local; ++i) {
     mine.insert(mine.end(), {static_cast<double>(tags[i]), static_cast<double>(types[i]), radius[i], rmass[i]});
-    for (const auto* column : {x, v, omega}) mine.insert(mine.end(), column[i], column[i] + 3);
+    for (const auto* column : {x, v, omega, force}) mine.insert(mine.end(), column[i], column[i] + 3);
   }
   const int ranks = mpiRanks();
   std::vector<int> counts(static_cast<std::size_t>(ranks));
@@ -318,11 +328,17 @@ void LiggghtsBackend::syncParticles() {
   core::ParticleArrays& p = world_.particles();
   world_.removeParticlesIf([&](auto slot) { return rowOfTag[tag_of_id_.at(p.id[slot])] == nullptr; },
                            lost_);
+  // Our force array holds the contact force alone (trackers report it): LIGGGHTS's less m g.
+  const core::Vec3 g = world_.gravity();
+  const auto contactForce = [&g](const double* row) -> core::Vec3 {
+    return {row[12] - row[2] * g.x(), row[13] - row[2] * g.y(), row[14] - row[2] * g.z()};
+  };
   for (std::size_t i = 0; i < p.size(); ++i) {
     const double* row = rowOfTag[tag_of_id_.at(p.id[i])];
     p.position[i] = core::Vec3(row[3], row[4], row[5]);
     p.velocity[i] = core::Vec3(row[6], row[7], row[8]);
     p.angular_velocity[i] = core::Vec3(row[9], row[10], row[11]);
+    p.force[i] = contactForce(row);
   }
   // Atoms with tags we have not seen were inserted by a source: they join the world in tag
   // order (the same on every rank and for any number of ranks).
@@ -339,6 +355,7 @@ void LiggghtsBackend::syncParticles() {
     spec.velocity = core::Vec3(row[6], row[7], row[8]);
     spec.angular_velocity = core::Vec3(row[9], row[10], row[11]);
     const std::uint64_t id = world_.addParticle(spec, "LIGGGHTS insertion");
+    p.force.back() = contactForce(row);
     tag_ids_[tag - 1] = id;
     tag_of_id_.emplace(id, tag);
     ++inserted_.count;

@@ -24,8 +24,6 @@ std::string refusalReason(Kind kind) {
     case Kind::kMassSpringBody:
     case Kind::kFemBody:
       return "LIGGGHTS has no deformable bodies";
-    case Kind::kTracker:
-      return "trackers are not mapped by the LIGGGHTS backend yet (sinks and sensors are)";
     default:
       return {};
   }
@@ -53,6 +51,11 @@ void refuseUnmappedFields(const v1::ComponentDeclaration& component, const std::
                                "in time" + reason);
       }
     }
+  }
+  if (component.has_tracker() && component.tracker().nodes_size() > 0) {
+    throw core::InputError(field + ".nodes[0]", component.tracker().nodes(0),
+                           "tracker " + component.name() + ": LIGGGHTS has no deformable bodies, so no nodes to track" +
+                               reason);
   }
   if (component.has_pit_generator() && !component.pit_generator().clump_template().empty()) {
     throw core::InputError(field + ".clump_template", component.pit_generator().clump_template(),
@@ -228,6 +231,14 @@ std::vector<std::string> liggghtsCommands(const core::World& world, const std::s
       "pair_coeff * *",
       fmt::format("timestep {:.17g}", world.settings().time_step),
   };
+  // Ranks split the box across gravity, never along it: a bed settles flat, and a split
+  // along gravity leaves the ranks above it nothing to do (docs/scale-out.md "Benchmark").
+  if (const core::Vec3 g = world.gravity().cwiseAbs(); g.maxCoeff() > 0.0) {
+    Eigen::Index down = 0;
+    g.maxCoeff(&down);
+    const char* grids[] = {"processors 1 * *", "processors * 1 *", "processors * * 1"};
+    commands.insert(std::find(commands.begin(), commands.end(), "boundary f f f") + 1, grids[down]);
+  }
   if (table.anyRollingFriction()) {
     commands.insert(std::find(commands.begin(), commands.end(), "pair_style gran " + law),
                     fmt::format("fix demlink_rolling all property/global coefficientRollingFriction peratomtypepair {}{}",

@@ -5,6 +5,7 @@
 #include <cctype>
 
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/state/checkpoint.hpp"
 
 namespace demlink::server {
 
@@ -37,5 +38,7 @@ NativeBackend::NativeBackend(core::World& world) : world_(world) {
 void NativeBackend::advanceTo(std::uint64_t step) {
   while (world_.stepCount() < step) world_.step();
 }
+
+void NativeBackend::writeCheckpoint(const std::filesystem::path& base) { core::writeCheckpointFile(world_, base); }
 
 }  // namespace demlink::server

@@ -6,8 +6,12 @@
 /// and at a stop the couplings whose interval ends there snap their mesh onto the target
 /// before the outputs are read; before every world step each client-driven deformable body
 /// gets its driving pose and twist at the start of that step (the sample advanced by its
-/// twist; the body carries the pose through the step itself).
+/// twist; the body carries the pose through the step itself). On LIGGGHTS the backend
+/// writes the checkpoints (with its restart files) at the stops, where the compiled world
+/// holds its particles, instead of the driver after every step.
 #include "demlink/server/cosim/cosim_simulation.hpp"
+
+#include <spdlog/fmt/fmt.h>
 
 #include <fstream>
 
@@ -37,8 +41,15 @@ CosimSimulation::CosimSimulation(CompiledSimulation compiled, const std::filesys
       couplings_.emplace(i, core::CoupledMotion(*c.mesh, c.motion));
     }
   }
+  backend_checkpoints_ = options.backend != BackendKind::Native;
   if (!options.mirror) {
-    driver_ = std::make_unique<RunDriver>(w, compiled_.scene->run, compiled_.plan, directory_,
+    RunOptions run = compiled_.scene->run;
+    RunPlan plan = compiled_.plan;
+    if (backend_checkpoints_) {
+      run.final_checkpoint = false;
+      plan.checkpoint_every = 0;
+    }
+    driver_ = std::make_unique<RunDriver>(w, run, plan, directory_,
                                           compiled_.box_name + ".simulation_box.output.directory");
     std::ofstream report(directory_ / "compile_report.txt");
     report << compiled_.report.text();
@@ -201,6 +212,11 @@ CosimSimulation::Advance CosimSimulation::advance() {
   while (w.stepCount() < *stop) stepWorld();
   // The outputs at the stop read the particles from the compiled world (no-op natively).
   backend_->syncParticles();
+  // The first stop at or after each checkpoint step (every rank: a collective on LIGGGHTS).
+  if (const std::uint64_t every = compiled_.plan.checkpoint_every;
+      backend_checkpoints_ && every > 0 && w.stepCount() / every > first / every) {
+    backend_->writeCheckpoint(directory_ / fmt::format("checkpoint_{:06}.bin", w.stepCount() / every));
+  }
   outputs_.addStepping(w.stepCount() - first, secondsSince(begin));
   out.stepped = true;
   for (const std::size_t index : scheduler_.advanceTo(*stop)) {
@@ -214,6 +230,12 @@ CosimSimulation::Advance CosimSimulation::advance() {
 }
 
 void CosimSimulation::finish(const std::string& reason) {
+  if (backend_checkpoints_ && !finished_ && compiled_.scene->run.final_checkpoint) {
+    finished_ = true;
+    beforeEngine();
+    backend_->writeCheckpoint(directory_ / "checkpoint_final.bin");
+  }
+  finished_ = true;
   if (!driver_) return;
   driver_->finish(world(), reason);
   // The measured part of the compile report: known only once the run has stepped.

@@ -119,35 +119,60 @@ TEST(LiggghtsRefusals, MovingMeshesAccepted) {
   EXPECT_TRUE(has(stl, "vertex 0.01 0 0")) << stl;
 }
 
-TEST(LiggghtsMeshMotion, SlideThenTurnAboutTheCarriedReferencePoint) {
-  // Sliding at u = (0.1, 0, 0) m/s while turning at w = (0, 0, 2) rad/s about P = (1, 0, 0):
-  // the linear fix first, then the rotation about P (period pi s), which LIGGGHTS carries
-  // along with the first fix's motion.
-  const std::vector<LiggghtsFix> both =
-      liggghtsMeshMotion(2, core::Vec3(1, 0, 0), core::Vec3(0.1, 0, 0), core::Vec3(0, 0, 2));
-  ASSERT_EQ(both.size(), 2u);
-  EXPECT_EQ(both[0].id, "demlink_mesh2_slide");
-  EXPECT_TRUE(
-      has(both[0].command, "fix demlink_mesh2_slide all move/mesh mesh demlink_mesh2 linear 0.10000000000000001 0 0"))
-      << both[0].command;
-  EXPECT_EQ(both[1].id, "demlink_mesh2_turn");
-  EXPECT_TRUE(
-      has(both[1].command, "move/mesh mesh demlink_mesh2 rotate origin 1 0 0 axis 0 0 1 period 3.1415926535897931"))
-      << both[1].command;
-  const std::vector<LiggghtsFix> turn =
-      liggghtsMeshMotion(0, core::Vec3(0, 3, 0), core::Vec3::Zero(), core::Vec3(0, -4, 0));
-  ASSERT_EQ(turn.size(), 1u);
-  EXPECT_TRUE(has(turn[0].command, "rotate origin 0 3 0 axis 0 -1 0 period 1.5707963267948966")) << turn[0].command;
-  EXPECT_TRUE(liggghtsMeshMotion(0, core::Vec3::Zero(), core::Vec3::Zero(), core::Vec3::Zero()).empty());
+TEST(LiggghtsMeshMotion, StepAnglesComposeToTheStepsRotation) {
+  // Rz(c) Ry(b) Rx(a) must be the rotation by w dt, about any axis; to first order
+  // (a, b, c) = w dt, and the difference is second order (what the exact angles fix).
+  const double dt = 1e-3;
+  for (const core::Vec3& w : {core::Vec3(40, -25, 10), core::Vec3(0, 0, 2), core::Vec3(-3, 0.5, 0)}) {
+    const core::Vec3 angles = liggghtsStepAngles(w, dt);
+    const core::Mat3 composed = (Eigen::AngleAxisd(angles.z(), core::Vec3::UnitZ()) *
+                                 Eigen::AngleAxisd(angles.y(), core::Vec3::UnitY()) *
+                                 Eigen::AngleAxisd(angles.x(), core::Vec3::UnitX()))
+                                    .toRotationMatrix();
+    const core::Mat3 step = Eigen::AngleAxisd(w.norm() * dt, w.normalized()).toRotationMatrix();
+    EXPECT_LT((composed - step).cwiseAbs().maxCoeff(), 1e-15) << w.transpose();
+    EXPECT_LT((angles - w * dt).norm(), w.squaredNorm() * dt * dt) << w.transpose();
+  }
+  EXPECT_LT((liggghtsStepAngles(core::Vec3(0, 0, 2), 1e-3) - core::Vec3(0, 0, 2e-3)).norm(), 1e-18);
+  EXPECT_EQ(liggghtsStepAngles(core::Vec3::Zero(), 1e-3), core::Vec3::Zero());
+}
+
+TEST(LiggghtsMeshMotion, FixesReadVariablesThatNameTheTwistsValues) {
+  // The fixes read demlink_mesh2_<c>, defined once, whose formula names
+  // demlink_mesh2_<c>_now, which each twist re-defines (liggghts_motion.hpp says why).
+  const std::vector<std::string> setup = liggghtsMeshMotionSetup(2);
+  ASSERT_EQ(setup.size(), 12u);
+  EXPECT_EQ(setup[0], "variable demlink_mesh2_vx equal v_demlink_mesh2_vx_now");
+  EXPECT_EQ(setup[5], "variable demlink_mesh2_wz equal v_demlink_mesh2_wz_now");
+  EXPECT_EQ(setup[6], "variable demlink_mesh2_vx_now equal 0");
+  const std::vector<LiggghtsFix> fixes = liggghtsMeshMotionFixes(2, core::Vec3(1, 0, 0));
+  ASSERT_EQ(fixes.size(), 4u);
+  EXPECT_EQ(fixes[0].command, "fix demlink_mesh2_slide all move/mesh mesh demlink_mesh2 linear/variable "
+                              "v_demlink_mesh2_vx v_demlink_mesh2_vy v_demlink_mesh2_vz");
+  EXPECT_EQ(fixes[1].command, "fix demlink_mesh2_turn_wx all move/mesh mesh demlink_mesh2 rotate/variable origin 1 0 0 "
+                              "axis 1 0 0 omega v_demlink_mesh2_wx");
+  EXPECT_EQ(fixes[3].id, "demlink_mesh2_turn_wz");
+  EXPECT_TRUE(has(fixes[3].command, "axis 0 0 1 omega v_demlink_mesh2_wz")) << fixes[3].command;
+  // Sliding at u = (0.1, 0, 0) m/s while turning at w = (0, 0, 2) rad/s: about z alone, the
+  // rate is w's.
+  const std::vector<std::string> twist = liggghtsMeshTwist(2, core::Vec3(0.1, 0, 0), core::Vec3(0, 0, 2), 1e-3);
+  ASSERT_EQ(twist.size(), 6u);
+  EXPECT_EQ(twist[0], "variable demlink_mesh2_vx_now equal 0.10000000000000001");
+  EXPECT_EQ(twist[3], "variable demlink_mesh2_wx_now equal 0");
+  EXPECT_EQ(twist[5], "variable demlink_mesh2_wz_now equal 2");
 }
 
 TEST(LiggghtsRefusals, UnmappedKindsNamed) {
-  const std::string what = kindRefusal(R"({"name": "thing", "tracker": {}})");
-  EXPECT_TRUE(has(what, "components[4].tracker") && has(what, "thing") && has(what, "native backend")) << what;
-  // Sources, sinks and sensors are mapped (liggghts_flows), FIXED facet bodies go as meshes at
-  // rest and a pit generator's bed as initial particles: their kind passes.
-  for (const std::string kind : {"particle_source", "particle_sink", "region_sensor", "flow_sensor", "facet_body",
-                                 "pit_generator"}) {
+  // A tracker of nodes: LIGGGHTS has no deformable bodies.
+  const std::string what = kindRefusal(R"({"name": "thing", "tracker": {"nodes": ["cloth/3"]}})");
+  EXPECT_TRUE(has(what, "components[4].tracker.nodes[0] = cloth/3") && has(what, "thing") &&
+              has(what, "no deformable bodies") && has(what, "native backend"))
+      << what;
+  // Sources, sinks, sensors and particle trackers are mapped (liggghts_flows), FIXED facet
+  // bodies go as meshes at rest and a pit generator's bed as initial particles: their kind
+  // passes.
+  for (const std::string kind : {"particle_source", "particle_sink", "region_sensor", "flow_sensor", "tracker",
+                                 "facet_body", "pit_generator"}) {
     EXPECT_EQ(kindRefusal(R"({"name": "thing", ")" + kind + R"(": {}})"), "(accepted)") << kind;
   }
 }
@@ -164,6 +189,27 @@ TEST(LiggghtsRefusals, FacetRolesOtherThanFixedNamed) {
   const std::string clumps = kindRefusal(R"({"name": "pit", "pit_generator": {"clump_template": "rock"}})");
   EXPECT_TRUE(has(clumps, "components[4].pit_generator.clump_template = rock") && has(clumps, "multisphere"))
       << clumps;
+}
+
+TEST(LiggghtsScript, RanksSplitTheBoxAcrossGravity) {
+  // A bed settles flat: the ranks' grid has one layer along gravity, before the box exists.
+  for (const auto& [gravity, grid] : {std::pair{R"("gravity": {"z": -9.81}, )", "processors * * 1"},
+                                      std::pair{R"("gravity": {"x": 3, "y": -1}, )", "processors 1 * *"},
+                                      std::pair{R"("gravity": {"y": 9.81, "z": 1}, )", "processors * 1 *"},
+                                      std::pair{R"("gravity": {}, )", "(none)"}}) {
+    const std::string box = R"({"name": "box", "simulation_box": {"time_step": 1e-5, "end_time": 0.01, )" +
+                            std::string(gravity) +
+                            R"("bounds": {"lower": {"x": 0, "y": 0, "z": 0}, "upper": {"x": 0.1, "y": 0.1, "z": 0.1}}}})";
+    TranslatedScene translated = translateScene(test::sceneOf({box, kBeads, kFloor, kBead}), {});
+    translated.world.initialize();
+    const std::vector<std::string> commands = liggghtsCommands(translated.world, "scene.data");
+    const auto processors = std::find_if(commands.begin(), commands.end(),
+                                         [](const std::string& c) { return c.starts_with("processors"); });
+    EXPECT_EQ(processors == commands.end() ? std::string("(none)") : *processors, grid) << gravity;
+    if (processors != commands.end()) {
+      EXPECT_LT(processors, std::find(commands.begin(), commands.end(), "read_data scene.data")) << gravity;
+    }
+  }
 }
 
 TEST(LiggghtsScript, FixedFacetBodyIsAMeshAtRest) {

@@ -50,13 +50,13 @@ TEST(CosimBackend, LiggghtsRefusalNamesTheComponentBeforeAnyEngineExists) {
   CosimHarness h(std::move(options));
   declareBed(h, 1, R"("bounds": {"lower": {"x": -0.01, "y": -0.01, "z": -0.01}, "upper": {"x": 0.03, "y": 0.03,
       "z": 0.03}}, )", 1);
-  h.declare(1, R"({"name": "scoop", "tracker": {"particle_ids": [1],
-      "sample_every_steps": 1}})");
+  h.declare(1, R"({"name": "scoop", "clump_template": {"spheres": [
+      {"offset": {"x": -0.001}, "radius": 0.001}, {"offset": {"x": 0.001}, "radius": 0.001}]}})");
   const std::vector<v1::Error> errors = h.errors(1);
   ASSERT_FALSE(errors.empty());
   EXPECT_EQ(errors.back().code(), v1::Error::INVALID_DECLARATION);
   EXPECT_EQ(errors.back().component(), "scoop");
-  EXPECT_NE(errors.back().message().find("tracker"), std::string::npos) << errors.back().message();
+  EXPECT_NE(errors.back().message().find("clump_template"), std::string::npos) << errors.back().message();
   EXPECT_NE(errors.back().message().find("LIGGGHTS"), std::string::npos) << errors.back().message();
   EXPECT_EQ(built, 0);
   EXPECT_FALSE(h.host().simulationRunning());

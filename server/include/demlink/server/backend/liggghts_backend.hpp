@@ -43,8 +43,9 @@ class LiggghtsBackend final : public SimulationBackend {
 
   [[nodiscard]] std::string_view name() const override { return "liggghts"; }
   /// Runs LIGGGHTS to `step`, moving each mesh at the twist its compiled-world mesh has
-  /// (fix move/mesh, liggghts_motion.hpp; a changed twist re-creates the fixes and makes
-  /// this run set up again), then advances the compiled world's clock and mesh poses by
+  /// (fix move/mesh, liggghts_motion.hpp: a mesh's first twist creates its move fixes and
+  /// makes this run set up again; later twists only set the variables the fixes read),
+  /// then advances the compiled world's clock and mesh poses by
   /// the same steps and sets each mesh's wrench in it (meshWrench). A collective.
   void advanceTo(std::uint64_t step) override;
   [[nodiscard]] std::uint64_t stepCount() const override { return step_; }
@@ -80,21 +81,22 @@ class LiggghtsBackend final : public SimulationBackend {
   /// and sensors' state, the clock, the meshes; core/state/checkpoint.hpp), by rank 0;
   /// `<base>.liggghts`, LIGGGHTS's write_restart (atoms, contact histories, fix states);
   /// `<base>.liggghts_ids`, the tag-to-id map and the inserted / lost tallies, by rank 0.
-  void writeCheckpoint(const std::filesystem::path& base);
+  void writeCheckpoint(const std::filesystem::path& base) override;
 
  private:
   core::World& world_;
   void* lammps_ = nullptr;
   std::uint64_t step_ = 0;
   bool started_ = false;
-  /// Per mesh: the twist LIGGGHTS moves it at now and the ids of its move fixes.
+  /// Per mesh: the twist LIGGGHTS moves it at now, and whether its move fixes exist.
   struct MeshMotion {
     core::Vec3 linear = core::Vec3::Zero();
     core::Vec3 angular = core::Vec3::Zero();
-    std::vector<std::string> fixes;
+    bool fixed = false;
   };
   std::vector<MeshMotion> motions_;
-  /// Re-creates the move fixes of every mesh whose twist changed; true if any did.
+  /// Gives LIGGGHTS the twist of every mesh whose twist changed; true if a mesh's move
+  /// fixes had to be created (the next run must set up).
   bool updateMeshMotion();
   /// Reads the `.liggghts_ids` file of checkpoint `restore` into the members below.
   void restoreTagMap(const std::filesystem::path& restore);

@@ -5,6 +5,7 @@
 /// (LIGGGHTS, liggghts_backend.hpp) takes the world as its input and copies its particles
 /// back into it on syncParticles(), so every output reads one place.
 #include <cstdint>
+#include <filesystem>
 #include <string>
 #include <string_view>
 
@@ -37,6 +38,10 @@ class SimulationBackend {
   virtual void syncParticles() = 0;
   /// The compiled world the outputs read (current after syncParticles()).
   [[nodiscard]] virtual const core::World& world() const = 0;
+  /// Writes a checkpoint `demlink-run --backend <name()> --restore <base>` continues from,
+  /// after a syncParticles(): natively the file `base` (core::writeCheckpointFile); LIGGGHTS
+  /// adds its restart files next to it (LiggghtsBackend::writeCheckpoint, a collective).
+  virtual void writeCheckpoint(const std::filesystem::path& base) = 0;
   /// Simulated time [s].
   [[nodiscard]] double time() const { return static_cast<double>(stepCount()) * world().settings().time_step; }
 };
@@ -51,6 +56,7 @@ class NativeBackend final : public SimulationBackend {
   [[nodiscard]] std::uint64_t stepCount() const override { return world_.stepCount(); }
   void syncParticles() override {}
   [[nodiscard]] const core::World& world() const override { return world_; }
+  void writeCheckpoint(const std::filesystem::path& base) override;
 
  private:
   core::World& world_;

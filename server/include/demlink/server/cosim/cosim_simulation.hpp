@@ -71,7 +71,8 @@ class CosimSimulation {
 
   /// Final frame, checkpoint_final.bin, particles_final.csv and the run log's timing with
   /// finish_reason (RunDriver::finish); only the first call writes. Throws
-  /// std::runtime_error if output cannot be written.
+  /// std::runtime_error if output cannot be written. On LIGGGHTS the checkpoint is the
+  /// backend's (with its restart files; a collective, so every rank calls this).
   void finish(const std::string& reason);
 
  private:
@@ -98,6 +99,11 @@ class CosimSimulation {
   std::unique_ptr<RunDriver> driver_;  ///< null on a mirror
   std::function<void()> before_engine_;
   std::unique_ptr<SimulationBackend> backend_;  ///< steps the compiled world (native or LIGGGHTS)
+  /// The backend writes the checkpoints, at the stops (LIGGGHTS: the compiled world holds
+  /// its particles only there, and a checkpoint needs LIGGGHTS's restart files too); the
+  /// driver writes none.
+  bool backend_checkpoints_ = false;
+  bool finished_ = false;
 };
 
 }  // namespace demlink::server
