@@ -132,14 +132,12 @@ void NeighbourList::build(const ParticleArrays& particles, std::span<const std::
   const std::span<const double> r = particles.radius;
   grid_.build(x, r, skin_);
 
-  // The last build's arrays move to the spares (read below to carry springs over);
-  // the new ones reuse the storage of the build before, already mapped and warm.
-  offsets_.swap(spare_offsets_);
-  partners_.swap(spare_partners_);
-  history_.swap(spare_history_);
-  const std::vector<std::uint32_t>& oldOffsets = spare_offsets_;
-  const std::vector<std::uint32_t>& oldPartners = spare_partners_;
-  const std::vector<Vec3>& oldHistory = spare_history_;
+  std::vector<std::uint32_t> oldOffsets;
+  std::vector<std::uint32_t> oldPartners;
+  std::vector<Vec3> oldHistory;
+  oldOffsets.swap(offsets_);
+  oldPartners.swap(partners_);
+  oldHistory.swap(history_);
 
   // Rows are independent: each chunk finds its rows' partners into its own
   // buffer; the buffers are then laid end to end in chunk order.
@@ -230,10 +228,8 @@ void NeighbourList::build(const ParticleArrays& particles, std::span<const std::
 
 std::size_t NeighbourList::bytes() const {
   return grid_.bytes() + sprung_.capacity() +
-         (offsets_.capacity() + partners_.capacity() + rows_.capacity() + spare_offsets_.capacity() +
-          spare_partners_.capacity()) *
-             sizeof(std::uint32_t) +
-         (history_.capacity() + spare_history_.capacity() + position_at_build_.capacity()) * sizeof(Vec3) +
+         (offsets_.capacity() + partners_.capacity() + rows_.capacity()) * sizeof(std::uint32_t) +
+         (history_.capacity() + position_at_build_.capacity()) * sizeof(Vec3) +
          reduced_.capacity() * sizeof(ReducedPair);
 }
 

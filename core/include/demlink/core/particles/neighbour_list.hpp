@@ -82,12 +82,6 @@ class NeighbourList {
   std::vector<std::uint32_t> rows_;  ///< derived from offsets_ (not saved)
   std::vector<Vec3> history_;
   std::vector<std::uint8_t> sprung_;  ///< derived from history_ by build() and restore() (not saved)
-  // The previous build's offsets, partners and histories: read by the next build to carry
-  // springs over, then their storage is reused (no fresh pages to fault in per build; a
-  // build holds both generations anyway, so the peak memory is the same).
-  std::vector<std::uint32_t> spare_offsets_;
-  std::vector<std::uint32_t> spare_partners_;
-  std::vector<Vec3> spare_history_;
   std::vector<ReducedPair> reduced_;
   std::vector<Vec3> position_at_build_;
 };
