@@ -569,8 +569,22 @@ void World::advanceFrame(const StepContext& context) {
 }
 
 void World::updateNeighbours(const StepContext& context) {
-  if (rebuild_pending_ || context.mesh_moved_far || neighbours_.needsRebuild(particles_.position, context.pool)) {
-    rebuildNeighbours();
+  if (rebuild_pending_ || context.mesh_moved_far || neighbourListsStale(context.pool)) rebuildNeighbours();
+}
+
+bool World::neighbourListsStale(ThreadPool* pool) const {
+  // Mesh and deformable-surface near lists assume that no particle moved more than
+  // skin/2 (and the surface no more than skin/2): the classic rule. Pairs and planes
+  // alone need only their relative motion (rebuild_guard.hpp).
+  if (!meshes_.empty() || !deformables_.empty()) return neighbours_.needsRebuild(particles_.position, pool);
+  return rebuild_guard_.stale(neighbours_.builtPositions(), particles_.position, pool);
+}
+
+void World::armRebuildGuard() {
+  const std::span<const Vec3> built = neighbours_.builtPositions();
+  rebuild_guard_.arm(built, particles_.radius, neighbours_.skin());
+  for (const PlaneWall& wall : planes_) {
+    rebuild_guard_.addPlane(wall.spec.point, wall.spec.normal, wall.near_slots, built, particles_.radius);
   }
 }
 
@@ -811,6 +825,7 @@ void World::rebuildNeighbours() {
   }
   pending_new_slot_of_old_.clear();
   rebuild_pending_ = false;
+  armRebuildGuard();
 }
 
 std::vector<std::string> World::activeStages() const {

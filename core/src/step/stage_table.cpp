@@ -48,7 +48,8 @@ constexpr std::array<StageInfo, kStageCount> kTable{{
     {Stage::kNeighbourList, "neighbour_list", false,
      "rebuild (periodic cell sort, Verlet list, plane, mesh and deformable-surface near lists; histories "
      "carried) when slots changed, a colliding mesh or a deformable surface moved far, a surface triangle lost "
-     "its support or a particle moved more than skin/2",
+     "its support, or a contact may have been missed: a pair or plane contact whose relative displacement closed the "
+     "skin (rebuild_guard.hpp), or, in scenes with meshes or deformable bodies, a particle moved more than skin/2",
      "positions, mesh poses, deformable surfaces", "neighbour and near lists, slot order", "always",
      [](const F&) { return true; }},
     {Stage::kForces, "forces", false,

@@ -26,6 +26,7 @@
 #include "demlink/core/walls/mesh_contact.hpp"
 #include "demlink/core/walls/mesh_near_list.hpp"
 #include "demlink/core/particles/neighbour_list.hpp"
+#include "demlink/core/particles/rebuild_guard.hpp"
 #include "demlink/core/step/pair_loop_partition.hpp"
 #include "demlink/core/particles/particle_arrays.hpp"
 #include "demlink/core/walls/plane_wall.hpp"
@@ -264,6 +265,10 @@ class World {
   void requireNoDeformablesInMovingFrame(const FrameMotion& motion, const std::string& fieldPrefix) const;
   void applySlotMapping(const std::vector<std::uint32_t>& oldSlotOfNew);
   void rebuildNeighbours();
+  /// Arms rebuild_guard_ for the neighbour list's last build and the planes' near lists.
+  void armRebuildGuard();
+  /// Whether the neighbour and near lists may have missed a contact since their build.
+  [[nodiscard]] bool neighbourListsStale(ThreadPool* pool) const;
   void removeFlaggedWithClumps(RemovalTally& tally);
 
   SimulationSettings settings_;  ///< what the user chose; never changed after construction
@@ -291,6 +296,7 @@ class World {
   bool stage_timing_ = false;
   std::array<double, kStageCount> stage_seconds_{};
   NeighbourList neighbours_;
+  RebuildGuard rebuild_guard_;  ///< armed by every neighbour build and restore
   PairLoopPartition partition_;
   std::unique_ptr<ThreadPool> pool_;  ///< null when running on one thread
   void (World::*compute_forces_)() = nullptr;

@@ -1,10 +1,11 @@
 #pragma once
 /// Verlet neighbour list with a skin, as a half list in compressed rows: the
 /// partners of slot i are partners[offsets[i] .. offsets[i+1]), all > i, within
-/// r_i + r_j + skin at build time. Rebuilt only when some particle has moved more
-/// than skin/2 since the last build (then no pair can have closed the skin
-/// unseen). Each pair carries its tangential history; a rebuild carries it over,
-/// also when slots were compacted or reordered in between.
+/// r_i + r_j + skin at build time. World rebuilds it when a pair may have closed
+/// the skin unseen: RebuildGuard watches relative displacements, needsRebuild() the
+/// classic rule (some particle moved more than skin/2). Each pair carries its
+/// tangential history; a rebuild carries it over, also when slots were compacted or
+/// reordered in between.
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -59,6 +60,8 @@ class NeighbourList {
   /// Rows (particle slots) of the last build.
   [[nodiscard]] std::size_t rowCount() const { return offsets_.empty() ? 0 : offsets_.size() - 1; }
   [[nodiscard]] std::uint64_t buildCount() const { return builds_; }
+  /// Positions of the last build, one per row.
+  [[nodiscard]] std::span<const Vec3> builtPositions() const { return position_at_build_; }
   [[nodiscard]] const CellGrid& grid() const { return grid_; }
   /// Bytes held by the list and its grid (capacities).
   [[nodiscard]] std::size_t bytes() const;
