@@ -123,6 +123,12 @@ void particleContactRows(ParticleArrays& p, NeighbourList& list, const ContactPa
   std::uint32_t touching[kBlock];
   std::uint32_t separated[kBlock];
   TouchingGeometry geometry[kBlock];
+  double squaredDistances[kBlock];
+  double radiiSums[kBlock];
+  double distances[kBlock];
+  double overlaps[kBlock];
+  double inverseDistances[kBlock];
+  const ContactPairParams* pairParams[kBlock];
   const std::uint32_t pairEnd = offsets[rowEnd];
   for (std::uint32_t blockBegin = offsets[rowBegin]; blockBegin < pairEnd; blockBegin += kBlock) {
     const std::uint32_t blockEnd = std::min(pairEnd, blockBegin + kBlock);
@@ -147,21 +153,32 @@ void particleContactRows(ParticleArrays& p, NeighbourList& list, const ContactPa
     for (std::uint32_t m = 0; m < separatedCount; ++m) {
       if (!history[separated[m]].isZero(0.0)) history[separated[m]].setZero();
     }
-    // The overlap-only terms of the touching pairs first (contactElasticTerms says why).
+    // The overlap-only terms of the touching pairs first (contactElasticTerms says why),
+    // in passes over arrays so the compiler can take two contacts at a time (sqrtpd,
+    // divpd): gather, then distance and overlap, then the law's terms.
     for (std::uint32_t m = 0; m < count; ++m) {
       const std::uint32_t k = touching[m];
       const std::uint32_t i = rows[k];
       const std::uint32_t j = partners[k];
-      const Vec3 d = p.position[j] - p.position[i];
-      const double dist = std::sqrt(d.squaredNorm());
-      // Coincident centres have no defined normal: push along +z rather than produce NaN.
-      // (One reciprocal: Eigen's d / dist would issue three divisions.)
+      geometry[m].normal = p.position[j] - p.position[i];
+      squaredDistances[m] = geometry[m].normal.squaredNorm();
+      radiiSums[m] = p.radius[i] + p.radius[j];
+      pairParams[m] = &table(p.material[i], p.material[j]);
+    }
+    for (std::uint32_t m = 0; m < count; ++m) {
+      const double dist = std::sqrt(squaredDistances[m]);
+      distances[m] = dist;
+      overlaps[m] = radiiSums[m] - dist;
+      inverseDistances[m] = 1.0 / dist;
+    }
+    for (std::uint32_t m = 0; m < count; ++m) {
       TouchingGeometry& g = geometry[m];
-      g.normal = dist > 0.0 ? Vec3(d * (1.0 / dist)) : Vec3::UnitZ();
-      g.distance = dist;
-      g.overlap = p.radius[i] + p.radius[j] - dist;
-      g.elastic = contactElasticTerms<Law>(table(p.material[i], p.material[j]), reduced[k].radius, reduced[k].mass,
-                                           g.overlap);
+      const std::uint32_t k = touching[m];
+      // Coincident centres have no defined normal: push along +z rather than produce NaN.
+      g.normal = distances[m] > 0.0 ? Vec3(g.normal * inverseDistances[m]) : Vec3::UnitZ();
+      g.distance = distances[m];
+      g.overlap = overlaps[m];
+      g.elastic = contactElasticTerms<Law>(*pairParams[m], reduced[k].radius, reduced[k].mass, overlaps[m]);
     }
     for (std::uint32_t m = 0; m < count; ++m) {
       const std::uint32_t k = touching[m];
@@ -175,7 +192,7 @@ void particleContactRows(ParticleArrays& p, NeighbourList& list, const ContactPa
       const double armJ = p.radius[j] - 0.5 * overlap;
       const Vec3 vRel = p.velocity[j] - p.velocity[i] -
                         (armI * p.angular_velocity[i] + armJ * p.angular_velocity[j]).cross(normal);
-      const ContactPairParams& params = table(p.material[i], p.material[j]);
+      const ContactPairParams& params = *pairParams[m];
       double normalForce = 0.0;
       Vec3 f = contactForce<Law>(params, normal, g.elastic, vRel, dt, history[k], normalForce);
       if constexpr (kPasses.cohesion) {
