@@ -9,7 +9,10 @@
 
 #include <gtest/gtest.h>
 
+#include "test_scenes.hpp"
+
 #include "demlink/core/particles/neighbour_list.hpp"
+#include "demlink/core/world.hpp"
 #include "demlink/core/particles/rebuild_guard.hpp"
 #include "demlink/core/walls/plane_wall.hpp"
 
@@ -247,6 +250,45 @@ TEST(RebuildGuard, NonFiniteParticlesTouchNothingAndDoNotForceRebuilds) {
   now[17] = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
   EXPECT_FALSE(bed->guard.stale(built, now));
   EXPECT_TRUE(bed->guard.stale(built, std::vector<Vec3>(now.begin(), now.end() - 1))) << "count changed";
+}
+
+TEST(RebuildGuard, AWorldCarriesALatticeOntoTheFloorWithTwoBuilds) {
+  // A 4 x 4 x 4 lattice of 1 mm spheres (gaps of 0.3 mm, within the 0.5 mm skin) moving
+  // down at 1 m/s without gravity: 19 mm, 38 skins, to the floor. The skin/2 rule would
+  // rebuild every 25 steps; relative to each other the spheres do not move, so the
+  // world rebuilds once more, when the lowest layer may reach the floor, and the floor
+  // then stops them.
+  SimulationSettings s = test::fineSettings(1e-5, 2.0);
+  s.neighbour_skin = 5e-4;
+  World world(s);
+  const std::uint32_t material = world.addMaterial(test::testMaterial(0.5));
+  world.addPlane({"floor", Vec3::Zero(), Vec3::UnitZ(), material});
+  for (int k = 0; k < 64; ++k) {
+    ParticleSpec p;
+    p.radius = 1e-3;
+    p.position = Vec3(0.01 + 0.0023 * (k % 4), 0.01 + 0.0023 * (k / 4 % 4), 0.02 + 0.0023 * (k / 16));
+    p.velocity = Vec3(0.0, 0.0, -1.0);
+    p.material = material;
+    world.addParticle(p);
+  }
+  world.initialize();
+  ASSERT_GT(world.neighbourList().pairCount(), 0u);
+  const std::uint64_t before = world.neighbourList().buildCount();
+  const auto lowestSpeed = [&] {
+    double v = 1e9;
+    for (const Vec3& u : world.particles().velocity) v = std::min(v, u.z());
+    return v;
+  };
+  // Until the first sphere turns back: ~1,900 steps to the floor, then the contact.
+  const std::uint64_t steps = test::stepUntil(world, [&] {
+    double highest = -1e9;
+    for (const Vec3& u : world.particles().velocity) highest = std::max(highest, u.z());
+    return highest > 0.0;
+  }, 5000);
+  ASSERT_LT(steps, 5000u) << "the floor must stop the lattice";
+  EXPECT_GT(steps, 1800u);
+  EXPECT_LE(world.neighbourList().buildCount() - before, 2u) << "builds while carried";
+  EXPECT_GT(lowestSpeed(), -1.0 - 1e-12) << "nothing sped up: no pair met unseen";
 }
 
 }  // namespace
