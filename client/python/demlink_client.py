@@ -259,12 +259,12 @@ class Client:
         """Waits for Compiled; sets up the sample grid of this connection's components."""
         self.compiled = self._expect("compiled", timeout)
         self.time_step = self.compiled.time_step
-        self.step = 0
+        self.step = self.compiled.start_step  # 0, or the step of a checkpoint the server restored
         for c in self.compiled.components:
             self._components[c.name] = c
             self._names[c.id] = c.name
             if c.interval_steps > 0:
-                self._next_due[c.name] = 0
+                self._next_due[c.name] = self.step
         return self.compiled
 
     def component(self, name):
@@ -272,7 +272,7 @@ class Client:
         return self._components[name]
 
     def initial_outputs(self):
-        """name -> DataPackage of the outputs at step 0 (from Compiled)."""
+        """name -> DataPackage of the outputs at the start step (from Compiled)."""
         return {self._names[p.component_id]: p for p in self.compiled.initial_outputs}
 
     def due(self):

@@ -95,7 +95,7 @@ void Session::applyCompiled(const v1::Compiled& compiled) {
     c->compiled_ = true;
     c->id_ = entry.id();
     c->interval_steps_ = entry.interval_steps();
-    c->next_send_step_ = 0;
+    c->next_send_step_ = compiled.start_step();  // 0, or a restored checkpoint's step
     c->awaiting_ = false;
   }
   for (const auto& c : components_) {
@@ -108,7 +108,7 @@ void Session::applyCompiled(const v1::Compiled& compiled) {
   }
   *compiled_ = compiled;
   compiled_flag_ = true;
-  current_ = 0;
+  current_ = compiled.start_step();
 }
 
 Component* Session::applyData(const v1::DataPackage& package) {

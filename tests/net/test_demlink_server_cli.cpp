@@ -53,6 +53,7 @@ TEST(DemlinkServerCli, BadOptionsExitTwoNamingOptionAndValue) {
       {{"--spin-wait-us", "1e6"}, "--spin-wait-us = 1e6"},
       {{"--port"}, "--port: 1 required N missing"},  // CLI11's wording
       {{"--bogus"}, "--bogus: unknown option"},
+      {{"--restore", "no/such/checkpoint.bin"}, "--restore = no/such/checkpoint.bin: no such file"},
   };
   for (const auto& [arguments, expected] : cases) {
     const Result result = runServer(arguments);

@@ -4,6 +4,7 @@
 ///                  [--quiet-period S] [--timeout S] [--assembly-timeout S] [--hello-timeout S]
 ///                  [--max-frame-bytes N] [--max-queued-bytes N] [--max-unwelcomed N]
 ///                  [--progress S] [--spin-wait-us US] [--record FILE] [--replay FILE] [--data-root DIR] [--overwrite]
+///                  [--restore FILE]
 ///                  [--once | --max-simulations N] [--backend native|liggghts] [--help] [--version]
 ///   mpirun -np N demlink-server --backend liggghts ...   (docs/scale-out.md)
 ///
@@ -66,6 +67,7 @@ struct CommandLine {
   std::optional<std::string> record;
   std::optional<std::string> replay;
   std::optional<std::string> data_root;
+  std::optional<std::string> restore;
   bool overwrite = false;
   bool once = false;
   std::string backend = "native";
@@ -132,6 +134,15 @@ void addOptions(CLI::App& app, CommandLine& line) {
                "engine: native (default) or liggghts (LIGGGHTS-PUBLIC on the MPI ranks mpirun started; rank 0 "
                "serves, docs/scale-out.md)")
       ->type_name("NAME");
+  cli::addValue(app, "--restore",
+                "the first simulation continues from this checkpoint of a co-simulation with the same declarations "
+                "(docs/cosim.md)",
+                [&line](const std::string& text) {
+                  std::error_code error;
+                  if (!std::filesystem::is_regular_file(text, error)) cli::refuse("--restore", text, "no such file");
+                  line.restore = text;
+                })
+      ->type_name("FILE");
   app.add_flag("--overwrite", line.overwrite, "a simulation may write into an output folder that holds a run's outputs");
   CLI::Option* once = app.add_flag("--once", line.once, "exit after the first simulation ends (= --max-simulations 1)");
   cli::addWholeNumber<std::uint64_t>(app, "--max-simulations", line.max_simulations, 1,
@@ -183,6 +194,7 @@ demlink::server::CosimOptions hostOptions(const CommandLine& line) {
   options.quiet_period_s = line.quiet_period;
   options.client_timeout_s = line.timeout;
   if (line.record) options.record_file = *line.record;
+  if (line.restore) options.restore_file = *line.restore;
   return options;
 }
 
@@ -209,8 +221,18 @@ int run(int argc, char** argv) {
   if (backend == demlink::server::BackendKind::Liggghts) {
 #ifdef DEMLINK_HAS_LIGGGHTS
     if (line.replay) throw InputError("--replay", *line.replay, "replays run on the native backend");
-    options.liggghts = [](demlink::core::World& world, const std::filesystem::path& logFile) {
-      return std::make_unique<demlink::server::LiggghtsBackend>(world, logFile.string());
+    if (line.restore) {
+      // LIGGGHTS continues from the restart file beside our checkpoint (liggghts_backend.hpp).
+      for (const char* extension : {".liggghts", ".liggghts_ids"}) {
+        const std::filesystem::path part = std::filesystem::path(*line.restore).replace_extension(extension);
+        if (!std::filesystem::is_regular_file(part)) {
+          throw InputError("--restore", *line.restore, "the LIGGGHTS checkpoint file " + part.string() + " is missing");
+        }
+      }
+    }
+    options.liggghts = [](demlink::core::World& world, const std::filesystem::path& logFile,
+                          const std::filesystem::path& restore) {
+      return std::make_unique<demlink::server::LiggghtsBackend>(world, logFile.string(), restore);
     };
     if (demlink::server::ensureMpi() != 0) {
       spdlog::set_level(spdlog::level::warn);  // rank 0 reports

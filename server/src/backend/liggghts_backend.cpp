@@ -173,6 +173,10 @@ constexpr char kTagMapMagic[9] = "DEMLLGID";
 void LiggghtsBackend::writeCheckpoint(const std::filesystem::path& base) {
   const std::filesystem::path restart = std::filesystem::path(base).replace_extension(".liggghts");
   command("write_restart " + restart.string());
+  // write_restart migrates the atoms and rebuilds the ghosts (comm exchange and borders)
+  // but not the neighbour lists: a run without set-up would pair atoms with the wrong
+  // ghosts (on more than one rank). The next run sets up, as a restored run does.
+  started_ = false;
   if (ensureMpi() == 0) {
     core::writeCheckpointFile(world_, std::filesystem::path(base).replace_extension(".bin"));
     core::StateWriter out;

@@ -247,7 +247,9 @@ struct CosimHost::Impl {
           options.overwrite ? number() : claimSimulationDirectory(options.output_root, number());
       directory = simulationDirectory(options.output_root, folder);
       sim = std::make_unique<CosimSimulation>(std::move(compiled), directory, options);
+      options.restore_file.clear();  // the first simulation only
     } catch (const std::exception& error) {
+      options.restore_file.clear();
       const v1::Error e = makeError(v1::Error::INTERNAL, std::string("cannot start the simulation: ") + error.what(),
                                     "", "", true);
       for (const auto& [id, connection] : connections) send(out, id, e);
@@ -274,6 +276,7 @@ struct CosimHost::Impl {
       }
       m.set_time_step(c.time_step);
       m.set_end_step(c.end_step);
+      m.set_start_step(sim->world().stepCount());
       *m.mutable_report() = c.report;
       for (v1::DataPackage& p : sim->initialOutputs(id)) *m.add_initial_outputs() = std::move(p);
       out.push_back(std::move(o));

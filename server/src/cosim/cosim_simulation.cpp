@@ -6,15 +6,21 @@
 /// and at a stop the couplings whose interval ends there snap their mesh onto the target
 /// before the outputs are read; before every world step each client-driven deformable body
 /// gets its driving pose and twist at the start of that step (the sample advanced by its
-/// twist; the body carries the pose through the step itself). On LIGGGHTS the backend
-/// writes the checkpoints (with its restart files) at the stops, where the compiled world
-/// holds its particles, instead of the driver after every step.
+/// twist; the body carries the pose through the step itself). At a stop the driver writes
+/// after the snap (and LIGGGHTS's hand-over), so a checkpoint there holds the world the
+/// next interval starts from: the state a restored simulation continues
+/// (demlink-server --restore). On LIGGGHTS the backend writes the checkpoints (with its
+/// restart files) at the stops, where the compiled world holds its particles, instead of
+/// the driver after every step.
 #include "demlink/server/cosim/cosim_simulation.hpp"
 
 #include <spdlog/fmt/fmt.h>
+#include <spdlog/spdlog.h>
 
 #include <fstream>
 
+#include "demlink/core/input_error.hpp"
+#include "demlink/core/state/checkpoint.hpp"
 #include "demlink/server/cosim/cosim_inputs.hpp"
 #include "demlink/server/run/run_log.hpp"
 
@@ -41,9 +47,11 @@ CosimSimulation::CosimSimulation(CompiledSimulation compiled, const std::filesys
       couplings_.emplace(i, core::CoupledMotion(*c.mesh, c.motion));
     }
   }
+  if (!options.restore_file.empty()) restoreFrom(options.restore_file);
   backend_checkpoints_ = options.backend != BackendKind::Native;
   if (!options.mirror) {
     RunOptions run = compiled_.scene->run;
+    run.restore_file = options.restore_file.string();
     RunPlan plan = compiled_.plan;
     if (backend_checkpoints_) {
       run.final_checkpoint = false;
@@ -56,7 +64,8 @@ CosimSimulation::CosimSimulation(CompiledSimulation compiled, const std::filesys
   }
   if (options.backend == BackendKind::Liggghts) {
     beforeEngine();
-    backend_ = options.liggghts(w, options.mirror ? std::filesystem::path() : directory_ / "liggghts.log");
+    backend_ = options.liggghts(w, options.mirror ? std::filesystem::path() : directory_ / "liggghts.log",
+                                options.restore_file);
   } else {
     backend_ = std::make_unique<NativeBackend>(w);
   }
@@ -67,6 +76,32 @@ CosimSimulation::CosimSimulation(CompiledSimulation compiled, const std::filesys
 CosimSimulation::~CosimSimulation() {
   // Closing LIGGGHTS is a collective of every rank.
   if (backend_ && backend_->name() != "native") beforeEngine();
+}
+
+void CosimSimulation::restoreFrom(const std::filesystem::path& checkpoint) {
+  core::World& w = world();
+  if (!w.initialized()) w.initialize();
+  core::restoreCheckpointFile(w, checkpoint);
+  const std::uint64_t step = w.stepCount();
+  if (compiled_.end_step > 0 && step >= compiled_.end_step) {
+    throw core::InputError("restore", checkpoint.string(),
+                           fmt::format("the checkpoint is at step {}, at or after the end step {}: nothing left to run",
+                                       step, compiled_.end_step));
+  }
+  // Only a stop where every exchanged component is due carries no interval in progress (a
+  // coupling's target, its impulses), which the checkpoint does not hold.
+  for (const CosimComponent& c : compiled_.components) {
+    if (c.interval_steps > 0 && step % c.interval_steps != 0) {
+      throw core::InputError("restore", checkpoint.string(),
+                             fmt::format("the checkpoint is at step {}, where component \"{}\" (exchanged every {} "
+                                         "steps) is in the middle of an interval; restore one written at a step where "
+                                         "every exchanged component is due",
+                                         step, c.name, c.interval_steps));
+    }
+  }
+  scheduler_.startAt(step);
+  spdlog::info("restored {} at step {} (t = {:.6g} s, {} particles)", checkpoint.string(), step, w.time(),
+               w.particles().size());
 }
 
 void CosimSimulation::beforeEngine() const {
@@ -179,7 +214,6 @@ void CosimSimulation::stepWorld() {
   }
   backend_->advanceTo(w.stepCount() + 1);  // couplings and outputs see every step
   for (auto& [index, coupling] : couplings_) coupling.afterStep(w);
-  if (driver_) driver_->afterStep(w);
 }
 
 CosimSimulation::Advance CosimSimulation::advance() {
@@ -209,14 +243,12 @@ CosimSimulation::Advance CosimSimulation::advance() {
   const Clock::time_point begin = Clock::now();
   const std::uint64_t first = w.stepCount();
   beforeEngine();
-  while (w.stepCount() < *stop) stepWorld();
+  while (w.stepCount() < *stop) {
+    stepWorld();
+    if (driver_ && w.stepCount() < *stop) driver_->afterStep(w);
+  }
   // The outputs at the stop read the particles from the compiled world (no-op natively).
   backend_->syncParticles();
-  // The first stop at or after each checkpoint step (every rank: a collective on LIGGGHTS).
-  if (const std::uint64_t every = compiled_.plan.checkpoint_every;
-      backend_checkpoints_ && every > 0 && w.stepCount() / every > first / every) {
-    backend_->writeCheckpoint(directory_ / fmt::format("checkpoint_{:06}.bin", w.stepCount() / every));
-  }
   outputs_.addStepping(w.stepCount() - first, secondsSince(begin));
   out.stepped = true;
   for (const std::size_t index : scheduler_.advanceTo(*stop)) {
@@ -224,6 +256,13 @@ CosimSimulation::Advance CosimSimulation::advance() {
     core::IntervalWrench wrench;
     if (auto it = couplings_.find(index); it != couplings_.end()) wrench = it->second.endInterval(w);
     out.answers.emplace_back(*c.owner, outputs_.outputOf(index, c, w, wrench));
+  }
+  // The stop's frame and checkpoint, with the meshes on their targets.
+  if (driver_) driver_->afterStep(w);
+  // The first stop at or after each checkpoint step (every rank: a collective on LIGGGHTS).
+  if (const std::uint64_t every = compiled_.plan.checkpoint_every;
+      backend_checkpoints_ && every > 0 && w.stepCount() / every > first / every) {
+    backend_->writeCheckpoint(directory_ / fmt::format("checkpoint_{:06}.bin", w.stepCount() / every));
   }
   out.end_reached = compiled_.end_step > 0 && *stop >= compiled_.end_step;
   return out;

@@ -15,6 +15,17 @@ void ExchangeScheduler::add(std::size_t index, std::uint64_t intervalSteps) {
   entries_.push_back({index, intervalSteps, true, false});
 }
 
+void ExchangeScheduler::startAt(std::uint64_t step) {
+  const bool untouched = step_ == 0 && std::none_of(entries_.begin(), entries_.end(), [](const Entry& e) {
+    return e.received || !e.active;
+  });
+  if (!untouched) throw std::invalid_argument("ExchangeScheduler::startAt: the grid has already started");
+  for (const Entry& e : entries_) {
+    if (step % e.interval != 0) throw std::invalid_argument("ExchangeScheduler::startAt: a component is not due there");
+  }
+  step_ = step;
+}
+
 void ExchangeScheduler::retire(std::size_t index) {
   for (Entry& e : entries_) {
     if (e.index == index) e.active = false;

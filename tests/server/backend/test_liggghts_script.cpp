@@ -80,7 +80,9 @@ TEST(LiggghtsScript, DepositionBoxCommands) {
   };
   EXPECT_EQ(line("read_data"), "read_data scene.data");
   EXPECT_EQ(line("timestep"), "timestep 1.0000000000000001e-05");
-  EXPECT_EQ(line("pair_style"), "pair_style gran model hertz tangential history");
+  // limitForce on: our normal force never pulls, and the restitution mapping assumes so.
+  EXPECT_EQ(line("pair_style"), "pair_style gran model hertz tangential history limitForce on");
+  EXPECT_TRUE(line("fix demlink_plane0").ends_with(" limitForce on")) << line("fix demlink_plane0");
   EXPECT_TRUE(has(line("fix demlink_gravity"), "gravity 9.8100000000000005 vector 0 0 -1")) << line("fix demlink_gravity");
   // The floor is the rigid twin of beads (type 2) or beads itself, a z plane at 0.
   EXPECT_TRUE(has(line("fix demlink_plane0"), "primitive type") && has(line("fix demlink_plane0"), "zplane 0"))
@@ -226,7 +228,7 @@ TEST(LiggghtsScript, FixedFacetBodyIsAMeshAtRest) {
     return std::any_of(commands.begin(), commands.end(), [&](const std::string& c) { return has(c, part); });
   };
   EXPECT_TRUE(has_line("fix demlink_mesh0 all mesh/surface/stress file shelf.stl type "));
-  EXPECT_TRUE(has_line("wall/gran model hertz tangential history mesh n_meshes 1 meshes demlink_mesh0"));
+  EXPECT_TRUE(has_line("wall/gran model hertz tangential history mesh n_meshes 1 meshes demlink_mesh0 limitForce on"));
   EXPECT_FALSE(has_line("move/mesh"));
   const std::string stl = liggghtsStl(translated.world.meshes()[0]);
   EXPECT_TRUE(has(stl, "vertex 0.089999999999999997 0.089999999999999997 0.02")) << stl;
@@ -262,7 +264,7 @@ TEST(LiggghtsScript, RollingFrictionIsConstantDirectionalTorque) {
                                     [&](const std::string& c) { return c.starts_with(start); });
     return found == commands.end() ? std::string("(missing)") : *found;
   };
-  EXPECT_EQ(line("pair_style"), "pair_style gran model hertz tangential history rolling_friction cdt");
+  EXPECT_EQ(line("pair_style"), "pair_style gran model hertz tangential history rolling_friction cdt limitForce on");
   EXPECT_TRUE(has(line("fix demlink_plane0"), "wall/gran model hertz tangential history rolling_friction cdt primitive"))
       << line("fix demlink_plane0");
   // beads and the floor's rigid twin: mu_r 0.1 for every pair.

@@ -43,7 +43,8 @@ TEST(CosimBackend, LiggghtsRefusalNamesTheComponentBeforeAnyEngineExists) {
   CosimOptions options = CosimHarness::options(dir.path(), {}, {});
   options.backend = BackendKind::Liggghts;
   int built = 0;
-  options.liggghts = [&built](core::World&, const std::filesystem::path&) -> std::unique_ptr<SimulationBackend> {
+  options.liggghts = [&built](core::World&, const std::filesystem::path&,
+                              const std::filesystem::path&) -> std::unique_ptr<SimulationBackend> {
     ++built;
     throw std::runtime_error("no engine in this test");
   };

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <set>
+#include <stdexcept>
 
 #include "cosim_test_support.hpp"
 #include "demlink/core/components/region_sensor.hpp"
@@ -12,6 +13,22 @@
 
 namespace demlink::server::test {
 namespace {
+
+TEST(ExchangeScheduler, StartsAtARestoredStepWhereEveryComponentIsDue) {
+  ExchangeScheduler s;
+  s.add(0, 2);
+  s.add(1, 5);
+  EXPECT_THROW(s.startAt(15), std::invalid_argument) << "component 0 is half way through its interval";
+  s.startAt(20);
+  EXPECT_EQ(s.currentStep(), 20u);
+  EXPECT_EQ(s.missing(), (std::vector<std::size_t>{0, 1}));
+  EXPECT_EQ(s.offer(0, 0), ExchangeScheduler::Offer::WrongStep);
+  EXPECT_EQ(s.offer(0, 20), ExchangeScheduler::Offer::Accepted);
+  EXPECT_EQ(s.offer(1, 20), ExchangeScheduler::Offer::Accepted);
+  EXPECT_EQ(s.nextStop(0), 22u);
+  s.advanceTo(22);
+  EXPECT_THROW(s.startAt(30), std::invalid_argument) << "the grid has started";
+}
 
 TEST(ExchangeScheduler, DueStepsAndStops) {
   ExchangeScheduler s;

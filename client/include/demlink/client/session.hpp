@@ -81,7 +81,8 @@ class Session {
   /// The compile report as text (what the server logs: time step, components, warnings).
   [[nodiscard]] std::string reportText() const;
 
-  /// The step the session stands at: the step of the latest answers [-].
+  /// The step the session stands at: the step of the latest answers [-]; after
+  /// waitCompiled(), Compiled.start_step (0, or the step of a checkpoint the server restored).
   [[nodiscard]] std::uint64_t currentStep() const { return current_; }
   [[nodiscard]] double time() const { return static_cast<double>(current_) * timeStep(); }  ///< [s]
   /// Components whose package is due at currentStep().

@@ -10,7 +10,8 @@
 ///   pair (a, b)           restitution and friction per type pair from our pair table
 ///                         (mixing and material_pair overrides included); the restitution
 ///                         is the one LIGGGHTS must be given for its damping to equal ours
-///                         (liggghtsRestitution)
+///                         (liggghtsRestitution); limitForce on in pair_style gran and
+///                         every wall/gran, as our normal force, clamped at zero, never pulls
 ///   rolling friction      pair (a, b)'s mu_r: coefficientRollingFriction per type pair,
 ///                         rolling_friction cdt in pair_style gran and every wall/gran
 ///   time step, gravity    timestep, fix gravity
@@ -37,7 +38,9 @@ namespace demlink::server {
 /// beta = ln e / sqrt(ln^2 e + pi^2)) so that its damping equals ours, gamma_n =
 /// normalDamping sqrt(S_n m*). Both laws damp the tangential spring the same way from it.
 /// Ours is calibrated to deliver the requested restitution; LIGGGHTS's formula, taken from
-/// the linear law, does not for Hertz, so the value differs from the requested one.
+/// the linear law, does not for Hertz, so the value differs from the requested one. Equal
+/// damping delivers equal restitution only if LIGGGHTS clamps its normal force at zero as
+/// we do (limitForce on, which liggghtsCommands gives).
 /// Throws core::InputError naming `field` if no restitution in (0, 1] gives that damping.
 [[nodiscard]] double liggghtsRestitution(double normalDamping, const std::string& field);
 

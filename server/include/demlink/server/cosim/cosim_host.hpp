@@ -64,9 +64,16 @@ struct CosimOptions {
   /// is refused at the compile; on LIGGGHTS, what it cannot run is refused there too
   /// (requireLiggghtsCompatible).
   BackendKind backend = BackendKind::Native;
-  /// Builds the LIGGGHTS engine of a compiled world, writing its log to the given file;
-  /// set by demlink-server when it is built with the LIGGGHTS backend.
-  std::function<std::unique_ptr<SimulationBackend>(core::World&, const std::filesystem::path&)> liggghts;
+  /// Builds the LIGGGHTS engine of a compiled world, writing its log to the given file
+  /// (the second path) and starting from the given checkpoint's restart files (the third;
+  /// empty: from the world); set by demlink-server when it is built with the LIGGGHTS backend.
+  std::function<std::unique_ptr<SimulationBackend>(core::World&, const std::filesystem::path&,
+                                                   const std::filesystem::path&)>
+      liggghts;
+  /// Non-empty: the first simulation compiled continues from this checkpoint of a
+  /// co-simulation with the same declarations (demlink-server --restore; docs/cosim.md
+  /// "Restoring a checkpoint"); later ones start at step 0.
+  std::filesystem::path restore_file;
   /// Called with every event as the host takes it, before it acts on it (the events a
   /// recording holds; elapsed_s not set). Under MPI, rank 0 forwards them to the other
   /// ranks, whose hosts replay them (docs/scale-out.md "Co-simulation").

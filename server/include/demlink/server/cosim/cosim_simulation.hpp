@@ -33,7 +33,10 @@ class CosimSimulation {
   /// cannot be written or is not empty and the scene's run options do not say overwrite.
   /// The engine is options.backend (options.liggghts builds LIGGGHTS, its log
   /// liggghts.log in the output directory); options.before_engine runs before every
-  /// engine call; options.mirror: no output files (another MPI rank's copy).
+  /// engine call; options.mirror: no output files (another MPI rank's copy). With
+  /// options.restore_file the world continues from that checkpoint (LIGGGHTS: with its
+  /// restart files) at its step, which must be before the end step and a step where every
+  /// exchanged component is due (core::InputError naming "restore" otherwise).
   CosimSimulation(CompiledSimulation compiled, const std::filesystem::path& outputDirectory,
                   const CosimOptions& options = {});
   ~CosimSimulation();
@@ -77,6 +80,8 @@ class CosimSimulation {
 
  private:
   void stepWorld();
+  /// Restores the world from `checkpoint` and starts the grid at its step.
+  void restoreFrom(const std::filesystem::path& checkpoint);
   /// An input the engine cannot apply (LIGGGHTS: a moving room, a change of gravity).
   std::optional<v1::Error> refusedByEngine(const CosimComponent& c, const v1::DataPackage& package);
   /// options.before_engine, if set.

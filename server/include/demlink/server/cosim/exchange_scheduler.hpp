@@ -31,6 +31,10 @@ class ExchangeScheduler {
   /// The component takes no further part (its client said Bye).
   void retire(std::size_t index);
 
+  /// Starts the grid at `step` instead of 0 (a simulation restored from a checkpoint at
+  /// that step), before any package: every component must be due there. Throws
+  /// std::invalid_argument otherwise.
+  void startAt(std::uint64_t step);
   /// The world's current step [-].
   [[nodiscard]] std::uint64_t currentStep() const { return step_; }
   /// The step of the component's next package: the current step while it is due and
