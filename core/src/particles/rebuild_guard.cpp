@@ -11,6 +11,7 @@ namespace demlink::core {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+static_assert(sizeof(Vec3) == 3 * sizeof(double), "displacementBox reads the position columns as flat arrays");
 
 std::size_t groupCount(std::size_t n) { return (n + RebuildGuard::kGroupSlots - 1) / RebuildGuard::kGroupSlots; }
 

@@ -86,14 +86,6 @@ inline ContactRecord makeContactRecord(ContactKind kind, const ParticleArrays& p
   return r;
 }
 
-/// A touching pair's normal (i to j), centre distance [m], overlap [m] and elastic terms.
-struct TouchingGeometry {
-  Vec3 normal;
-  double distance;
-  double overlap;
-  ContactElasticTerms elastic;
-};
-
 /// Particle-particle contacts of rows [rowBegin, rowEnd) of the half list.
 /// Forces and torques go where `out` says (PairLoopPartition: rows below
 /// out.own_end straight into the columns, the rest into the chunk's spill). With
@@ -122,13 +114,16 @@ void particleContactRows(ParticleArrays& p, NeighbourList& list, const ContactPa
   constexpr std::uint32_t kBlock = 64;
   std::uint32_t touching[kBlock];
   std::uint32_t separated[kBlock];
-  TouchingGeometry geometry[kBlock];
+  // Per touching contact of a block: its unit normal (i to j; the centre offset until
+  // normalised), distance, overlap and elastic terms.
+  Vec3 normals[kBlock];
   double squaredDistances[kBlock];
   double radiiSums[kBlock];
   double distances[kBlock];
   double overlaps[kBlock];
   double inverseDistances[kBlock];
   const ContactPairParams* pairParams[kBlock];
+  ContactElasticTerms elastic[kBlock];
   const std::uint32_t pairEnd = offsets[rowEnd];
   for (std::uint32_t blockBegin = offsets[rowBegin]; blockBegin < pairEnd; blockBegin += kBlock) {
     const std::uint32_t blockEnd = std::min(pairEnd, blockBegin + kBlock);
@@ -160,8 +155,8 @@ void particleContactRows(ParticleArrays& p, NeighbourList& list, const ContactPa
       const std::uint32_t k = touching[m];
       const std::uint32_t i = rows[k];
       const std::uint32_t j = partners[k];
-      geometry[m].normal = p.position[j] - p.position[i];
-      squaredDistances[m] = geometry[m].normal.squaredNorm();
+      normals[m] = p.position[j] - p.position[i];
+      squaredDistances[m] = normals[m].squaredNorm();
       radiiSums[m] = p.radius[i] + p.radius[j];
       pairParams[m] = &table(p.material[i], p.material[j]);
     }
@@ -172,21 +167,17 @@ void particleContactRows(ParticleArrays& p, NeighbourList& list, const ContactPa
       inverseDistances[m] = 1.0 / dist;
     }
     for (std::uint32_t m = 0; m < count; ++m) {
-      TouchingGeometry& g = geometry[m];
       const std::uint32_t k = touching[m];
       // Coincident centres have no defined normal: push along +z rather than produce NaN.
-      g.normal = distances[m] > 0.0 ? Vec3(g.normal * inverseDistances[m]) : Vec3::UnitZ();
-      g.distance = distances[m];
-      g.overlap = overlaps[m];
-      g.elastic = contactElasticTerms<Law>(*pairParams[m], reduced[k].radius, reduced[k].mass, overlaps[m]);
+      normals[m] = distances[m] > 0.0 ? Vec3(normals[m] * inverseDistances[m]) : Vec3::UnitZ();
+      elastic[m] = contactElasticTerms<Law>(*pairParams[m], reduced[k].radius, reduced[k].mass, overlaps[m]);
     }
     for (std::uint32_t m = 0; m < count; ++m) {
       const std::uint32_t k = touching[m];
       const std::uint32_t i = rows[k];
       const std::uint32_t j = partners[k];
-      const TouchingGeometry& g = geometry[m];
-      const Vec3& normal = g.normal;
-      const double overlap = g.overlap;
+      const Vec3& normal = normals[m];
+      const double overlap = overlaps[m];
       const double ri = p.radius[i];
       const double armI = ri - 0.5 * overlap;
       const double armJ = p.radius[j] - 0.5 * overlap;
@@ -194,11 +185,11 @@ void particleContactRows(ParticleArrays& p, NeighbourList& list, const ContactPa
                         (armI * p.angular_velocity[i] + armJ * p.angular_velocity[j]).cross(normal);
       const ContactPairParams& params = *pairParams[m];
       double normalForce = 0.0;
-      Vec3 f = contactForce<Law>(params, normal, g.elastic, vRel, dt, history[k], normalForce);
+      Vec3 f = contactForce<Law>(params, normal, elastic[m], vRel, dt, history[k], normalForce);
       if constexpr (kPasses.cohesion) {
         // Pulls j back towards i; the friction cap (above) and rolling resistance (below) see the
         // repulsive part alone.
-        f -= (params.cohesion_energy_density * pairContactArea(ri, p.radius[j], g.distance, overlap)) * normal;
+        f -= (params.cohesion_energy_density * pairContactArea(ri, p.radius[j], distances[m], overlap)) * normal;
       }
       if constexpr (kPasses.recording) {
         if (records != nullptr) {
