@@ -12,14 +12,15 @@ constexpr std::size_t kMaxChunksPlanned = 4096;
 
 }  // namespace
 
-void PairLoopPartition::plan(std::span<const std::uint32_t> offsets, std::span<const std::uint32_t> partners) {
+void PairLoopPartition::plan(std::span<const std::uint32_t> offsets, std::span<const std::uint32_t> partners,
+                             std::uint32_t threads) {
   const std::size_t rows = offsets.empty() ? 0 : offsets.size() - 1;
   const std::uint64_t pairs = offsets.empty() ? 0 : offsets.back();
   // About kPairsPerChunk pairs per chunk, but at least 16 chunks of >= 64 rows, so a
   // small scene still has chunks to share; fewer when the windows grow too wide.
   std::size_t wanted = std::max<std::size_t>(static_cast<std::size_t>(pairs / kPairsPerChunk),
                                              std::min<std::size_t>(16, rows / 64));
-  wanted = std::clamp<std::size_t>(wanted, 1, kMaxChunksPlanned);
+  wanted = threads <= 1 ? 1 : std::clamp<std::size_t>(wanted, 1, kMaxChunksPlanned);
   for (;;) {
     const std::size_t chunks = rows == 0 ? 0 : wanted;
     row_begin_.assign(chunks + 1, rows);
@@ -81,18 +82,38 @@ ChunkForces PairLoopPartition::start(std::uint32_t chunk, std::span<Vec3> force,
 void PairLoopPartition::gather(std::uint32_t chunk, std::span<Vec3> force, std::span<Vec3> torque) const {
   const std::size_t begin = row_begin_[chunk];
   const std::size_t end = row_begin_[chunk + 1];
+  const std::uint32_t first = first_covering_[chunk];
+  if (first == chunk) return;  // no earlier chunk reaches these rows: their sums are complete
   // The sum the old per-chunk windows gave, term for term: 0, the earlier chunks' spills
-  // in chunk order, then this chunk's own sum (already in force[s]).
-  for (std::size_t s = begin; s < end; ++s) {
-    Vec3 f = Vec3::Zero();
-    Vec3 t = Vec3::Zero();
-    for (std::uint32_t c = first_covering_[chunk]; c < chunk; ++c) {
-      if (s >= reach_[c]) continue;
-      f += force_[spill_start_[c] + (s - row_begin_[c + 1])];
-      t += torque_[spill_start_[c] + (s - row_begin_[c + 1])];
+  // in chunk order, then this chunk's own sum (already in force[s]). Blocks of slots, each
+  // earlier chunk's spill added over the block as one run: a loop per slot over the
+  // chunks, with a test per chunk, cost more than the additions.
+  constexpr std::size_t kBlock = 64;
+  Vec3 f[kBlock];
+  Vec3 t[kBlock];
+  for (std::size_t blockBegin = begin; blockBegin < end; blockBegin += kBlock) {
+    const std::size_t blockEnd = std::min(end, blockBegin + kBlock);
+    const std::size_t n = blockEnd - blockBegin;
+    for (std::size_t k = 0; k < n; ++k) {
+      f[k].setZero();
+      t[k].setZero();
     }
-    force[s] = f + force[s];
-    torque[s] = t + torque[s];
+    for (std::uint32_t c = first; c < chunk; ++c) {
+      const std::size_t stop = std::min(blockEnd, reach_[c]);
+      if (stop <= blockBegin) continue;
+      // Chunk c spills slots from its rowEnd on; blockBegin >= rowBegin(chunk) >= rowEnd(c).
+      const std::size_t offset = spill_start_[c] + (blockBegin - row_begin_[c + 1]);
+      const Vec3* spillForce = force_.data() + offset;
+      const Vec3* spillTorque = torque_.data() + offset;
+      for (std::size_t k = 0; k < stop - blockBegin; ++k) {
+        f[k] += spillForce[k];
+        t[k] += spillTorque[k];
+      }
+    }
+    for (std::size_t k = 0; k < n; ++k) {
+      force[blockBegin + k] = f[k] + force[blockBegin + k];
+      torque[blockBegin + k] = t[k] + torque[blockBegin + k];
+    }
   }
 }
 

@@ -9,7 +9,11 @@
 /// [rowEnd(c), reach(c)), in its own spill buffer. gather() then adds, for every
 /// slot, the spill of every earlier chunk reaching it, in chunk order, before the
 /// slot's own chunk's sum. No atomics, and forces that are bit-identical whichever
-/// thread ran which chunk and for any thread count (1 included).
+/// thread ran which chunk and for any thread count from 2 on.
+///
+/// One thread gets one chunk: no spill to clear and gather, 7 % of a settled
+/// 5,000-particle step (docs/benchmarks.md). Its forces are the same sums added in
+/// another order, so a 1-thread run differs from a threaded one by round-off.
 ///
 /// Slots are kept in cell order (World re-sorts them), so a window reaches about one
 /// layer of cells beyond its rows; plan() grows the chunks when the windows together
@@ -44,8 +48,8 @@ class PairLoopPartition {
   /// Pairs per chunk before growing [-].
   static constexpr std::uint64_t kPairsPerChunk = 512;
 
-  /// Cuts rows into chunks and sizes their spill buffers.
-  void plan(std::span<const std::uint32_t> offsets, std::span<const std::uint32_t> partners);
+  /// Cuts rows into chunks (one when `threads` is 1) and sizes their spill buffers.
+  void plan(std::span<const std::uint32_t> offsets, std::span<const std::uint32_t> partners, std::uint32_t threads);
 
   [[nodiscard]] std::uint32_t chunks() const { return static_cast<std::uint32_t>(row_begin_.size() - 1); }
   [[nodiscard]] std::size_t rowBegin(std::uint32_t chunk) const { return row_begin_[chunk]; }
