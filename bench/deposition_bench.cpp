@@ -81,6 +81,7 @@ struct Options {
   std::uint64_t window = 250;
   std::uint64_t window_from = 25000;
   bool stage_times = false;
+  bool portable_kernel = false;
   std::string save_final;
 };
 
@@ -117,6 +118,8 @@ std::optional<int> parseOptions(int argc, char** argv, Options& o) {
                                      "first step of the windowed CPU time (default 25000: the settled bed)");
   app.add_flag("--stage-times", o.stage_times,
                "print each stage's sampled wall time per step (World::setStageTiming) at the end");
+  app.add_flag("--portable-kernel", o.portable_kernel,
+               "run the portable pair loop even where the AVX2/FMA one could run (SimulationSettings::portable_kernel)");
   app.add_option("--save-final", o.save_final,
                  "write the final particles to FILE as 'id x y z r' (an init file: e.g. a settled bed "
                  "to time the late steps alone)")
@@ -303,6 +306,7 @@ int run(const Options& o) {
   // glass); the comparison needs the same step, so it accepts a 10 % restitution error.
   settings.restitution_tolerance = 0.1;
   settings.threads = o.threads;
+  settings.portable_kernel = o.portable_kernel;
   // Generated beds are for timing: soft spheres of 1:10 squeezed under large ones may
   // overlap beyond the watchdog's 0.5 of the smaller radius; warn instead of stopping.
   if (o.generate > 0) settings.watchdog.policy = demlink::core::GuardPolicy::Warn;
@@ -357,7 +361,8 @@ int run(const Options& o) {
               report.limit, report.limited_by.c_str(), report.rayleigh_time_step, report.contact_duration,
               world.settings().max_impact_velocity);
   for (const std::string& s : world.activeStages()) std::printf(" %s", s.c_str());
-  std::printf("\nsetup %.3f s, %zu neighbour pairs after initialize\n", setupSeconds,
+  std::printf("\npair kernel %s\n", std::string(demlink::core::pairKernelName(world.pairKernel())).c_str());
+  std::printf("setup %.3f s, %zu neighbour pairs after initialize\n", setupSeconds,
               world.neighbourList().pairCount());
   printThermoHeader();
 

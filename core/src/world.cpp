@@ -344,6 +344,7 @@ void World::initialize() {
     state_.neighbour_skin = smallest > 0.0 ? 0.5 * smallest : 1.0e-3;
   }
   neighbours_ = NeighbourList(state_.neighbour_skin);
+  pair_kernel_ = choosePairKernel(settings_.portable_kernel);
   if (settings_.threads > 1) {
     try {
       pool_ = std::make_unique<ThreadPool>(settings_.threads);
@@ -642,8 +643,13 @@ void World::computeForces() {
   ThreadPool* pool = pool_.get();
   parallelParts(pool, parts.chunks(), [&](std::uint32_t chunk) {
     const ChunkForces out = parts.start(chunk, p.force, p.torque);
-    particleContactRows<Law, kPasses>(p, neighbours_, pair_table_, dt, parts.rowBegin(chunk), parts.rowEnd(chunk),
-                                      out, chunkRecords(chunk));
+    if (pair_kernel_ == PairKernel::kAvx2Fma) {
+      particleContactRowsAvx2Fma<Law, kPasses>(p, neighbours_, pair_table_, dt, parts.rowBegin(chunk),
+                                               parts.rowEnd(chunk), out, chunkRecords(chunk));
+    } else {
+      particleContactRows<Law, kPasses>(p, neighbours_, pair_table_, dt, parts.rowBegin(chunk), parts.rowEnd(chunk),
+                                        out, chunkRecords(chunk));
+    }
   });
   parallelParts(pool, parts.chunks(), [&](std::uint32_t chunk) { parts.gather(chunk, p.force, p.torque); });
   // Slots the list has no rows for yet (none between rebuilds, kept for safety).

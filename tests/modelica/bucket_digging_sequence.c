@@ -35,7 +35,7 @@ int main(int argc, char** argv) {
   }
   ok = sequence_connect(clients, kNames, kCount, argv[1], atoi(argv[2]), 120.0);
   if (ok) { /* initial algorithms: declare in the generic layout, as the components do */
-    const double lower[3] = {-0.6, -0.4, -0.05}, upper[3] = {0.6, 0.4, 0.6};
+    const double lower[3] = {-1.0, -1.0, -0.05}, upper[3] = {1.0, 1.0, 0.6};
     const int pitInts[1] = {1};
     const double pitReals[10] = {0.0, -0.15, -0.07, 0.0, 0.15, 0.07, 0.1, 0.008, 0.01, kTargetHeight};
     const char* pitStrings[3] = {"pit_generator", "pit", "gravel"};

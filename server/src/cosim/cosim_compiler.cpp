@@ -175,6 +175,7 @@ std::string reportText(const CompiledSimulation& out, const core::World& world) 
   std::string stages;
   for (const std::string& stage : world.activeStages()) stages += (stages.empty() ? "" : ", ") + stage;
   text += "active stages: " + stages + "\n";
+  text += "pair kernel: " + std::string(core::pairKernelName(world.pairKernel())) + "\n";
   const core::SimulationSettings& settings = world.settings();
   text += fmt::format("threads: {}{}\n", settings.threads,
                       settings.threads_choice.empty() ? std::string() : " (" + settings.threads_choice + ")");

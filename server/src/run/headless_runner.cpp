@@ -54,6 +54,7 @@ void logCompileReport(const core::World& world, const FidelityChoice& fidelity, 
   spdlog::info("compiled scene: particles {}, materials {}, planes {}", world.particles().size(),
                world.materials().size(), world.planes().size());
   spdlog::info("active stages: {}", stages);
+  spdlog::info("pair kernel: {}", core::pairKernelName(world.pairKernel()));
   for (const std::string& line : report.describe()) spdlog::info("{}", line);
   const double percent = 100.0 * settings.time_step / report.limit;
   if (settings.time_step > report.limit) {

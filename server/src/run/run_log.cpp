@@ -67,6 +67,7 @@ void RunLog::writeConfiguration(const core::World& world, const RunOptions& run,
   add("config", "integrator", core::toString(s.integrator));
   add("config", "threads", std::to_string(s.threads));
   if (!s.threads_choice.empty()) add("config", "threads_choice", s.threads_choice);
+  add("config", "pair_kernel", std::string(core::pairKernelName(world.pairKernel())));
   add("config", "neighbour_skin", number(world.neighbourSkin()), "m");
   add("config", "sort_every_builds", std::to_string(s.sort_every_builds));
   add("config", "max_impact_velocity", number(s.max_impact_velocity), "m/s");

@@ -119,6 +119,7 @@ core::SimulationSettings toSettings(const v1::SimulationBox& box, const std::str
   settings.linear_normal_stiffness = coarse.linearStiffness(box.linear_normal_stiffness());
   if (box.has_restitution_tolerance()) settings.restitution_tolerance = box.restitution_tolerance();
   settings.allow_unsafe_time_step = box.allow_unsafe_time_step();
+  settings.portable_kernel = box.portable_kernel();
   if (box.has_threads()) {
     if (box.threads() == 0) {
       const core::AutoThreadChoice choice = core::chooseAutoThreads();

@@ -65,6 +65,9 @@ struct SimulationSettings {
   std::string threads_choice;
   /// The run-time watchdog's period, checks and policies (step/watchdog.hpp).
   WatchdogSettings watchdog;
+  /// Run the portable pair loop even on a processor with AVX2 and FMA: results
+  /// bit-identical across processors, for ~8 % of the step (pair_kernel.hpp).
+  bool portable_kernel = false;
   /// Re-sort particle slots by grid cell every this many neighbour builds (0: never).
   std::uint32_t sort_every_builds = 16;
 

@@ -21,6 +21,7 @@
 #include "demlink/core/contact/contact_pair_table.hpp"
 #include "demlink/core/contact/contact_record.hpp"
 #include "demlink/core/contact/critical_time_step.hpp"
+#include "demlink/core/contact/pair_kernel.hpp"
 #include "demlink/core/materials/material.hpp"
 #include "demlink/core/walls/mesh_body.hpp"
 #include "demlink/core/walls/mesh_contact.hpp"
@@ -195,6 +196,8 @@ class World {
   /// the selected rows of stageTable(), the law in "particle_contacts:<law>", and
   /// each component as "<kind>:<name>" in the stages it runs in.
   [[nodiscard]] std::vector<std::string> activeStages() const;
+  /// The build of the pair loop this world runs (pair_kernel.hpp; chosen at initialize()).
+  [[nodiscard]] PairKernel pairKernel() const { return pair_kernel_; }
   /// Translational + rotational kinetic energy [J].
   [[nodiscard]] double kineticEnergy() const;
   /// Total particle mass [kg].
@@ -299,6 +302,7 @@ class World {
   RebuildGuard rebuild_guard_;  ///< armed by every neighbour build and restore
   PairLoopPartition partition_;
   std::unique_ptr<ThreadPool> pool_;  ///< null when running on one thread
+  PairKernel pair_kernel_ = PairKernel::kPortable;  ///< chosen at initialize()
   void (World::*compute_forces_)() = nullptr;
   bool rolling_active_ = false;
   bool cohesion_active_ = false;

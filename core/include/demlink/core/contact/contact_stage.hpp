@@ -100,10 +100,14 @@ inline ContactRecord makeContactRecord(ContactKind kind, const ParticleArrays& p
 /// then the separated ones release their springs and the touching ones are evaluated
 /// in list order, their overlap-only terms first. Pairs that stay apart never load
 /// their history.
+///
+/// The body is compiled into two loops (pair_kernel.hpp): particleContactRows, portable,
+/// and particleContactRowsAvx2Fma for processors with AVX2 and FMA.
 template <class Law, ForcePasses kPasses>
-void particleContactRows(ParticleArrays& p, NeighbourList& list, const ContactPairTable& table, double dt,
-                         std::size_t rowBegin, std::size_t rowEnd, const ChunkForces& out,
-                         std::vector<ContactRecord>* records = nullptr) {
+DEMLINK_FORCE_INLINE void particleContactRowsBody(ParticleArrays& p, NeighbourList& list,
+                                                  const ContactPairTable& table, double dt, std::size_t rowBegin,
+                                                  std::size_t rowEnd, const ChunkForces& out,
+                                                  std::vector<ContactRecord>* records) {
   const std::span<const std::uint32_t> offsets = list.offsets();
   const std::span<const std::uint32_t> partners = list.partners();
   const std::span<const std::uint32_t> rows = list.rows();
@@ -216,6 +220,34 @@ void particleContactRows(ParticleArrays& p, NeighbourList& list, const ContactPa
     }
   }
 }
+
+template <class Law, ForcePasses kPasses>
+void particleContactRows(ParticleArrays& p, NeighbourList& list, const ContactPairTable& table, double dt,
+                         std::size_t rowBegin, std::size_t rowEnd, const ChunkForces& out,
+                         std::vector<ContactRecord>* records = nullptr) {
+  particleContactRowsBody<Law, kPasses>(p, list, table, dt, rowBegin, rowEnd, out, records);
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#define DEMLINK_AVX2_FMA_PAIR_KERNEL 1
+inline constexpr bool kAvx2FmaPairKernelBuilt = true;
+/// The same loop for processors with AVX2 and FMA (only call it on one: choosePairKernel).
+template <class Law, ForcePasses kPasses>
+__attribute__((target("avx2,fma"))) void particleContactRowsAvx2Fma(
+    ParticleArrays& p, NeighbourList& list, const ContactPairTable& table, double dt, std::size_t rowBegin,
+    std::size_t rowEnd, const ChunkForces& out, std::vector<ContactRecord>* records = nullptr) {
+  particleContactRowsBody<Law, kPasses>(p, list, table, dt, rowBegin, rowEnd, out, records);
+}
+#else
+#define DEMLINK_AVX2_FMA_PAIR_KERNEL 0
+inline constexpr bool kAvx2FmaPairKernelBuilt = false;
+template <class Law, ForcePasses kPasses>
+void particleContactRowsAvx2Fma(ParticleArrays& p, NeighbourList& list, const ContactPairTable& table, double dt,
+                                std::size_t rowBegin, std::size_t rowEnd, const ChunkForces& out,
+                                std::vector<ContactRecord>* records = nullptr) {
+  particleContactRows<Law, kPasses>(p, list, table, dt, rowBegin, rowEnd, out, records);
+}
+#endif
 
 /// Contact of particle `slot` with a rigid wall surface at `contactPoint` whose
 /// unit normal points to the particle; wallVelocity is the wall's velocity at the

@@ -1,0 +1,19 @@
+#include "demlink/core/contact/pair_kernel.hpp"
+
+#include "demlink/core/contact/contact_stage.hpp"
+
+namespace demlink::core {
+
+PairKernel choosePairKernel(bool portableAsked) {
+  if (portableAsked || !kAvx2FmaPairKernelBuilt) return PairKernel::kPortable;
+#if DEMLINK_AVX2_FMA_PAIR_KERNEL
+  if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) return PairKernel::kAvx2Fma;
+#endif
+  return PairKernel::kPortable;
+}
+
+std::string_view pairKernelName(PairKernel kernel) {
+  return kernel == PairKernel::kAvx2Fma ? "avx2_fma" : "portable";
+}
+
+}  // namespace demlink::core
