@@ -21,6 +21,12 @@ void PairLoopPartition::plan(std::span<const std::uint32_t> offsets, std::span<c
   std::size_t wanted = std::max<std::size_t>(static_cast<std::size_t>(pairs / kPairsPerChunk),
                                              std::min<std::size_t>(16, rows / 64));
   wanted = threads <= 1 ? 1 : std::clamp<std::size_t>(wanted, 1, kMaxChunksPlanned);
+  // Too wide windows: a quarter fewer chunks at a time, so the count that fits is near the
+  // largest one that does (halving could lose nearly half of the chunks that fit). Then an
+  // even count from 4 on: two threads' home ranges hold as many chunks each (9 chunks of
+  // a 50,000-bed gave one thread 5/9 of the pairs; a thread that has claimed its last
+  // chunk leaves nothing to steal).
+  bool evened = false;
   for (;;) {
     const std::size_t chunks = rows == 0 ? 0 : wanted;
     row_begin_.assign(chunks + 1, rows);
@@ -47,11 +53,23 @@ void PairLoopPartition::plan(std::span<const std::uint32_t> offsets, std::span<c
       spill_start_[c + 1] = spill_start_[c] + (reach - row_begin_[c + 1]);
       windows += reach - row_begin_[c];
     }
-    if (kept <= 1 || 2 * windows <= kWindowSlotsPerTwoRows * rows + 8192) break;
-    wanted = (wanted + 1) / 2;
+    const bool fits = kept <= 1 || 2 * windows <= kWindowSlotsPerTwoRows * rows + 8192;
+    if (fits && (evened || kept < 4 || kept % 2 == 0)) break;
+    if (fits) {
+      evened = true;
+      wanted = kept - 1;
+    } else {
+      wanted = std::min(wanted - 1, wanted * 3 / 4);
+    }
   }
   const std::size_t chunks = row_begin_.size() - 1;
   first_covering_.assign(chunks, 0);
+  covered_end_.assign(chunks, 0);
+  std::size_t reached = 0;  // one past the last slot an earlier chunk's window reaches
+  for (std::size_t c = 0; c < chunks; ++c) {
+    covered_end_[c] = std::clamp(reached, row_begin_[c], row_begin_[c + 1]);
+    reached = std::max(reached, reach_[c]);
+  }
   // The lowest chunk whose window passes rowBegin(c) never decreases with c.
   std::uint32_t lowest = 0;
   for (std::uint32_t c = 0; c < chunks; ++c) {
@@ -80,10 +98,11 @@ ChunkForces PairLoopPartition::start(std::uint32_t chunk, std::span<Vec3> force,
 }
 
 void PairLoopPartition::gather(std::uint32_t chunk, std::span<Vec3> force, std::span<Vec3> torque) const {
+  // Only the rows an earlier chunk's window reaches (about one cell layer) get a spill;
+  // the others' sums are complete already.
   const std::size_t begin = row_begin_[chunk];
-  const std::size_t end = row_begin_[chunk + 1];
+  const std::size_t end = covered_end_[chunk];
   const std::uint32_t first = first_covering_[chunk];
-  if (first == chunk) return;  // no earlier chunk reaches these rows: their sums are complete
   // The sum the old per-chunk windows gave, term for term: 0, the earlier chunks' spills
   // in chunk order, then this chunk's own sum (already in force[s]). Blocks of slots, each
   // earlier chunk's spill added over the block as one run: a loop per slot over the
@@ -120,7 +139,7 @@ void PairLoopPartition::gather(std::uint32_t chunk, std::span<Vec3> force, std::
 std::size_t PairLoopPartition::bytes() const {
   return (force_.capacity() + torque_.capacity()) * sizeof(Vec3) +
          (row_begin_.capacity() + reach_.capacity() + spill_start_.capacity()) * sizeof(std::size_t) +
-         first_covering_.capacity() * sizeof(std::uint32_t);
+         first_covering_.capacity() * sizeof(std::uint32_t) + covered_end_.capacity() * sizeof(std::size_t);
 }
 
 }  // namespace demlink::core

@@ -70,6 +70,7 @@ class PairLoopPartition {
   std::vector<std::size_t> reach_;
   std::vector<std::size_t> spill_start_{0};
   std::vector<std::uint32_t> first_covering_;  ///< lowest chunk whose window reaches rowBegin(c)
+  std::vector<std::size_t> covered_end_;       ///< one past chunk c's last row an earlier window reaches
   std::vector<Vec3> force_;
   std::vector<Vec3> torque_;
 };
