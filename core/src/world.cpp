@@ -434,9 +434,28 @@ void World::coverMaterial(std::uint32_t material) {
   if (rolling != rolling_active_ || cohesion != cohesion_active_) selectStepStages();
 }
 
-void World::step() {
+void World::step() { advance(1); }
+
+void World::advance(std::uint64_t steps) {
   if (!initialized_) initialize();
+  // Whatever ends the loop (an exception included), the state it leaves is whole.
+  struct PayOwedKick {
+    World& world;
+    ~PayOwedKick() {
+      if (world.half_kick_owed_) world.payOwedHalfKick();
+    }
+  } pay{*this};
+  for (std::uint64_t n = 0; n < steps; ++n) stepOnce(kick_deferrable_ && n + 1 < steps);
+}
+
+void World::payOwedHalfKick() {
+  half_kick_owed_ = false;
+  kick(particles_, state_.gravity, 0.5 * settings_.time_step, pool_.get());
+}
+
+void World::stepOnce(bool mayOweKick) {
   StepContext context{settings_.time_step, state_.step_count, pool_.get()};
+  context.may_owe_kick = mayOweKick;
   force_step_ = state_.step_count + 1;  // the forces of a step belong to its end
   force_weight_ = settings_.time_step;
   const std::uint64_t weight = stage_timing_ ? stageTimingWeight(state_.step_count) : 0;
@@ -479,6 +498,15 @@ void World::selectStepStages() {
   for (const Stage stage : selectStages(sceneFeatures())) {
     if (!stageInfo(stage).pass) step_stages_.push_back(stage);
   }
+  // Between a step's second half kick and the next step's first kick only these stages
+  // may run for the kick to be owed: none of them reads a velocity or a force (the
+  // watchdog does, at the steps it inspects: secondHalfKick pays before those). Every
+  // other stage (components, clumps, meshes, deformables, bounds, a moving frame)
+  // reads or changes them there.
+  kick_deferrable_ = std::all_of(step_stages_.begin(), step_stages_.end(), [](Stage stage) {
+    return stage == Stage::kVelocityVerlet || stage == Stage::kNeighbourList || stage == Stage::kForces ||
+           stage == Stage::kSecondHalfKick || stage == Stage::kAdvanceClock || stage == Stage::kWatchdog;
+  });
 }
 
 void World::runStage(Stage stage, StepContext& context) {
@@ -549,6 +577,12 @@ void World::finishDeformables(const StepContext& context) {
 
 void World::firstKickAndDrift(const StepContext& context) {
   const double dt = context.dt;
+  if (half_kick_owed_) {
+    half_kick_owed_ = false;
+    ++fused_kicks_;
+    kickTwiceAndDrift(particles_, state_.gravity, 0.5 * dt, dt, context.pool);
+    return;
+  }
   if (state_.frame_moving) {
     frameKickAndDrift(particles_, state_.gravity, state_.frame, 0.5 * dt, dt, context.pool);
   } else {
@@ -590,6 +624,12 @@ void World::armRebuildGuard() {
 }
 
 void World::secondHalfKick(const StepContext& context) {
+  const std::uint64_t watchEvery = settings_.watchdog.every_steps;
+  const bool watchedNext = watchEvery > 0 && (state_.step_count + 1) % watchEvery == 0;
+  if (context.may_owe_kick && !watchedNext && !state_.frame_moving) {
+    half_kick_owed_ = true;
+    return;
+  }
   if (state_.frame_moving) {
     frameKick(particles_, state_.gravity, state_.frame, 0.5 * context.dt, context.pool);
   } else {

@@ -131,6 +131,19 @@ class World {
   void initialize();
   /// Advances one time step: the selected stages, in table order.
   void step();
+  /// Advances `steps` time steps; afterwards the state is exactly what `steps` calls of
+  /// step() leave. In between, when no stage between a step's second half kick and the
+  /// next step's first kick reads velocities or forces (a scene of particles, planes and
+  /// the watchdog: kickDeferrable()), a step leaves its second half kick owed and the
+  /// next step makes both half kicks and the drift in one pass over the particles, the
+  /// same additions in the same order (integrator.hpp kickTwiceAndDrift): one stream
+  /// over the particle columns per step instead of two. A step whose end the watchdog
+  /// inspects, and the last step, make their second half kick as usual.
+  void advance(std::uint64_t steps);
+  /// Whether advance() may owe half kicks in this scene (set with the stages).
+  [[nodiscard]] bool kickDeferrable() const { return kick_deferrable_; }
+  /// Half kicks advance() has owed and paid with the next step's kick so far.
+  [[nodiscard]] std::uint64_t fusedKicks() const { return fused_kicks_; }
 
   /// Writes everything the next step depends on (settings, materials, particle
   /// columns, neighbour and near lists with histories, planes, meshes, counters,
@@ -240,6 +253,9 @@ class World {
   void selectForceKernel();
   void gatherClumpForces();
   void secondHalfKick(const StepContext& context);
+  /// One step; `mayOweKick`: another step follows within advance().
+  void stepOnce(bool mayOweKick);
+  void payOwedHalfKick();
   void runWatchdog();
 
   /// The speeds the scene shows before it runs (seen_speeds_), fastest first.
@@ -303,6 +319,9 @@ class World {
   PairLoopPartition partition_;
   std::unique_ptr<ThreadPool> pool_;  ///< null when running on one thread
   PairKernel pair_kernel_ = PairKernel::kPortable;  ///< chosen at initialize()
+  bool kick_deferrable_ = false;  ///< advance() may owe half kicks (selectStepStages)
+  bool half_kick_owed_ = false;   ///< the last step left its second half kick to the next one
+  std::uint64_t fused_kicks_ = 0;
   void (World::*compute_forces_)() = nullptr;
   bool rolling_active_ = false;
   bool cohesion_active_ = false;

@@ -59,6 +59,9 @@ struct StepContext {
   /// surface moved more than skin/2 since the last neighbour build (neighbour_list
   /// then rebuilds).
   bool mesh_moved_far = false;
+  /// The step may leave its second half kick owed to the next step's first kick
+  /// (World::advance: another step follows, and nothing between them reads velocities).
+  bool may_owe_kick = false;
 };
 
 /// The features of a scene that decide which stages run.
