@@ -64,6 +64,17 @@ World pouringBed(std::uint32_t threads, int steps = 4000, bool portableKernel = 
   return world;
 }
 
+/// The largest distance between a particle's positions in two worlds of the same ids [m].
+double largestPositionDifference(const ParticleArrays& a, const ParticleArrays& b) {
+  std::unordered_map<std::uint64_t, std::size_t> slotOf;
+  for (std::size_t i = 0; i < b.size(); ++i) slotOf[b.id[i]] = i;
+  double worst = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    worst = std::max(worst, (a.position[i] - b.position[slotOf.at(a.id[i])]).norm());
+  }
+  return worst;
+}
+
 TEST(Determinism, IdenticalForFixedThreadCount) {
   for (std::uint32_t threads : {1u, 2u}) {
     const World a = pouringBed(threads);
@@ -106,10 +117,7 @@ TEST(Determinism, OneThreadAgreesWithThreadedRunToRoundOff) {
   const ParticleArrays& a = one.particles();
   const ParticleArrays& b = two.particles();
   ASSERT_EQ(a.size(), b.size());
-  std::unordered_map<std::uint64_t, std::size_t> slotOf;
-  for (std::size_t i = 0; i < b.size(); ++i) slotOf[b.id[i]] = i;
-  double worst = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i) worst = std::max(worst, (a.position[i] - b.position[slotOf.at(a.id[i])]).norm());
+  const double worst = largestPositionDifference(a, b);
   EXPECT_LT(worst, 1e-12) << worst;
   EXPECT_NE(stateHash(a), stateHash(b));  // really two summation orders
 }
@@ -127,10 +135,7 @@ TEST(Determinism, PairKernelsAgreeToRoundOff) {
   const ParticleArrays& a = portable.particles();
   const ParticleArrays& b = chosen.particles();
   ASSERT_EQ(a.size(), b.size());
-  std::unordered_map<std::uint64_t, std::size_t> slotOf;
-  for (std::size_t i = 0; i < b.size(); ++i) slotOf[b.id[i]] = i;
-  double worst = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i) worst = std::max(worst, (a.position[i] - b.position[slotOf.at(a.id[i])]).norm());
+  const double worst = largestPositionDifference(a, b);
   EXPECT_LT(worst, 1e-10) << worst;
   EXPECT_NE(stateHash(a), stateHash(b));
 }
@@ -159,7 +164,8 @@ TEST(Determinism, OwedHalfKicksLeaveTheStepByStepState) {
   EXPECT_EQ(advanced.fusedKicks(), owed);
   EXPECT_EQ(columnsHash(advanced.particles()), columnsHash(stepped.particles()));
   if (maxThreads() >= 2) {
-    EXPECT_EQ(columnsHash(pouringBed(2, 2000, false, 500).particles()), columnsHash(pouringBed(2, 2000, false, 1).particles()));
+    EXPECT_EQ(columnsHash(pouringBed(2, 2000, false, 500).particles()),
+              columnsHash(pouringBed(2, 2000, false, 1).particles()));
   }
 }
 
