@@ -624,9 +624,8 @@ void World::armRebuildGuard() {
 }
 
 void World::secondHalfKick(const StepContext& context) {
-  const std::uint64_t watchEvery = settings_.watchdog.every_steps;
-  const bool watchedNext = watchEvery > 0 && (state_.step_count + 1) % watchEvery == 0;
-  if (context.may_owe_kick && !watchedNext && !state_.frame_moving) {
+  // The watchdog inspects the step's end after advance_clock: the count is one on then.
+  if (context.may_owe_kick && !watchdogInspects(state_.step_count + 1)) {
     half_kick_owed_ = true;
     return;
   }
@@ -681,15 +680,11 @@ void World::computeForces() {
   // spills reaching it in chunk order (PairLoopPartition); then planes and meshes, in
   // order (the passes of stage forces in stage_table.hpp).
   ThreadPool* pool = pool_.get();
+  const auto pairRows = pair_kernel_ == PairKernel::kAvx2Fma ? &particleContactRowsAvx2Fma<Law, kPasses>
+                                                             : &particleContactRows<Law, kPasses>;
   parallelParts(pool, parts.chunks(), [&](std::uint32_t chunk) {
     const ChunkForces out = parts.start(chunk, p.force, p.torque);
-    if (pair_kernel_ == PairKernel::kAvx2Fma) {
-      particleContactRowsAvx2Fma<Law, kPasses>(p, neighbours_, pair_table_, dt, parts.rowBegin(chunk),
-                                               parts.rowEnd(chunk), out, chunkRecords(chunk));
-    } else {
-      particleContactRows<Law, kPasses>(p, neighbours_, pair_table_, dt, parts.rowBegin(chunk), parts.rowEnd(chunk),
-                                        out, chunkRecords(chunk));
-    }
+    pairRows(p, neighbours_, pair_table_, dt, parts.rowBegin(chunk), parts.rowEnd(chunk), out, chunkRecords(chunk));
   });
   parallelParts(pool, parts.chunks(), [&](std::uint32_t chunk) { parts.gather(chunk, p.force, p.torque); });
   // Slots the list has no rows for yet (none between rebuilds, kept for safety).
@@ -1086,8 +1081,13 @@ WatchdogReading World::watch() {
   return r;
 }
 
+bool World::watchdogInspects(std::uint64_t stepCount) const {
+  const std::uint64_t every = settings_.watchdog.every_steps;
+  return every > 0 && stepCount % every == 0;
+}
+
 void World::runWatchdog() {
-  if (state_.step_count % settings_.watchdog.every_steps != 0) return;
+  if (!watchdogInspects(state_.step_count)) return;
   const WatchdogReading reading = watch();
   if (std::optional<SimulationFault> fault =
           watchdog_.assess(reading, settings_.watchdog, time_step_report_.impact_speed, state_.step_count)) {

@@ -4,10 +4,9 @@
 
 namespace demlink::core {
 
-PairKernel choosePairKernel(bool portableAsked) {
-  if (portableAsked || !kAvx2FmaPairKernelBuilt) return PairKernel::kPortable;
+PairKernel choosePairKernel([[maybe_unused]] bool portableAsked) {
 #if DEMLINK_AVX2_FMA_PAIR_KERNEL
-  if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) return PairKernel::kAvx2Fma;
+  if (!portableAsked && __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) return PairKernel::kAvx2Fma;
 #endif
   return PairKernel::kPortable;
 }

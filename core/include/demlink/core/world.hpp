@@ -256,6 +256,8 @@ class World {
   /// One step; `mayOweKick`: another step follows within advance().
   void stepOnce(bool mayOweKick);
   void payOwedHalfKick();
+  /// Whether the watchdog inspects the state when the step count is `stepCount`.
+  [[nodiscard]] bool watchdogInspects(std::uint64_t stepCount) const;
   void runWatchdog();
 
   /// The speeds the scene shows before it runs (seen_speeds_), fastest first.

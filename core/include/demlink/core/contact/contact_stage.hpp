@@ -230,7 +230,6 @@ void particleContactRows(ParticleArrays& p, NeighbourList& list, const ContactPa
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #define DEMLINK_AVX2_FMA_PAIR_KERNEL 1
-inline constexpr bool kAvx2FmaPairKernelBuilt = true;
 /// The same loop for processors with AVX2 and FMA (only call it on one: choosePairKernel).
 template <class Law, ForcePasses kPasses>
 __attribute__((target("avx2,fma"))) void particleContactRowsAvx2Fma(
@@ -240,7 +239,6 @@ __attribute__((target("avx2,fma"))) void particleContactRowsAvx2Fma(
 }
 #else
 #define DEMLINK_AVX2_FMA_PAIR_KERNEL 0
-inline constexpr bool kAvx2FmaPairKernelBuilt = false;
 template <class Law, ForcePasses kPasses>
 void particleContactRowsAvx2Fma(ParticleArrays& p, NeighbourList& list, const ContactPairTable& table, double dt,
                                 std::size_t rowBegin, std::size_t rowEnd, const ChunkForces& out,

@@ -1,9 +1,9 @@
 #pragma once
 /// Which build of the particle-particle contact loop a world runs. The loop is compiled
 /// twice: portably (the x86-64 baseline, SSE2) and, on x86-64, for processors with AVX2
-/// and FMA, whose fused multiply-adds and three-operand instructions take 8 % of a
-/// settled 5,000-particle step (docs/benchmarks.md). The processor is asked at run time,
-/// so one binary serves both.
+/// and FMA, whose fused multiply-adds save ~8 % of a settled 5,000-particle step
+/// (docs/benchmarks.md; AVX2 without FMA saved nothing). The processor is asked at run
+/// time, so one binary serves both.
 ///
 /// A fused multiply-add rounds once where the portable loop rounds twice, so the two
 /// builds differ by round-off: a run is bit-identical to another only on the same
