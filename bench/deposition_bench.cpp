@@ -21,7 +21,7 @@
 /// and median per step, the figures a loaded machine disturbs least (A/B comparisons).
 ///
 /// The summary reports bytes per particle (particle columns, neighbour list and grid,
-/// pair-loop buffers) and how the thread pool ran (loops offered to the workers, loops
+/// pair-loop plan) and how the thread pool ran (loops offered to the workers, loops
 /// run on the caller alone because threading did not pay).
 ///
 /// Scene (identical to in.deposition): spheres read from init_N.txt (id x y z r,
@@ -448,7 +448,7 @@ int run(const Options& o) {
       [&](const char*, const auto& column) { columnBytes += column.capacity() * sizeof(column[0]); });
   const std::size_t listBytes = world.neighbourList().bytes();
   const std::size_t pairLoopBytes = world.pairLoopPartition().bytes();
-  std::printf("bytes_per_particle %.1f (columns %.1f, neighbour list and grid %.1f, pair-loop buffers %.1f)\n",
+  std::printf("bytes_per_particle %.1f (columns %.1f, neighbour list and grid %.1f, pair-loop plan %.1f)\n",
               static_cast<double>(columnBytes + listBytes + pairLoopBytes) / n, static_cast<double>(columnBytes) / n,
               static_cast<double>(listBytes) / n, static_cast<double>(pairLoopBytes) / n);
   std::printf("pair_chunks %u\n", world.pairLoopPartition().chunks());

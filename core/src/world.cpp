@@ -676,17 +676,19 @@ void World::computeForces() {
     r.index = index;
     return r;
   };
-  // Pair chunks, each into its own rows and its spill buffer; then every slot adds the
-  // spills reaching it in chunk order (PairLoopPartition); then planes and meshes, in
-  // order (the passes of stage forces in stage_table.hpp).
+  // Pair chunks in two phases, the even ones, then the odd ones (PairLoopPartition); then
+  // planes and meshes, in order (the passes of stage forces in stage_table.hpp).
   ThreadPool* pool = pool_.get();
   const auto pairRows = pair_kernel_ == PairKernel::kAvx2Fma ? &particleContactRowsAvx2Fma<Law, kPasses>
                                                              : &particleContactRows<Law, kPasses>;
-  parallelParts(pool, parts.chunks(), [&](std::uint32_t chunk) {
-    const ChunkForces out = parts.start(chunk, p.force, p.torque);
-    pairRows(p, neighbours_, pair_table_, dt, parts.rowBegin(chunk), parts.rowEnd(chunk), out, chunkRecords(chunk));
-  });
-  parallelParts(pool, parts.chunks(), [&](std::uint32_t chunk) { parts.gather(chunk, p.force, p.torque); });
+  for (std::uint32_t phase = 0; phase < 2; ++phase) {
+    parallelParts(pool, parts.phaseChunks(phase), [&](std::uint32_t k) {
+      const std::uint32_t chunk = PairLoopPartition::chunkOfPhase(phase, k);
+      const ChunkForces out = parts.start(chunk, p.force, p.torque);
+      pairRows(p, neighbours_, pair_table_, dt, parts.rowBegin(chunk), parts.rowEnd(chunk), out,
+               chunkRecords(chunk));
+    });
+  }
   // Slots the list has no rows for yet (none between rebuilds, kept for safety).
   const std::size_t listed = std::min(p.size(), parts.chunks() > 0 ? parts.rowEnd(parts.chunks() - 1) : 0);
   std::fill(p.force.begin() + static_cast<std::ptrdiff_t>(listed), p.force.end(), Vec3::Zero());

@@ -1,6 +1,6 @@
 // Determinism: the same scene gives bit-identical states run after run, and for
 // any thread count from 2 on: work is cut into chunks that depend on the scene only,
-// and the pair loop's per-chunk forces are summed in chunk order (PairLoopPartition).
+// and each slot's pair forces are summed in an order the pair loop's plan fixes (PairLoopPartition).
 // One thread runs the pair loop as one chunk: the same sums in another order.
 #include <cstring>
 #include <random>
@@ -108,8 +108,8 @@ TEST(Determinism, ThreadedChunksDoNotDependOnThreadCount) {
 
 TEST(Determinism, OneThreadAgreesWithThreadedRunToRoundOff) {
   // The same forces summed in another order: after the pour the runs differ by
-  // round-off (1.1e-14 m), far below what a lost contribution does (gather without
-  // the spills: the watchdog stops the run at step 700 for energy gained).
+  // round-off, far below what a lost contribution does (one phase of the pair loop
+  // left out: the watchdog stops the run for energy gained).
   ASSERT_GE(maxThreads(), 2u);
   const World one = pouringBed(1, 4000);
   const World two = pouringBed(2, 4000);

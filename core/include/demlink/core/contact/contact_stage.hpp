@@ -87,8 +87,8 @@ inline ContactRecord makeContactRecord(ContactKind kind, const ParticleArrays& p
 }
 
 /// Particle-particle contacts of rows [rowBegin, rowEnd) of the half list.
-/// Forces and torques go where `out` says (PairLoopPartition: rows below
-/// out.own_end straight into the columns, the rest into the chunk's spill). With
+/// Forces and torques are added into `out` (PairLoopPartition says which chunks may run
+/// at the same time). With
 /// kPasses.recording and `records` set, each contact is appended to *records.
 ///
 /// The rows' pairs are walked as one sequence (NeighbourList::rows() names each
@@ -202,11 +202,10 @@ DEMLINK_FORCE_INLINE void particleContactRowsBody(ParticleArrays& p, NeighbourLi
         }
       }
       const Vec3 nxf = normal.cross(f);
-      // i is one of the chunk's own rows (i < j, so only j may spill).
       out.force[i] -= f;
       out.torque[i] -= armI * nxf;
-      out.forceOf(j) += f;
-      Vec3& torqueJ = out.torqueOf(j);
+      out.force[j] += f;
+      Vec3& torqueJ = out.torque[j];
       torqueJ -= armJ * nxf;
       if constexpr (kPasses.rolling) {
         if (params.rolling_friction > 0.0) {

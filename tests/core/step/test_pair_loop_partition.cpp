@@ -1,0 +1,134 @@
+// The pair loop's two-phase plan: chunks of one phase never touch the same slot, every
+// row belongs to exactly one chunk, and the cut does not depend on the thread count.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include "demlink/core/step/pair_loop_partition.hpp"
+
+namespace demlink::core {
+namespace {
+
+/// A half list (offsets, partners) of `rows` rows, each with partners j > i at most
+/// `span` slots ahead (a cell layer in a cell-ordered list), `perRow` on average; with
+/// `farRow0`, row 0 also pairs with the last slot.
+struct HalfList {
+  std::vector<std::uint32_t> offsets{0};
+  std::vector<std::uint32_t> partners;
+};
+
+HalfList randomHalfList(std::uint32_t rows, std::uint32_t span, std::uint32_t perRow, std::uint64_t seed,
+                        bool farRow0 = false) {
+  std::mt19937_64 rng(seed);
+  HalfList list;
+  if (farRow0) list.partners.push_back(rows - 1);
+  for (std::uint32_t i = 0; i < rows; ++i) {
+    const std::uint32_t count = static_cast<std::uint32_t>(rng() % (2 * perRow + 1));
+    for (std::uint32_t k = 0; k < count && i + 1 < rows; ++k) {
+      const std::uint32_t ahead = 1 + static_cast<std::uint32_t>(rng() % span);
+      list.partners.push_back(std::min(rows - 1, i + ahead));
+    }
+    list.offsets.push_back(static_cast<std::uint32_t>(list.partners.size()));
+  }
+  return list;
+}
+
+/// Every slot chunk c touches, from the list itself: its rows and their partners.
+void expectPhasesDisjoint(const PairLoopPartition& plan, const HalfList& list) {
+  const std::size_t rows = list.offsets.size() - 1;
+  ASSERT_GE(plan.chunks(), 1u);
+  EXPECT_EQ(plan.rowBegin(0), 0u);
+  EXPECT_EQ(plan.rowEnd(plan.chunks() - 1), rows);
+  for (std::uint32_t phase = 0; phase < 2; ++phase) {
+    std::vector<int> toucher(rows, -1);
+    for (std::uint32_t k = 0; k < plan.phaseChunks(phase); ++k) {
+      const std::uint32_t c = PairLoopPartition::chunkOfPhase(phase, k);
+      ASSERT_LT(c, plan.chunks());
+      EXPECT_LT(plan.rowBegin(c), plan.rowEnd(c)) << "chunk " << c << " has no rows";
+      std::vector<bool> mine(rows, false);
+      for (std::size_t i = plan.rowBegin(c); i < plan.rowEnd(c); ++i) {
+        mine[i] = true;
+        for (std::uint32_t m = list.offsets[i]; m < list.offsets[i + 1]; ++m) {
+          mine[list.partners[m]] = true;
+          EXPECT_LT(list.partners[m], plan.reach(c)) << "chunk " << c;
+        }
+      }
+      for (std::size_t s = 0; s < rows; ++s) {
+        if (!mine[s]) continue;
+        EXPECT_EQ(toucher[s], -1) << "phase " << phase << ": slot " << s << " touched by chunks " << toucher[s]
+                                  << " and " << c;
+        toucher[s] = static_cast<int>(c);
+      }
+    }
+  }
+  // Phases together run every chunk once.
+  EXPECT_EQ(plan.phaseChunks(0) + plan.phaseChunks(1), plan.chunks());
+}
+
+TEST(PairLoopPartition, ChunksOfOnePhaseTouchDisjointSlots) {
+  for (const std::uint32_t span : {8u, 300u, 2000u}) {
+    const HalfList list = randomHalfList(20000, span, 3, span);
+    PairLoopPartition plan;
+    plan.plan(list.offsets, list.partners, 2);
+    EXPECT_GE(plan.chunks(), 4u) << "span " << span;
+    if (plan.chunks() >= 4) {
+      EXPECT_EQ(plan.chunks() % 4, 0u) << "span " << span;
+    }
+    for (std::uint32_t c = 0; c + 1 < plan.chunks(); ++c) EXPECT_LE(plan.reach(c), plan.rowEnd(c + 1));
+    expectPhasesDisjoint(plan, list);
+  }
+}
+
+TEST(PairLoopPartition, ARowReachingFarMergesChunks) {
+  // Row 0 pairs with the last slot: nothing may run beside the chunk holding row 0
+  // unless the next chunk ends at the list's end, so the cut has at most two chunks.
+  const HalfList list = randomHalfList(5000, 50, 3, 7, true);
+  PairLoopPartition plan;
+  plan.plan(list.offsets, list.partners, 2);
+  EXPECT_LE(plan.chunks(), 2u);
+  expectPhasesDisjoint(plan, list);
+}
+
+TEST(PairLoopPartition, TheCutDependsOnTheListOnly) {
+  const HalfList list = randomHalfList(30000, 700, 4, 3);
+  PairLoopPartition two;
+  two.plan(list.offsets, list.partners, 2);
+  for (const std::uint32_t threads : {3u, 8u, 64u}) {
+    PairLoopPartition other;
+    other.plan(list.offsets, list.partners, threads);
+    ASSERT_EQ(other.chunks(), two.chunks());
+    for (std::uint32_t c = 0; c < two.chunks(); ++c) EXPECT_EQ(other.rowBegin(c), two.rowBegin(c));
+  }
+  PairLoopPartition one;
+  one.plan(list.offsets, list.partners, 1);
+  EXPECT_EQ(one.chunks(), 1u);
+  expectPhasesDisjoint(one, list);
+}
+
+TEST(PairLoopPartition, EvenChunksClearTheirRowsAndTheNextChunks) {
+  const HalfList list = randomHalfList(4000, 100, 3, 11);
+  PairLoopPartition plan;
+  plan.plan(list.offsets, list.partners, 2);
+  ASSERT_GE(plan.chunks(), 3u);
+  std::vector<Vec3> force(4000, Vec3::Ones());
+  std::vector<Vec3> torque(4000, Vec3::Ones());
+  for (std::uint32_t k = 0; k < plan.phaseChunks(0); ++k) {
+    (void)plan.start(PairLoopPartition::chunkOfPhase(0, k), force, torque);
+  }
+  for (std::size_t s = 0; s < force.size(); ++s) {
+    ASSERT_EQ(force[s], Vec3::Zero()) << "slot " << s;
+    ASSERT_EQ(torque[s], Vec3::Zero()) << "slot " << s;
+  }
+  // Odd chunks clear nothing: the even chunks' additions are already in their rows.
+  force.assign(4000, Vec3::Ones());
+  for (std::uint32_t k = 0; k < plan.phaseChunks(1); ++k) {
+    (void)plan.start(PairLoopPartition::chunkOfPhase(1, k), force, torque);
+  }
+  for (const Vec3& f : force) ASSERT_EQ(f, Vec3::Ones());
+}
+
+}  // namespace
+}  // namespace demlink::core
