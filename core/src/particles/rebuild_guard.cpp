@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <limits>
 
@@ -172,23 +173,32 @@ bool RebuildGuard::stale(std::span<const Vec3> built, std::span<const Vec3> now,
     hi = hi.cwiseMax(b.hi);
   }
   if (lo[0] <= hi[0] && !((hi - lo).squaredNorm() <= far_extent_ * far_extent_)) return true;
-  for (const NearPair& pair : near_) {
-    const Box& a = moved_[pair.a];
-    const Box& b = moved_[pair.b];
-    if (isEmpty(a) || isEmpty(b)) continue;
-    if (!(largestSeparation2(a.lo, a.hi, b.lo, b.hi) <= skin2)) return true;
-  }
-  for (const PlaneGaps& plane : planes_) {
-    for (std::size_t g = 0; g < groups; ++g) {
+  // The near group pairs, then every plane's groups, as one parallel loop (they were a
+  // serial tenth of a 50,000-particle step on two threads). The answer is an "or" over
+  // all tests, so it does not depend on which thread ran which test.
+  const std::size_t pairTests = near_.size();
+  std::atomic<bool> found{false};
+  parallelChunks(pool, pairTests + planes_.size() * groups, [&](std::size_t begin, std::size_t end) {
+    bool missed = false;
+    for (std::size_t k = begin; k < std::min(end, pairTests); ++k) {
+      const Box& a = moved_[near_[k].a];
+      const Box& b = moved_[near_[k].b];
+      if (isEmpty(a) || isEmpty(b)) continue;
+      missed = missed || !(largestSeparation2(a.lo, a.hi, b.lo, b.hi) <= skin2);
+    }
+    for (std::size_t k = std::max(begin, pairTests); k < end; ++k) {
       // The displacement in the box that approaches the plane most.
+      const PlaneGaps& plane = planes_[(k - pairTests) / groups];
+      const std::size_t g = (k - pairTests) % groups;
       const Box& b = moved_[g];
       if (isEmpty(b)) continue;
       double approach = 0.0;
       for (int d = 0; d < 3; ++d) approach += plane.normal[d] * (plane.normal[d] > 0.0 ? b.lo[d] : b.hi[d]);
-      if (!(plane.smallest_gap[g] + approach >= 0.0)) return true;
+      missed = missed || !(plane.smallest_gap[g] + approach >= 0.0);
     }
-  }
-  return false;
+    if (missed) found.store(true, std::memory_order_relaxed);
+  });
+  return found.load(std::memory_order_relaxed);
 }
 
 }  // namespace demlink::core

@@ -14,6 +14,7 @@
 #include "demlink/core/particles/neighbour_list.hpp"
 #include "demlink/core/world.hpp"
 #include "demlink/core/particles/rebuild_guard.hpp"
+#include "demlink/core/step/thread_pool.hpp"
 #include "demlink/core/walls/plane_wall.hpp"
 
 namespace demlink::core {
@@ -166,6 +167,39 @@ TEST(RebuildGuard, FreshListsHoldEveryContactUnderAnyMotion) {
   // Not vacuous: every kind of motion must have been judged fresh often.
   for (std::size_t m = 0; m < fresh.size(); ++m) {
     EXPECT_GT(fresh[m], trials[m] / 10) << "motion " << m << ": " << fresh[m] << " of " << trials[m];
+  }
+}
+
+TEST(RebuildGuard, ChunkedTestsSeeMotionOnlyOneChunkCanSee) {
+  // Enough groups that the pair and plane tests are cut into several chunks, and motions
+  // only one chunk's tests can see: the answer must not depend on which thread ran it.
+  std::mt19937_64 rng(77);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const auto bed = randomBed(20000, 0.04, rng);
+  const auto built = bed->list.builtPositions();
+  const std::size_t groups = (built.size() + RebuildGuard::kGroupSlots - 1) / RebuildGuard::kGroupSlots;
+  ThreadPool pool(2);
+  for (int t = 0; t < 40; ++t) {
+    // Slots from a random group boundary on slip 3 skins against the others: only the near
+    // group pairs across that boundary see it.
+    const std::size_t split = (1 + static_cast<std::size_t>(u(rng) * static_cast<double>(groups - 1))) *
+                              RebuildGuard::kGroupSlots;
+    std::vector<Vec3> now(built.begin(), built.end());
+    for (std::size_t i = split; i < now.size(); ++i) now[i] += Vec3(3.0 * kSkin, 0.0, 0.0);
+    EXPECT_TRUE(bed->guard.stale(built, now)) << "split at " << split;
+    EXPECT_TRUE(bed->guard.stale(built, now, &pool)) << "split at " << split;
+    // The whole bed 0.2 skins away from both planes: fresh.
+    now.assign(built.begin(), built.end());
+    for (Vec3& x : now) x += Vec3(0.14 * kSkin, 0.0, 0.14 * kSkin);
+    EXPECT_FALSE(bed->guard.stale(built, now));
+    EXPECT_FALSE(bed->guard.stale(built, now, &pool));
+    // The whole bed carried 1-3 skins towards the floor: only the floor's tests see it
+    // (no relative motion), and not those of the x = 0 wall, which come last.
+    const double down = (1.0 + 2.0 * u(rng)) * kSkin;
+    now.assign(built.begin(), built.end());
+    for (Vec3& x : now) x.z() -= down;
+    EXPECT_TRUE(bed->guard.stale(built, now)) << "down " << down;
+    EXPECT_TRUE(bed->guard.stale(built, now, &pool)) << "down " << down;
   }
 }
 
