@@ -115,6 +115,7 @@ std::unique_ptr<Component> componentFromPackage(const Package& p) {
     c->message().set_fidelity(static_cast<v1::SimulationBox::Fidelity>(fidelity));
     if (r.hasReal(14)) c->message().set_max_impact_velocity(r.real(14));
     if (r.hasReal(15)) c->message().set_coarse_graining(r.real(15));
+    if (r.hasReal(16)) c->message().mutable_watchdog()->set_max_overlap_fraction(r.real(16));
     out = std::move(c);
   } else if (kind == "material") {
     auto c = std::make_unique<Material>(name);

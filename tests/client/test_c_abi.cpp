@@ -242,7 +242,8 @@ TEST(ClientCAbi, StatusCodesAndMessages) {
 
 // The optional simulation_box entries of the generic layout (VTK interval, restitution
 // tolerance, threads, contact law, integrator, fidelity, impact speed, coarse graining,
-// expected names, the room frame input) reach the declaration; omitted ones stay unset.
+// watchdog overlap limit, expected names, the room frame input) reach the declaration;
+// omitted ones stay unset.
 TEST(ClientCAbi, GenericSimulationBoxCarriesOutputThreadsAndNames) {
   const std::string log = logFile("generic_box");
   FakeServerProcess server(1, 1, log);
@@ -253,8 +254,9 @@ TEST(ClientCAbi, GenericSimulationBoxCarriesOutputThreadsAndNames) {
   const double nan = std::nan("");
   const char* boxStrings[] = {"simulation_box", "room", "room", "truck_body"};
   const long long boxInts[] = {0, 2, 2, 1, 3};
-  const double boxReals[] = {0.001, 2e-4, 1.0, 0.0, 0.0, -9.81, -1.0, -2.0, -3.0, 4.0, 5.0, 6.0, 0.25, 0.05, 3.5, 2.0};
-  ASSERT_EQ(dl_set_data(pkg.package, boxInts, 5, boxReals, 16, boxStrings, 4), DL_OK);
+  const double boxReals[] = {0.001, 2e-4, 1.0, 0.0, 0.0, -9.81, -1.0, -2.0, -3.0, 4.0, 5.0, 6.0, 0.25, 0.05, 3.5, 2.0,
+                             0.7};
+  ASSERT_EQ(dl_set_data(pkg.package, boxInts, 5, boxReals, 17, boxStrings, 4), DL_OK);
   ASSERT_EQ(dl_send_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
   ASSERT_EQ(dl_wait_compiled(c.client), DL_OK) << dl_last_error(c.client);
   // The frame input: gravity unchanged (NaN), then a_f, Omega, alpha, origin.
@@ -270,6 +272,7 @@ TEST(ClientCAbi, GenericSimulationBoxCarriesOutputThreadsAndNames) {
   EXPECT_TRUE(contains(lines, "DECL room", "contact_model: LINEAR_SPRING_DASHPOT integrator: VELOCITY_VERLET"));
   EXPECT_TRUE(contains(lines, "DECL room", "max_impact_velocity: 3.5"));
   EXPECT_TRUE(contains(lines, "DECL room", "fidelity: VALIDATION coarse_graining: 2"));
+  EXPECT_TRUE(contains(lines, "DECL room", "watchdog { max_overlap_fraction: 0.7 }"));
   EXPECT_TRUE(contains(lines, "DECL room", "expected_names: \"room\" expected_names: \"truck_body\""));
   EXPECT_TRUE(contains(lines, "DECL room", "bounds { lower { x: -1 y: -2 z: -3 } upper { x: 4 y: 5 z: 6 } }"));
 

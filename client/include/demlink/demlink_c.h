@@ -43,7 +43,9 @@
  *                    (bounds only when nReals >= 12), [12] VTK output interval [s]
  *                    (optional; NaN: default), [13] restitution tolerance (optional),
  *                    [14] max impact velocity [m/s] (optional), [15] coarse graining
- *                    factor >= 1 (optional); ints[0] expected component count (<= 0:
+ *                    factor >= 1 (optional), [16] watchdog overlap limit, a fraction of
+ *                    the smaller radius in (0, 2] (optional; default 0.5); ints[0]
+ *                    expected component count (<= 0:
  *                    none), ints[1] engine threads (optional; negative: default 1, 0: all
  *                    cores), ints[2] contact model and ints[3] integrator (optional; as
  *                    dl_declare_simulation_box_ex), ints[4] fidelity preset (optional;
