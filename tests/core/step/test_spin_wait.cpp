@@ -81,6 +81,17 @@ TEST(SpinGate, FreeCpusStayWithinTheUsableOnes) {
   EXPECT_GE(SpinGate::instance().othersBusy(), 0.0);
 }
 
+TEST(SpinGate, MeasuresWithinTheFirstShortPeriod) {
+  // The load average stands in only until the first 50 ms have been measured; then the
+  // estimate stands for the full period.
+  SpinGate& gate = SpinGate::instance();
+  (void)gate.freeCpus();
+  std::this_thread::sleep_for(std::chrono::milliseconds(60));
+  (void)gate.freeCpus();
+  EXPECT_TRUE(gate.measured());
+  EXPECT_EQ(gate.refreshPeriodNs(), 250'000'000);
+}
+
 TEST(SpinFor, ReturnsTrueOnceReadyAndFalseWithoutBudget) {
   SpinGate& gate = SpinGate::instance();
   gate.setForced(true);
