@@ -698,11 +698,31 @@ void World::computeForces() {
       contact_snapshot_.contacts.insert(contact_snapshot_.contacts.end(), records.begin(), records.end());
     }
   }
-  for (std::size_t w = 0; w < planes_.size(); ++w) {
-    PlaneWall& wall = planes_[w];
-    wall.force.setZero();
-    wall.torque.setZero();
-    planeContactForces<Law, kPasses>(p, wall, pair_table_, dt, recording(ContactKind::kPlane, w, nullptr));
+  // Planes: one loop over stretches of slots, each taking every plane in order, so a
+  // particle near two planes adds their forces in plane order whoever runs it; the walls'
+  // loads are the stretches' sums in stretch order. One stretch on one thread or when
+  // recording (records in list order), so those runs add the loads entry by entry.
+  if (!planes_.empty()) {
+    const bool oneStretch = pool == nullptr || kPasses.recording;
+    const std::uint32_t stretches = oneStretch ? 1 : chunkCount(p.size());
+    plane_loads_.assign(planes_.size() * stretches, PlaneLoad{});
+    parallelParts(oneStretch ? nullptr : pool, stretches, [&](std::uint32_t c) {
+      const std::size_t begin = chunkBegin(p.size(), stretches, c);
+      const std::size_t end = chunkBegin(p.size(), stretches, c + 1);
+      for (std::size_t w = 0; w < planes_.size(); ++w) {
+        plane_loads_[w * stretches + c] = planeContactSlots<Law, kPasses>(
+            p, planes_[w], pair_table_, dt, begin, end, recording(ContactKind::kPlane, w, nullptr));
+      }
+    });
+    for (std::size_t w = 0; w < planes_.size(); ++w) {
+      PlaneWall& wall = planes_[w];
+      wall.force.setZero();
+      wall.torque.setZero();
+      for (std::uint32_t c = 0; c < stretches; ++c) {
+        wall.force += plane_loads_[w * stretches + c].force;
+        wall.torque += plane_loads_[w * stretches + c].torque;
+      }
+    }
   }
   for (std::size_t m = 0; m < meshes_.size(); ++m) {
     meshes_[m].clearWrench();

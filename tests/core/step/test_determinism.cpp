@@ -33,8 +33,10 @@ std::uint64_t stateHash(const ParticleArrays& p) {
   return h;
 }
 
-/// The pour after `steps` steps, taken by World::advance in calls of `stepsPerCall` steps.
-World pouringBed(std::uint32_t threads, int steps = 4000, bool portableKernel = false, int stepsPerCall = 1000) {
+/// The pour after `steps` steps, taken by World::advance in calls of `stepsPerCall` steps;
+/// `layers` layers of 80 particles.
+World pouringBed(std::uint32_t threads, int steps = 4000, bool portableKernel = false, int stepsPerCall = 1000,
+                 int layers = 10) {
   SimulationSettings s;
   s.portable_kernel = portableKernel;
   s.watchdog.every_steps = 7;
@@ -49,7 +51,7 @@ World pouringBed(std::uint32_t threads, int steps = 4000, bool portableKernel = 
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   // 8 x 10 x 10 loose lattice with jitter and random velocities: a pour.
-  for (int i = 0; i < 800; ++i) {
+  for (int i = 0; i < 80 * layers; ++i) {
     ParticleSpec p;
     p.radius = 0.001 + 0.0004 * u(rng);
     p.position = Vec3(0.0025 + 0.0035 * (i % 8), 0.0015 + 0.003 * ((i / 8) % 10), 0.002 + 0.0035 * (i / 80)) +
@@ -120,6 +122,31 @@ TEST(Determinism, OneThreadAgreesWithThreadedRunToRoundOff) {
   const double worst = largestPositionDifference(a, b);
   EXPECT_LT(worst, 1e-12) << worst;
   EXPECT_NE(stateHash(a), stateHash(b));  // really two summation orders
+}
+
+TEST(Determinism, PlaneLoadsAreFixedForAThreadCountAndAgreeWithOneThread) {
+  // 3,200 particles: the plane contacts run in stretches of slots on the threads, each
+  // stretch taking every plane (particles in the corners touch two). Particle forces are
+  // the same sums on any thread count; the walls' loads are sums of the stretches' loads
+  // when threaded, entry by entry on one thread.
+  ASSERT_GE(maxThreads(), 2u);
+  const World one = pouringBed(1, 1500, false, 500, 40);
+  const World two = pouringBed(2, 1500, false, 500, 40);
+  const World three = pouringBed(std::min(3u, maxThreads()), 1500, false, 500, 40);
+  ASSERT_EQ(two.planes().size(), 3u);
+  EXPECT_EQ(stateHash(two.particles()), stateHash(three.particles()));
+  double largestLoad = 0.0;
+  for (std::size_t w = 0; w < two.planes().size(); ++w) {
+    const PlaneWall& a = one.planes()[w];
+    const PlaneWall& b = two.planes()[w];
+    EXPECT_EQ(b.force, three.planes()[w].force) << b.spec.name;
+    EXPECT_EQ(b.torque, three.planes()[w].torque) << b.spec.name;
+    EXPECT_LE((a.force - b.force).norm(), 1e-9 * std::max(a.force.norm(), 1e-12)) << b.spec.name;
+    largestLoad = std::max(largestLoad, b.force.norm());
+    EXPECT_GT(b.near_slots.size(), 0u) << b.spec.name;
+  }
+  EXPECT_GT(largestLoad, 0.0);  // the bed is on the floor
+  EXPECT_LT(largestPositionDifference(one.particles(), two.particles()), 1e-12);
 }
 
 TEST(Determinism, PairKernelsAgreeToRoundOff) {

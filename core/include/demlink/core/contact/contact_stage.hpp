@@ -297,12 +297,19 @@ inline void recordWallContact(const ParticleArrays& p, std::size_t slot, const C
   load.friction_work += ft * slip * recording.dt;
 }
 
+/// The contacts of `wall` with the near-list entries whose slots lie in [slotBegin,
+/// slotEnd) (the list is ascending): added to the particles; returns what they add to the
+/// wall. Stretches of disjoint slots touch disjoint particles, so they may run at once.
 template <class Law, ForcePasses kPasses>
-void planeContactForces(ParticleArrays& p, PlaneWall& wall, const ContactPairTable& table, double dt,
-                        const ContactRecording& recording = {}) {
+PlaneLoad planeContactSlots(ParticleArrays& p, PlaneWall& wall, const ContactPairTable& table, double dt,
+                            std::size_t slotBegin, std::size_t slotEnd, const ContactRecording& recording = {}) {
   static_assert(kHistoryStorageFits<Law, decltype(wall.near_history)>, "plane near history is not Law::History");
   const Vec3 normal = wall.spec.normal;
-  for (std::size_t k = 0; k < wall.near_slots.size(); ++k) {
+  const auto first = std::lower_bound(wall.near_slots.begin(), wall.near_slots.end(), slotBegin);
+  const auto last = std::lower_bound(first, wall.near_slots.end(), slotEnd);
+  PlaneLoad load;
+  for (auto k = static_cast<std::size_t>(first - wall.near_slots.begin());
+       k < static_cast<std::size_t>(last - wall.near_slots.begin()); ++k) {
     const std::uint32_t slot = wall.near_slots[k];
     const double distance = (p.position[slot] - wall.spec.point).dot(normal);
     const double overlap = p.radius[slot] - distance;
@@ -315,9 +322,10 @@ void planeContactForces(ParticleArrays& p, PlaneWall& wall, const ContactPairTab
                                                      overlap, vRel, dt, wall.near_history[k]);
     const Vec3 contactPoint = p.position[slot] - distance * normal;
     if constexpr (kPasses.recording) recordWallContact(p, slot, recording, 0, contactPoint, normal, overlap, f, vRel);
-    wall.force -= f;
-    wall.torque -= (contactPoint - wall.spec.point).cross(f);
+    load.force -= f;
+    load.torque -= (contactPoint - wall.spec.point).cross(f);
   }
+  return load;
 }
 
 /// Particle-surface contacts: a mesh (MeshBody) or a deformable body's surface
