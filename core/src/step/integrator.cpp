@@ -19,17 +19,31 @@ void drift(ParticleArrays& p, double dt, ThreadPool* pool) {
   });
 }
 
-void kickAndDrift(ParticleArrays& p, const Vec3& gravity, double h, double dt, ThreadPool* pool) {
+namespace {
+
+/// Zeroes force and torque of slot i when `kClear` (ForcesAfterKick::kCleared).
+template <bool kClear>
+inline void afterKick(ParticleArrays& p, std::size_t i) {
+  if constexpr (kClear) {
+    p.force[i].setZero();
+    p.torque[i].setZero();
+  }
+}
+
+template <bool kClear>
+void kickAndDriftPass(ParticleArrays& p, const Vec3& gravity, double h, double dt, ThreadPool* pool) {
   parallelChunks(pool, p.size(), [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
       p.velocity[i] += (p.force[i] * p.inv_mass[i] + gravity) * h;
       p.angular_velocity[i] += p.torque[i] * (p.inv_inertia[i] * h);
+      afterKick<kClear>(p, i);
       p.position[i] += p.velocity[i] * dt;
     }
   });
 }
 
-void kickTwiceAndDrift(ParticleArrays& p, const Vec3& gravity, double h, double dt, ThreadPool* pool) {
+template <bool kClear>
+void kickTwiceAndDriftPass(ParticleArrays& p, const Vec3& gravity, double h, double dt, ThreadPool* pool) {
   parallelChunks(pool, p.size(), [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
       // Written as kick() and kickAndDrift() write it, twice: the same expression, the same rounding.
@@ -37,9 +51,30 @@ void kickTwiceAndDrift(ParticleArrays& p, const Vec3& gravity, double h, double 
       p.angular_velocity[i] += p.torque[i] * (p.inv_inertia[i] * h);
       p.velocity[i] += (p.force[i] * p.inv_mass[i] + gravity) * h;
       p.angular_velocity[i] += p.torque[i] * (p.inv_inertia[i] * h);
+      afterKick<kClear>(p, i);
       p.position[i] += p.velocity[i] * dt;
     }
   });
+}
+
+}  // namespace
+
+void kickAndDrift(ParticleArrays& p, const Vec3& gravity, double h, double dt, ThreadPool* pool,
+                  ForcesAfterKick after) {
+  if (after == ForcesAfterKick::kCleared) {
+    kickAndDriftPass<true>(p, gravity, h, dt, pool);
+  } else {
+    kickAndDriftPass<false>(p, gravity, h, dt, pool);
+  }
+}
+
+void kickTwiceAndDrift(ParticleArrays& p, const Vec3& gravity, double h, double dt, ThreadPool* pool,
+                       ForcesAfterKick after) {
+  if (after == ForcesAfterKick::kCleared) {
+    kickTwiceAndDriftPass<true>(p, gravity, h, dt, pool);
+  } else {
+    kickTwiceAndDriftPass<false>(p, gravity, h, dt, pool);
+  }
 }
 
 void explicitEulerStep(ParticleArrays& p, const Vec3& gravity, double dt, ThreadPool* pool) {

@@ -64,8 +64,9 @@ void PairLoopPartition::plan(std::span<const std::uint32_t> offsets, std::span<c
   }
 }
 
-ChunkForces PairLoopPartition::start(std::uint32_t chunk, std::span<Vec3> force, std::span<Vec3> torque) const {
-  if (chunk % 2 == 0) {
+ChunkForces PairLoopPartition::start(std::uint32_t chunk, std::span<Vec3> force, std::span<Vec3> torque,
+                                     bool clear) const {
+  if (clear && chunk % 2 == 0) {
     const auto begin = static_cast<std::ptrdiff_t>(row_begin_[chunk]);
     const auto end = static_cast<std::ptrdiff_t>(row_begin_[std::min<std::size_t>(chunk + 2, row_begin_.size() - 1)]);
     std::fill(force.begin() + begin, force.begin() + end, Vec3::Zero());

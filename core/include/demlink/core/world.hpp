@@ -323,6 +323,7 @@ class World {
   std::unique_ptr<ThreadPool> pool_;  ///< null when running on one thread
   PairKernel pair_kernel_ = PairKernel::kPortable;  ///< chosen at initialize()
   bool kick_deferrable_ = false;  ///< advance() may owe half kicks (selectStepStages)
+  bool forces_cleared_ = false;   ///< this step's first kick left force and torque zero (firstKickAndDrift)
   bool half_kick_owed_ = false;   ///< the last step left its second half kick to the next one
   std::uint64_t fused_kicks_ = 0;
   void (World::*compute_forces_)() = nullptr;

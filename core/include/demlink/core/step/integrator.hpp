@@ -14,12 +14,19 @@ namespace demlink::core {
 void kick(ParticleArrays& p, const Vec3& gravity, double h, ThreadPool* pool = nullptr);
 /// x += v dt.
 void drift(ParticleArrays& p, double dt, ThreadPool* pool = nullptr);
+/// What a step's first kick leaves in force and torque. kCleared: zeros, written right
+/// after their last read of the step, while the lines are in cache; the force stage that
+/// follows then adds into them without a clearing pass of its own over 48 bytes per
+/// particle (World::firstKickAndDrift says when).
+enum class ForcesAfterKick { kKept, kCleared };
 /// kick(h) then drift(dt) in one pass over the particles.
-void kickAndDrift(ParticleArrays& p, const Vec3& gravity, double h, double dt, ThreadPool* pool = nullptr);
+void kickAndDrift(ParticleArrays& p, const Vec3& gravity, double h, double dt, ThreadPool* pool = nullptr,
+                  ForcesAfterKick after = ForcesAfterKick::kKept);
 /// kick(h) twice, then drift(dt), in one pass: the last step's second half kick, owed
 /// (World::advance), and this step's first. The same two additions as two passes, so
 /// the same bits, with one stream over the particles instead of two.
-void kickTwiceAndDrift(ParticleArrays& p, const Vec3& gravity, double h, double dt, ThreadPool* pool = nullptr);
+void kickTwiceAndDrift(ParticleArrays& p, const Vec3& gravity, double h, double dt, ThreadPool* pool = nullptr,
+                       ForcesAfterKick after = ForcesAfterKick::kKept);
 /// Paper eqs. 14-17: positions advance with the OLD velocities, then velocities
 /// with the old accelerations.
 void explicitEulerStep(ParticleArrays& p, const Vec3& gravity, double dt, ThreadPool* pool = nullptr);

@@ -5,7 +5,8 @@
 /// its largest partner. plan() makes every chunk reach no further than the end of the
 /// next chunk's rows, so chunk c touches only its own rows and chunk c + 1's:
 ///   - phase 0 runs the even chunks, which touch pairwise disjoint slots; each first
-///     clears its own rows and the next chunk's (nothing else writes them before);
+///     clears its own rows and the next chunk's (nothing else writes them before), unless
+///     the step's first kick cleared them already (ForcesAfterKick);
 ///   - phase 1 runs the odd chunks, again pairwise disjoint.
 /// Every chunk adds straight into the particle columns: no atomics, no per-chunk
 /// buffers to clear and add up afterwards. Each slot's force is summed in an order the
@@ -56,9 +57,10 @@ class PairLoopPartition {
   /// The k-th chunk of phase `phase`.
   [[nodiscard]] static std::uint32_t chunkOfPhase(std::uint32_t phase, std::uint32_t k) { return 2 * k + phase; }
 
-  /// Before chunk `chunk`'s pairs run: an even chunk zeroes force and torque of its own
-  /// rows and of the next chunk's. Says where its pairs add.
-  ChunkForces start(std::uint32_t chunk, std::span<Vec3> force, std::span<Vec3> torque) const;
+  /// Before chunk `chunk`'s pairs run: with `clear`, an even chunk zeroes force and torque
+  /// of its own rows and of the next chunk's (without, they are zero already). Says where
+  /// its pairs add.
+  ChunkForces start(std::uint32_t chunk, std::span<Vec3> force, std::span<Vec3> torque, bool clear = true) const;
   /// Bytes held by the plan.
   [[nodiscard]] std::size_t bytes() const;
 
