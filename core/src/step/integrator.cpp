@@ -57,24 +57,27 @@ void kickTwiceAndDriftPass(ParticleArrays& p, const Vec3& gravity, double h, dou
   });
 }
 
+/// Runs pass.operator()<kClear>() with kClear = (after == ForcesAfterKick::kCleared): each
+/// kick pass compiled with and without the clearing, no test per particle.
+template <class Pass>
+void withForcesAfter(ForcesAfterKick after, const Pass& pass) {
+  if (after == ForcesAfterKick::kCleared) {
+    pass.template operator()<true>();
+  } else {
+    pass.template operator()<false>();
+  }
+}
+
 }  // namespace
 
 void kickAndDrift(ParticleArrays& p, const Vec3& gravity, double h, double dt, ThreadPool* pool,
                   ForcesAfterKick after) {
-  if (after == ForcesAfterKick::kCleared) {
-    kickAndDriftPass<true>(p, gravity, h, dt, pool);
-  } else {
-    kickAndDriftPass<false>(p, gravity, h, dt, pool);
-  }
+  withForcesAfter(after, [&]<bool kClear>() { kickAndDriftPass<kClear>(p, gravity, h, dt, pool); });
 }
 
 void kickTwiceAndDrift(ParticleArrays& p, const Vec3& gravity, double h, double dt, ThreadPool* pool,
                        ForcesAfterKick after) {
-  if (after == ForcesAfterKick::kCleared) {
-    kickTwiceAndDriftPass<true>(p, gravity, h, dt, pool);
-  } else {
-    kickTwiceAndDriftPass<false>(p, gravity, h, dt, pool);
-  }
+  withForcesAfter(after, [&]<bool kClear>() { kickTwiceAndDriftPass<kClear>(p, gravity, h, dt, pool); });
 }
 
 void explicitEulerStep(ParticleArrays& p, const Vec3& gravity, double dt, ThreadPool* pool) {

@@ -36,6 +36,13 @@ HalfList randomHalfList(std::uint32_t rows, std::uint32_t span, std::uint32_t pe
   return list;
 }
 
+/// The plan of `list` for `threads` threads.
+PairLoopPartition planOf(const HalfList& list, std::uint32_t threads) {
+  PairLoopPartition plan;
+  plan.plan(list.offsets, list.partners, threads);
+  return plan;
+}
+
 /// Every slot chunk c touches, from the list itself: its rows and their partners.
 void expectPhasesDisjoint(const PairLoopPartition& plan, const HalfList& list) {
   const std::size_t rows = list.offsets.size() - 1;
@@ -71,8 +78,7 @@ void expectPhasesDisjoint(const PairLoopPartition& plan, const HalfList& list) {
 TEST(PairLoopPartition, ChunksOfOnePhaseTouchDisjointSlots) {
   for (const std::uint32_t span : {8u, 300u, 2000u}) {
     const HalfList list = randomHalfList(20000, span, 3, span);
-    PairLoopPartition plan;
-    plan.plan(list.offsets, list.partners, 2);
+    const PairLoopPartition plan = planOf(list, 2);
     EXPECT_GE(plan.chunks(), 4u) << "span " << span;
     if (plan.chunks() >= 4) {
       EXPECT_EQ(plan.chunks() % 4, 0u) << "span " << span;
@@ -86,32 +92,27 @@ TEST(PairLoopPartition, ARowReachingFarMergesChunks) {
   // Row 0 pairs with the last slot: nothing may run beside the chunk holding row 0
   // unless the next chunk ends at the list's end, so the cut has at most two chunks.
   const HalfList list = randomHalfList(5000, 50, 3, 7, true);
-  PairLoopPartition plan;
-  plan.plan(list.offsets, list.partners, 2);
+  const PairLoopPartition plan = planOf(list, 2);
   EXPECT_LE(plan.chunks(), 2u);
   expectPhasesDisjoint(plan, list);
 }
 
 TEST(PairLoopPartition, TheCutDependsOnTheListOnly) {
   const HalfList list = randomHalfList(30000, 700, 4, 3);
-  PairLoopPartition two;
-  two.plan(list.offsets, list.partners, 2);
+  const PairLoopPartition two = planOf(list, 2);
   for (const std::uint32_t threads : {3u, 8u, 64u}) {
-    PairLoopPartition other;
-    other.plan(list.offsets, list.partners, threads);
+    const PairLoopPartition other = planOf(list, threads);
     ASSERT_EQ(other.chunks(), two.chunks());
     for (std::uint32_t c = 0; c < two.chunks(); ++c) EXPECT_EQ(other.rowBegin(c), two.rowBegin(c));
   }
-  PairLoopPartition one;
-  one.plan(list.offsets, list.partners, 1);
+  const PairLoopPartition one = planOf(list, 1);
   EXPECT_EQ(one.chunks(), 1u);
   expectPhasesDisjoint(one, list);
 }
 
 TEST(PairLoopPartition, EvenChunksClearTheirRowsAndTheNextChunks) {
   const HalfList list = randomHalfList(4000, 100, 3, 11);
-  PairLoopPartition plan;
-  plan.plan(list.offsets, list.partners, 2);
+  const PairLoopPartition plan = planOf(list, 2);
   ASSERT_GE(plan.chunks(), 3u);
   std::vector<Vec3> force(4000, Vec3::Ones());
   std::vector<Vec3> torque(4000, Vec3::Ones());
