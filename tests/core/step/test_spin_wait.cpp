@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <fstream>
 #include <thread>
 
 #include "demlink/core/step/spin_wait.hpp"
@@ -84,6 +85,7 @@ TEST(SpinGate, FreeCpusStayWithinTheUsableOnes) {
 TEST(SpinGate, MeasuresWithinTheFirstShortPeriod) {
   // The load average stands in only until the first 50 ms have been measured; then the
   // estimate stands for the full period.
+  if (!std::ifstream("/proc/stat")) GTEST_SKIP() << "no /proc/stat: the load average stands in for good";
   SpinGate& gate = SpinGate::instance();
   (void)gate.freeCpus();
   std::this_thread::sleep_for(std::chrono::milliseconds(60));
