@@ -582,20 +582,18 @@ void World::firstKickAndDrift(const StepContext& context) {
   // kick and the force stage (stages velocity_verlet, neighbour_list, forces), so the
   // kick clears them and the pair loop need not (a clearing pass of 2.4 MB at 50,000
   // particles). A step that throws in between leaves them zero; stepOnce resets the flag.
-  const ForcesAfterKick after = kick_deferrable_ ? ForcesAfterKick::kCleared : ForcesAfterKick::kKept;
+  const ForcesAfterKick after =
+      kick_deferrable_ && !state_.frame_moving ? ForcesAfterKick::kCleared : ForcesAfterKick::kKept;
   if (half_kick_owed_) {
     half_kick_owed_ = false;
     ++fused_kicks_;
     kickTwiceAndDrift(particles_, state_.gravity, 0.5 * dt, dt, context.pool, after);
-    forces_cleared_ = after == ForcesAfterKick::kCleared;
-    return;
-  }
-  if (state_.frame_moving) {
+  } else if (state_.frame_moving) {
     frameKickAndDrift(particles_, state_.gravity, state_.frame, 0.5 * dt, dt, context.pool);
   } else {
     kickAndDrift(particles_, state_.gravity, 0.5 * dt, dt, context.pool, after);
-    forces_cleared_ = after == ForcesAfterKick::kCleared;
   }
+  forces_cleared_ = after == ForcesAfterKick::kCleared;
 }
 
 void World::explicitEulerUpdate(const StepContext& context) {

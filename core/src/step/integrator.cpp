@@ -21,37 +21,21 @@ void drift(ParticleArrays& p, double dt, ThreadPool* pool) {
 
 namespace {
 
-/// Zeroes force and torque of slot i when `kClear` (ForcesAfterKick::kCleared).
-template <bool kClear>
-inline void afterKick(ParticleArrays& p, std::size_t i) {
-  if constexpr (kClear) {
-    p.force[i].setZero();
-    p.torque[i].setZero();
-  }
-}
-
-template <bool kClear>
-void kickAndDriftPass(ParticleArrays& p, const Vec3& gravity, double h, double dt, ThreadPool* pool) {
+/// kick(h) kKicks times, then drift(dt), in one pass; with kClear, force and torque are
+/// zeroed after their last read (ForcesAfterKick::kCleared).
+template <int kKicks, bool kClear>
+void kicksAndDrift(ParticleArrays& p, const Vec3& gravity, double h, double dt, ThreadPool* pool) {
   parallelChunks(pool, p.size(), [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
-      p.velocity[i] += (p.force[i] * p.inv_mass[i] + gravity) * h;
-      p.angular_velocity[i] += p.torque[i] * (p.inv_inertia[i] * h);
-      afterKick<kClear>(p, i);
-      p.position[i] += p.velocity[i] * dt;
-    }
-  });
-}
-
-template <bool kClear>
-void kickTwiceAndDriftPass(ParticleArrays& p, const Vec3& gravity, double h, double dt, ThreadPool* pool) {
-  parallelChunks(pool, p.size(), [&](std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin; i < end; ++i) {
-      // Written as kick() and kickAndDrift() write it, twice: the same expression, the same rounding.
-      p.velocity[i] += (p.force[i] * p.inv_mass[i] + gravity) * h;
-      p.angular_velocity[i] += p.torque[i] * (p.inv_inertia[i] * h);
-      p.velocity[i] += (p.force[i] * p.inv_mass[i] + gravity) * h;
-      p.angular_velocity[i] += p.torque[i] * (p.inv_inertia[i] * h);
-      afterKick<kClear>(p, i);
+      // Each kick written as kick() writes it: the same expression, the same rounding.
+      for (int k = 0; k < kKicks; ++k) {
+        p.velocity[i] += (p.force[i] * p.inv_mass[i] + gravity) * h;
+        p.angular_velocity[i] += p.torque[i] * (p.inv_inertia[i] * h);
+      }
+      if constexpr (kClear) {
+        p.force[i].setZero();
+        p.torque[i].setZero();
+      }
       p.position[i] += p.velocity[i] * dt;
     }
   });
@@ -72,12 +56,12 @@ void withForcesAfter(ForcesAfterKick after, const Pass& pass) {
 
 void kickAndDrift(ParticleArrays& p, const Vec3& gravity, double h, double dt, ThreadPool* pool,
                   ForcesAfterKick after) {
-  withForcesAfter(after, [&]<bool kClear>() { kickAndDriftPass<kClear>(p, gravity, h, dt, pool); });
+  withForcesAfter(after, [&]<bool kClear>() { kicksAndDrift<1, kClear>(p, gravity, h, dt, pool); });
 }
 
 void kickTwiceAndDrift(ParticleArrays& p, const Vec3& gravity, double h, double dt, ThreadPool* pool,
                        ForcesAfterKick after) {
-  withForcesAfter(after, [&]<bool kClear>() { kickTwiceAndDriftPass<kClear>(p, gravity, h, dt, pool); });
+  withForcesAfter(after, [&]<bool kClear>() { kicksAndDrift<2, kClear>(p, gravity, h, dt, pool); });
 }
 
 void explicitEulerStep(ParticleArrays& p, const Vec3& gravity, double dt, ThreadPool* pool) {

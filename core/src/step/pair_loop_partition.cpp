@@ -15,8 +15,8 @@ void PairLoopPartition::cut(std::span<const std::uint32_t> offsets, std::span<co
   const std::uint64_t pairs = offsets.empty() ? 0 : offsets.back();
   row_begin_.assign(1, 0);
   reach_.clear();
-  // The row where the pairs before it reach `share` of all pairs (rows with no pairs go
-  // to the chunk before).
+  // The first row whose pairs before it reach c / wanted of all pairs (rows with no
+  // pairs go to the chunk before).
   const auto rowOfShare = [&](std::size_t c) -> std::size_t {
     if (c >= wanted) return rows;
     const std::uint64_t target = pairs * c / wanted;
