@@ -167,7 +167,10 @@ LiggghtsBackend::LiggghtsBackend(core::World& world, const std::string& logFile,
 }
 
 namespace {
-constexpr char kTagMapMagic[9] = "DEMLLGID";
+// Version 2: the lost particles left the tag map (the world's removedAtBounds() in `.bin`
+// holds them); version 1 ("DEMLLGID") files are refused by name.
+constexpr char kTagMapMagic[9] = "DEMLLGI2";
+constexpr char kTagMapMagicV1[9] = "DEMLLGID";
 }  // namespace
 
 void LiggghtsBackend::writeCheckpoint(const std::filesystem::path& base) {
@@ -184,10 +187,8 @@ void LiggghtsBackend::writeCheckpoint(const std::filesystem::path& base) {
     out.section("LTAG", [&] {
       out.write<std::uint64_t>(step_);
       out.writeVector(tag_ids_);
-      for (const core::RemovalTally* tally : {&lost_, &inserted_}) {
-        out.write<std::uint64_t>(tally->count);
-        out.write<double>(tally->mass);
-      }
+      out.write<std::uint64_t>(inserted_.count);
+      out.write<double>(inserted_.mass);
     });
     const std::filesystem::path ids = std::filesystem::path(base).replace_extension(".liggghts_ids");
     if (!writeFile(ids, out.bytes())) throw std::runtime_error("cannot write " + ids.string());
@@ -201,14 +202,16 @@ void LiggghtsBackend::restoreTagMap(const std::filesystem::path& restore) {
   core::StateReader file(bytes, path.string(), "header");
   char magic[8] = {};
   file.readBytes(magic, 8);
+  if (std::string_view(magic, 8) == std::string_view(kTagMapMagicV1, 8)) {
+    file.fail("magic", "a LIGGGHTS tag map of an older DEMLink (it counted lost particles apart); write the "
+                       "checkpoint again with this version");
+  }
   if (std::string_view(magic, 8) != std::string_view(kTagMapMagic, 8)) file.fail("magic", "not a LIGGGHTS tag map");
   core::StateReader in = file.section("LTAG", "tag map");
   core::requireEqual(in, "step", in.read<std::uint64_t>(), step_);
   tag_ids_ = in.readVector<std::uint64_t>();
-  for (core::RemovalTally* tally : {&lost_, &inserted_}) {
-    tally->count = in.read<std::uint64_t>();
-    tally->mass = in.read<double>();
-  }
+  inserted_.count = in.read<std::uint64_t>();
+  inserted_.mass = in.read<double>();
   in.requireEnd();
   // The map of the particles the world still holds (those sinks removed or LIGGGHTS lost
   // keep their tag in tag_ids_, so a tag is never given to a new particle twice).
@@ -330,8 +333,7 @@ void LiggghtsBackend::syncParticles() {
     rowOfTag[static_cast<std::size_t>(all[row])] = &all[row + 1];
   }
   core::ParticleArrays& p = world_.particles();
-  world_.removeParticlesIf([&](auto slot) { return rowOfTag[tag_of_id_.at(p.id[slot])] == nullptr; },
-                           lost_);
+  world_.removeParticlesAtBoundsIf([&](auto slot) { return rowOfTag[tag_of_id_.at(p.id[slot])] == nullptr; });
   // Our force array holds the contact force alone (trackers report it): LIGGGHTS's less m g.
   const core::Vec3 g = world_.gravity();
   const auto contactForce = [&g](const double* row) -> core::Vec3 {
@@ -453,7 +455,7 @@ RunSummary runHeadlessLiggghts(const v1::Scene& declarations, TranslatedScene& s
     const FrameStats stats = frames ? frames->writeFrame(world, wallSeconds()) : frameStats(world);
     spdlog::info("t = {:.4f} s | {} particles ({} inserted, {} lost at the box) | kinetic energy {:.4g} J | "
                  "mean z {:.6g} m | max z {:.6g} m",
-                 backend.time(), stats.particles, backend.insertedParticles().count, backend.lostParticles().count,
+                 backend.time(), stats.particles, backend.insertedParticles().count, world.removedAtBounds().count,
                  stats.kinetic_energy, stats.mean_z, stats.max_z);
   }
   if (rank == 0 && run.final_particles_csv) writeParticleCsv(world, directory / "particles_final.csv");

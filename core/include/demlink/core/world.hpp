@@ -123,6 +123,12 @@ class World {
   /// in part: when any member is flagged, the whole clump is removed.
   template <class RemovePredicate>
   void removeParticlesIf(RemovePredicate remove, RemovalTally& tally);
+  /// removeParticlesIf into removedAtBounds(): for another engine (LIGGGHTS) whose box
+  /// lost particles, so every output reads the one tally our engine's bounds fill.
+  template <class RemovePredicate>
+  void removeParticlesAtBoundsIf(RemovePredicate remove) {
+    removeParticlesIf(remove, state_.removed_at_bounds);
+  }
 
   /// Mixes material pairs, checks the time step against the critical limit
   /// (throws InputError unless allow_unsafe_time_step), chooses the skin, selects

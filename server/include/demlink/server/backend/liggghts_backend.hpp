@@ -52,12 +52,10 @@ class LiggghtsBackend final : public SimulationBackend {
   /// Gathers positions, velocities and angular velocities to every rank, adds the atoms
   /// LIGGGHTS's sources inserted to the compiled world (new stable ids, in tag order:
   /// insertedParticles), removes from it the particles LIGGGHTS lost at the box
-  /// (lostParticles), and runs the sinks and sensors on it at advanceTo()'s clock
+  /// (counted in the world's removedAtBounds(), as our engine counts them), and runs the sinks and sensors on it at advanceTo()'s clock
   /// (runLiggghtsComponents), deleting the atoms the sinks removed in LIGGGHTS (a
   /// collective: every rank must call it).
   void syncParticles() override;
-  /// Particles LIGGGHTS deleted outside the box, as of the last syncParticles().
-  [[nodiscard]] const core::RemovalTally& lostParticles() const { return lost_; }
   /// Particles LIGGGHTS's sources inserted that a syncParticles() handed over (an atom
   /// inserted and lost within one stride is in neither tally).
   [[nodiscard]] const core::RemovalTally& insertedParticles() const { return inserted_; }
@@ -80,7 +78,7 @@ class LiggghtsBackend final : public SimulationBackend {
   /// checkpoint of the compiled world (its particles as LIGGGHTS holds them, the sinks'
   /// and sensors' state, the clock, the meshes; core/state/checkpoint.hpp), by rank 0;
   /// `<base>.liggghts`, LIGGGHTS's write_restart (atoms, contact histories, fix states);
-  /// `<base>.liggghts_ids`, the tag-to-id map and the inserted / lost tallies, by rank 0.
+  /// `<base>.liggghts_ids`, the tag-to-id map and the inserted tally, by rank 0.
   void writeCheckpoint(const std::filesystem::path& base) override;
 
  private:
@@ -102,7 +100,6 @@ class LiggghtsBackend final : public SimulationBackend {
   void restoreTagMap(const std::filesystem::path& restore);
   std::vector<std::uint64_t> tag_ids_;                         ///< atom tag - 1 -> our stable id
   std::unordered_map<std::uint64_t, std::size_t> tag_of_id_;  ///< our stable id -> atom tag
-  core::RemovalTally lost_;
   core::RemovalTally inserted_;
   std::size_t sources_ = 0;  ///< insertion fixes
 };
