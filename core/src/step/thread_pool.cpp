@@ -128,8 +128,7 @@ void ThreadPool::dispatch(std::uint32_t chunks, Task task, const void* context) 
   const Clock::time_point start = Clock::now();
   std::uint32_t callerChunks = chunks;
   // The gate is asked only when the answer matters (it may read /proc/stat every 250 ms).
-  const bool coresFree = allAsleep && site.work_seconds >= kWakeWorthSeconds &&
-                         site.work_seconds < kWakeWorthBusySeconds &&
+  const bool coresFree = allAsleep && site.work_seconds >= 0.0 && site.work_seconds < kWakeWorthBusySeconds &&
                          SpinGate::instance().freeCpus() >= static_cast<int>(size());
   if (offersToWorkers(chunks, !allAsleep, site.work_seconds, coresFree)) {
     ++stats_.parallel_runs;

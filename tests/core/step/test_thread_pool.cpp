@@ -100,20 +100,20 @@ TEST(ThreadPool, EachThreadStartsAtTheFrontOfItsHomeRange) {
   EXPECT_GE(workerLoops, 1);
 }
 
-TEST(ThreadPool, OffersLoopsToAwakeWorkersAndLongOnesToSleepingWorkers) {
-  const double worth = ThreadPool::kWakeWorthSeconds;
+TEST(ThreadPool, OffersLoopsToAwakeWorkersAndToSleepingOnesWhenCoresAreFree) {
   const double busyWorth = ThreadPool::kWakeWorthBusySeconds;
   // One chunk: nothing to share.
   EXPECT_FALSE(ThreadPool::offersToWorkers(1, true, 1.0, true));
   // A worker spinning between loops takes a share of any loop of 2+ chunks.
   EXPECT_TRUE(ThreadPool::offersToWorkers(2, true, 1e-6, false));
-  // Sleeping workers with free cores: woken for a loop not run yet, or one of at least
-  // kWakeWorthSeconds.
+  // Sleeping workers with free cores: woken for any loop, however short (they spin
+  // between loops afterwards).
   EXPECT_TRUE(ThreadPool::offersToWorkers(5, false, -1.0, true));
-  EXPECT_TRUE(ThreadPool::offersToWorkers(5, false, worth, true));
-  EXPECT_FALSE(ThreadPool::offersToWorkers(5, false, 0.5 * worth, true));
-  // Sleeping workers without free cores: only for loops of kWakeWorthBusySeconds or more.
-  EXPECT_FALSE(ThreadPool::offersToWorkers(5, false, worth, false));
+  EXPECT_TRUE(ThreadPool::offersToWorkers(5, false, 1e-6, true));
+  // Sleeping workers without free cores: only for a loop not run yet or one of
+  // kWakeWorthBusySeconds or more.
+  EXPECT_TRUE(ThreadPool::offersToWorkers(5, false, -1.0, false));
+  EXPECT_FALSE(ThreadPool::offersToWorkers(5, false, 150e-6, false));
   EXPECT_FALSE(ThreadPool::offersToWorkers(5, false, 0.5 * busyWorth, false));
   EXPECT_TRUE(ThreadPool::offersToWorkers(5, false, busyWorth, false));
 }
