@@ -118,7 +118,7 @@ TEST(ThreadPool, OffersLoopsToAwakeWorkersAndToSleepingOnesWhenCoresAreFree) {
   EXPECT_TRUE(ThreadPool::offersToWorkers(5, false, busyWorth, false));
 }
 
-TEST(ThreadPool, WakesSleepingWorkersForLongLoopsOnly) {
+TEST(ThreadPool, WakesSleepingWorkersForLongLoopsOrWhenCoresAreFree) {
   // No spin budget: workers sleep between loops. Chunks that sleep 1 ms hold at least
   // 8 ms of work however loaded the machine is: every run is offered, and the worker
   // runs some chunks (the caller sleeps in its own, so the woken worker claims others).
@@ -131,13 +131,27 @@ TEST(ThreadPool, WakesSleepingWorkersForLongLoopsOnly) {
   EXPECT_EQ(stats.serial_runs, 0u);
   EXPECT_EQ(stats.caller_chunks + stats.worker_chunks, 40u);
   EXPECT_GE(stats.worker_chunks, 1u);
-  // Empty chunks: after its first run (offered, as nothing is known yet) the loop takes
-  // far less than the wake-up it would need, and the caller runs it alone.
+  // Empty chunks, the gate seeing no free CPU: after its first run (offered, as nothing
+  // is known yet) the loop is far shorter than kWakeWorthBusySeconds, and the caller runs
+  // it alone.
+  SpinGate& gate = SpinGate::instance();
+  gate.pinFreeCpus(0);
   std::atomic<int> ran{0};
-  for (int loop = 0; loop < 50; ++loop) pool.run(4, [&](std::uint32_t) { ran.fetch_add(1); });
+  const auto emptyLoops = [&](int loops) {
+    for (int loop = 0; loop < loops; ++loop) pool.run(4, [&](std::uint32_t) { ran.fetch_add(1); });
+  };
+  emptyLoops(50);
   EXPECT_EQ(ran.load(), 200);
   stats = pool.stats();
-  EXPECT_GE(stats.serial_runs, 40u);
+  EXPECT_GE(stats.serial_runs, 49u);
+  // The gate seeing a free CPU for each of the pool's threads: every loop is offered.
+  gate.pinFreeCpus(2);
+  emptyLoops(50);
+  gate.pinFreeCpus(-1);
+  EXPECT_EQ(ran.load(), 400);
+  const ThreadPoolStats freed = pool.stats();
+  EXPECT_EQ(freed.serial_runs, stats.serial_runs);
+  EXPECT_EQ(freed.parallel_runs, stats.parallel_runs + 50);
 }
 
 TEST(ThreadPool, ChunkOrderedReductionIsIndependentOfThreadCount) {

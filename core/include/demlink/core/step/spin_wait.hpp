@@ -141,6 +141,9 @@ class SpinGate {
   /// Benchmarks only: admit every spinner, whatever the free CPUs (shows what spinning
   /// gains where the gate would refuse it, e.g. on a machine shared with other work).
   void setForced(bool forced) { forced_.store(forced, std::memory_order_relaxed); }
+  /// Tests only: freeCpus() answers `free` from now on, whatever the machine does
+  /// (negative: measured again).
+  void pinFreeCpus(int free) { pinned_free_.store(free, std::memory_order_relaxed); }
 
   /// A DEM pool of `threads` threads (its caller included) starts (+) or ends (-).
   void addDemPool(int threads) {
@@ -157,6 +160,7 @@ class SpinGate {
   /// Usable CPUs less those busy with other processes (rounded), refreshed at most
   /// every refreshPeriodNs() by whichever waiter finds it stale.
   int freeCpus() {
+    if (const int pinned = pinned_free_.load(std::memory_order_relaxed); pinned >= 0) return pinned;
     const std::int64_t now = monotonicNs();
     if (now - refreshed_ns_.load(std::memory_order_relaxed) >= refreshPeriodNs()) refresh(now);
     return free_cpus_.load(std::memory_order_relaxed);
@@ -261,6 +265,7 @@ class SpinGate {
   std::atomic<double> others_busy_{0.0};
   std::atomic<bool> measured_{false};  ///< the estimate came from /proc/stat, not the load average
   std::atomic<bool> forced_{false};
+  std::atomic<int> pinned_free_{-1};  ///< pinFreeCpus
   std::atomic<int> spinners_{0};     ///< exchange waits spinning now
   std::atomic<int> exchange_parties_{0};  ///< live client connections and server loops
   std::atomic<int> server_loops_{0};      ///< running server network loops (also parties)
