@@ -682,22 +682,38 @@ void World::computeForces() {
     r.index = index;
     return r;
   };
-  // Pair chunks in two phases, the even ones, then the odd ones (PairLoopPartition); then
-  // planes and meshes, in order (the passes of stage forces in stage_table.hpp).
+  // Pair chunks in two phases, the even ones, then the odd ones (PairLoopPartition); each
+  // chunk then adds the plane contacts of its own rows, which no other chunk of its phase
+  // touches (while they are in its thread's cache, and without a loop of their own); then
+  // meshes (the passes of stage forces in stage_table.hpp). A particle near two planes
+  // adds their forces in plane order; each wall's load is the chunks' sums in chunk order,
+  // whoever ran them. Recording keeps list order: the planes run after all pairs then.
   ThreadPool* pool = pool_.get();
   const bool clear = !std::exchange(forces_cleared_, false);
   const auto pairRows = pair_kernel_ == PairKernel::kAvx2Fma ? &particleContactRowsAvx2Fma<Law, kPasses>
                                                              : &particleContactRows<Law, kPasses>;
+  const std::uint32_t chunks = parts.chunks();
+  const bool planesInChunks = !kPasses.recording;
+  // Per plane: one load per chunk, and the last for the slots after the listed rows.
+  const std::size_t loadsPerPlane = std::size_t{chunks} + 1;
+  plane_loads_.assign(planes_.size() * loadsPerPlane, PlaneLoad{});
+  const auto planeContacts = [&](std::size_t load, std::size_t begin, std::size_t end) {
+    for (std::size_t w = 0; w < planes_.size(); ++w) {
+      plane_loads_[w * loadsPerPlane + load] = planeContactSlots<Law, kPasses>(
+          p, planes_[w], pair_table_, dt, begin, end, recording(ContactKind::kPlane, w, nullptr));
+    }
+  };
   for (std::uint32_t phase = 0; phase < 2; ++phase) {
     parallelParts(pool, parts.phaseChunks(phase), [&](std::uint32_t k) {
       const std::uint32_t chunk = PairLoopPartition::chunkOfPhase(phase, k);
       const ChunkForces out = parts.start(chunk, p.force, p.torque, clear);
       pairRows(p, neighbours_, pair_table_, dt, parts.rowBegin(chunk), parts.rowEnd(chunk), out,
                chunkRecords(chunk));
+      if (planesInChunks) planeContacts(chunk, parts.rowBegin(chunk), parts.rowEnd(chunk));
     });
   }
   // Slots the list has no rows for yet (none between rebuilds, kept for safety).
-  const std::size_t listed = std::min(p.size(), parts.chunks() > 0 ? parts.rowEnd(parts.chunks() - 1) : 0);
+  const std::size_t listed = std::min(p.size(), chunks > 0 ? parts.rowEnd(chunks - 1) : 0);
   std::fill(p.force.begin() + static_cast<std::ptrdiff_t>(listed), p.force.end(), Vec3::Zero());
   std::fill(p.torque.begin() + static_cast<std::ptrdiff_t>(listed), p.torque.end(), Vec3::Zero());
   if (snapshot) {
@@ -705,30 +721,18 @@ void World::computeForces() {
       contact_snapshot_.contacts.insert(contact_snapshot_.contacts.end(), records.begin(), records.end());
     }
   }
-  // Planes: one loop over stretches of slots, each taking every plane in order, so a
-  // particle near two planes adds their forces in plane order whoever runs it; the walls'
-  // loads are the stretches' sums in stretch order. One stretch on one thread or when
-  // recording (records in list order), so those runs add the loads entry by entry.
-  if (!planes_.empty()) {
-    const bool oneStretch = pool == nullptr || kPasses.recording;
-    const std::uint32_t stretches = oneStretch ? 1 : chunkCount(p.size());
-    plane_loads_.assign(planes_.size() * stretches, PlaneLoad{});
-    parallelParts(oneStretch ? nullptr : pool, stretches, [&](std::uint32_t c) {
-      const std::size_t begin = chunkBegin(p.size(), stretches, c);
-      const std::size_t end = chunkBegin(p.size(), stretches, c + 1);
-      for (std::size_t w = 0; w < planes_.size(); ++w) {
-        plane_loads_[w * stretches + c] = planeContactSlots<Law, kPasses>(
-            p, planes_[w], pair_table_, dt, begin, end, recording(ContactKind::kPlane, w, nullptr));
-      }
-    });
-    for (std::size_t w = 0; w < planes_.size(); ++w) {
-      PlaneWall& wall = planes_[w];
-      wall.force.setZero();
-      wall.torque.setZero();
-      for (std::uint32_t c = 0; c < stretches; ++c) {
-        wall.force += plane_loads_[w * stretches + c].force;
-        wall.torque += plane_loads_[w * stretches + c].torque;
-      }
+  if (planesInChunks) {
+    planeContacts(chunks, listed, p.size());
+  } else {
+    planeContacts(chunks, 0, p.size());
+  }
+  for (std::size_t w = 0; w < planes_.size(); ++w) {
+    PlaneWall& wall = planes_[w];
+    wall.force.setZero();
+    wall.torque.setZero();
+    for (std::size_t c = 0; c < loadsPerPlane; ++c) {
+      wall.force += plane_loads_[w * loadsPerPlane + c].force;
+      wall.torque += plane_loads_[w * loadsPerPlane + c].torque;
     }
   }
   for (std::size_t m = 0; m < meshes_.size(); ++m) {

@@ -325,7 +325,7 @@ class World {
   NeighbourList neighbours_;
   RebuildGuard rebuild_guard_;  ///< armed by every neighbour build and restore
   PairLoopPartition partition_;
-  std::vector<PlaneLoad> plane_loads_;  ///< per plane and stretch of slots (computeForces)
+  std::vector<PlaneLoad> plane_loads_;  ///< per plane and pair chunk, then the unlisted slots (computeForces)
   std::unique_ptr<ThreadPool> pool_;  ///< null when running on one thread
   PairKernel pair_kernel_ = PairKernel::kPortable;  ///< chosen at initialize()
   bool kick_deferrable_ = false;  ///< advance() may owe half kicks (selectStepStages)

@@ -230,8 +230,10 @@ void particleContactRows(ParticleArrays& p, NeighbourList& list, const ContactPa
 #if defined(__x86_64__) && defined(__GNUC__)
 #define DEMLINK_AVX2_FMA_PAIR_KERNEL 1
 /// The same loop for processors with AVX2 and FMA (only call it on one: choosePairKernel).
+/// Aligned to a cache line: where its loops fall relative to 32-byte boundaries moved with
+/// unrelated code in world.cpp and changed the forces stage by up to 7 % (5,000 spheres).
 template <class Law, ForcePasses kPasses>
-__attribute__((target("avx2,fma"))) void particleContactRowsAvx2Fma(
+__attribute__((target("avx2,fma"), aligned(64))) void particleContactRowsAvx2Fma(
     ParticleArrays& p, NeighbourList& list, const ContactPairTable& table, double dt, std::size_t rowBegin,
     std::size_t rowEnd, const ChunkForces& out, std::vector<ContactRecord>* records = nullptr) {
   particleContactRowsBody<Law, kPasses>(p, list, table, dt, rowBegin, rowEnd, out, records);

@@ -26,7 +26,7 @@ struct PlaneSpec {
   bool rigid = false;
 };
 
-/// What a stretch of a plane's near list adds to the wall [N, N m about spec.point].
+/// What a range of slots of a plane's near list adds to the wall [N, N m about spec.point].
 struct PlaneLoad {
   Vec3 force = Vec3::Zero();
   Vec3 torque = Vec3::Zero();
