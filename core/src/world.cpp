@@ -721,11 +721,7 @@ void World::computeForces() {
       contact_snapshot_.contacts.insert(contact_snapshot_.contacts.end(), records.begin(), records.end());
     }
   }
-  if (planesInChunks) {
-    planeContacts(chunks, listed, p.size());
-  } else {
-    planeContacts(chunks, 0, p.size());
-  }
+  planeContacts(chunks, planesInChunks ? listed : 0, p.size());
   for (std::size_t w = 0; w < planes_.size(); ++w) {
     PlaneWall& wall = planes_[w];
     wall.force.setZero();

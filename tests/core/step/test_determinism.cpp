@@ -125,10 +125,10 @@ TEST(Determinism, OneThreadAgreesWithThreadedRunToRoundOff) {
 }
 
 TEST(Determinism, PlaneLoadsAreFixedForAThreadCountAndAgreeWithOneThread) {
-  // 3,200 particles: the plane contacts run in stretches of slots on the threads, each
-  // stretch taking every plane (particles in the corners touch two). Particle forces are
-  // the same sums on any thread count; the walls' loads are sums of the stretches' loads
-  // when threaded, entry by entry on one thread.
+  // 3,200 particles: each pair chunk adds its own rows' plane contacts, every plane in
+  // order (particles in the corners touch two). Particle forces are the same sums on any
+  // thread count from 2 on; the walls' loads are sums of the chunks' loads in chunk order,
+  // and on one thread (one chunk) the loads of one pass.
   ASSERT_GE(maxThreads(), 2u);
   const World one = pouringBed(1, 1500, false, 500, 40);
   const World two = pouringBed(2, 1500, false, 500, 40);

@@ -12,7 +12,7 @@
 
 namespace demlink::core {
 
-/// Elements per chunk of the element-wise loops (kick, drift, plane contacts): large
+/// Elements per chunk of the element-wise loops (kick, drift, the rebuild guard): large
 /// enough that claiming a chunk (one compare-and-swap) costs far less than running it
 /// (~1 us for a kick of 256 particles), small enough that two threads split a 5,000-
 /// particle loop evenly: with 1024, its 5 chunks went 3 to one thread and 2 to the other

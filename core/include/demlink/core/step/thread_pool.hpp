@@ -34,8 +34,9 @@
 /// cores a wake-up is paid once: a rule that also asked for 150 us of work per loop left a
 /// worker that fell asleep (the gate's first estimate, the load average, often sees the
 /// runs just before as busy) asleep for good in a scene of short loops (5,000 particles,
-/// 70 us steps: 1.10x the 1-thread speed instead of 1.18x over 20,000 steps). No serial-against-threaded timing. A worker descheduled by another
-/// process holds up at most the one chunk it is running, the caller claims all the
+/// 70 us steps: 1.10x the 1-thread speed instead of 1.18x over 20,000 steps). No
+/// serial-against-threaded timing. A worker descheduled by another process holds up at
+/// most the one chunk it is running, the caller claims all the
 /// others, and the caller's join wait spins only while the gate of spin_wait.hpp sees a
 /// free CPU for every pool thread, so it blocks at once and leaves its core to the
 /// descheduled worker (the scheduler pulls it over) when it does not. Callers make their
@@ -68,8 +69,8 @@ class ThreadStartError : public std::runtime_error {
 
 /// How long a pool thread spins between loops before it sleeps, when nothing else is
 /// asked for [ns]: DEMLINK_SPIN_WAIT_US when set (0 = never), otherwise 200 us. Longer
-/// than an exchange wait's 50 us because a step's serial stretches (plane and mesh
-/// contacts, sensors, the watchdog) last ~50-200 us at 50,000 particles, and a worker
+/// than an exchange wait's 50 us because a step's serial stretches (mesh contacts,
+/// sensors, the watchdog) last ~50-200 us at 50,000 particles, and a worker
 /// that sleeps through one pays a wake-up (30-80 us on a 2-vCPU VM) and starts the next
 /// loop late; measured at 50,000 particles, 2 threads on idle cores: 1.38x the 1-thread
 /// speed with 50 us, 1.59x with 200 us, 1.62x with 500 us. Spinning is still gated to

@@ -52,9 +52,9 @@ class LiggghtsBackend final : public SimulationBackend {
   /// Gathers positions, velocities and angular velocities to every rank, adds the atoms
   /// LIGGGHTS's sources inserted to the compiled world (new stable ids, in tag order:
   /// insertedParticles), removes from it the particles LIGGGHTS lost at the box
-  /// (counted in the world's removedAtBounds(), as our engine counts them), and runs the sinks and sensors on it at advanceTo()'s clock
-  /// (runLiggghtsComponents), deleting the atoms the sinks removed in LIGGGHTS (a
-  /// collective: every rank must call it).
+  /// (counted in the world's removedAtBounds(), as our engine counts them), and runs the
+  /// sinks and sensors on it at advanceTo()'s clock (runLiggghtsComponents), deleting the
+  /// atoms the sinks removed in LIGGGHTS (a collective: every rank must call it).
   void syncParticles() override;
   /// Particles LIGGGHTS's sources inserted that a syncParticles() handed over (an atom
   /// inserted and lost within one stride is in neither tally).
