@@ -21,6 +21,31 @@ double medianOf(std::span<const Vec3> positions, int axis) {
   return *middle;
 }
 
+/// Most particles in one layer (one value of the coordinate) [-]: a histogram over the
+/// occupied range, or a sort when far outliers make the range too long.
+std::size_t fullestLayer(std::span<const std::int64_t> layer) {
+  if (layer.empty()) return 0;
+  const auto [low, high] = std::minmax_element(layer.begin(), layer.end());
+  const auto range = static_cast<std::uint64_t>(*high - *low) + 1;
+  std::size_t fullest = 0;
+  if (range <= 4 * layer.size() + 64) {
+    std::vector<std::uint32_t> count(range, 0);
+    for (const std::int64_t c : layer) {
+      const std::uint32_t now = ++count[static_cast<std::size_t>(c - *low)];
+      fullest = std::max<std::size_t>(fullest, now);
+    }
+    return fullest;
+  }
+  std::vector<std::int64_t> sorted(layer.begin(), layer.end());
+  std::sort(sorted.begin(), sorted.end());
+  for (std::size_t k = 0; k < sorted.size();) {
+    const std::size_t first = k;
+    while (k < sorted.size() && sorted[k] == sorted[first]) ++k;
+    fullest = std::max(fullest, k - first);
+  }
+  return fullest;
+}
+
 struct KeyedSlot {
   std::uint64_t key;
   std::uint32_t slot;
@@ -134,14 +159,24 @@ std::vector<std::uint32_t> CellGrid::spatialOrder(std::span<const Vec3> position
     }
   }
   for (int d = 0; d < 3; ++d) lo[d] = std::max(lo[d], origin_[d] - kHalf * cell);
-  std::vector<KeyedSlot> keyed(positions.size());
-  for (std::size_t i = 0; i < positions.size(); ++i) {
-    std::array<std::int64_t, 3> c{};
-    for (int d = 0; d < 3; ++d) {
+  const std::size_t n = positions.size();
+  std::array<std::vector<std::int64_t>, 3> coord;
+  for (int d = 0; d < 3; ++d) {
+    coord[d].resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
       const double k = std::floor((positions[i][d] - lo[d]) / cell);
-      c[d] = !(k > 0.0) ? 0 : (k >= 2.0 * kHalf - 1.0 ? kCoordLimit - 1 : static_cast<std::int64_t>(k));
+      coord[d][i] = !(k > 0.0) ? 0 : (k >= 2.0 * kHalf - 1.0 ? kCoordLimit - 1 : static_cast<std::int64_t>(k));
     }
-    keyed[i] = {pack(c[0], c[1], c[2]), static_cast<std::uint32_t>(i)};
+  }
+  // The axis whose fullest layer of cells holds the fewest particles varies slowest
+  // (ties keep z, then y, slowest): see the header.
+  std::array<std::size_t, 3> fullest{};
+  for (int d = 0; d < 3; ++d) fullest[d] = fullestLayer(coord[d]);
+  std::array<int, 3> axis{0, 1, 2};  // fastest to slowest
+  std::stable_sort(axis.begin(), axis.end(), [&](int a, int b) { return fullest[a] > fullest[b]; });
+  std::vector<KeyedSlot> keyed(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    keyed[i] = {pack(coord[axis[0]][i], coord[axis[1]][i], coord[axis[2]][i]), static_cast<std::uint32_t>(i)};
   }
   std::sort(keyed.begin(), keyed.end());
   order.reserve(keyed.size());

@@ -4,6 +4,9 @@
 // reach whatever the extents.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <limits>
 #include <vector>
 
@@ -61,6 +64,80 @@ TEST(CellGrid, RadiusClassesAFactorTwoApart) {
   EXPECT_EQ(grid.levelOfSlot(1), 0u);
   EXPECT_EQ(grid.levelOfSlot(3), 2u);
   expectConsistent(grid, positions);
+}
+
+
+/// Particles of radius 0.5 at cell centres (cells of 1 m with no skin): `perCell` in each
+/// cell of an nx x ny x nz block (binary fractions: the cells the grid finds are exact).
+std::vector<Vec3> block(int nx, int ny, int nz, int perCell = 1) {
+  std::vector<Vec3> positions;
+  for (int z = 0; z < nz; ++z) {
+    for (int y = 0; y < ny; ++y) {
+      for (int x = 0; x < nx; ++x) {
+        for (int k = 0; k < perCell; ++k) positions.emplace_back(x + 0.5, y + 0.5, z + 0.25 + 0.5 * k / perCell);
+      }
+    }
+  }
+  return positions;
+}
+
+/// spatialOrder of `positions` (radius 0.5, skin 0: cells of 1 m), checked to be a
+/// permutation; returns the positions in that order.
+std::vector<Vec3> inSpatialOrder(const std::vector<Vec3>& positions) {
+  CellGrid grid;
+  grid.build(positions, std::vector<double>(positions.size(), 0.5), 0.0);
+  const std::vector<std::uint32_t> order = grid.spatialOrder(positions);
+  std::vector<std::uint32_t> sorted = order;
+  std::sort(sorted.begin(), sorted.end());
+  for (std::uint32_t k = 0; k < sorted.size(); ++k) EXPECT_EQ(sorted[k], k);
+  std::vector<Vec3> ordered;
+  for (const std::uint32_t slot : order) ordered.push_back(positions[slot]);
+  return ordered;
+}
+
+/// Whether the cells along `ordered` never go back along `slow`, and, within one cell
+/// layer of `slow`, never back along `middle`.
+bool runsAlong(const std::vector<Vec3>& ordered, int slow, int middle) {
+  for (std::size_t k = 1; k < ordered.size(); ++k) {
+    const double a = std::floor(ordered[k - 1][slow]);
+    const double b = std::floor(ordered[k][slow]);
+    if (b < a) return false;
+    if (b == a && std::floor(ordered[k][middle]) < std::floor(ordered[k - 1][middle])) return false;
+  }
+  return true;
+}
+
+TEST(CellGrid, SpatialOrderRunsAlongTheAxisWithTheThinnestLayers) {
+  // A bed 20 cells long in x, 10 in y, 4 high: an x layer holds 40 particles, a y layer
+  // 80, a z layer 200. The pair loop's chunks are at least one layer of the slowest
+  // axis: x gives twenty of them, z (the order before) four.
+  EXPECT_TRUE(runsAlong(inSpatialOrder(block(20, 10, 4)), 0, 1));
+  // A tall column: z.
+  EXPECT_TRUE(runsAlong(inSpatialOrder(block(3, 4, 30)), 2, 1));
+  // Equal layers everywhere keep z, then y, slowest.
+  EXPECT_TRUE(runsAlong(inSpatialOrder(block(5, 5, 5)), 2, 1));
+}
+
+TEST(CellGrid, SpatialOrderWeighsLayersByTheirParticlesNotTheirCount) {
+  // A settling column: a dense bed 10 x 8 cells, 8 particles a cell, one layer high,
+  // and one particle in each of 40 cells above it. z has 41 layers and x only 10, but the
+  // bottom z layer holds 640 of the 680 particles: one chunk would hold nearly all the
+  // work. The fullest x layer holds 104 (y: 120).
+  std::vector<Vec3> positions = block(10, 8, 1, 8);
+  for (int z = 1; z <= 40; ++z) positions.emplace_back(4.5, 4.5, z + 0.5);
+  EXPECT_TRUE(runsAlong(inSpatialOrder(positions), 0, 1));
+}
+
+TEST(CellGrid, SpatialOrderIgnoresAFarParticle) {
+  // A bed long in y; one particle a million cells away along x (the layer count along x
+  // is then a sparse range: the rule counts particles per layer without a dense
+  // histogram) leaves y the slowest axis.
+  std::vector<Vec3> positions = block(4, 16, 3);
+  positions.emplace_back(1e6, 0.5, 0.5);
+  const std::vector<Vec3> ordered = inSpatialOrder(positions);
+  std::vector<Vec3> bed(ordered.begin(), ordered.end());
+  bed.erase(std::remove_if(bed.begin(), bed.end(), [](const Vec3& x) { return x[0] > 100.0; }), bed.end());
+  EXPECT_TRUE(runsAlong(bed, 1, 0));
 }
 
 }  // namespace

@@ -138,8 +138,16 @@ class CellGrid {
     }
   }
 
-  /// Slots ordered by cells of the largest level (z, then y, then x): a locality-friendly
-  /// permutation of the particles that keeps neighbours close in slot order.
+  /// Slots ordered by cells of the largest level: a locality-friendly permutation of the
+  /// particles that keeps neighbours close in slot order. The slowest-varying axis is the
+  /// one whose fullest layer of cells holds the fewest particles, then the same rule for
+  /// the other two (ties keep z, then y, slowest). Why: the threaded pair loop cuts the
+  /// slots into chunks no thinner than one layer of the slowest axis
+  /// (PairLoopPartition), so that axis should have many layers of even work. A settling
+  /// bed in a wide box ordered z first put the dense, contact-rich bottom in one or two
+  /// chunks and free flight in the rest; ordered by x, every chunk holds a full column
+  /// (5,000-sphere deposition, 20,000 steps: 2.59 -> 2.45 s on two threads, 4.07 ->
+  /// 4.00 s on one; docs/benchmarks.md).
   [[nodiscard]] std::vector<std::uint32_t> spatialOrder(std::span<const Vec3> positions) const;
 
   /// Bytes held (capacity of every array).

@@ -15,8 +15,8 @@
 /// thread count from 2 on.
 ///
 /// Why not per-chunk spill buffers for the slots beyond a chunk's rows, added up in
-/// chunk order afterwards (the previous design): slots are in cell order (z, then y,
-/// then x), so a chunk reaches one to three cell layers past its rows, and clearing and
+/// chunk order afterwards (the previous design): slots are in cell order
+/// (CellGrid::spatialOrder), so a chunk reaches one to three cell layers past its rows, and clearing and
 /// adding those spills cost as much memory traffic as the pair loop saved by sharing it:
 /// two threads ran a 5,000-particle bed's force stage slower than one
 /// (docs/benchmarks.md).
