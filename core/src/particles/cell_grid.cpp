@@ -21,26 +21,34 @@ double medianOf(std::span<const Vec3> positions, int axis) {
   return *middle;
 }
 
-/// Most particles in one layer (one value of the coordinate) [-]: a histogram over the
-/// occupied range, or a sort when far outliers make the range too long.
-std::size_t fullestLayer(std::span<const std::int64_t> layer) {
-  if (layer.empty()) return 0;
-  const auto [low, high] = std::minmax_element(layer.begin(), layer.end());
-  const auto range = static_cast<std::uint64_t>(*high - *low) + 1;
+/// Most particles in one layer [-], `layerOf(i)` the layer of particle i of n: a
+/// histogram over the occupied range, or a sort when far outliers make the range longer
+/// than the particle count.
+template <class LayerOf>
+std::size_t fullestLayer(std::size_t n, const LayerOf& layerOf) {
+  if (n == 0) return 0;
+  std::int64_t low = layerOf(0);
+  std::int64_t high = low;
+  for (std::size_t i = 1; i < n; ++i) {
+    const std::int64_t layer = layerOf(i);
+    low = std::min(low, layer);
+    high = std::max(high, layer);
+  }
   std::size_t fullest = 0;
-  if (range <= 4 * layer.size() + 64) {
+  const auto range = static_cast<std::uint64_t>(high - low) + 1;
+  if (range <= n + 64) {
     std::vector<std::uint32_t> count(range, 0);
-    for (const std::int64_t c : layer) {
-      const std::uint32_t now = ++count[static_cast<std::size_t>(c - *low)];
-      fullest = std::max<std::size_t>(fullest, now);
+    for (std::size_t i = 0; i < n; ++i) {
+      fullest = std::max<std::size_t>(fullest, ++count[static_cast<std::size_t>(layerOf(i) - low)]);
     }
     return fullest;
   }
-  std::vector<std::int64_t> sorted(layer.begin(), layer.end());
+  std::vector<std::int64_t> sorted(n);
+  for (std::size_t i = 0; i < n; ++i) sorted[i] = layerOf(i);
   std::sort(sorted.begin(), sorted.end());
-  for (std::size_t k = 0; k < sorted.size();) {
+  for (std::size_t k = 0; k < n;) {
     const std::size_t first = k;
-    while (k < sorted.size() && sorted[k] == sorted[first]) ++k;
+    while (k < n && sorted[k] == sorted[first]) ++k;
     fullest = std::max(fullest, k - first);
   }
   return fullest;
@@ -159,24 +167,20 @@ std::vector<std::uint32_t> CellGrid::spatialOrder(std::span<const Vec3> position
     }
   }
   for (int d = 0; d < 3; ++d) lo[d] = std::max(lo[d], origin_[d] - kHalf * cell);
+  const auto cellOf = [&](std::size_t i, int d) -> std::int64_t {
+    const double k = std::floor((positions[i][d] - lo[d]) / cell);
+    return !(k > 0.0) ? 0 : (k >= 2.0 * kHalf - 1.0 ? kCoordLimit - 1 : static_cast<std::int64_t>(k));
+  };
   const std::size_t n = positions.size();
-  std::array<std::vector<std::int64_t>, 3> coord;
-  for (int d = 0; d < 3; ++d) {
-    coord[d].resize(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      const double k = std::floor((positions[i][d] - lo[d]) / cell);
-      coord[d][i] = !(k > 0.0) ? 0 : (k >= 2.0 * kHalf - 1.0 ? kCoordLimit - 1 : static_cast<std::int64_t>(k));
-    }
-  }
   // The axis whose fullest layer of cells holds the fewest particles varies slowest
   // (ties keep z, then y, slowest): see the header.
   std::array<std::size_t, 3> fullest{};
-  for (int d = 0; d < 3; ++d) fullest[d] = fullestLayer(coord[d]);
+  for (int d = 0; d < 3; ++d) fullest[d] = fullestLayer(n, [&](std::size_t i) { return cellOf(i, d); });
   std::array<int, 3> axis{0, 1, 2};  // fastest to slowest
   std::stable_sort(axis.begin(), axis.end(), [&](int a, int b) { return fullest[a] > fullest[b]; });
   std::vector<KeyedSlot> keyed(n);
   for (std::size_t i = 0; i < n; ++i) {
-    keyed[i] = {pack(coord[axis[0]][i], coord[axis[1]][i], coord[axis[2]][i]), static_cast<std::uint32_t>(i)};
+    keyed[i] = {pack(cellOf(i, axis[0]), cellOf(i, axis[1]), cellOf(i, axis[2])), static_cast<std::uint32_t>(i)};
   }
   std::sort(keyed.begin(), keyed.end());
   order.reserve(keyed.size());
