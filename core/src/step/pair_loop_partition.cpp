@@ -15,11 +15,13 @@ void PairLoopPartition::cut(std::span<const std::uint32_t> offsets, std::span<co
   const std::uint64_t pairs = offsets.empty() ? 0 : offsets.back();
   row_begin_.assign(1, 0);
   reach_.clear();
-  // The first row whose pairs before it reach c / wanted of all pairs (rows with no
-  // pairs go to the chunk before).
-  const auto rowOfShare = [&](std::size_t c) -> std::size_t {
-    if (c >= wanted) return rows;
-    const std::uint64_t target = pairs * c / wanted;
+  // Chunk c ends at the first row whose pairs from the chunk's first row reach an equal
+  // share of the pairs left for the chunks left (rows with no pairs go to the chunk
+  // before): a chunk the reach stretched leaves fewer pairs to the rest, and they share
+  // them evenly, not the last one or two alone.
+  const auto rowOfShare = [&](std::size_t begin, std::size_t c) -> std::size_t {
+    if (c + 1 >= wanted) return rows;
+    const std::uint64_t target = offsets[begin] + (pairs - offsets[begin]) / (wanted - c);
     return static_cast<std::size_t>(
         std::lower_bound(offsets.begin(), offsets.begin() + static_cast<std::ptrdiff_t>(rows), target) -
         offsets.begin());
@@ -27,7 +29,7 @@ void PairLoopPartition::cut(std::span<const std::uint32_t> offsets, std::span<co
   std::size_t mustEnd = 0;  // the previous chunk's reach: this chunk's rows end no earlier
   for (std::size_t c = 0; row_begin_.back() < rows; ++c) {
     const std::size_t begin = row_begin_.back();
-    const std::size_t end = std::min(rows, std::max({rowOfShare(c + 1), begin + 1, mustEnd}));
+    const std::size_t end = std::min(rows, std::max({rowOfShare(begin, c), begin + 1, mustEnd}));
     std::size_t reach = end;
     const auto first = partners.begin() + offsets[begin];
     const auto last = partners.begin() + offsets[end];
@@ -54,10 +56,14 @@ void PairLoopPartition::plan(std::span<const std::uint32_t> offsets, std::span<c
   for (;;) {
     cut(offsets, partners, wanted);
     const std::size_t got = chunks();
+    const auto lastPairs = [&] { return pairs - offsets[rowBegin(static_cast<std::uint32_t>(got - 1))]; };
     if (got < wanted) {
       wanted = got;
     } else if (got >= 4 && got % 4 != 0) {
       wanted = got - got % 4;
+    } else if (got > 1 && 2 * lastPairs() * got < pairs) {
+      // The reach stretched every chunk and the last ones got the remainder: fewer chunks.
+      wanted = got - 1;
     } else {
       break;
     }

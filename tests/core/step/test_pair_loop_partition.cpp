@@ -97,6 +97,32 @@ TEST(PairLoopPartition, ARowReachingFarMergesChunks) {
   expectPhasesDisjoint(plan, list);
 }
 
+TEST(PairLoopPartition, ChunksStretchedByTheReachShareThePairsEvenly) {
+  // Every row pairs with the next slot and with the slot one "cell layer" (`layer` slots)
+  // ahead, as in a settled bed in cell order. A chunk then spans at least a layer, more
+  // than the wanted 5000 / 16 rows: the cut once stretched every chunk to its
+  // predecessor's reach and left the last one a remainder (a settled 5,000-sphere bed:
+  // 12 full chunks, then 300, 3 and 1 rows; two threads' home ranges held 59 % and 41 %
+  // of the pairs).
+  for (const std::uint32_t layer : {330u, 369u, 400u}) {
+    HalfList list;
+    const std::uint32_t rows = 5000;
+    for (std::uint32_t i = 0; i < rows; ++i) {
+      if (i + 1 < rows) list.partners.push_back(i + 1);
+      if (i + layer < rows) list.partners.push_back(i + layer);
+      list.offsets.push_back(static_cast<std::uint32_t>(list.partners.size()));
+    }
+    const PairLoopPartition plan = planOf(list, 2);
+    ASSERT_GE(plan.chunks(), 4u) << "layer " << layer;
+    const double mean = static_cast<double>(list.partners.size()) / plan.chunks();
+    for (std::uint32_t c = 0; c < plan.chunks(); ++c) {
+      const double pairs = list.offsets[plan.rowEnd(c)] - list.offsets[plan.rowBegin(c)];
+      EXPECT_GT(pairs, 0.5 * mean) << "layer " << layer << ", chunk " << c << " of " << plan.chunks();
+    }
+    expectPhasesDisjoint(plan, list);
+  }
+}
+
 TEST(PairLoopPartition, TheCutDependsOnTheListOnly) {
   const HalfList list = randomHalfList(30000, 700, 4, 3);
   const PairLoopPartition two = planOf(list, 2);
