@@ -123,6 +123,14 @@ void findPartners(const CellGrid& grid, std::span<const Vec3> x, std::span<const
   out.resize(used);
 }
 
+/// A spring of the previous list at its pair's current slots (a < b): its tangential
+/// history, sign-flipped when reordering swapped the pair's ends.
+struct CarriedSpring {
+  std::uint32_t a;
+  std::uint32_t b;
+  Vec3 history;
+};
+
 }  // namespace
 
 void NeighbourList::build(const ParticleArrays& particles, std::span<const std::uint32_t> newSlotOfOld,
@@ -130,15 +138,31 @@ void NeighbourList::build(const ParticleArrays& particles, std::span<const std::
   const std::size_t n = particles.size();
   const std::span<const Vec3> x = particles.position;
   const std::span<const double> r = particles.radius;
+
+  // The previous list's springs (pairs with a non-zero history), at their current slots.
+  // Only they are kept while the new list is built in the old one's arrays: their memory
+  // is reused, warm, rather than allocated and faulted in again at every build, and a
+  // build holds ~32 bytes per touching pair beside the list instead of a second list.
+  const std::size_t oldCount = rowCount();
+  const std::uint32_t oldChunks = chunkCount(oldCount);
+  std::vector<std::vector<CarriedSpring>> carried(oldChunks);
+  parallelParts(pool, oldChunks, [&](std::uint32_t part) {
+    for (std::size_t oi = chunkBegin(oldCount, oldChunks, part); oi < chunkBegin(oldCount, oldChunks, part + 1); ++oi) {
+      const std::uint32_t a0 = newSlotOfOld.empty() ? static_cast<std::uint32_t>(oi) : newSlotOfOld[oi];
+      if (a0 == kRemovedSlot) continue;
+      for (std::uint32_t k = offsets_[oi]; k < offsets_[oi + 1]; ++k) {
+        if (history_[k].isZero(0.0)) continue;
+        const std::uint32_t b0 = newSlotOfOld.empty() ? partners_[k] : newSlotOfOld[partners_[k]];
+        if (b0 == kRemovedSlot) continue;
+        // Ownership may flip when slots are reordered; the spring of B relative to A
+        // then changes sign.
+        const bool flipped = b0 < a0;
+        carried[part].push_back({flipped ? b0 : a0, flipped ? a0 : b0, flipped ? Vec3(-history_[k]) : history_[k]});
+      }
+    }
+  });
+
   grid_.build(x, r, skin_);
-
-  std::vector<std::uint32_t> oldOffsets;
-  std::vector<std::uint32_t> oldPartners;
-  std::vector<Vec3> oldHistory;
-  oldOffsets.swap(offsets_);
-  oldPartners.swap(partners_);
-  oldHistory.swap(history_);
-
   // Rows are independent: each chunk finds its rows' partners into its own
   // buffer; the buffers are then laid end to end in chunk order.
   // Rows per chunk: a row's search costs ~27 cells, far more than a kick.
@@ -146,8 +170,9 @@ void NeighbourList::build(const ParticleArrays& particles, std::span<const std::
   std::vector<std::vector<std::uint32_t>> found(parts);
   std::vector<std::vector<ForeignPair>> foreignOf(parts);
   std::vector<std::uint32_t> counts(n);
+  const std::size_t expectedPairs = partners_.size();
   parallelParts(pool, parts, [&](std::uint32_t part) {
-    found[part].reserve(oldPartners.size() / parts + 16);
+    found[part].reserve(expectedPairs / parts + 16);
     const std::size_t begin = chunkBegin(n, parts, part);
     const std::size_t end = chunkBegin(n, parts, part + 1);
     if (excludeSameClump) {
@@ -168,11 +193,12 @@ void NeighbourList::build(const ParticleArrays& particles, std::span<const std::
   for (std::size_t i = 0; i < n; ++i) {
     offsets_[i + 1] = offsets_[i] + counts[i] + (foreignStart[i + 1] - foreignStart[i]);
   }
-  partners_.resize(offsets_[n]);
-  rows_.resize(partners_.size());
-  history_.assign(partners_.size(), Vec3::Zero());
-  sprung_.assign(partners_.size(), 0);
-  reduced_.resize(partners_.size());
+  const std::size_t pairs = offsets_[n];
+  partners_.resize(pairs);
+  rows_.resize(pairs);
+  history_.resize(pairs);
+  sprung_.resize(pairs);
+  reduced_.resize(pairs);
   parallelParts(pool, parts, [&](std::uint32_t part) {
     const std::size_t begin = chunkBegin(n, parts, part);
     const std::size_t end = chunkBegin(n, parts, part + 1);
@@ -185,6 +211,10 @@ void NeighbourList::build(const ParticleArrays& particles, std::span<const std::
       for (std::uint32_t f = foreignStart[i]; f < foreignStart[i + 1]; ++f) *out++ = foreign[f].partner;
       std::inplace_merge(partners_.begin() + offsets_[i], partners_.begin() + offsets_[i] + counts[i], out);
     }
+    const auto first = static_cast<std::ptrdiff_t>(offsets_[begin]);
+    const auto last = static_cast<std::ptrdiff_t>(offsets_[end]);
+    std::fill(history_.begin() + first, history_.begin() + last, Vec3::Zero());
+    std::fill(sprung_.begin() + first, sprung_.begin() + last, std::uint8_t{0});
     for (std::size_t i = begin; i < end; ++i) {
       for (std::uint32_t k = offsets_[i]; k < offsets_[i + 1]; ++k) {
         const std::uint32_t j = partners_[k];
@@ -194,31 +224,17 @@ void NeighbourList::build(const ParticleArrays& particles, std::span<const std::
     }
   });
 
-  // Carry the history of pairs that were touching (non-zero spring) over. Each
-  // new pair has at most one old pair, so parts write disjoint entries.
-  const std::size_t oldCount = oldOffsets.empty() ? 0 : oldOffsets.size() - 1;
-  const std::uint32_t oldChunks = chunkCount(oldCount);
+  // The springs back into the pairs that are still listed. Each new pair has at most one
+  // old pair, so parts write disjoint entries.
   parallelParts(pool, oldChunks, [&](std::uint32_t part) {
-    for (std::size_t oi = chunkBegin(oldCount, oldChunks, part); oi < chunkBegin(oldCount, oldChunks, part + 1); ++oi) {
-      const std::uint32_t a0 = newSlotOfOld.empty() ? static_cast<std::uint32_t>(oi) : newSlotOfOld[oi];
-      if (a0 == kRemovedSlot) continue;
-      for (std::uint32_t k = oldOffsets[oi]; k < oldOffsets[oi + 1]; ++k) {
-        if (oldHistory[k].isZero(0.0)) continue;
-        const std::uint32_t b0 = newSlotOfOld.empty() ? oldPartners[k] : newSlotOfOld[oldPartners[k]];
-        if (b0 == kRemovedSlot) continue;
-        // Ownership may flip when slots are reordered; the spring of B relative
-        // to A then changes sign.
-        const bool flipped = b0 < a0;
-        const std::uint32_t a = flipped ? b0 : a0;
-        const std::uint32_t b = flipped ? a0 : b0;
-        const auto rowBegin = partners_.begin() + offsets_[a];
-        const auto rowEnd = partners_.begin() + offsets_[a + 1];
-        const auto it = std::lower_bound(rowBegin, rowEnd, b);
-        if (it != rowEnd && *it == b) {
-          const auto pair = static_cast<std::size_t>(it - partners_.begin());
-          history_[pair] = flipped ? Vec3(-oldHistory[k]) : oldHistory[k];
-          sprung_[pair] = 1;
-        }
+    for (const CarriedSpring& spring : carried[part]) {
+      const auto rowBegin = partners_.begin() + offsets_[spring.a];
+      const auto rowEnd = partners_.begin() + offsets_[spring.a + 1];
+      const auto it = std::lower_bound(rowBegin, rowEnd, spring.b);
+      if (it != rowEnd && *it == spring.b) {
+        const auto pair = static_cast<std::size_t>(it - partners_.begin());
+        history_[pair] = spring.history;
+        sprung_[pair] = 1;
       }
     }
   });
