@@ -95,6 +95,11 @@ TEST(InputLimits, ThreadsAboveTheHardwareAreRefusedNamingTheCap) {
 }
 
 TEST(InputLimits, ThreadsAndLatticeUnderAnAddressSpaceLimitExitTwoNamingTheField) {
+#if defined(__SANITIZE_ADDRESS__)
+  // AddressSanitizer reserves ~15 TB of shadow address space at start-up, which a 4 GiB
+  // `ulimit -v` refuses before main(): the limit cannot be tested in that build.
+  GTEST_SKIP() << "an address-space limit and AddressSanitizer's shadow memory exclude each other";
+#endif
   const test::ScratchDir scratch;
   const std::filesystem::path& dir = scratch.path();
   test::writeText(dir / "threads.json", R"({"components": [)" + boxWith(R"("threads": 1024)") + ", " + kGlass + "]}");
