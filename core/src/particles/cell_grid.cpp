@@ -106,6 +106,7 @@ void CellGrid::build(std::span<const Vec3> positions, std::span<const double> ra
     const double edge = 2.0 * largest[k] + skin;
     l.cell_size = edge > 0.0 && std::isfinite(edge) ? edge : 1.0;
     l.inv_cell_size = 1.0 / l.cell_size;
+    l.partner_reach = largest[k] + skin;
   }
   level_of_slot_.resize(n);
   std::vector<std::vector<std::uint32_t>> slotsOf(levels_.size());
@@ -140,14 +141,35 @@ void CellGrid::buildLevel(Level& l, std::span<const Vec3> positions, std::span<c
     }
   }
   l.start.push_back(static_cast<std::uint32_t>(keyed.size()));
+  buildOccupancy(l);
   // At most half full: short probe sequences.
-  const std::size_t size = std::bit_ceil(std::max<std::size_t>(2, 2 * l.keys.size()));
+  // At most a quarter full: a lookup of an empty cell probes ~1.4 slots on average,
+  // against ~2.5 half full (1:10 bed of 5,000 spheres, before the occupancy bitmap took
+  // most empty-cell lookups: 4.6 -> 5.3e7 particle-steps/s); 4 bytes more per cell.
+  const std::size_t size = std::bit_ceil(std::max<std::size_t>(2, 4 * l.keys.size()));
   l.mask = size - 1;
   l.table.assign(size, kNoCell);
   for (std::uint32_t cell = 0; cell < l.keys.size(); ++cell) {
     std::uint64_t h = hash(l.keys[cell]) & l.mask;
     while (l.table[h] != kNoCell) h = (h + 1) & l.mask;
     l.table[h] = cell;
+  }
+}
+
+void CellGrid::buildOccupancy(Level& l) {
+  l.occupied.clear();
+  if (l.keys.empty()) return;
+  std::uint64_t cells = 1;
+  for (int d = 0; d < 3; ++d) {
+    l.extent[d] = l.highest[d] - l.lowest[d] + 1;
+    cells *= static_cast<std::uint64_t>(l.extent[d]);
+    // Sparse (far outliers): no bitmap, the hash alone (checked per axis: no overflow).
+    if (cells > kOccupancyBitsPerCell * l.keys.size()) return;
+  }
+  l.occupied.assign((cells + 63) / 64, 0);
+  for (const std::uint64_t key : l.keys) {
+    const std::uint64_t bit = occupancyBit(l, unpack(key));
+    l.occupied[bit >> 6] |= std::uint64_t{1} << (bit & 63);
   }
 }
 
@@ -192,7 +214,8 @@ std::size_t CellGrid::bytes() const {
   std::size_t total = levels_.capacity() * sizeof(Level) + level_of_slot_.capacity();
   for (const Level& l : levels_) {
     total += l.keys.capacity() * sizeof(std::uint64_t) +
-             (l.start.capacity() + l.slots.capacity() + l.table.capacity()) * sizeof(std::uint32_t);
+             (l.start.capacity() + l.slots.capacity() + l.table.capacity()) * sizeof(std::uint32_t) +
+             l.occupied.capacity() * sizeof(std::uint64_t);
   }
   return total;
 }

@@ -54,7 +54,7 @@ void findPartners(const CellGrid& grid, std::span<const Vec3> x, std::span<const
                   std::vector<ForeignPair>& foreign) {
   struct Cached {
     bool valid = false;
-    CellGrid::CellCoords cell{};
+    CellGrid::CellBlock block{};
     CellGrid::NearCells near;
   };
   std::array<Cached, CellGrid::kMaxLevels> cached{};
@@ -85,8 +85,9 @@ void findPartners(const CellGrid& grid, std::span<const Vec3> x, std::span<const
     };
     for (std::size_t level = own; level < grid.levelCount(); ++level) {
       Cached& c = cached[level];
-      const CellGrid::CellCoords cell = grid.cellOf(level, xi);
-      if (!c.valid || cell != c.cell) c = {true, cell, grid.nearCells(level, cell)};
+      const CellGrid::CellBlock block = level == own ? CellGrid::blockAround(grid.cellOf(level, xi))
+                                                     : grid.partnerBlock(level, xi, ri);
+      if (!c.valid || block != c.block) c = {true, block, grid.nearCells(level, block)};
       if (level != own) {
         grid.forEachNearCell(level, c.near, [&](std::span<const std::uint32_t> slots) {
           for (const std::uint32_t j : slots) consider(j);

@@ -8,6 +8,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <random>
 #include <vector>
 
 #include "demlink/core/particles/cell_grid.hpp"
@@ -64,6 +65,48 @@ TEST(CellGrid, RadiusClassesAFactorTwoApart) {
   EXPECT_EQ(grid.levelOfSlot(1), 0u);
   EXPECT_EQ(grid.levelOfSlot(3), 2u);
   expectConsistent(grid, positions);
+}
+
+TEST(CellGrid, PartnerBlockHoldsEveryLargePartnerOfASmallParticleInFewerCells) {
+  // 1:10 radii: small spheres of 0.5 mm (level 0) and large ones of 5 mm (a higher
+  // level, cells of 10.25 mm). Every large partner of a small sphere (within r_i + r_j +
+  // skin) must lie in a cell of its partnerBlock; the blocks hold far fewer than the 27
+  // cells around (the saving the block exists for).
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 0.1);
+  std::vector<Vec3> positions;
+  std::vector<double> radii;
+  for (int i = 0; i < 2000; ++i) {
+    positions.emplace_back(u(rng), u(rng), u(rng));
+    radii.push_back(i % 20 == 0 ? 5e-3 : 5e-4);
+  }
+  const double skin = 2.5e-4;
+  CellGrid grid;
+  grid.build(positions, radii, skin);
+  ASSERT_EQ(grid.levelCount(), 2u);
+  double blockCells = 0.0;
+  std::size_t partners = 0;
+  std::size_t smalls = 0;
+  for (std::size_t i = 0; i < positions.size(); ++i) {
+    if (grid.levelOfSlot(i) != 0) continue;
+    ++smalls;
+    const CellGrid::CellBlock b = grid.partnerBlock(1, positions[i], radii[i]);
+    double cells = 1.0;
+    for (int d = 0; d < 3; ++d) cells *= static_cast<double>(b.hi[d] - b.lo[d] + 1);
+    blockCells += cells;
+    for (std::size_t j = 0; j < positions.size(); ++j) {
+      const double cutoff = radii[i] + radii[j] + skin;
+      if (grid.levelOfSlot(j) != 1 || (positions[j] - positions[i]).squaredNorm() >= cutoff * cutoff) continue;
+      ++partners;
+      const CellGrid::CellCoords c = grid.cellOf(1, positions[j]);
+      for (int d = 0; d < 3; ++d) {
+        EXPECT_TRUE(c[d] >= b.lo[d] && c[d] <= b.hi[d]) << "small " << i << ", large " << j << ", axis " << d;
+      }
+    }
+  }
+  EXPECT_GT(partners, 100u) << "the test needs small spheres near large ones";
+  // Reach 5.75 mm of cells 10.25 mm: 1 + 11.5 / 10.25 = 2.12 cells per axis on average.
+  EXPECT_LT(blockCells / static_cast<double>(smalls), 12.0);
 }
 
 

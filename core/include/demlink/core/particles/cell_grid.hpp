@@ -19,6 +19,7 @@
 /// because saturation never moves two particles further apart in cells).
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -44,8 +45,8 @@ class CellGrid {
 
   /// Integer coordinates of a cell of one level.
   using CellCoords = std::array<std::int64_t, 3>;
-  /// The occupied cells among the 27 around one cell: per row (dz, dy), the indices
-  /// [first, last) of its occupied cells x-1 .. x+1 (see nearCells()).
+  /// The occupied cells of a block of at most 3 x 3 x 3: per row (dz, dy), the indices
+  /// [first, last) of its occupied cells (see nearCells()).
   struct NearCells {
     std::array<std::uint32_t, 9> first{};
     std::array<std::uint32_t, 9> last{};
@@ -54,22 +55,56 @@ class CellGrid {
   /// The cell of level `level` holding x.
   [[nodiscard]] CellCoords cellOf(std::size_t level, const Vec3& x) const { return coords(levels_[level], x); }
 
-  /// The occupied cells around cell c of level `level`. Nine hash lookups, not 27: x is
-  /// the key's lowest field, so a row's cells x-1 .. x+1 are neighbours in the sorted
-  /// keys, and the first occupied one leads to the others. Particles of one cell share
-  /// the answer (NeighbourList keeps it from one particle to the next).
-  [[nodiscard]] NearCells nearCells(std::size_t level, const CellCoords& c) const {
+  /// A block of cells of one level, per axis from lo to hi (at most three cells).
+  struct CellBlock {
+    CellCoords lo;
+    CellCoords hi;
+    bool operator==(const CellBlock&) const = default;
+  };
+
+  /// The 27 cells around cell c.
+  [[nodiscard]] static CellBlock blockAround(const CellCoords& c) {
+    return {{c[0] - 1, c[1] - 1, c[2] - 1}, {c[0] + 1, c[1] + 1, c[2] + 1}};
+  }
+
+  /// The cells of level `level` that can hold a partner of a smaller particle (radius r,
+  /// centre x, of a lower level): those meeting the box x +- (r + r_max(level) + skin),
+  /// within the 27 around x's cell. Why not all 27: a small particle's reach into a level
+  /// of large cells is little more than half a cell, so the box meets ~2 cells per axis,
+  /// ~9.5 of 27 on average in a 1:10 bed (fewer candidates and hash lookups).
+  [[nodiscard]] CellBlock partnerBlock(std::size_t level, const Vec3& x, double r) const {
+    const Level& l = levels_[level];
+    // The margin covers the rounding of x +- reach (the pair test has its own).
+    const double reach = r + l.partner_reach + 1e-6 * l.cell_size;
+    const CellCoords c = coords(l, x);
+    const CellCoords lo = coords(l, x - Vec3::Constant(reach));
+    const CellCoords hi = coords(l, x + Vec3::Constant(reach));
+    CellBlock block = blockAround(c);
+    // A reach that is not finite: the 27 cells, as for a particle of the level itself.
+    if (!std::isfinite(reach)) return block;
+    for (int d = 0; d < 3; ++d) {
+      block.lo[d] = std::max(block.lo[d], lo[d]);
+      block.hi[d] = std::min(block.hi[d], hi[d]);
+    }
+    return block;
+  }
+
+  /// The occupied cells of `block` in level `level`. One hash lookup per row (dz, dy),
+  /// not one per cell: x is the key's lowest field, so a row's cells are neighbours in
+  /// the sorted keys, and the first occupied one leads to the others. Particles of one
+  /// cell share the answer (NeighbourList keeps it from one particle to the next).
+  [[nodiscard]] NearCells nearCells(std::size_t level, const CellBlock& block) const {
     const Level& l = levels_[level];
     NearCells near;
     std::size_t row = 0;
-    for (std::int64_t dz = -1; dz <= 1; ++dz) {
-      for (std::int64_t dy = -1; dy <= 1; ++dy, ++row) {
+    for (std::int64_t z = block.lo[2]; z <= block.hi[2]; ++z) {
+      for (std::int64_t y = block.lo[1]; y <= block.hi[1]; ++y, ++row) {
         std::uint32_t cell = kNoCell;
-        for (std::int64_t dx = -1; dx <= 1 && cell == kNoCell; ++dx) cell = find(l, c[0] + dx, c[1] + dy, c[2] + dz);
+        for (std::int64_t x = block.lo[0]; x <= block.hi[0] && cell == kNoCell; ++x) cell = find(l, x, y, z);
         if (cell == kNoCell) continue;
-        // find() succeeded, so y and z are in the occupied range; x + 1 is clamped to it
-        // so the key cannot carry into y.
-        const std::uint64_t lastKey = pack(std::min(c[0] + 1, l.highest[0]), c[1] + dy, c[2] + dz);
+        // find() succeeded, so y and z are in the occupied range; the row's last x is
+        // clamped to it so the key cannot carry into y.
+        const std::uint64_t lastKey = pack(std::min(block.hi[0], l.highest[0]), y, z);
         std::uint32_t last = cell + 1;
         while (last < l.keys.size() && l.keys[last] <= lastKey) ++last;
         near.first[row] = cell;
@@ -77,6 +112,10 @@ class CellGrid {
       }
     }
     return near;
+  }
+  /// The occupied cells among the 27 around cell c of level `level`.
+  [[nodiscard]] NearCells nearCells(std::size_t level, const CellCoords& c) const {
+    return nearCells(level, blockAround(c));
   }
 
   /// Calls visitCell(slots) for every cell of `near` (level `level`), in key order
@@ -161,6 +200,7 @@ class CellGrid {
   struct Level {
     double cell_size = 1.0;  ///< [m]
     double inv_cell_size = 1.0;
+    double partner_reach = 0.0;  ///< r_max + skin: a partner j lies within r_i + this of i [m]
     std::vector<std::uint64_t> keys;     ///< occupied cells, ascending
     std::vector<std::uint32_t> start;    ///< cell c holds slots[start[c] .. start[c+1])
     std::vector<std::uint32_t> slots;    ///< this level's slots by cell, then slot
@@ -168,7 +208,16 @@ class CellGrid {
     std::uint64_t mask = 0;
     std::array<std::int64_t, 3> lowest{0, 0, 0};   ///< occupied coordinate range
     std::array<std::int64_t, 3> highest{-1, -1, -1};
+    /// One bit per cell of the occupied range (x fastest), when that range holds at most
+    /// kOccupancyBitsPerCell cells per occupied one; empty otherwise.
+    std::vector<std::uint64_t> occupied;
+    std::array<std::int64_t, 3> extent{0, 0, 0};  ///< cells per axis of the occupied range
   };
+
+  /// Why a bitmap beside the hash: most cells a search visits are empty (a loose bed, a
+  /// level of few large particles), and a bit answers "empty" in one load where the hash
+  /// probes; capped so a far outlier's range costs no more than 8 bytes per occupied cell.
+  static constexpr std::uint64_t kOccupancyBitsPerCell = 64;
 
   [[nodiscard]] std::array<std::int64_t, 3> coords(const Level& l, const Vec3& x) const;
   static std::uint64_t pack(std::int64_t x, std::int64_t y, std::int64_t z) {
@@ -196,12 +245,22 @@ class CellGrid {
         z > l.highest[2]) {
       return kNoCell;
     }
+    if (!l.occupied.empty()) {
+      const std::uint64_t bit = occupancyBit(l, {x, y, z});
+      if (((l.occupied[bit >> 6] >> (bit & 63)) & 1u) == 0) return kNoCell;
+    }
     const std::uint64_t key = pack(x, y, z);
     for (std::uint64_t h = hash(key) & l.mask;; h = (h + 1) & l.mask) {
       const std::uint32_t cell = l.table[h];
       if (cell == kNoCell || l.keys[cell] == key) return cell;
     }
   }
+  /// Bit of cell c (inside the occupied range) in Level::occupied.
+  static std::uint64_t occupancyBit(const Level& l, const std::array<std::int64_t, 3>& c) {
+    return static_cast<std::uint64_t>(((c[2] - l.lowest[2]) * l.extent[1] + (c[1] - l.lowest[1])) * l.extent[0] +
+                                      (c[0] - l.lowest[0]));
+  }
+  static void buildOccupancy(Level& l);
   void buildLevel(Level& l, std::span<const Vec3> positions, std::span<const std::uint32_t> members);
 
   Vec3 origin_ = Vec3::Zero();
