@@ -142,7 +142,6 @@ void CellGrid::buildLevel(Level& l, std::span<const Vec3> positions, std::span<c
   }
   l.start.push_back(static_cast<std::uint32_t>(keyed.size()));
   buildOccupancy(l);
-  // At most half full: short probe sequences.
   // At most a quarter full: a lookup of an empty cell probes ~1.4 slots on average,
   // against ~2.5 half full (1:10 bed of 5,000 spheres, before the occupancy bitmap took
   // most empty-cell lookups: 4.6 -> 5.3e7 particle-steps/s); 4 bytes more per cell.

@@ -76,12 +76,11 @@ class CellGrid {
     const Level& l = levels_[level];
     // The margin covers the rounding of x +- reach (the pair test has its own).
     const double reach = r + l.partner_reach + 1e-6 * l.cell_size;
-    const CellCoords c = coords(l, x);
-    const CellCoords lo = coords(l, x - Vec3::Constant(reach));
-    const CellCoords hi = coords(l, x + Vec3::Constant(reach));
-    CellBlock block = blockAround(c);
+    CellBlock block = blockAround(coords(l, x));
     // A reach that is not finite: the 27 cells, as for a particle of the level itself.
     if (!std::isfinite(reach)) return block;
+    const CellCoords lo = coords(l, x - Vec3::Constant(reach));
+    const CellCoords hi = coords(l, x + Vec3::Constant(reach));
     for (int d = 0; d < 3; ++d) {
       block.lo[d] = std::max(block.lo[d], lo[d]);
       block.hi[d] = std::min(block.hi[d], hi[d]);
