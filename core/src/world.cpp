@@ -682,9 +682,9 @@ void World::computeForces() {
     r.index = index;
     return r;
   };
-  // Pair chunks in two phases, the even ones, then the odd ones (PairLoopPartition); each
-  // chunk then adds the plane contacts of its own rows, which no other chunk of its phase
-  // touches (while they are in its thread's cache, and without a loop of their own); then
+  // Pair chunks as PairLoopPartition::run schedules them (each odd chunk after its even
+  // neighbours); each chunk then adds the plane contacts of its own rows, which no chunk
+  // running beside it touches (while they are in its thread's cache, and without a loop of their own); then
   // meshes (the passes of stage forces in stage_table.hpp). A particle near two planes
   // adds their forces in plane order; each wall's load is the chunks' sums in chunk order,
   // whoever ran them. Recording keeps list order: the planes run after all pairs then.
@@ -703,15 +703,11 @@ void World::computeForces() {
           p, planes_[w], pair_table_, dt, begin, end, recording(ContactKind::kPlane, w, nullptr));
     }
   };
-  for (std::uint32_t phase = 0; phase < 2; ++phase) {
-    parallelParts(pool, parts.phaseChunks(phase), [&](std::uint32_t k) {
-      const std::uint32_t chunk = PairLoopPartition::chunkOfPhase(phase, k);
-      const ChunkForces out = parts.start(chunk, p.force, p.torque, clear);
-      pairRows(p, neighbours_, pair_table_, dt, parts.rowBegin(chunk), parts.rowEnd(chunk), out,
-               chunkRecords(chunk));
-      if (planesInChunks) planeContacts(chunk, parts.rowBegin(chunk), parts.rowEnd(chunk));
-    });
-  }
+  parts.run(pool, [&](std::uint32_t chunk) {
+    const ChunkForces out = parts.start(chunk, p.force, p.torque, clear);
+    pairRows(p, neighbours_, pair_table_, dt, parts.rowBegin(chunk), parts.rowEnd(chunk), out, chunkRecords(chunk));
+    if (planesInChunks) planeContacts(chunk, parts.rowBegin(chunk), parts.rowEnd(chunk));
+  });
   // Slots the list has no rows for yet (none between rebuilds, kept for safety).
   const std::size_t listed = std::min(p.size(), chunks > 0 ? parts.rowEnd(chunks - 1) : 0);
   std::fill(p.force.begin() + static_cast<std::ptrdiff_t>(listed), p.force.end(), Vec3::Zero());

@@ -50,7 +50,7 @@ void PairLoopPartition::plan(std::span<const std::uint32_t> offsets, std::span<c
                                              std::min<std::size_t>(16, rows / 64));
   wanted = threads <= 1 ? 1 : std::clamp<std::size_t>(wanted, 1, kMaxChunksPlanned);
   // Chunks stretched by the reach come out fewer than wanted; cut again for that many, so
-  // they hold about equal pairs again. From 4 on, a multiple of 4: each phase then has an
+  // they hold about equal pairs again. From 4 on, a multiple of 4: the even chunks then have an
   // even count, and two threads' home ranges hold as many chunks each (a thread that has
   // claimed its last chunk leaves nothing to steal). The count falls at every retry.
   for (;;) {
@@ -70,6 +70,12 @@ void PairLoopPartition::plan(std::span<const std::uint32_t> offsets, std::span<c
   }
 }
 
+void PairLoopPartition::resetWaits() {
+  const std::uint32_t n = chunks();
+  waits_.resize(n);
+  for (std::uint32_t odd = 1; odd < n; odd += 2) waits_[odd] = odd + 1 < n ? 2 : 1;
+}
+
 ChunkForces PairLoopPartition::start(std::uint32_t chunk, std::span<Vec3> force, std::span<Vec3> torque,
                                      bool clear) const {
   if (clear && chunk % 2 == 0) {
@@ -82,7 +88,7 @@ ChunkForces PairLoopPartition::start(std::uint32_t chunk, std::span<Vec3> force,
 }
 
 std::size_t PairLoopPartition::bytes() const {
-  return (row_begin_.capacity() + reach_.capacity()) * sizeof(std::size_t);
+  return (row_begin_.capacity() + reach_.capacity()) * sizeof(std::size_t) + waits_.capacity() * sizeof(std::uint32_t);
 }
 
 }  // namespace demlink::core

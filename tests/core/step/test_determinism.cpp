@@ -110,7 +110,7 @@ TEST(Determinism, ThreadedChunksDoNotDependOnThreadCount) {
 
 TEST(Determinism, OneThreadAgreesWithThreadedRunToRoundOff) {
   // The same forces summed in another order: after the pour the runs differ by
-  // round-off, far below what a lost contribution does (one phase of the pair loop
+  // round-off, far below what a lost contribution does (the odd chunks of the pair loop
   // left out: the watchdog stops the run for energy gained).
   ASSERT_GE(maxThreads(), 2u);
   const World one = pouringBed(1, 4000);

@@ -1,13 +1,17 @@
-// The pair loop's two-phase plan: chunks of one phase never touch the same slot, every
+// The pair loop's plan: chunks of one parity never touch the same slot, every
 // row belongs to exactly one chunk, and the cut does not depend on the thread count.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstdint>
+#include <memory>
 #include <random>
+#include <thread>
 #include <vector>
 
 #include "demlink/core/step/pair_loop_partition.hpp"
+#include "demlink/core/step/thread_pool.hpp"
 
 namespace demlink::core {
 namespace {
@@ -44,15 +48,15 @@ PairLoopPartition planOf(const HalfList& list, std::uint32_t threads) {
 }
 
 /// Every slot chunk c touches, from the list itself: its rows and their partners.
-void expectPhasesDisjoint(const PairLoopPartition& plan, const HalfList& list) {
+void expectParitiesDisjoint(const PairLoopPartition& plan, const HalfList& list) {
   const std::size_t rows = list.offsets.size() - 1;
   ASSERT_GE(plan.chunks(), 1u);
   EXPECT_EQ(plan.rowBegin(0), 0u);
   EXPECT_EQ(plan.rowEnd(plan.chunks() - 1), rows);
-  for (std::uint32_t phase = 0; phase < 2; ++phase) {
+  for (std::uint32_t parity = 0; parity < 2; ++parity) {
     std::vector<int> toucher(rows, -1);
-    for (std::uint32_t k = 0; k < plan.phaseChunks(phase); ++k) {
-      const std::uint32_t c = PairLoopPartition::chunkOfPhase(phase, k);
+    for (std::uint32_t k = 0; k < plan.parityChunks(parity); ++k) {
+      const std::uint32_t c = PairLoopPartition::chunkOfParity(parity, k);
       ASSERT_LT(c, plan.chunks());
       EXPECT_LT(plan.rowBegin(c), plan.rowEnd(c)) << "chunk " << c << " has no rows";
       std::vector<bool> mine(rows, false);
@@ -65,14 +69,14 @@ void expectPhasesDisjoint(const PairLoopPartition& plan, const HalfList& list) {
       }
       for (std::size_t s = 0; s < rows; ++s) {
         if (!mine[s]) continue;
-        EXPECT_EQ(toucher[s], -1) << "phase " << phase << ": slot " << s << " touched by chunks " << toucher[s]
+        EXPECT_EQ(toucher[s], -1) << "parity " << parity << ": slot " << s << " touched by chunks " << toucher[s]
                                   << " and " << c;
         toucher[s] = static_cast<int>(c);
       }
     }
   }
   // Phases together run every chunk once.
-  EXPECT_EQ(plan.phaseChunks(0) + plan.phaseChunks(1), plan.chunks());
+  EXPECT_EQ(plan.parityChunks(0) + plan.parityChunks(1), plan.chunks());
 }
 
 TEST(PairLoopPartition, ChunksOfOnePhaseTouchDisjointSlots) {
@@ -84,7 +88,7 @@ TEST(PairLoopPartition, ChunksOfOnePhaseTouchDisjointSlots) {
       EXPECT_EQ(plan.chunks() % 4, 0u) << "span " << span;
     }
     for (std::uint32_t c = 0; c + 1 < plan.chunks(); ++c) EXPECT_LE(plan.reach(c), plan.rowEnd(c + 1));
-    expectPhasesDisjoint(plan, list);
+    expectParitiesDisjoint(plan, list);
   }
 }
 
@@ -94,7 +98,7 @@ TEST(PairLoopPartition, ARowReachingFarMergesChunks) {
   const HalfList list = randomHalfList(5000, 50, 3, 7, true);
   const PairLoopPartition plan = planOf(list, 2);
   EXPECT_LE(plan.chunks(), 2u);
-  expectPhasesDisjoint(plan, list);
+  expectParitiesDisjoint(plan, list);
 }
 
 TEST(PairLoopPartition, ChunksStretchedByTheReachShareThePairsEvenly) {
@@ -119,7 +123,7 @@ TEST(PairLoopPartition, ChunksStretchedByTheReachShareThePairsEvenly) {
       const double pairs = list.offsets[plan.rowEnd(c)] - list.offsets[plan.rowBegin(c)];
       EXPECT_GT(pairs, 0.5 * mean) << "layer " << layer << ", chunk " << c << " of " << plan.chunks();
     }
-    expectPhasesDisjoint(plan, list);
+    expectParitiesDisjoint(plan, list);
   }
 }
 
@@ -133,7 +137,7 @@ TEST(PairLoopPartition, TheCutDependsOnTheListOnly) {
   }
   const PairLoopPartition one = planOf(list, 1);
   EXPECT_EQ(one.chunks(), 1u);
-  expectPhasesDisjoint(one, list);
+  expectParitiesDisjoint(one, list);
 }
 
 TEST(PairLoopPartition, EvenChunksClearTheirRowsAndTheNextChunks) {
@@ -142,8 +146,8 @@ TEST(PairLoopPartition, EvenChunksClearTheirRowsAndTheNextChunks) {
   ASSERT_GE(plan.chunks(), 3u);
   std::vector<Vec3> force(4000, Vec3::Ones());
   std::vector<Vec3> torque(4000, Vec3::Ones());
-  for (std::uint32_t k = 0; k < plan.phaseChunks(0); ++k) {
-    (void)plan.start(PairLoopPartition::chunkOfPhase(0, k), force, torque);
+  for (std::uint32_t k = 0; k < plan.parityChunks(0); ++k) {
+    (void)plan.start(PairLoopPartition::chunkOfParity(0, k), force, torque);
   }
   for (std::size_t s = 0; s < force.size(); ++s) {
     ASSERT_EQ(force[s], Vec3::Zero()) << "slot " << s;
@@ -151,10 +155,46 @@ TEST(PairLoopPartition, EvenChunksClearTheirRowsAndTheNextChunks) {
   }
   // Odd chunks clear nothing: the even chunks' additions are already in their rows.
   force.assign(4000, Vec3::Ones());
-  for (std::uint32_t k = 0; k < plan.phaseChunks(1); ++k) {
-    (void)plan.start(PairLoopPartition::chunkOfPhase(1, k), force, torque);
+  for (std::uint32_t k = 0; k < plan.parityChunks(1); ++k) {
+    (void)plan.start(PairLoopPartition::chunkOfParity(1, k), force, torque);
   }
   for (const Vec3& f : force) ASSERT_EQ(f, Vec3::Ones());
+}
+
+TEST(PairLoopPartition, RunGivesEveryChunkOnceAndNeverTwoThatTouchOneSlot) {
+  // Every chunk marks the slots it touches while it runs; a slot marked twice is two
+  // chunks running at once on one slot (an odd chunk started before an even neighbour
+  // finished). Chunks yield while they hold their marks, so the threads interleave.
+  const HalfList list = randomHalfList(6000, 120, 3, 5);
+  const PairLoopPartition plan = planOf(list, 2);
+  ASSERT_GE(plan.chunks(), 8u);
+  const std::size_t rows = list.offsets.size() - 1;
+  for (const std::uint32_t threads : {1u, 2u, 3u, 4u}) {
+    ThreadPool pool(threads);
+    PairLoopPartition run = plan;
+    for (int repeat = 0; repeat < 20; ++repeat) {
+      const auto marks = std::make_unique<std::atomic<int>[]>(rows);
+      const auto ran = std::make_unique<std::atomic<int>[]>(plan.chunks());
+      std::atomic<int> overlaps{0};
+      run.run(&pool, [&](std::uint32_t c) {
+        ran[c].fetch_add(1);
+        std::vector<std::size_t> touched;
+        for (std::size_t i = plan.rowBegin(c); i < plan.rowEnd(c); ++i) {
+          touched.push_back(i);
+          for (std::uint32_t m = list.offsets[i]; m < list.offsets[i + 1]; ++m) touched.push_back(list.partners[m]);
+        }
+        std::sort(touched.begin(), touched.end());
+        touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+        for (const std::size_t s : touched) {
+          if (marks[s].fetch_add(1) != 0) overlaps.fetch_add(1);
+        }
+        std::this_thread::yield();
+        for (const std::size_t s : touched) marks[s].fetch_sub(1);
+      });
+      for (std::uint32_t c = 0; c < plan.chunks(); ++c) ASSERT_EQ(ran[c].load(), 1) << "chunk " << c;
+      ASSERT_EQ(overlaps.load(), 0) << threads << " threads, repeat " << repeat;
+    }
+  }
 }
 
 }  // namespace

@@ -1,21 +1,33 @@
 #pragma once
 /// Cuts the half neighbour list's rows into chunks for the threaded pair loop and
-/// runs them in two phases. A pair (i, j) has j > i, so chunk c (rows [rowBegin(c),
-/// rowEnd(c))) touches only slots in [rowBegin(c), reach(c)), reach(c) being one past
-/// its largest partner. plan() makes every chunk reach no further than the end of the
-/// next chunk's rows, so chunk c touches only its own rows and chunk c + 1's:
-///   - phase 0 runs the even chunks, which touch pairwise disjoint slots; each first
-///     clears its own rows and the next chunk's (nothing else writes them before), unless
-///     the step's first kick cleared them already (ForcesAfterKick);
-///   - phase 1 runs the odd chunks, again pairwise disjoint.
+/// schedules them. A pair (i, j) has j > i, so chunk c (rows [rowBegin(c), rowEnd(c)))
+/// touches only slots in [rowBegin(c), reach(c)), reach(c) being one past its largest
+/// partner. plan() makes every chunk reach no further than the end of the next chunk's
+/// rows, so chunk c touches only its own rows and chunk c + 1's. Two chunks touch a
+/// common slot only when they are neighbours, so:
+///   - the even chunks are pairwise disjoint, and so are the odd ones;
+///   - an even chunk first clears its own rows and the next chunk's (nothing else
+///     writes them before), unless the step's first kick cleared them already
+///     (ForcesAfterKick);
+///   - odd chunk c runs after both its even neighbours c - 1 and c + 1 (run()).
 /// Every chunk adds straight into the particle columns: no atomics, no per-chunk
 /// buffers to clear and add up afterwards. Each slot's force is summed in an order the
 /// plan fixes (its even chunk's pairs, then its odd chunk's), and the plan depends only
 /// on the list, so forces are bit-identical whichever thread ran which chunk and for any
 /// thread count from 2 on.
 ///
+/// Why run() is a dataflow, not two phases (all even chunks, a join, all odd ones, the
+/// previous schedule): each join waits for the slower thread, and on a VM whose two
+/// vCPUs ran at unequal speeds (one 25-40 % slower for seconds at a time, measured with
+/// two pinned one-thread runs) the faster thread idled twice per step or stole whole
+/// chunks whose rows then sat in the wrong cache for the next kick. Now the threads
+/// claim even chunks, and the thread that finishes the second even neighbour of an odd
+/// chunk runs that odd chunk at once, while both chunks' rows are in its cache: one join
+/// per force evaluation, no waiting for a dependency ever, and the same sums in the same
+/// order as the two phases.
+///
 /// Why not per-chunk spill buffers for the slots beyond a chunk's rows, added up in
-/// chunk order afterwards (the previous design): slots are in cell order
+/// chunk order afterwards (the design before the two phases): slots are in cell order
 /// (CellGrid::spatialOrder), so a chunk reaches one to three cell layers past its rows, and clearing and
 /// adding those spills cost as much memory traffic as the pair loop saved by sharing it:
 /// two threads ran a 5,000-particle bed's force stage slower than one
@@ -23,11 +35,13 @@
 ///
 /// One thread gets one chunk. Its forces are the same sums in row order, so a 1-thread
 /// run differs from a threaded one by round-off.
+#include <atomic>
 #include <cstdint>
 #include <span>
 #include <vector>
 
 #include "demlink/core/math_types.hpp"
+#include "demlink/core/step/parallel.hpp"
 
 namespace demlink::core {
 
@@ -52,10 +66,17 @@ class PairLoopPartition {
   /// One past the largest slot chunk `chunk` touches (at most rowEnd(chunk + 1)).
   [[nodiscard]] std::size_t reach(std::uint32_t chunk) const { return reach_[chunk]; }
 
-  /// Chunks of phase `phase` (0: the even ones, 1: the odd ones).
-  [[nodiscard]] std::uint32_t phaseChunks(std::uint32_t phase) const { return (chunks() + 1 - phase) / 2; }
-  /// The k-th chunk of phase `phase`.
-  [[nodiscard]] static std::uint32_t chunkOfPhase(std::uint32_t phase, std::uint32_t k) { return 2 * k + phase; }
+  /// Chunks of parity `parity` (0: the even ones, 1: the odd ones), which touch pairwise
+  /// disjoint slots.
+  [[nodiscard]] std::uint32_t parityChunks(std::uint32_t parity) const { return (chunks() + 1 - parity) / 2; }
+  /// The k-th chunk of parity `parity`.
+  [[nodiscard]] static std::uint32_t chunkOfParity(std::uint32_t parity, std::uint32_t k) { return 2 * k + parity; }
+
+  /// Calls body(chunk) once for every chunk, spread over `pool` (serially without one):
+  /// the even chunks as the pool's parts, and each odd chunk right after the later of its
+  /// even neighbours, by the thread that ran that one. Not reentrant.
+  template <class Body>
+  void run(ThreadPool* pool, const Body& body);
 
   /// Before chunk `chunk`'s pairs run: with `clear`, an even chunk zeroes force and torque
   /// of its own rows and of the next chunk's (without, they are zero already). Says where
@@ -69,8 +90,33 @@ class PairLoopPartition {
   /// one before it; may give fewer chunks.
   void cut(std::span<const std::uint32_t> offsets, std::span<const std::uint32_t> partners, std::size_t wanted);
 
+  /// Before run() marks odd chunk c ready: its even neighbours not yet finished.
+  void resetWaits();
+
   std::vector<std::size_t> row_begin_{0};
   std::vector<std::size_t> reach_;
+  /// Per chunk, during run(): an odd chunk's even neighbours still running or unclaimed
+  /// (decremented through std::atomic_ref; unused for even chunks).
+  std::vector<std::uint32_t> waits_;
 };
+
+template <class Body>
+void PairLoopPartition::run(ThreadPool* pool, const Body& body) {
+  const std::uint32_t n = chunks();
+  resetWaits();
+  parallelParts(pool, (n + 1) / 2, [&](std::uint32_t k) {
+    const std::uint32_t even = 2 * k;
+    body(even);
+    // Release: the odd chunk's runner sees this chunk's forces; acquire: and the other
+    // neighbour's, when this thread finishes the later one.
+    const auto evenDone = [&](std::uint32_t odd) {
+      if (odd < n && std::atomic_ref<std::uint32_t>(waits_[odd]).fetch_sub(1, std::memory_order_acq_rel) == 1) {
+        body(odd);
+      }
+    };
+    if (even > 0) evenDone(even - 1);
+    evenDone(even + 1);
+  });
+}
 
 }  // namespace demlink::core
