@@ -12,7 +12,9 @@
 #            of two cores busy), and the pool's counters (loops offered to the workers / run
 #            on the caller / that had to wake a sleeping worker, chunks run by the caller and
 #            by the workers, spin-then-block waits that ended spinning / blocked / were refused).
-#            --n 50000 --steps 300 shows the scaling of a long step.
+#            --n 50000 --steps 300 shows the scaling of a long step. The cache-line hand-over
+#            round trip between the two CPUs (demlink-bench-host) is printed before and after
+#            the idle runs: the speed-up depends on it.
 #   sizes    generated beds of N spheres (demlink-bench-deposition --generate N): mono,
 #            ratio10 (1:10) and cont5 (continuous 1:5), 1 thread, alternating, K runs each;
 #            median particle-steps/s and the ratio to mono (target >= 0.8); bytes per particle.
@@ -28,7 +30,7 @@ set -euo pipefail
 
 script_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 repo=$(cd "$script_dir/.." && pwd)
-usage() { sed -n '4,23p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2; exit 2; }
+usage() { sed -n '4,25p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2; exit 2; }
 
 part=all; n=5000; steps=3000; runs=3; big_n=1000000; big_steps=5
 while (($#)); do
@@ -78,7 +80,13 @@ threads_round() {
 
 if [[ "$part" == threads || "$part" == all ]]; then
   echo "load before the threads part: $(uptime)"
+  # The speed-up follows where the VM's two vCPUs sit: on the AMD EPYC VM it was 1.78 while
+  # a cache line crossed between them in ~0.1 us and 1.48 at ~0.5 us (docs/benchmarks.md).
+  host_bench="$repo/build/release/bench/demlink-bench-host"
+  handover() { if [[ -x "$host_bench" ]]; then "$host_bench" --seconds 0.2 | grep "hand-over" | sed "s/^/threads\/$1: /"; fi; }
+  handover before
   threads_round asis
+  handover after
   yes > /dev/null &
   busy_pid=$!
   sleep 1

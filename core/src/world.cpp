@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -1023,59 +1024,132 @@ void World::requireFiniteFirstStep() const {
   }
 }
 
+namespace {
+
+/// One chunk's share of a watchdog reading (World::watch): sums, and the first extreme with
+/// the slots it came from. Shares are combined in chunk order, and the chunks depend on the
+/// particle count alone (parallel.hpp), so a reading does not depend on the thread count and
+/// names the particle a serial scan would.
+struct WatchShare {
+  static constexpr std::size_t kNone = std::numeric_limits<std::size_t>::max();
+  std::size_t non_finite = kNone;
+  double max_speed = 0.0;
+  std::size_t fastest = kNone;
+  double potential = 0.0;  ///< gravitational [J]
+  double elastic = 0.0;    ///< [J]
+  double cohesion = 0.0;   ///< [J]
+  double max_overlap_fraction = 0.0;
+  std::size_t deep_a = kNone;  ///< the deepest pair's slots
+  std::size_t deep_b = kNone;
+
+  /// Adds the share of the chunk after this one's.
+  void add(const WatchShare& next) {
+    if (non_finite == kNone) non_finite = next.non_finite;
+    if (next.max_speed > max_speed) {
+      max_speed = next.max_speed;
+      fastest = next.fastest;
+    }
+    potential += next.potential;
+    elastic += next.elastic;
+    cohesion += next.cohesion;
+    if (next.max_overlap_fraction > max_overlap_fraction) {
+      max_overlap_fraction = next.max_overlap_fraction;
+      deep_a = next.deep_a;
+      deep_b = next.deep_b;
+    }
+  }
+};
+
+/// body(share, begin, end) for the chunks of [0, n) over `pool`, then their shares combined.
+template <class Body>
+WatchShare watchChunks(ThreadPool* pool, std::size_t n, const Body& body) {
+  const std::uint32_t chunks = chunkCount(n);
+  std::vector<WatchShare> shares(chunks);
+  parallelParts(pool, chunks, [&](std::uint32_t c) {
+    body(shares[c], chunkBegin(n, chunks, c), chunkBegin(n, chunks, c + 1));
+  });
+  for (std::uint32_t c = 1; c < chunks; ++c) shares[0].add(shares[c]);
+  return shares[0];
+}
+
+}  // namespace
+
 template <class Law>
 void World::measureContacts(WatchdogReading& reading) const {
   const ParticleArrays& p = particles_;
   const auto offsets = neighbours_.offsets();
   const auto partners = neighbours_.partners();
-  auto note = [&](double overlap, double rA, double rB, const ContactPairParams& params, const std::string_view kind,
-                  std::size_t a, std::size_t b) {
-    if (overlap <= 0.0) return;
+  // Adds a contact's energies to `share`; true when it is the deepest so far.
+  auto note = [](WatchShare& share, double overlap, double rA, double rB, const ContactPairParams& params) {
+    if (overlap <= 0.0) return false;
     const double rStar = rB > 0.0 ? rA * rB / (rA + rB) : rA;
     const ContactStiffness k = Law::stiffness(params, rStar, overlap);
-    reading.elastic_energy += k.normal_elastic_force * overlap / (Law::kForceExponent + 1.0);
-    reading.cohesion_energy += cohesionEnergy(params.cohesion_energy_density, rA, rB, overlap);
+    share.elastic += k.normal_elastic_force * overlap / (Law::kForceExponent + 1.0);
+    share.cohesion += cohesionEnergy(params.cohesion_energy_density, rA, rB, overlap);
     const double fraction = overlap / (rB > 0.0 ? std::min(rA, rB) : rA);
-    if (fraction > reading.max_overlap_fraction) {
-      reading.max_overlap_fraction = fraction;
-      reading.deepest = kind == "pair" ? "particles " + std::to_string(p.id[a]) + " and " + std::to_string(p.id[b])
-                                       : "particle " + std::to_string(p.id[a]) + " on plane " + planes_[b].spec.name;
-    }
+    if (!(fraction > share.max_overlap_fraction)) return false;
+    share.max_overlap_fraction = fraction;
+    return true;
   };
-  for (std::size_t i = 0; i + 1 < offsets.size(); ++i) {
-    for (std::uint32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
-      const std::uint32_t j = partners[k];
-      const double overlap = p.radius[i] + p.radius[j] - (p.position[j] - p.position[i]).norm();
-      note(overlap, p.radius[i], p.radius[j], pair_table_(p.material[i], p.material[j]), "pair", i, j);
+  const std::size_t rows = offsets.empty() ? 0 : offsets.size() - 1;
+  WatchShare all = watchChunks(pool_.get(), rows, [&](WatchShare& share, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      for (std::uint32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
+        const std::uint32_t j = partners[k];
+        const double overlap = p.radius[i] + p.radius[j] - (p.position[j] - p.position[i]).norm();
+        if (note(share, overlap, p.radius[i], p.radius[j], pair_table_(p.material[i], p.material[j]))) {
+          share.deep_a = i;
+          share.deep_b = j;
+        }
+      }
     }
+  });
+  reading.elastic_energy += all.elastic;
+  reading.cohesion_energy += all.cohesion;
+  reading.max_overlap_fraction = all.max_overlap_fraction;
+  if (all.deep_a != WatchShare::kNone) {
+    reading.deepest = "particles " + std::to_string(p.id[all.deep_a]) + " and " + std::to_string(p.id[all.deep_b]);
   }
+  // Planes after all pairs, as a serial scan: a plane contact is the deepest only when deeper.
   for (std::size_t w = 0; w < planes_.size(); ++w) {
     const PlaneWall& wall = planes_[w];
+    WatchShare share;
+    share.max_overlap_fraction = reading.max_overlap_fraction;
     for (const std::uint32_t i : wall.near_slots) {
       const double overlap = p.radius[i] - (p.position[i] - wall.spec.point).dot(wall.spec.normal);
-      note(overlap, p.radius[i], 0.0, pair_table_(p.material[i], wall.spec.material), "plane", i, w);
+      if (note(share, overlap, p.radius[i], 0.0, pair_table_(p.material[i], wall.spec.material))) {
+        reading.deepest = "particle " + std::to_string(p.id[i]) + " on plane " + planes_[w].spec.name;
+      }
     }
+    reading.elastic_energy += share.elastic;
+    reading.cohesion_energy += share.cohesion;
+    reading.max_overlap_fraction = share.max_overlap_fraction;
   }
 }
 
 WatchdogReading World::watch() {
   WatchdogReading r;
   const ParticleArrays& p = particles_;
-  std::size_t fastest = p.size();
-  double potential = 0.0;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    const double check = p.position[i].sum() + p.velocity[i].sum() + p.angular_velocity[i].sum() + p.force[i].sum();
-    if (!std::isfinite(check) && r.non_finite.empty()) {
-      r.non_finite = "particle " + std::to_string(p.id[i]) + " (position, velocity, spin or force)";
+  const Vec3 gravity = state_.gravity;
+  const WatchShare motion = watchChunks(pool_.get(), p.size(), [&](WatchShare& share, std::size_t begin,
+                                                                  std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      const double check =
+          p.position[i].sum() + p.velocity[i].sum() + p.angular_velocity[i].sum() + p.force[i].sum();
+      if (!std::isfinite(check) && share.non_finite == WatchShare::kNone) share.non_finite = i;
+      const double speed = p.velocity[i].norm();
+      if (speed > share.max_speed) {
+        share.max_speed = speed;
+        share.fastest = i;
+      }
+      share.potential -= p.mass[i] * gravity.dot(p.position[i]);
     }
-    const double speed = p.velocity[i].norm();
-    if (speed > r.max_speed) {
-      r.max_speed = speed;
-      fastest = i;
-    }
-    potential -= p.mass[i] * state_.gravity.dot(p.position[i]);
+  });
+  if (motion.non_finite != WatchShare::kNone) {
+    r.non_finite = "particle " + std::to_string(p.id[motion.non_finite]) + " (position, velocity, spin or force)";
   }
-  if (fastest < p.size()) r.fastest = "particle " + std::to_string(p.id[fastest]);
+  r.max_speed = motion.max_speed;
+  if (motion.fastest != WatchShare::kNone) r.fastest = "particle " + std::to_string(p.id[motion.fastest]);
   for (const MeshBody& mesh : meshes_) {
     const double speed = mesh.linearVelocity().norm() + mesh.angularVelocity().norm() * mesh.boundingRadius();
     if (speed > r.max_speed) {
@@ -1093,7 +1167,7 @@ WatchdogReading World::watch() {
   if (!r.non_finite.empty()) return r;
   visitContactLaw(settings_.contact_model, [&]<class Law>() { measureContacts<Law>(r); });
   r.kinetic_energy = kineticEnergy();
-  r.total_energy = r.kinetic_energy + potential + r.elastic_energy + r.cohesion_energy;
+  r.total_energy = r.kinetic_energy + motion.potential + r.elastic_energy + r.cohesion_energy;
   // Sources, moving meshes and a moving frame feed energy in: no energy check then.
   // Mesh contacts' elastic energy and deformable bodies' energy are not measured, so scenes
   // with meshes or deformable bodies are not checked either.

@@ -4,9 +4,12 @@
 // replaced and reported, a speed beyond the validated one warns once or (strict)
 // stops, inputs whose first step overflows are refused naming the field, and
 // rigid walls take the particle's stiffness alone.
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <random>
 #include <string>
+#include <thread>
 
 #include <gtest/gtest.h>
 
@@ -45,6 +48,70 @@ std::string faultOf(World& world, int steps, std::string* message = nullptr) {
     return fault.check();
   }
   return "(none)";
+}
+
+/// A 14 x 14 x 14 lattice of touching spheres with jittered overlaps and random
+/// velocities, on `threads` threads.
+World overlappingLattice(std::uint32_t threads) {
+  SimulationSettings s;
+  s.threads = threads;
+  s.time_step = 1e-6;
+  World world(s);
+  world.addMaterial(test::testMaterial(0.5));  // material 0, every sphere's
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int i = 0; i < 14 * 14 * 14; ++i) {
+    ParticleSpec p;
+    p.radius = 0.001;
+    p.position = Vec3(i % 14, (i / 14) % 14, i / 196) * 0.00198 + Vec3(u(rng), u(rng), u(rng)) * 1e-5;
+    p.velocity = (Vec3(u(rng), u(rng), u(rng)) - Vec3::Constant(0.5)) * 0.2;
+    world.addParticle(p);
+  }
+  world.initialize();
+  return world;
+}
+
+TEST(Watchdog, ThreadedReadingNamesWhatASerialScanFindsFirst) {
+  // The reading is gathered in chunks over the pool and combined in chunk order: ties go
+  // to the first slot, as in one scan, and the energies match one thread's to round-off.
+  const std::uint32_t threads = std::clamp(std::thread::hardware_concurrency(), 1u, 2u);
+  World world = overlappingLattice(threads);
+  ParticleArrays& p = world.particles();
+  ASSERT_GT(p.size(), 2000u);
+  // Two equal top speeds in different chunks: the earlier slot is the fastest.
+  p.velocity[300] = p.velocity[2500] = Vec3(3.0, 0.0, 0.0);
+  const WatchdogReading r = world.watch();
+  EXPECT_EQ(r.fastest, "particle " + std::to_string(p.id[300]));
+  EXPECT_DOUBLE_EQ(r.max_speed, 3.0);
+  // The deepest contact by a scan of the list in row order (first of equals).
+  const auto offsets = world.neighbourList().offsets();
+  const auto partners = world.neighbourList().partners();
+  double deepest = 0.0;
+  std::string name;
+  for (std::size_t i = 0; i + 1 < offsets.size(); ++i) {
+    for (std::uint32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
+      const std::uint32_t j = partners[k];
+      const double fraction =
+          (p.radius[i] + p.radius[j] - (p.position[j] - p.position[i]).norm()) / std::min(p.radius[i], p.radius[j]);
+      if (fraction > deepest) {
+        deepest = fraction;
+        name = "particles " + std::to_string(p.id[i]) + " and " + std::to_string(p.id[j]);
+      }
+    }
+  }
+  ASSERT_GT(deepest, 0.0);
+  EXPECT_EQ(r.max_overlap_fraction, deepest);
+  EXPECT_EQ(r.deepest, name);
+  World one = overlappingLattice(1);
+  one.particles().velocity = p.velocity;
+  const WatchdogReading serial = one.watch();
+  EXPECT_GT(r.elastic_energy, 0.0);
+  EXPECT_NEAR(r.elastic_energy, serial.elastic_energy, 1e-12 * serial.elastic_energy);
+  EXPECT_NEAR(r.total_energy, serial.total_energy, 1e-12 * std::abs(serial.total_energy));
+  // Non-finite values in two chunks: the earlier slot is named.
+  p.position[2600].x() = std::numeric_limits<double>::quiet_NaN();
+  p.force[400].y() = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(world.watch().non_finite, "particle " + std::to_string(p.id[400]) + " (position, velocity, spin or force)");
 }
 
 TEST(Watchdog, StopsABounceAtTenTimesTheLimitByName) {
