@@ -78,6 +78,30 @@ threads_round() {
   grep -h "pool_" "$work/par_threads_${label}_2_$runs.log" | tr '\n' ' '; echo
 }
 
+# pinned_round: K one-thread runs pinned to each CPU in turn (taskset). A VM's vCPUs can run
+# at unequal speeds for minutes (one 1.3-1.8x slower than the other): the speed-up is then
+# quoted against the faster CPU's time as well.
+pinned_round() {
+  command -v taskset > /dev/null || { echo "threads/pinned: taskset not found, skipped"; return; }
+  local cpus
+  read -r -a cpus <<< "$(taskset -pc $$ | awk -F': ' '{ print $2 }' | tr ',' ' ')"
+  [[ "${cpus[*]}" =~ ^[0-9]+\ [0-9]+$ ]] || { echo "threads/pinned: needs exactly two single CPUs (have ${cpus[*]}), skipped"; return; }
+  local fastest=""
+  for cpu in "${cpus[@]}"; do
+    local times=()
+    for ((k = 1; k <= runs; ++k)); do
+      local log=$work/par_threads_pinned_cpu${cpu}_$k.log
+      taskset -c "$cpu" "$bench" --generate "$n" --sizes mono --steps "$steps" --thermo 0 --threads 1 > "$log"
+      times+=("$(field wall_seconds "$log")")
+    done
+    local m
+    m=$(printf '%s\n' "${times[@]}" | median)
+    echo "threads/pinned: 1 thread on CPU $cpu ${times[*]} s (median $m)"
+    if [[ -z "$fastest" ]] || awk -v a="$m" -v b="$fastest" 'BEGIN { exit !(a < b) }'; then fastest=$m; fi
+  done
+  echo "threads/pinned: faster CPU's median $fastest s; t_fast/t2 = $(awk -v a="$fastest" -v b="$1" 'BEGIN { printf "%.2f", a / b }')"
+}
+
 if [[ "$part" == threads || "$part" == all ]]; then
   echo "load before the threads part: $(uptime)"
   # The speed-up follows where the VM's two vCPUs sit: on the AMD EPYC VM it was 1.78 while
@@ -86,6 +110,7 @@ if [[ "$part" == threads || "$part" == all ]]; then
   handover() { if [[ -x "$host_bench" ]]; then "$host_bench" --seconds 0.2 | grep "hand-over" | sed "s/^/threads\/$1: /"; fi; }
   handover before
   threads_round asis
+  pinned_round "$(printf '%s\n' $(for ((k = 1; k <= runs; ++k)); do field wall_seconds "$work/par_threads_asis_2_$k.log"; done) | median)"
   handover after
   yes > /dev/null &
   busy_pid=$!
