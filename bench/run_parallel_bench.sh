@@ -79,7 +79,7 @@ threads_round() {
 }
 
 # pinned_round: K one-thread runs pinned to each CPU in turn (taskset). A VM's vCPUs can run
-# at unequal speeds for minutes (one 1.3-1.8x slower than the other): the speed-up is then
+# at unequal speeds for minutes (one 1.1-1.8x slower than the other): the speed-up is then
 # quoted against the faster CPU's time as well.
 pinned_round() {
   command -v taskset > /dev/null || { echo "threads/pinned: taskset not found, skipped"; return; }
@@ -104,8 +104,8 @@ pinned_round() {
 
 if [[ "$part" == threads || "$part" == all ]]; then
   echo "load before the threads part: $(uptime)"
-  # The speed-up follows where the VM's two vCPUs sit: on the AMD EPYC VM it was 1.78 while
-  # a cache line crossed between them in ~0.1 us and 1.48 at ~0.5 us (docs/benchmarks.md).
+  # The speed-up follows where the VM's two vCPUs sit: on the AMD EPYC VM single runs
+  # reached 1.65-1.8 after a 0.1 us hand-over reading, and ~1.5 at 0.4-0.7 us (docs/benchmarks.md).
   host_bench="$repo/build/release/bench/demlink-bench-host"
   handover() { if [[ -x "$host_bench" ]]; then "$host_bench" --seconds 0.2 | grep "hand-over" | sed "s/^/threads\/$1: /"; fi; }
   handover before

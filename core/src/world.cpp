@@ -685,8 +685,8 @@ void World::computeForces() {
   };
   // Pair chunks as PairLoopPartition::run schedules them (each odd chunk after its even
   // neighbours); each chunk then adds the plane contacts of its own rows, which no chunk
-  // running beside it touches (while they are in its thread's cache, and without a loop of their own); then
-  // meshes (the passes of stage forces in stage_table.hpp). A particle near two planes
+  // running beside it touches (while they are in its thread's cache, and without a loop
+  // of their own); then meshes (the passes of stage forces in stage_table.hpp). A particle near two planes
   // adds their forces in plane order; each wall's load is the chunks' sums in chunk order,
   // whoever ran them. Recording keeps list order: the planes run after all pairs then.
   ThreadPool* pool = pool_.get();
@@ -1118,7 +1118,7 @@ void World::measureContacts(WatchdogReading& reading) const {
     for (const std::uint32_t i : wall.near_slots) {
       const double overlap = p.radius[i] - (p.position[i] - wall.spec.point).dot(wall.spec.normal);
       if (note(share, overlap, p.radius[i], 0.0, pair_table_(p.material[i], wall.spec.material))) {
-        reading.deepest = "particle " + std::to_string(p.id[i]) + " on plane " + planes_[w].spec.name;
+        reading.deepest = "particle " + std::to_string(p.id[i]) + " on plane " + wall.spec.name;
       }
     }
     reading.elastic_energy += share.elastic;
