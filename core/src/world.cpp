@@ -874,7 +874,7 @@ void World::rebuildNeighbours() {
     applySlotMapping(grid.spatialOrder(particles_.position));
   }
   neighbours_.build(particles_, pending_new_slot_of_old_, pool_.get(), !clumps_.empty());
-  partition_.plan(neighbours_.offsets(), neighbours_.partners(), pool_ ? pool_->size() : 1);
+  partition_.plan(neighbours_.offsets(), neighbours_.partners());
   for (PlaneWall& wall : planes_) wall.buildNearList(particles_, neighbours_.skin(), pending_new_slot_of_old_);
   for (std::size_t m = 0; m < meshes_.size(); ++m) {
     if (mesh_colliding_[m] != 0) {

@@ -443,7 +443,7 @@ void World::restoreCheckpoint(std::string_view bytes, const std::string& source)
   state_.removed_at_bounds = clock.removed;
   rebuild_pending_ = clock.rebuild_pending;
   pending_new_slot_of_old_ = clock.pending;
-  partition_.plan(neighbours_.offsets(), neighbours_.partners(), pool_ ? pool_->size() : 1);
+  partition_.plan(neighbours_.offsets(), neighbours_.partners());
   armRebuildGuard();
   if (contact_output_.mesh_loads) {
     mesh_loads_ = meshLoads ? std::move(*meshLoads) : std::vector<std::vector<TriangleLoad>>{};

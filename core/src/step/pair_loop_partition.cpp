@@ -40,15 +40,14 @@ void PairLoopPartition::cut(std::span<const std::uint32_t> offsets, std::span<co
   }
 }
 
-void PairLoopPartition::plan(std::span<const std::uint32_t> offsets, std::span<const std::uint32_t> partners,
-                             std::uint32_t threads) {
+void PairLoopPartition::plan(std::span<const std::uint32_t> offsets, std::span<const std::uint32_t> partners) {
   const std::size_t rows = offsets.empty() ? 0 : offsets.size() - 1;
   const std::uint64_t pairs = offsets.empty() ? 0 : offsets.back();
   // About kPairsPerChunk pairs per chunk, but at least 16 chunks of >= 64 rows, so a
   // small scene still has chunks to share.
   std::size_t wanted = std::max<std::size_t>(static_cast<std::size_t>(pairs / kPairsPerChunk),
                                              std::min<std::size_t>(16, rows / 64));
-  wanted = threads <= 1 ? 1 : std::clamp<std::size_t>(wanted, 1, kMaxChunksPlanned);
+  wanted = std::clamp<std::size_t>(wanted, 1, kMaxChunksPlanned);
   // Chunks stretched by the reach come out fewer than wanted; cut again for that many, so
   // they hold about equal pairs again. From 4 on, a multiple of 4: the even chunks then have an
   // even count, and two threads' home ranges hold as many chunks each (a thread that has

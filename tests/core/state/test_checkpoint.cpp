@@ -1,7 +1,7 @@
 // Checkpoints: a run continued from a checkpoint in a new World equals the run
 // that never stopped, bit for bit (every particle column, neighbour histories,
 // plane and mesh near lists and wrenches, tallies, component state), for 1 and 2
-// threads. Bad files (truncated, wrong magic or version, corrupt lengths, another
+// threads, and across them. Bad files (truncated, wrong magic or version, corrupt lengths, another
 // scene) give an InputError naming the file and section and leave the world as it was.
 #include <algorithm>
 #include <cmath>
@@ -122,6 +122,23 @@ TEST(Checkpoint, ContinuedRunIsBitIdenticalToUninterrupted) {
     SCOPED_TRACE(std::to_string(threads) + " threads");
     expectBitIdentical(*a, *b);
   }
+}
+
+TEST(Checkpoint, ARunWrittenOnTwoThreadsContinuesOnOneBitIdentically) {
+  // Every loop's chunks depend on the scene alone, one thread included, so the thread
+  // count is no part of a run's result: a checkpoint of a 2-thread run continued on
+  // 1 thread ends in the bits of the 2-thread run that never stopped.
+  SceneVariant two;
+  two.threads = 2;
+  const auto a = buildScene(two);
+  for (int n = 0; n < 450; ++n) a->step();
+  ASSERT_GT(a->pairLoopPartition().chunks(), 2u) << "one chunk: the thread counts would not differ";
+  const std::string file = save(*a);
+  for (int n = 0; n < 150; ++n) a->step();
+  const auto b = buildScene();  // one thread
+  b->restoreCheckpoint(std::string_view(file), "a.bin");
+  for (int n = 0; n < 150; ++n) b->step();
+  expectBitIdentical(*a, *b);
 }
 
 TEST(Checkpoint, MeshNearListHistoriesSurviveTheRoundTrip) {

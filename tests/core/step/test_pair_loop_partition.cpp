@@ -1,5 +1,5 @@
 // The pair loop's plan: chunks of one parity never touch the same slot, every
-// row belongs to exactly one chunk, and the cut does not depend on the thread count.
+// row belongs to exactly one chunk, and the cut depends on the list alone.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -40,10 +40,10 @@ HalfList randomHalfList(std::uint32_t rows, std::uint32_t span, std::uint32_t pe
   return list;
 }
 
-/// The plan of `list` for `threads` threads.
-PairLoopPartition planOf(const HalfList& list, std::uint32_t threads) {
+/// The plan of `list`.
+PairLoopPartition planOf(const HalfList& list) {
   PairLoopPartition plan;
-  plan.plan(list.offsets, list.partners, threads);
+  plan.plan(list.offsets, list.partners);
   return plan;
 }
 
@@ -82,7 +82,7 @@ void expectParitiesDisjoint(const PairLoopPartition& plan, const HalfList& list)
 TEST(PairLoopPartition, ChunksOfOnePhaseTouchDisjointSlots) {
   for (const std::uint32_t span : {8u, 300u, 2000u}) {
     const HalfList list = randomHalfList(20000, span, 3, span);
-    const PairLoopPartition plan = planOf(list, 2);
+    const PairLoopPartition plan = planOf(list);
     EXPECT_GE(plan.chunks(), 4u) << "span " << span;
     if (plan.chunks() >= 4) {
       EXPECT_EQ(plan.chunks() % 4, 0u) << "span " << span;
@@ -96,7 +96,7 @@ TEST(PairLoopPartition, ARowReachingFarMergesChunks) {
   // Row 0 pairs with the last slot: nothing may run beside the chunk holding row 0
   // unless the next chunk ends at the list's end, so the cut has at most two chunks.
   const HalfList list = randomHalfList(5000, 50, 3, 7, true);
-  const PairLoopPartition plan = planOf(list, 2);
+  const PairLoopPartition plan = planOf(list);
   EXPECT_LE(plan.chunks(), 2u);
   expectParitiesDisjoint(plan, list);
 }
@@ -116,7 +116,7 @@ TEST(PairLoopPartition, ChunksStretchedByTheReachShareThePairsEvenly) {
       if (i + layer < rows) list.partners.push_back(i + layer);
       list.offsets.push_back(static_cast<std::uint32_t>(list.partners.size()));
     }
-    const PairLoopPartition plan = planOf(list, 2);
+    const PairLoopPartition plan = planOf(list);
     ASSERT_GE(plan.chunks(), 4u) << "layer " << layer;
     const double mean = static_cast<double>(list.partners.size()) / plan.chunks();
     for (std::uint32_t c = 0; c < plan.chunks(); ++c) {
@@ -127,22 +127,27 @@ TEST(PairLoopPartition, ChunksStretchedByTheReachShareThePairsEvenly) {
   }
 }
 
-TEST(PairLoopPartition, TheCutDependsOnTheListOnly) {
+TEST(PairLoopPartition, ThePlanDependsOnTheListOnly) {
+  // The plan takes no thread count; one object planned for another list in between
+  // plans a list as a fresh one does (nothing of an earlier plan is carried over).
   const HalfList list = randomHalfList(30000, 700, 4, 3);
-  const PairLoopPartition two = planOf(list, 2);
-  for (const std::uint32_t threads : {3u, 8u, 64u}) {
-    const PairLoopPartition other = planOf(list, threads);
-    ASSERT_EQ(other.chunks(), two.chunks());
-    for (std::uint32_t c = 0; c < two.chunks(); ++c) EXPECT_EQ(other.rowBegin(c), two.rowBegin(c));
+  const HalfList other = randomHalfList(9000, 300, 6, 8);
+  const PairLoopPartition fresh = planOf(list);
+  ASSERT_GE(fresh.chunks(), 4u);
+  PairLoopPartition reused = planOf(other);
+  ASSERT_NE(reused.chunks(), fresh.chunks());
+  reused.plan(list.offsets, list.partners);
+  ASSERT_EQ(reused.chunks(), fresh.chunks());
+  for (std::uint32_t c = 0; c < fresh.chunks(); ++c) {
+    EXPECT_EQ(reused.rowBegin(c), fresh.rowBegin(c));
+    EXPECT_EQ(reused.reach(c), fresh.reach(c));
   }
-  const PairLoopPartition one = planOf(list, 1);
-  EXPECT_EQ(one.chunks(), 1u);
-  expectParitiesDisjoint(one, list);
+  expectParitiesDisjoint(reused, list);
 }
 
 TEST(PairLoopPartition, EvenChunksClearTheirRowsAndTheNextChunks) {
   const HalfList list = randomHalfList(4000, 100, 3, 11);
-  const PairLoopPartition plan = planOf(list, 2);
+  const PairLoopPartition plan = planOf(list);
   ASSERT_GE(plan.chunks(), 3u);
   std::vector<Vec3> force(4000, Vec3::Ones());
   std::vector<Vec3> torque(4000, Vec3::Ones());
@@ -166,7 +171,7 @@ TEST(PairLoopPartition, RunGivesEveryChunkOnceAndNeverTwoThatTouchOneSlot) {
   // chunks running at once on one slot (an odd chunk started before an even neighbour
   // finished). Chunks yield while they hold their marks, so the threads interleave.
   const HalfList list = randomHalfList(6000, 120, 3, 5);
-  const PairLoopPartition plan = planOf(list, 2);
+  const PairLoopPartition plan = planOf(list);
   ASSERT_GE(plan.chunks(), 8u);
   const std::size_t rows = list.offsets.size() - 1;
   for (const std::uint32_t threads : {1u, 2u, 3u, 4u}) {

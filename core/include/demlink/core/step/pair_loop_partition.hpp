@@ -14,7 +14,8 @@
 /// buffers to clear and add up afterwards. Each slot's force is summed in an order the
 /// plan fixes (its even chunk's pairs, then its odd chunk's), and the plan depends only
 /// on the list, so forces are bit-identical whichever thread ran which chunk and for any
-/// thread count from 2 on.
+/// thread count, one included (one thread runs the chunks in run()'s order: each odd
+/// chunk right after its later even neighbour).
 ///
 /// Why run() is a dataflow, not two phases (all even chunks, a join, all odd ones, the
 /// previous schedule): each join waits for the slower thread, and on a VM whose two
@@ -33,8 +34,10 @@
 /// two threads ran a 5,000-particle bed's force stage slower than one
 /// (docs/benchmarks.md).
 ///
-/// One thread gets one chunk. Its forces are the same sums in row order, so a 1-thread
-/// run differs from a threaded one by round-off.
+/// Why one thread runs the same chunks, not one chunk over all rows (the design until
+/// 2026-11-29): a 1-thread run then summed in row order and differed from a threaded one
+/// by round-off. With the same plan it gives the threaded runs' bits, and it measured no
+/// slower (docs/benchmarks.md).
 #include <atomic>
 #include <cstdint>
 #include <span>
@@ -57,8 +60,8 @@ class PairLoopPartition {
   /// Pairs per chunk wanted before the reach stretches the chunks [-].
   static constexpr std::uint64_t kPairsPerChunk = 512;
 
-  /// Cuts rows into chunks (one when `threads` is 1).
-  void plan(std::span<const std::uint32_t> offsets, std::span<const std::uint32_t> partners, std::uint32_t threads);
+  /// Cuts rows into chunks: from the list alone, the same for any thread count.
+  void plan(std::span<const std::uint32_t> offsets, std::span<const std::uint32_t> partners);
 
   [[nodiscard]] std::uint32_t chunks() const { return static_cast<std::uint32_t>(row_begin_.size() - 1); }
   [[nodiscard]] std::size_t rowBegin(std::uint32_t chunk) const { return row_begin_[chunk]; }
