@@ -1,8 +1,8 @@
 // Checkpoints: a run continued from a checkpoint in a new World equals the run
 // that never stopped, bit for bit (every particle column, neighbour histories,
 // plane and mesh near lists and wrenches, tallies, component state), for 1 and 2
-// threads, and across them. Bad files (truncated, wrong magic or version, corrupt lengths, another
-// scene) give an InputError naming the file and section and leave the world as it was.
+// threads, and from 2 threads to 1. Bad files (truncated, wrong magic or version,
+// corrupt lengths, another scene) give an InputError naming the file and section and leave the world as it was.
 #include <algorithm>
 #include <cmath>
 #include <cstring>
