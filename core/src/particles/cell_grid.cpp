@@ -8,12 +8,18 @@
 namespace demlink::core {
 namespace {
 
-/// Median of one coordinate (robust to a few far particles, unlike the bounding box).
+/// Median of one coordinate over an even sample of at most ~kMedianSample positions
+/// (robust to a few far particles, unlike the bounding box). Why a sample: the origin only
+/// places the cell boundaries; the lists found are exact for any origin, and the full
+/// median was a fifth of the grid's build at 50,000 particles.
 double medianOf(std::span<const Vec3> positions, int axis) {
+  constexpr std::size_t kMedianSample = 4096;
+  const std::size_t stride = std::max<std::size_t>(1, positions.size() / kMedianSample);
   std::vector<double> values;
-  values.reserve(positions.size());
-  for (const Vec3& x : positions) {
-    if (std::isfinite(x[axis])) values.push_back(x[axis]);
+  values.reserve(positions.size() / stride + 1);
+  for (std::size_t i = 0; i < positions.size(); i += stride) {
+    const double x = positions[i][axis];
+    if (std::isfinite(x)) values.push_back(x);
   }
   if (values.empty()) return 0.0;
   const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
@@ -62,6 +68,49 @@ struct KeyedSlot {
   }
 };
 
+/// Sorts `keyed` (given in ascending slot order; keys from CellGrid::pack) by key, then
+/// slot. Where the box of the keys' cells holds at most kDenseCellsPerSlot cells per slot
+/// (a bed, a column), a stable counting sort over that box: linear, and ~5x faster than
+/// the comparison sort at 50,000 particles; otherwise (far outliers) the comparison sort.
+/// Both give the same order.
+void sortByCell(std::vector<KeyedSlot>& keyed) {
+  constexpr std::uint64_t kDenseCellsPerSlot = 4;
+  if (keyed.size() < 2) return;
+  std::array<std::int64_t, 3> lo = CellGrid::unpack(keyed.front().key);
+  std::array<std::int64_t, 3> hi = lo;
+  for (const KeyedSlot& k : keyed) {
+    const auto c = CellGrid::unpack(k.key);
+    for (int d = 0; d < 3; ++d) {
+      lo[d] = std::min(lo[d], c[d]);
+      hi[d] = std::max(hi[d], c[d]);
+    }
+  }
+  const std::uint64_t limit = kDenseCellsPerSlot * keyed.size() + 64;
+  std::array<std::uint64_t, 3> extent{};
+  std::uint64_t cells = 1;
+  for (int d = 0; d < 3; ++d) {
+    extent[d] = static_cast<std::uint64_t>(hi[d] - lo[d]) + 1;
+    cells *= extent[d];
+    if (cells > limit) {  // checked per axis: no overflow
+      std::sort(keyed.begin(), keyed.end());
+      return;
+    }
+  }
+  // The dense index grows with the key (z slowest, x fastest, as pack()).
+  const auto denseIndex = [&](std::uint64_t key) {
+    const auto c = CellGrid::unpack(key);
+    return (static_cast<std::uint64_t>(c[2] - lo[2]) * extent[1] + static_cast<std::uint64_t>(c[1] - lo[1])) *
+               extent[0] +
+           static_cast<std::uint64_t>(c[0] - lo[0]);
+  };
+  std::vector<std::uint32_t> start(cells + 1, 0);
+  for (const KeyedSlot& k : keyed) ++start[denseIndex(k.key) + 1];
+  for (std::uint64_t c = 0; c < cells; ++c) start[c + 1] += start[c];
+  std::vector<KeyedSlot> sorted(keyed.size());
+  for (const KeyedSlot& k : keyed) sorted[start[denseIndex(k.key)]++] = k;
+  keyed.swap(sorted);
+}
+
 }  // namespace
 
 std::array<std::int64_t, 3> CellGrid::coords(const Level& l, const Vec3& x) const {
@@ -80,8 +129,29 @@ void CellGrid::build(std::span<const Vec3> positions, std::span<const double> ra
   const std::size_t n = positions.size();
   origin_ = Vec3(medianOf(positions, 0), medianOf(positions, 1), medianOf(positions, 2));
   double smallest = 0.0;
+  double largestFinite = 0.0;
   for (const double r : radii) {
     if (r > 0.0 && std::isfinite(r)) smallest = smallest > 0.0 ? std::min(smallest, r) : r;
+    if (std::isfinite(r)) largestFinite = std::max(largestFinite, r);
+  }
+  levels_.clear();
+  const auto addLevel = [&](double largest) {
+    Level& l = levels_.emplace_back();
+    const double edge = 2.0 * largest + skin;
+    l.cell_size = edge > 0.0 && std::isfinite(edge) ? edge : 1.0;
+    l.inv_cell_size = 1.0 / l.cell_size;
+    l.partner_reach = largest + skin;
+  };
+  // Every radius within a factor 2 of the smallest (a monodisperse or narrow bed): one
+  // level, without the per-slot classes below (fl(r / smallest) grows with r, so every
+  // class is 0 when the largest's is).
+  if (n > 0 && (smallest == 0.0 || largestFinite / smallest < 2.0)) {
+    addLevel(largestFinite);
+    level_of_slot_.assign(n, 0);
+    std::vector<std::uint32_t> all(n);
+    for (std::size_t i = 0; i < n; ++i) all[i] = static_cast<std::uint32_t>(i);
+    buildLevel(levels_.front(), positions, all);
+    return;
   }
   // Radius class of every slot; radii that are not positive and finite join the smallest.
   std::array<double, kMaxLevels> largest{};
@@ -98,15 +168,10 @@ void CellGrid::build(std::span<const Vec3> positions, std::span<const double> ra
     ++members[k];
   }
   std::array<std::uint8_t, kMaxLevels> levelOfClass{};
-  levels_.clear();
   for (int k = 0; k < kMaxLevels; ++k) {
     if (members[k] == 0) continue;
     levelOfClass[k] = static_cast<std::uint8_t>(levels_.size());
-    Level& l = levels_.emplace_back();
-    const double edge = 2.0 * largest[k] + skin;
-    l.cell_size = edge > 0.0 && std::isfinite(edge) ? edge : 1.0;
-    l.inv_cell_size = 1.0 / l.cell_size;
-    l.partner_reach = largest[k] + skin;
+    addLevel(largest[k]);
   }
   level_of_slot_.resize(n);
   std::vector<std::vector<std::uint32_t>> slotsOf(levels_.size());
@@ -123,7 +188,7 @@ void CellGrid::buildLevel(Level& l, std::span<const Vec3> positions, std::span<c
     const auto c = coords(l, positions[members[k]]);
     keyed[k] = {pack(c[0], c[1], c[2]), members[k]};
   }
-  std::sort(keyed.begin(), keyed.end());
+  sortByCell(keyed);
   l.keys.clear();
   l.start.clear();
   l.slots.resize(keyed.size());
@@ -203,7 +268,7 @@ std::vector<std::uint32_t> CellGrid::spatialOrder(std::span<const Vec3> position
   for (std::size_t i = 0; i < n; ++i) {
     keyed[i] = {pack(cellOf(i, axis[0]), cellOf(i, axis[1]), cellOf(i, axis[2])), static_cast<std::uint32_t>(i)};
   }
-  std::sort(keyed.begin(), keyed.end());
+  sortByCell(keyed);
   order.reserve(keyed.size());
   for (const KeyedSlot& k : keyed) order.push_back(k.slot);
   return order;

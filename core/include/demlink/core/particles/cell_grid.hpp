@@ -11,8 +11,9 @@
 /// the small ones large.
 ///
 /// Sparse cells: a cell is the key of its integer coordinates relative to the
-/// particles' median position, particles are sorted by key, and an open-addressing
-/// hash finds a cell's particles. Only occupied cells cost memory or time, so a
+/// particles' median position (of an even sample of at most ~4,096), particles are
+/// sorted by key (a counting sort where the occupied box of cells is dense), and an
+/// open-addressing hash finds a cell's particles. Only occupied cells cost memory or time, so a
 /// particle far from the rest (no domain bounds) neither grows the cells nor
 /// allocates the empty space in between. Coordinates saturate at +-2^20 cells from
 /// the median: beyond that, particles share the border cells (slower, still exact,
@@ -45,6 +46,16 @@ class CellGrid {
 
   /// Integer coordinates of a cell of one level.
   using CellCoords = std::array<std::int64_t, 3>;
+  /// A cell's key: its coordinates (each in [0, kCoordLimit)), z slowest, x fastest.
+  static std::uint64_t pack(std::int64_t x, std::int64_t y, std::int64_t z) {
+    return (static_cast<std::uint64_t>(z) << (2 * kCoordBits)) | (static_cast<std::uint64_t>(y) << kCoordBits) |
+           static_cast<std::uint64_t>(x);
+  }
+  static std::array<std::int64_t, 3> unpack(std::uint64_t key) {
+    const std::uint64_t m = kCoordLimit - 1;
+    return {static_cast<std::int64_t>(key & m), static_cast<std::int64_t>((key >> kCoordBits) & m),
+            static_cast<std::int64_t>(key >> (2 * kCoordBits))};
+  }
   /// The occupied cells of a block of at most 3 x 3 x 3: per row (dz, dy), the indices
   /// [first, last) of its occupied cells (see nearCells()).
   struct NearCells {
@@ -219,15 +230,6 @@ class CellGrid {
   static constexpr std::uint64_t kOccupancyBitsPerCell = 64;
 
   [[nodiscard]] std::array<std::int64_t, 3> coords(const Level& l, const Vec3& x) const;
-  static std::uint64_t pack(std::int64_t x, std::int64_t y, std::int64_t z) {
-    return (static_cast<std::uint64_t>(z) << (2 * kCoordBits)) | (static_cast<std::uint64_t>(y) << kCoordBits) |
-           static_cast<std::uint64_t>(x);
-  }
-  static std::array<std::int64_t, 3> unpack(std::uint64_t key) {
-    const std::uint64_t m = kCoordLimit - 1;
-    return {static_cast<std::int64_t>(key & m), static_cast<std::int64_t>((key >> kCoordBits) & m),
-            static_cast<std::int64_t>(key >> (2 * kCoordBits))};
-  }
   /// Every bit of the key reaches the low bits the table uses (MurmurHash3's 64-bit
   /// finaliser). A multiply alone moves information only upwards: its bits 17 and up, the
   /// old hash, never saw z, so all cells of one (x, y) column shared a probe chain, and a
