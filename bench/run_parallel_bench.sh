@@ -14,7 +14,9 @@
 #            by the workers, spin-then-block waits that ended spinning / blocked / were refused).
 #            --n 50000 --steps 300 shows the scaling of a long step. The cache-line hand-over
 #            round trip between the two CPUs (demlink-bench-host) is printed before and after
-#            the idle runs: the speed-up depends on it.
+#            the idle runs: the speed-up depends on it. Then two one-thread runs at once (two
+#            processes): what the host gives two cores of independent work, the ceiling of
+#            the speed-up.
 #   sizes    generated beds of N spheres (demlink-bench-deposition --generate N): mono,
 #            ratio10 (1:10) and cont5 (continuous 1:5), 1 thread, alternating, K runs each;
 #            median particle-steps/s and the ratio to mono (target >= 0.8); bytes per particle.
@@ -30,7 +32,7 @@ set -euo pipefail
 
 script_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 repo=$(cd "$script_dir/.." && pwd)
-usage() { sed -n '4,25p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2; exit 2; }
+usage() { sed -n '4,27p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2; exit 2; }
 
 part=all; n=5000; steps=3000; runs=3; big_n=1000000; big_steps=5
 while (($#)); do
@@ -102,6 +104,25 @@ pinned_round() {
   echo "threads/pinned: faster CPU's median $fastest s; t_fast/t2 = $(awk -v a="$fastest" -v b="$1" 'BEGIN { printf "%.2f", a / b }')"
 }
 
+# together_round T1: K rounds of two one-thread runs started at once (two processes). Their
+# time against the one-thread median T1 is what the host gives two cores of independent
+# work, the ceiling of any two-thread speed-up: 2 * T1 / (the slower of the pair).
+together_round() {
+  local slower=()
+  for ((k = 1; k <= runs; ++k)); do
+    local a=$work/par_threads_together_a_$k.log b=$work/par_threads_together_b_$k.log
+    "$bench" --generate "$n" --sizes mono --steps "$steps" --thermo 0 --threads 1 > "$a" &
+    local pid=$!
+    "$bench" --generate "$n" --sizes mono --steps "$steps" --thermo 0 --threads 1 > "$b"
+    wait "$pid"
+    slower+=("$(printf '%s\n' "$(field wall_seconds "$a")" "$(field wall_seconds "$b")" | sort -g | tail -1)")
+  done
+  local m
+  m=$(printf '%s\n' "${slower[@]}" | median)
+  echo "threads/together: two one-thread runs at once, the slower of each pair ${slower[*]} s (median $m)"
+  awk -v a="$1" -v b="$m" 'BEGIN { printf "threads/together: the host gives independent work 2 * t1 / t_pair = %.2f (ceiling of t1/t2)\n", 2 * a / b }'
+}
+
 if [[ "$part" == threads || "$part" == all ]]; then
   echo "load before the threads part: $(uptime)"
   # The speed-up follows where the VM's two vCPUs sit: on the AMD EPYC VM single runs
@@ -111,6 +132,7 @@ if [[ "$part" == threads || "$part" == all ]]; then
   handover before
   threads_round asis
   pinned_round "$(printf '%s\n' $(for ((k = 1; k <= runs; ++k)); do field wall_seconds "$work/par_threads_asis_2_$k.log"; done) | median)"
+  together_round "$(printf '%s\n' $(for ((k = 1; k <= runs; ++k)); do field wall_seconds "$work/par_threads_asis_1_$k.log"; done) | median)"
   handover after
   yes > /dev/null &
   busy_pid=$!
