@@ -48,31 +48,38 @@ void drift(ParticleArrays& p, double dt, ThreadPool* pool) {
 
 namespace {
 
-/// kick(h) kKicks times, then drift(dt), in one pass; with kClear, force and torque are
-/// zeroed after their last read (ForcesAfterKick::kCleared).
+/// kick(h) kKicks times, then drift(dt), on rows [begin, end); with kClear, force and
+/// torque are zeroed after their last read (ForcesAfterKick::kCleared).
+template <int kKicks, bool kClear>
+void kicksAndDriftRows(ParticleArrays& p, const Vec3& gravity, double h, double dt, std::size_t begin,
+                       std::size_t end) {
+  const KickColumns c(p);
+  for (std::size_t i = begin; i < end; ++i) {
+    // Each kick adds what kick() adds: the same expression, the same rounding, with
+    // every read before the first store (KickColumns).
+    const Vec3 dv = (c.force[i] * c.inv_mass[i] + gravity) * h;
+    const Vec3 dw = c.torque[i] * (c.inv_inertia[i] * h);
+    Vec3 v = c.velocity[i];
+    Vec3 w = c.angular_velocity[i];
+    for (int k = 0; k < kKicks; ++k) {
+      v += dv;
+      w += dw;
+    }
+    if constexpr (kClear) {
+      c.force[i].setZero();
+      c.torque[i].setZero();
+    }
+    c.velocity[i] = v;
+    c.angular_velocity[i] = w;
+    c.position[i] += v * dt;
+  }
+}
+
+/// kicksAndDriftRows over all particles, in parallel chunks.
 template <int kKicks, bool kClear>
 void kicksAndDrift(ParticleArrays& p, const Vec3& gravity, double h, double dt, ThreadPool* pool) {
   parallelChunks(pool, p.size(), [&p, gravity, h, dt](std::size_t begin, std::size_t end) {
-    const KickColumns c(p);
-    for (std::size_t i = begin; i < end; ++i) {
-      // Each kick adds what kick() adds: the same expression, the same rounding, with
-      // every read before the first store (KickColumns).
-      const Vec3 dv = (c.force[i] * c.inv_mass[i] + gravity) * h;
-      const Vec3 dw = c.torque[i] * (c.inv_inertia[i] * h);
-      Vec3 v = c.velocity[i];
-      Vec3 w = c.angular_velocity[i];
-      for (int k = 0; k < kKicks; ++k) {
-        v += dv;
-        w += dw;
-      }
-      if constexpr (kClear) {
-        c.force[i].setZero();
-        c.torque[i].setZero();
-      }
-      c.velocity[i] = v;
-      c.angular_velocity[i] = w;
-      c.position[i] += v * dt;
-    }
+    kicksAndDriftRows<kKicks, kClear>(p, gravity, h, dt, begin, end);
   });
 }
 
@@ -97,6 +104,11 @@ void kickAndDrift(ParticleArrays& p, const Vec3& gravity, double h, double dt, T
 void kickTwiceAndDrift(ParticleArrays& p, const Vec3& gravity, double h, double dt, ThreadPool* pool,
                        ForcesAfterKick after) {
   withForcesAfter(after, [&]<bool kClear>() { kicksAndDrift<2, kClear>(p, gravity, h, dt, pool); });
+}
+
+void kickTwiceAndDriftRows(ParticleArrays& p, const Vec3& gravity, double h, double dt, std::size_t begin,
+                           std::size_t end) {
+  kicksAndDriftRows<2, true>(p, gravity, h, dt, begin, end);
 }
 
 void explicitEulerStep(ParticleArrays& p, const Vec3& gravity, double dt, ThreadPool* pool) {

@@ -1,5 +1,6 @@
 // The pair loop's plan: chunks of one parity never touch the same slot, every
-// row belongs to exactly one chunk, and the cut depends on the list alone.
+// row belongs to exactly one chunk, the cut depends on the list alone, and a row is
+// done (no chunk touches it again) where rowsDoneAfter says.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -198,6 +199,40 @@ TEST(PairLoopPartition, RunGivesEveryChunkOnceAndNeverTwoThatTouchOneSlot) {
       });
       for (std::uint32_t c = 0; c < plan.chunks(); ++c) ASSERT_EQ(ran[c].load(), 1) << "chunk " << c;
       ASSERT_EQ(overlaps.load(), 0) << threads << " threads, repeat " << repeat;
+    }
+  }
+}
+
+TEST(PairLoopPartition, RowsDoneAfterAChunkAreTouchedByNoLaterChunk) {
+  // The pair loop kicks and drifts rowsDoneAfter(c) as soon as chunk c has run
+  // (World::computeForces): no chunk may touch such a row afterwards, and every row must
+  // be kicked exactly once. Each chunk checks the slots it touches against the rows
+  // done so far, then marks its own done rows, as the pair loop does.
+  for (const std::uint32_t span : {60u, 120u}) {
+    const HalfList list = randomHalfList(6000, span, 3, 21 + span);
+    const PairLoopPartition plan = planOf(list);
+    ASSERT_GE(plan.chunks(), 8u);
+    const std::size_t rows = list.offsets.size() - 1;
+    for (const std::uint32_t threads : {1u, 2u, 3u}) {
+      ThreadPool pool(threads);
+      PairLoopPartition run = plan;
+      for (int repeat = 0; repeat < 10; ++repeat) {
+        const auto done = std::make_unique<std::atomic<int>[]>(rows);
+        std::atomic<int> late{0};
+        run.run(&pool, [&](std::uint32_t c) {
+          for (std::size_t i = plan.rowBegin(c); i < plan.rowEnd(c); ++i) {
+            if (done[i].load() != 0) late.fetch_add(1);
+            for (std::uint32_t m = list.offsets[i]; m < list.offsets[i + 1]; ++m) {
+              if (done[list.partners[m]].load() != 0) late.fetch_add(1);
+            }
+          }
+          std::this_thread::yield();
+          const auto [begin, end] = plan.rowsDoneAfter(c);
+          for (std::size_t i = begin; i < end; ++i) done[i].fetch_add(1);
+        });
+        ASSERT_EQ(late.load(), 0) << threads << " threads, repeat " << repeat;
+        for (std::size_t i = 0; i < rows; ++i) ASSERT_EQ(done[i].load(), 1) << "row " << i;
+      }
     }
   }
 }

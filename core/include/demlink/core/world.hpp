@@ -331,6 +331,10 @@ class World {
   bool kick_deferrable_ = false;  ///< advance() may owe half kicks (selectStepStages)
   bool forces_cleared_ = false;   ///< this step's first kick left force and torque zero (firstKickAndDrift)
   bool half_kick_owed_ = false;   ///< the last step left its second half kick to the next one
+  /// This step's pair loop runs the second half kick and the next step's first kick and
+  /// drift, chunk by chunk (stepOnce says when; computeForces).
+  bool next_kick_in_forces_ = false;
+  bool first_kick_done_ = false;  ///< the last step's pair loop ran this step's first kick
   std::uint64_t fused_kicks_ = 0;
   void (World::*compute_forces_)() = nullptr;
   bool rolling_active_ = false;

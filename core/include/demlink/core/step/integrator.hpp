@@ -27,6 +27,11 @@ void kickAndDrift(ParticleArrays& p, const Vec3& gravity, double h, double dt, T
 /// the same bits, with one stream over the particles instead of two.
 void kickTwiceAndDrift(ParticleArrays& p, const Vec3& gravity, double h, double dt, ThreadPool* pool = nullptr,
                        ForcesAfterKick after = ForcesAfterKick::kKept);
+/// kickTwiceAndDrift(..., ForcesAfterKick::kCleared) on rows [begin, end) only, on the
+/// calling thread (the pair loop runs it on the rows its chunks have finished:
+/// World::computeForces).
+void kickTwiceAndDriftRows(ParticleArrays& p, const Vec3& gravity, double h, double dt, std::size_t begin,
+                           std::size_t end);
 /// Paper eqs. 14-17: positions advance with the OLD velocities, then velocities
 /// with the old accelerations.
 void explicitEulerStep(ParticleArrays& p, const Vec3& gravity, double dt, ThreadPool* pool = nullptr);

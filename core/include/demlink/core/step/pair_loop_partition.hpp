@@ -38,9 +38,11 @@
 /// 2026-11-29): a 1-thread run then summed in row order and differed from a threaded one
 /// by round-off. With the same plan it gives the threaded runs' bits, at a one-thread
 /// speed within 1.5 % of the single chunk's (A/B medians 1.00-1.013; docs/benchmarks.md).
+#include <algorithm>
 #include <atomic>
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "demlink/core/math_types.hpp"
@@ -80,6 +82,17 @@ class PairLoopPartition {
   /// even neighbours, by the thread that ran that one. Not reentrant.
   template <class Body>
   void run(ThreadPool* pool, const Body& body);
+
+  /// Rows [first, second) that no chunk touches any more once chunk `chunk` has run in
+  /// run(), so their forces are final: chunk c's rows are touched by chunks c - 1 and c
+  /// only, so chunk 0's rows are done after chunk 0, and an odd chunk's rows and the next
+  /// chunk's after the odd chunk (which runs after both its even neighbours). Empty for
+  /// the other even chunks. Every row is in exactly one chunk's range.
+  [[nodiscard]] std::pair<std::size_t, std::size_t> rowsDoneAfter(std::uint32_t chunk) const {
+    if (chunk == 0) return {rowBegin(0), rowEnd(0)};
+    if (chunk % 2 == 0) return {rowBegin(chunk), rowBegin(chunk)};
+    return {rowBegin(chunk), rowEnd(std::min(chunk + 1, chunks() - 1))};
+  }
 
   /// Before chunk `chunk`'s pairs run: with `clear`, an even chunk zeroes force and torque
   /// of its own rows and of the next chunk's (without, they are zero already). Says where
