@@ -718,10 +718,11 @@ void World::computeForces() {
           p, planes_[w], pair_table_, dt, begin, end, recording(ContactKind::kPlane, w, nullptr));
     }
   };
-  // The next step's first kick in the chunks (stepOnce): only where every force of a
-  // row is final when its chunks are, i.e. the chunks add the planes too, every slot has
-  // rows, and no mesh or deformable surface adds forces after the loop.
-  const bool kickInChunks = next_kick_in_forces_ && planesInChunks && chunks > 0 &&
+  // The next step's first kick in the chunks (stepOnce; consumed here, so no evaluation
+  // outside a step sees it): only where every force of a row is final when its chunks
+  // are, i.e. the chunks add the planes too, every slot has rows, and no mesh or
+  // deformable surface adds forces after the loop.
+  const bool kickInChunks = std::exchange(next_kick_in_forces_, false) && planesInChunks && chunks > 0 &&
                             parts.rowEnd(chunks - 1) == p.size() && meshes_.empty() && deformables_.empty();
   const Vec3 gravity = state_.gravity;
   parts.run(pool, [&](std::uint32_t chunk) {
