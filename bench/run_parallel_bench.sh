@@ -106,7 +106,9 @@ pinned_round() {
 
 # together_round T1: K rounds of two one-thread runs started at once (two processes). Their
 # time against the one-thread median T1 is what the host gives two cores of independent
-# work, the ceiling of any two-thread speed-up: 2 * T1 / (the slower of the pair).
+# work, the ceiling of any two-thread speed-up: 2 * T1 / (the slower of the pair). For
+# small working sets only: at 50,000 spheres two copies compete for the cache that two
+# threads share (it read 1.54 while two threads gave 2.00).
 together_round() {
   local slower=()
   for ((k = 1; k <= runs; ++k)); do
