@@ -457,13 +457,14 @@ void World::payOwedHalfKick() {
 void World::stepOnce(bool mayOweKick) {
   forces_cleared_ = false;
   StepContext context{settings_.time_step, state_.step_count, pool_.get()};
-  context.may_owe_kick = mayOweKick;
+  // The watchdog inspects the step's end after advance_clock: the count is one on then.
+  context.may_owe_kick = mayOweKick && !watchdogInspects(state_.step_count + 1);
   // A step that would owe its second half kick to the next one (secondHalfKick) may as
   // well pay it, with the next step's first kick and drift, inside its pair loop: each
   // chunk then kicks the rows it has just finished while they are in its thread's cache,
   // instead of a pass of its own over every column at the next step's start. The same
   // additions in the same order, so the same bits (Determinism tests).
-  next_kick_in_forces_ = mayOweKick && !state_.frame_moving && !watchdogInspects(state_.step_count + 1);
+  next_kick_in_forces_ = context.may_owe_kick && !state_.frame_moving;
   force_step_ = state_.step_count + 1;  // the forces of a step belong to its end
   force_weight_ = settings_.time_step;
   const std::uint64_t weight = stage_timing_ ? stageTimingWeight(state_.step_count) : 0;
@@ -644,9 +645,8 @@ void World::armRebuildGuard() {
 }
 
 void World::secondHalfKick(const StepContext& context) {
-  // The watchdog inspects the step's end after advance_clock: the count is one on then.
   if (first_kick_done_) return;  // paid in the pair loop, with the next step's first kick
-  if (context.may_owe_kick && !watchdogInspects(state_.step_count + 1)) {
+  if (context.may_owe_kick) {
     half_kick_owed_ = true;
     return;
   }

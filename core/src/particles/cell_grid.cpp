@@ -8,10 +8,10 @@
 namespace demlink::core {
 namespace {
 
-/// Median of one coordinate over an even sample of at most ~kMedianSample positions
-/// (robust to a few far particles, unlike the bounding box). Why a sample: the origin only
-/// places the cell boundaries; the lists found are exact for any origin, and the full
-/// median was a fifth of the grid's build at 50,000 particles.
+/// Median of one coordinate over every (n / kMedianSample)-th position, 4,096 to 8,191
+/// of them once n >= 4,096 (robust to a few far particles, unlike the bounding box). Why
+/// a sample: the origin only places the cell boundaries; the lists found are exact for
+/// any origin, and the full median was a fifth of the grid's build at 50,000 particles.
 double medianOf(std::span<const Vec3> positions, int axis) {
   constexpr std::size_t kMedianSample = 4096;
   const std::size_t stride = std::max<std::size_t>(1, positions.size() / kMedianSample);

@@ -11,7 +11,7 @@
 /// the small ones large.
 ///
 /// Sparse cells: a cell is the key of its integer coordinates relative to the
-/// particles' median position (of an even sample of at most ~4,096), particles are
+/// particles' median position (of every (n / 4,096)-th particle), particles are
 /// sorted by key (a counting sort where the occupied box of cells is dense), and an
 /// open-addressing hash finds a cell's particles. Only occupied cells cost memory or time, so a
 /// particle far from the rest (no domain bounds) neither grows the cells nor

@@ -60,7 +60,8 @@ struct StepContext {
   /// then rebuilds).
   bool mesh_moved_far = false;
   /// The step may leave its second half kick owed to the next step's first kick
-  /// (World::advance: another step follows, and nothing between them reads velocities).
+  /// (World::advance: another step follows, nothing between them reads velocities, and
+  /// the watchdog does not inspect this step's end).
   bool may_owe_kick = false;
 };
 
