@@ -1,7 +1,7 @@
 /// demlink-bench-host: what this machine gives a second thread, measured on the kinds of
 /// work a DEM step is made of. The thread targets (two threads >= 1.8x one on two idle
 /// cores) assume a second core that doubles every kind of work; a virtual machine's two
-/// CPUs may not (docs/benchmarks.md, "What the host gives a second thread").
+/// CPUs may not (docs/benchmarks.md, "Threads, size distributions, memory").
 ///
 /// For one and for two threads (each pinned to its own CPU when the process may use two),
 /// each thread working on its own data, it reports every thread's throughput and the
