@@ -14,8 +14,8 @@
 
 #include <asio.hpp>
 
-#include "demlink/core/step/spin_history.hpp"
-#include "demlink/core/step/spin_wait.hpp"
+#include "demlink/core/parallel/spin_history.hpp"
+#include "demlink/core/parallel/spin_wait.hpp"
 #include "demlink/v1/protocol.pb.h"
 #include "demlink/wire/frame_codec.hpp"
 

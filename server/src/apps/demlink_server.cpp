@@ -31,7 +31,7 @@
 #include "demlink/core/input_error.hpp"
 #include "demlink/server/backend/simulation_backend.hpp"
 #ifdef DEMLINK_HAS_LIGGGHTS
-#include "demlink/server/backend/cosim_lockstep.hpp"
+#include "demlink/server/cosim/cosim_lockstep.hpp"
 #include "demlink/server/backend/liggghts_backend.hpp"
 #endif
 #include "demlink/server/cosim/cosim_host.hpp"

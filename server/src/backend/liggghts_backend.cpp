@@ -33,7 +33,7 @@
 #include "demlink/server/backend/liggghts_script.hpp"
 #include "demlink/server/run/frame_series.hpp"
 #include "demlink/server/run/output_directory.hpp"
-#include "demlink/server/run/particle_csv.hpp"
+#include "demlink/server/scene/particle_csv.hpp"
 #include "demlink/server/run/run_driver.hpp"
 
 namespace demlink::server {

@@ -11,7 +11,7 @@
 #include "connection.hpp"
 #include "demlink/core/input_error.hpp"
 #include "demlink/core/log_text.hpp"
-#include "demlink/core/step/spin_history.hpp"
+#include "demlink/core/parallel/spin_history.hpp"
 
 namespace demlink::server {
 namespace {

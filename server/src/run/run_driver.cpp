@@ -13,7 +13,7 @@
 #include "demlink/core/step/interval_steps.hpp"
 #include "demlink/server/run/contact_output_plan.hpp"
 #include "demlink/server/run/output_directory.hpp"
-#include "demlink/server/run/particle_csv.hpp"
+#include "demlink/server/scene/particle_csv.hpp"
 
 namespace demlink::server {
 namespace {

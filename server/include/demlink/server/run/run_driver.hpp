@@ -31,7 +31,7 @@
 #include "demlink/server/run/deformable_series.hpp"
 #include "demlink/server/run/frame_series.hpp"
 #include "demlink/server/run/run_log.hpp"
-#include "demlink/server/run/run_options.hpp"
+#include "demlink/server/scene/run_options.hpp"
 
 namespace demlink::server {
 
