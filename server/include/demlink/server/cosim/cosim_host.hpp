@@ -116,9 +116,6 @@ class CosimHost final : public SessionHandler {
   /// The pending simulation ends with TIMEOUT to its clients, as poll() does after the
   /// assembly timeout (the session replay calls it at a recorded ASSEMBLY_TIMEOUT marker).
   std::vector<Outgoing> expireAssemblyNow(SteadyClock::time_point now);
-  /// The output directory of the running (or, after it ended, the last) simulation; empty
-  /// before the first compile.
-  [[nodiscard]] std::filesystem::path lastOutputDirectory() const;
   /// The running simulation's world, for tests and in-process drivers; null when none runs.
   [[nodiscard]] const core::World* world() const;
   /// The running simulation (components, couplings, scheduler); null when none runs.
