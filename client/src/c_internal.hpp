@@ -31,6 +31,7 @@ struct Client {
   Connection connection;
   std::unique_ptr<Session> session;
   double timeout_s = 30.0;
+  int exchange_order = DL_ORDER_SEND_FIRST;  ///< of the typed exchange calls (dl_set_exchange_order)
   std::string address;  ///< host:port connected to
   std::string last_error;
   int server_code = 0;
