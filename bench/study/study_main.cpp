@@ -416,9 +416,9 @@ int main(int argc, char** argv) {
   const std::vector<std::uint64_t> intervals = smoke ? std::vector<std::uint64_t>{1, 10}
                                                      : std::vector<std::uint64_t>{1, 10, 100, 300, 1000};
   const std::vector<double> masses = smoke ? std::vector<double>{0.2} : std::vector<double>{0.02, 0.2, 2.0};
-  for (ClientOrder order : {ClientOrder::Exchange, ClientOrder::ReceiveThenSend}) {
+  for (ClientOrder order : {ClientOrder::SendFirst, ClientOrder::ReceiveFirst}) {
     if (skipCoupling) break;
-    if (smoke && order == ClientOrder::ReceiveThenSend) continue;
+    if (smoke && order == ClientOrder::ReceiveFirst) continue;
     for (double m : masses) {
       for (std::uint64_t n : intervals) cases.push_back({n, m, order});
     }
