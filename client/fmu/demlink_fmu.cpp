@@ -5,7 +5,7 @@
 /// DataPackage exchange per fmi2DoStep(t, h). In the default order (send first) it sends
 /// the inputs set for t, then receives the outputs of [t, t + h]: after the step the
 /// outputs are those at t + h, as FMI 2.0 Co-Simulation defines them. The receive-first
-/// order (configuration `exchange_order receive_first`) receives [t - h, t] before sending:
+/// order (configuration `exchange_order = receive_first`) receives [t - h, t] before sending:
 /// one interval of lag, but a master that steps several DEMLink FMUs of one server in one
 /// thread needs it (each send-first step waits for the other FMUs' inputs; docs/fmi.md).
 /// Nothing waits for Compiled before the first step, so initializing several FMUs of one

@@ -377,14 +377,12 @@ FmuConfig parseConfig(std::string_view text) {
       sections.push_back(std::move(s));
       continue;
     }
-    const std::size_t eq = content.find('=');
-    if (eq == std::string::npos) {
-      if (content.rfind("component ", 0) == 0) {
-        bad(line, "component", content.substr(10),
-            "the positional form is gone: write [KIND NAME] and one `field = value` per line (docs/fmi.md)");
-      }
-      bad(line, "line", content, "expected `field = value` or [KIND NAME]");
+    if (content.rfind("component ", 0) == 0) {
+      bad(line, "component", content.substr(10),
+          "the positional form is gone: write [KIND NAME] and one `field = value` per line (docs/fmi.md)");
     }
+    const std::size_t eq = content.find('=');
+    if (eq == std::string::npos) bad(line, "line", content, "expected `field = value` or [KIND NAME]");
     const std::string key = trim(content.substr(0, eq));
     const std::string value = trim(content.substr(eq + 1));
     if (!sections.empty()) {

@@ -126,6 +126,29 @@ void requireAloneAtItsStep(Session& session, const Component& component) {
   }
 }
 
+/// True when the answer in flight for `component` ends at the next step the world advances
+/// to: the nearest step where any component of the simulation is due (Compiled's
+/// all_components; this client's own when the server lists none). Only then can the
+/// split order's second call wait for it: a component with a longer interval than the
+/// fastest one gets its answer while the faster ones step on, and receives it at its next
+/// sample's first call instead.
+bool answerEndsThisRound(Session& session, const Component& component) {
+  const std::uint64_t sent = component.nextSendStep();
+  const std::uint64_t start = session.compiled().start_step();
+  std::uint64_t next = 0;
+  const auto consider = [&](std::uint64_t interval) {
+    if (interval == 0) return;
+    const std::uint64_t candidate = start + ((sent - start) / interval + 1) * interval;
+    if (next == 0 || candidate < next) next = candidate;
+  };
+  if (session.compiled().all_components_size() > 0) {
+    for (const v1::CompiledComponent& c : session.compiled().all_components()) consider(c.interval_steps());
+  } else {
+    for (std::size_t i = 0; i < session.size(); ++i) consider(session.component(i).intervalSteps());
+  }
+  return sent + component.intervalSteps() == next;
+}
+
 /// One typed exchange call in the client's order (demlink_c.h, "Exchange orders"):
 /// setInputs() stores the call's inputs on the component, readOutputs() copies its latest
 /// outputs to the caller.
@@ -148,14 +171,19 @@ int exchangeStep(Client& c, Component& component, Read&& readOutputs, Write&& se
       sendIfDue(session, component);
       return DL_OK;
     case DL_ORDER_SEND_FIRST_SPLIT:
-      if (component.awaitingAnswer()) {  // the sample's second call
-        if (!session.receive(component)) return finished();
-      } else {  // the first: the outputs stay those of the previous sample
+      if (c.split_sent.contains(&component)) {  // the sample's second call
+        c.split_sent.erase(&component);
+        if (component.awaitingAnswer() && answerEndsThisRound(session, component) && !session.receive(component)) {
+          return finished();
+        }
+      } else {  // the first: an answer that ended since the last sample, then the inputs at t
+        if (component.awaitingAnswer() && !session.receive(component)) return finished();
         setInputs();
         if (!sendIfDue(session, component)) {
           session.waitFinished();
           return finished();
         }
+        c.split_sent.insert(&component);
       }
       readOutputs();
       return DL_OK;

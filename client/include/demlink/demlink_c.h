@@ -33,7 +33,10 @@
  *    components (and clients) stepped by one thread, e.g. a Modelica model: the sample's
  *    first call sends the inputs at t_k (its outputs stay those of the previous sample);
  *    once EVERY component of the thread has made its first call, each one's second call
- *    receives and returns [t_k, t_k + h] (its inputs are not used).
+ *    receives and returns [t_k, t_k + h] (its inputs are not used). A component whose
+ *    interval is longer than the simulation's shortest gets its answer only while the
+ *    faster ones step on: its second call keeps the outputs, and the first call of its
+ *    next sample receives the interval that ended there before sending.
  *  - DL_ORDER_RECEIVE_FIRST: one call that receives the interval that ENDED at t_k (at the
  *    first call: the initial outputs of Compiled), then sends the inputs at t_k. Never
  *    waits for a component that has not run yet, in any call order, but the outputs lag
