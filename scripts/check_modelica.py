@@ -11,7 +11,7 @@ problem (2 on a usage error). The rules:
 1. Files: every .mo file parses; its `within` names the package of its directory; it
    holds one class, named as the file (package.mo: as the directory); a class ends with
    its own name; package.order lists every class and constant of its package exactly
-   once and nothing else.
+   once and nothing else, the classes defined in package.mo itself in their order there.
 2. References: every name used as a base class (extends), a component's type, a short
    class's base or a called function resolves (see scripts/modelica/package_model.py for
    the lookup) to a class of the package, a predefined type, a built-in function or a
@@ -123,6 +123,7 @@ class Checker:
         self.resolver = Resolver(package, EMPTY_EXTERNAL_BASES)
         self.headers = HeaderReader(include_dirs)
         self.problems = list(package.problems)
+        self.counts = {"calls": 0, "external C functions": 0, "connect equations": 0, "parameters": 0}
 
     def report(self, info, line, what):
         self.problems.append(Problem(info.file, line, what))
@@ -162,6 +163,7 @@ class Checker:
             class_modification = child(modification, "class_modification") if modification is not None else None
             self._check_modifiers(ctype, class_modification, info, component.name)
         for call in info.calls:
+            self.counts["calls"] += 1
             self._check_call(call, info)
 
     def _attributes(self, target):
@@ -240,6 +242,7 @@ class Checker:
             return
         if clause.language == "builtin":
             return
+        self.counts["external C functions"] += 1
         include = string_value(annotation_value(clause.annotation, "Include"))
         if include is None:
             self.report(info, clause.line, f'{info.name}: external "C" without an Include annotation: '
@@ -448,6 +451,7 @@ class Checker:
 
     def check_connects(self, info):
         for left, right, line in info.connects:
+            self.counts["connect equations"] += 1
             sides = [self._connector(left, info), self._connector(right, info)]
             bad = [s for s in sides if isinstance(s, str)]
             for text in bad:
@@ -486,14 +490,15 @@ class Checker:
         for component in info.components.values():
             if not component.prefixes & {"parameter", "constant"}:
                 continue
+            self.counts["parameters"] += 1
             mixed = annotation_value(component.annotation, "__DEMLink")
             if mixed is not None:
                 continue
             target = self.resolver.type_of(component)
             where = f"{'parameter' if 'parameter' in component.prefixes else 'constant'} {component.name}"
             if isinstance(target, External):
-                if target.name.startswith(SI_TYPES) or target.name in EXTERNAL_NON_REAL_TYPES:
-                    continue
+                if target.name.startswith((SI_TYPES, "Modelica.SIunits.")) or target.name in EXTERNAL_NON_REAL_TYPES:
+                    continue  # Modelica.SIunits: reported by the references rule
                 self.report(info, component.line, f"{where}: {component.type_name} is outside {SI_TYPES[:-1]}: "
                                                   "use an SI type or Real with unit (EXTERNAL_NON_REAL_TYPES lists "
                                                   "external types that are not Real)")
@@ -526,11 +531,13 @@ def main(argv=None):
         return 2
     include_dirs = args.include_dir or [args.package / "Resources" / "Include"]
     package = load_package(args.package)
-    problems = Checker(package, include_dirs).run()
+    checker = Checker(package, include_dirs)
+    problems = checker.run()
     for problem in problems:
         print(problem)
     classes = sum(1 for _ in package.classes()) if package.root else 0
-    print(f"check_modelica: {len(package.files)} files, {classes} classes, {len(problems)} problems")
+    counted = ", ".join(f"{n} {what}" for what, n in checker.counts.items())
+    print(f"check_modelica: {len(package.files)} files, {classes} classes ({counted}): {len(problems)} problems")
     return 1 if problems else 0
 
 

@@ -284,12 +284,12 @@ class _ClassBuilder:
 
     def _calls(self, node, info):
         for sub in walk_expressions(node):
-            if sub.data == "function_call":
-                callee = sub.children[0]
+            if sub.data in ("function_call", "call_statement", "call_equation", "multiple_assignment"):
+                callee = sub.children[-2]
                 name = reference_text(callee) if isinstance(callee, Tree) else str(callee)
                 if isinstance(callee, Tree) and child(callee, "global_prefix") is not None:
                     name = "." + name
-                info.calls.append(Call(name, sub.children[1], line_of(sub)))
+                info.calls.append(Call(name, sub.children[-1], line_of(sub)))
 
     def _elements(self, element_list, info, protected):
         for element in element_list.children:
@@ -343,7 +343,6 @@ class _ClassBuilder:
             if name in info.components or name in info.classes:
                 self.problems.append(Problem(self.file, component.line, f"{name} declared twice in {info.name}"))
             info.components[name] = component
-            self._calls(declaration_node, info)
         self._calls(clause, info)
 
 
@@ -419,6 +418,7 @@ def _load_directory(directory, parent, prefix, problems, files):
         problems.append(Problem(package_file, info.line, f"package {info.name} stored in directory {directory.name}"))
     if info.kind != "package":
         problems.append(Problem(package_file, info.line, f"package.mo defines a {info.kind}, not a package"))
+    in_package_file = list(info.classes)
     for entry in sorted(directory.iterdir()):
         if entry.is_dir() and (entry / "package.mo").is_file():
             sub = _load_directory(entry, info, info.full_name, problems, files)
@@ -447,6 +447,12 @@ def _load_directory(directory, parent, prefix, problems, files):
             problems.append(Problem(order_file, len(order) + 1,
                                     f"{name} of {info.full_name} is missing (the order of unlisted classes is "
                                     "tool-specific)"))
+        listed = [name for name in order if name in in_package_file]
+        expected = [name for name in in_package_file if name in order]
+        if listed != expected:
+            problems.append(Problem(order_file, 1, f"the classes of {package_file.name} are listed as "
+                                                   f"{', '.join(listed)}; package.mo defines them in the order "
+                                                   f"{', '.join(expected)}"))
     return info
 
 
