@@ -419,6 +419,7 @@ def _load_directory(directory, parent, prefix, problems, files):
     if info.kind != "package":
         problems.append(Problem(package_file, info.line, f"package.mo defines a {info.kind}, not a package"))
     in_package_file = list(info.classes)
+    unreadable = set()  # classes whose file did not parse (already reported): not missing
     for entry in sorted(directory.iterdir()):
         if entry.is_dir() and (entry / "package.mo").is_file():
             sub = _load_directory(entry, info, info.full_name, problems, files)
@@ -429,6 +430,7 @@ def _load_directory(directory, parent, prefix, problems, files):
         else:
             continue
         if sub is None:
+            unreadable.add(entry.stem)
             continue
         sub.parent = info
         if sub.name in info.classes:
@@ -437,7 +439,7 @@ def _load_directory(directory, parent, prefix, problems, files):
     order_file = directory / "package.order"
     if order_file.is_file():
         order = _read_order(order_file)
-        named = set(info.classes) | {n for n, c in info.components.items() if "constant" in c.prefixes}
+        named = set(info.classes) | {n for n, c in info.components.items() if "constant" in c.prefixes} | unreadable
         for index, name in enumerate(order, start=1):
             if name not in named:
                 problems.append(Problem(order_file, index, f"{name} is no class or constant of {info.full_name}"))
