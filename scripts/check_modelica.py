@@ -236,11 +236,7 @@ class Checker:
     # --- 3. external C functions ----------------------------------------------------------------
     def check_external(self, info):
         clause = info.external
-        if clause is None or info.kind != "function":
-            return
-        if clause.language not in ("C", "builtin"):
-            return
-        if clause.language == "builtin":
+        if clause is None or info.kind != "function" or clause.language != "C":
             return
         self.counts["external C functions"] += 1
         include = string_value(annotation_value(clause.annotation, "Include"))
@@ -281,8 +277,6 @@ class Checker:
                 want = self._c_type(formal, as_result=True)
                 if want is not None and not self._matches(want, prototype.result):
                     self.report(info, clause.line, f"{where}: returns {prototype.result}, {result} needs {want}")
-        elif prototype.result.base != "void" or prototype.result.depth:
-            pass  # a discarded result is allowed
         if len(args) != len(prototype.params):
             self.report(info, clause.line, f"{where}: {len(args)} arguments, {call_name} takes {len(prototype.params)} "
                                            f"({pathlib.Path(prototype.file).name}:{prototype.line})")
@@ -482,7 +476,22 @@ class Checker:
 
     @staticmethod
     def _has_unit(class_modification):
-        return any(name == "unit" for name, _, _, _ in modification_arguments(class_modification))
+        """A `unit = "..."` modifier with a non-empty string."""
+        for name, modification, _, _ in modification_arguments(class_modification):
+            inner = child(modification, "modification")
+            binding = child(inner, "binding") if inner is not None else None
+            if name == "unit" and binding is not None and string_value(binding.children[0]):
+                return True
+        return False
+
+    @staticmethod
+    def _marked_mixed(component):
+        """annotation (__DEMLink(mixedUnits = true))."""
+        vendor = annotation_value(component.annotation, "__DEMLink")
+        if not isinstance(vendor, Tree) or vendor.data != "modification":
+            return False
+        flag = annotation_value(Tree("annotation_clause", [child(vendor, "class_modification")]), "mixedUnits")
+        return isinstance(flag, Tree) and flag.data == "true"
 
     def check_units(self, info):
         if info.kind == "function":
@@ -491,8 +500,7 @@ class Checker:
             if not component.prefixes & {"parameter", "constant"}:
                 continue
             self.counts["parameters"] += 1
-            mixed = annotation_value(component.annotation, "__DEMLink")
-            if mixed is not None:
+            if self._marked_mixed(component):
                 continue
             target = self.resolver.type_of(component)
             where = f"{'parameter' if 'parameter' in component.prefixes else 'constant'} {component.name}"
