@@ -16,7 +16,10 @@ problem (2 on a usage error). The rules:
    class's base or a called function resolves (see scripts/modelica/package_model.py for
    the lookup) to a class of the package, a predefined type, a built-in function or a
    name in a library of the package's `uses` annotation (External: not resolved further,
-   except that Modelica.SIunits does not exist from Modelica 4.0.0 on). Modifiers name an
+   except that Modelica.SIunits does not exist from Modelica 4.0.0 on). Every variable
+   used in an equation, statement, binding, modifier or condition resolves the same way
+   (to a component, through the components' types, or an enumeration literal), unless
+   it is a for/comprehension iterator of the class. Modifiers name an
    element of the modified class (or an attribute of a predefined type). A call of a
    function of the package passes at most as many positional arguments as it has inputs,
    named arguments that are inputs, and every input that has no default.
@@ -123,7 +126,8 @@ class Checker:
         self.resolver = Resolver(package, EMPTY_EXTERNAL_BASES)
         self.headers = HeaderReader(include_dirs)
         self.problems = list(package.problems)
-        self.counts = {"calls": 0, "external C functions": 0, "connect equations": 0, "parameters": 0}
+        self.counts = {"calls": 0, "variable references": 0, "external C functions": 0, "connect equations": 0,
+                       "parameters": 0}
 
     def report(self, info, line, what):
         self.problems.append(Problem(info.file, line, what))
@@ -165,6 +169,12 @@ class Checker:
         for call in info.calls:
             self.counts["calls"] += 1
             self._check_call(call, info)
+        for name, line in info.references:
+            if name.split(".")[0] in info.iterators:
+                continue
+            self.counts["variable references"] += 1
+            if self.resolver.resolve(name, info) is None:
+                self.report(info, line, f"{name} resolves to nothing (no component, constant or enumeration literal)")
 
     def _attributes(self, target):
         """Names a modifier may use on target: None when unknown (external)."""

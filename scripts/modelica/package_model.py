@@ -41,7 +41,9 @@ linspace min max sum product transpose outerProduct symmetric cross skew cat arr
 atan2 sinh cosh tanh exp log log10 previous hold subSample superSample shiftSample backSample noClock interval
 firstTick transition initialState activeState ticksInState timeInState Clock""".split())
 BUILTIN_VARIABLES = {"time"}
-BUILTIN_PACKAGES = {"Connections": {"branch", "root", "potentialRoot", "isRoot", "rooted"}}
+BUILTIN_PACKAGES = {"Connections": {"branch", "root", "potentialRoot", "isRoot", "rooted"},
+                    "StateSelect": {"never", "avoid", "default", "prefer", "always"},
+                    "AssertionLevel": {"error", "warning"}}
 
 
 @dataclasses.dataclass
@@ -108,6 +110,8 @@ class ClassInfo:
     imports: dict = dataclasses.field(default_factory=dict)       # identifier -> full name
     wildcard_imports: list = dataclasses.field(default_factory=list)
     calls: list = dataclasses.field(default_factory=list)
+    references: list = dataclasses.field(default_factory=list)    # (dotted name, line) of variables used
+    iterators: set = dataclasses.field(default_factory=set)       # names bound by for / comprehensions
     connects: list = dataclasses.field(default_factory=list)      # (left ref tree, right ref tree, line)
     external: ExternalClause = None
     short_base: str = None                                         # type X = Base(...)
@@ -283,13 +287,24 @@ class _ClassBuilder:
                               child(node, "annotation_clause"), line_of(node))
 
     def _calls(self, node, info):
+        """The calls, variable references and iterator names in node (not in annotations)."""
+        not_variables = set()
         for sub in walk_expressions(node):
             if sub.data in ("function_call", "call_statement", "call_equation", "multiple_assignment"):
                 callee = sub.children[-2]
+                not_variables.add(id(callee))
                 name = reference_text(callee) if isinstance(callee, Tree) else str(callee)
                 if isinstance(callee, Tree) and child(callee, "global_prefix") is not None:
                     name = "." + name
                 info.calls.append(Call(name, sub.children[-1], line_of(sub)))
+            elif sub.data == "connect_clause":  # connectors: checked by the connect rule
+                not_variables.update(id(c) for c in sub.children)
+            elif sub.data == "for_index":
+                info.iterators.add(str(sub.children[0]))
+            elif sub.data == "component_reference" and id(sub) not in not_variables:
+                name = reference_text(sub)
+                info.references.append(("." + name if child(sub, "global_prefix") is not None else name,
+                                        line_of(sub)))
 
     def _elements(self, element_list, info, protected):
         for element in element_list.children:
