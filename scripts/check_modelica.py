@@ -531,10 +531,15 @@ class Checker:
         if self.package.root is None:
             return self.problems
         for info in self.package.classes():
-            self.check_references(info)
-            self.check_external(info)
-            self.check_connects(info)
-            self.check_units(info)
+            try:
+                self.check_references(info)
+                self.check_external(info)
+                self.check_connects(info)
+                self.check_units(info)
+            except (RecursionError, AttributeError, IndexError, TypeError, ValueError) as error:
+                # A construct the checker does not handle: named, never a traceback.
+                self.report(info, info.line, f"{info.full_name}: the checker cannot check this class "
+                                             f"({type(error).__name__}: {error})")
         return self.problems
 
 

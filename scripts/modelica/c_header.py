@@ -110,7 +110,7 @@ class HeaderReader:
         self.prototypes = {}
         self.typedefs = {}
         self.macros = set()
-        self._read = set()
+        self._visible = {}  # header path -> names of the functions declared through it
 
     def find(self, name, relative_to=None):
         candidates = ([relative_to / name] if relative_to else []) + [d / name for d in self.include_dirs]
@@ -123,11 +123,8 @@ class HeaderReader:
         """Reads one header (and the quoted headers it includes); returns the set of
         function names visible through it."""
         path = pathlib.Path(path).resolve()
-        if path in self._read:
+        if path in self._visible:  # read already (or being read: an include cycle)
             return self._visible[path]
-        self._read.add(path)
-        if not hasattr(self, "_visible"):
-            self._visible = {}
         self._visible[path] = visible = set()
         code_lines = []
         for number, raw in enumerate(self._joined_lines(_strip_comments(path.read_text())), start=1):

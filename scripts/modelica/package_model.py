@@ -391,8 +391,9 @@ def load_package(directory):
         uses_tree = annotation_value(root.annotation, "uses")
         if isinstance(uses_tree, Tree):
             for library, modification, _, _ in modification_arguments(child(uses_tree, "class_modification")):
-                version = annotation_value(Tree("annotation_clause", [child(modification, "modification")
-                                                                      .children[0]]), "version")
+                inner = child(modification, "modification")
+                arguments = child(inner, "class_modification") if inner is not None else None
+                version = annotation_value(Tree("annotation_clause", [arguments]), "version") if arguments else None
                 uses[library] = string_value(version) if version is not None else None
     return Package(root, directory, uses, problems, files)
 
