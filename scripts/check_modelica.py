@@ -57,12 +57,12 @@ import sys
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent / "modelica"))
 
-from lark import Token, Tree  # noqa: E402  (after the path: the module reports a missing Lark)
-
+# package_model first: without Lark, its parser module stops with the package to install.
+from package_model import (PREDEFINED_TYPES, Builtin, ClassInfo, Component, External, Problem,  # noqa: E402
+                           Resolver, annotation_value, child, line_of, load_package, modification_arguments,
+                           reference_parts, reference_text, string_value)
 from c_header import CType, HeaderError, HeaderReader  # noqa: E402
-from package_model import (PREDEFINED_TYPES, Builtin, ClassInfo, Component, External, Problem, annotation_value,  # noqa: E402
-                           child, children, line_of, load_package, modification_arguments, reference_parts,
-                           reference_text, Resolver, string_value, walk_expressions)
+from lark import Token, Tree  # noqa: E402
 
 # MSL base classes that add no elements (icons): a lookup may pass through them.
 EMPTY_EXTERNAL_BASES = ("Modelica.Icons.",)

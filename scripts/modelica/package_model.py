@@ -18,9 +18,9 @@ the package `uses` (annotation uses(...)) is External: it is not resolved furthe
 import dataclasses
 import pathlib
 
-from lark import Token, Tree
+from modelica_parser import ModelicaSyntaxError, parse_file  # first: it names the package when Lark is missing
 
-from modelica_parser import ModelicaSyntaxError, parse_file
+from lark import Token, Tree  # noqa: E402
 
 # Section 4.9 and chapter 12: predefined types, and the attributes each may be modified with.
 PREDEFINED_TYPES = {
