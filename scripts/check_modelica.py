@@ -44,10 +44,12 @@ problem (2 on a usage error). The rules:
 5. Units: every `parameter` or `constant` whose type is Real (directly, or through a
    short class of the package) states its unit: either its type is in
    Modelica.Units.SI (MSL 4), or it has a `unit = "..."` modifier (`each unit` for an
-   array); "1" states a dimensionless value. Integer, Boolean, String, enumerations and
-   ExternalObjects are exempt. A parameter that holds values of several units (a
-   protocol's generic array) says so with the vendor annotation
-   `__DEMLink(mixedUnits = true)`. Parameters of functions (their inputs) are exempt.
+   array); "1" states a dimensionless value; every unit string (of any component or
+   short type) is a unit expression of chapter 19 ("m/s2", "N.m", not "m/s^2").
+   Integer, Boolean, String, enumerations and ExternalObjects are exempt. A parameter
+   that holds values of several units (a protocol's generic array) says so with the
+   vendor annotation `__DEMLink(mixedUnits = true)`. Parameters of functions (their
+   inputs) are exempt.
    An external type outside Modelica.Units.SI must be listed in EXTERNAL_NON_REAL_TYPES
    (its value is not a Real) or is reported.
 """
@@ -59,9 +61,11 @@ sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent / "modelica"))
 
 # package_model first: without Lark, its parser module stops with the package to install.
 from package_model import (PREDEFINED_TYPES, Builtin, ClassInfo, Component, External, Problem,  # noqa: E402
-                           Resolver, annotation_value, child, line_of, load_package, modification_arguments,
-                           reference_parts, reference_text, string_value)
+                           Resolver, annotation_value, child, dotted, line_of, load_package,
+                           modification_arguments, reference_parts, reference_text, string_value,
+                           walk_expressions)
 from c_header import CType, HeaderError, HeaderReader  # noqa: E402
+from unit_expression import is_unit_expression  # noqa: E402
 from lark import Token, Tree  # noqa: E402
 
 # MSL base classes that add no elements (icons): a lookup may pass through them.
@@ -485,14 +489,17 @@ class Checker:
         return None
 
     @staticmethod
-    def _has_unit(class_modification):
-        """A `unit = "..."` modifier with a non-empty string."""
+    def _unit(class_modification):
+        """The string of a `unit = "..."` modifier; None without one (or for "")."""
         for name, modification, _, _ in modification_arguments(class_modification):
             inner = child(modification, "modification")
             binding = child(inner, "binding") if inner is not None else None
             if name == "unit" and binding is not None and string_value(binding.children[0]):
-                return True
-        return False
+                return string_value(binding.children[0])
+        return None
+
+    def _has_unit(self, class_modification):
+        return self._unit(class_modification) is not None
 
     @staticmethod
     def _marked_mixed(component):
@@ -504,6 +511,7 @@ class Checker:
         return isinstance(flag, Tree) and flag.data == "true"
 
     def check_units(self, info):
+        self._check_unit_strings(info)
         if info.kind == "function":
             return
         for component in info.components.values():
@@ -526,6 +534,22 @@ class Checker:
             if self._real_without_unit(target) and not self._has_unit(class_modification):
                 self.report(info, component.line, f"{where}: Real without a unit: use a {SI_TYPES}* type or "
                                                   "unit = \"...\" (\"1\" when dimensionless)")
+
+    def _check_unit_strings(self, info):
+        """Every unit modifier of the class's components is a unit expression (chapter 19)."""
+        modifications = [(c.line, c.modification) for c in info.components.values() if c.modification is not None]
+        if info.short_modification is not None:
+            modifications.append((info.line, Tree("modification", [info.short_modification])))
+        for line, modification in modifications:
+            for node in walk_expressions(modification):
+                if node.data != "element_modification" or dotted(child(node, "name")) not in ("unit", "displayUnit"):
+                    continue
+                inner = child(node, "modification")
+                binding = child(inner, "binding") if inner is not None else None
+                text = string_value(binding.children[0]) if binding is not None else None
+                if text and not is_unit_expression(text):
+                    self.report(info, line_of(node) or line, f'unit "{text}" is no unit expression of the '
+                                                              "specification (chapter 19; e.g. \"m/s2\", \"N.m\")")
 
     def run(self):
         if self.package.root is None:
