@@ -19,7 +19,8 @@ problem (2 on a usage error). The rules:
    except that Modelica.SIunits does not exist from Modelica 4.0.0 on). Every variable
    used in an equation, statement, binding, modifier or condition resolves the same way
    (to a component, through the components' types, or an enumeration literal), unless
-   it is a for/comprehension iterator of the class. Modifiers name an
+   it is a for/comprehension iterator of the class; and uses no conditional component
+   (declared with `if`) outside connect equations (section 4.4.5). Modifiers name an
    element of the modified class (or an attribute of a predefined type). A call of a
    function of the package passes at most as many positional arguments as it has inputs,
    named arguments that are inputs, and every input that has no default.
@@ -179,6 +180,23 @@ class Checker:
             self.counts["variable references"] += 1
             if self.resolver.resolve(name, info) is None:
                 self.report(info, line, f"{name} resolves to nothing (no component, constant or enumeration literal)")
+                continue
+            conditional = self._conditional_on_path(name, info)
+            if conditional is not None:
+                self.report(info, line, f"{name}: {conditional.name} is a conditional component (declared with if): "
+                                        "it may only be modified and used in connect equations (section 4.4.5)")
+
+    def _conditional_on_path(self, name, info):
+        """The first component declared with a condition along the name's components."""
+        scope = info
+        for ident in name.lstrip(".").split("."):
+            element = self.resolver.find_element(scope, ident) if isinstance(scope, ClassInfo) else None
+            if not isinstance(element, Component):
+                return None
+            if element.condition is not None:
+                return element
+            scope = self.resolver.type_of(element)
+        return None
 
     def _attributes(self, target):
         """Names a modifier may use on target: None when unknown (external)."""
