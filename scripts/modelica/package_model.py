@@ -315,7 +315,7 @@ class _ClassBuilder:
                                             child(element, "class_modification"), line_of(element)))
                 self._calls(element, info)
             elif element.data == "declared_element":
-                prefixes = {str(p.children[0]) for p in children(element, "element_prefix")}
+                prefixes = {str(c.children[0]) for c in element.children[:-1]}  # redeclare final inner outer
                 target = element.children[-1]
                 if target.data == "replaceable_element":
                     prefixes.add("replaceable")

@@ -112,6 +112,7 @@ class ParserTest(unittest.TestCase):
             ("model M\n  Real x = y[1] end;\nend M;", 2, 17, "unexpected 'end'"),
             ("model M\n  Real x;\nequation\n  if x > 1 then x = 1; end when;\nend M;", 4, 28, "unexpected 'when', expected 'if'"),
             ("model M\n  Real x = 1\nend M;", 3, 1, "unexpected 'end'"),
+            ("model M\n  final redeclare Real x;\nend M;", 2, 9, "unexpected 'redeclare'"),  # prefix order
             ("model M\n  Real x;", 2, 1, "unexpected end of file"),
         ]
         for text, line, column, what in cases:
