@@ -2,6 +2,7 @@
 """Checks a Modelica package stored as a directory without a Modelica tool.
 
 Usage: check_modelica.py [--include-dir DIR]... PACKAGE_DIR
+       check_modelica.py --parse-only DIR   (only parse every .mo file below DIR)
 
 Every .mo file is parsed with the grammar of the Modelica Language Specification
 (scripts/modelica/modelica.lark; Appendix A "Modelica Concrete Syntax"), then the parse
@@ -66,6 +67,7 @@ from package_model import (PREDEFINED_TYPES, Builtin, ClassInfo, Component, Exte
                            modification_arguments, reference_parts, reference_text, string_value,
                            walk_expressions)
 from c_header import CType, HeaderError, HeaderReader  # noqa: E402
+from modelica_parser import ModelicaSyntaxError, parse_file  # noqa: E402
 from unit_expression import is_unit_expression  # noqa: E402
 from lark import Token, Tree  # noqa: E402
 
@@ -585,12 +587,30 @@ class Checker:
         return self.problems
 
 
+def parse_only(directory):
+    """Rule 1's parsing alone, for any tree of .mo files."""
+    files = sorted(directory.rglob("*.mo"))
+    failed = 0
+    for path in files:
+        try:
+            parse_file(path)
+        except ModelicaSyntaxError as error:
+            failed += 1
+            print(error)
+    print(f"check_modelica: {len(files)} files parsed, {failed} with syntax errors")
+    return 1 if failed or not files else 0
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("package", type=pathlib.Path, help="package directory (holding package.mo)")
     parser.add_argument("--include-dir", action="append", default=[], type=pathlib.Path,
                         help="where the Include annotations' headers are (default PACKAGE/Resources/Include)")
+    parser.add_argument("--parse-only", action="store_true",
+                        help="only parse every .mo file below the directory (any library layout)")
     args = parser.parse_args(argv)
+    if args.parse_only:
+        return parse_only(args.package)
     if not (args.package / "package.mo").is_file():
         print(f"check_modelica: {args.package}/package.mo: no such file", file=sys.stderr)
         return 2

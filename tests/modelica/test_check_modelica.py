@@ -219,6 +219,13 @@ class CheckerTest(unittest.TestCase):
         header.write_text(header.read_text().replace("int enabled", "size_t n, int enabled"))
         self.assertEqual(run_checker(self.package)[0], 0)
 
+    def test_parse_only_reports_each_file_that_does_not_parse(self):
+        code, problems, output = run_checker("--parse-only", DATA / "broken")
+        self.assertEqual(code, 1)
+        self.assertEqual(len(problems), 1, output)
+        self.assertTrue(problems[0].startswith(f"{DATA / 'broken' / 'SyntaxError.mo'}:6:11: unexpected ';'"), output)
+        self.assertEqual(run_checker("--parse-only", DATA / "parser")[:2], (0, []))
+
     def test_a_missing_package_is_a_usage_error(self):
         code, _, output = run_checker(self.work / "nowhere", in_process=False)
         self.assertEqual(code, 2)
