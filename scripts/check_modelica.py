@@ -300,8 +300,9 @@ class Checker:
             return
         prototype = self.headers.prototypes[call_name]
         if not prototype.has_body and annotation_value(clause.annotation, "Library") is None:
-            self.report(info, clause.line, f"{info.name}: {call_name} is only declared in {pathlib.Path(prototype.file).name}"
-                                           " (its code is in a library): the external clause needs a Library annotation")
+            header = pathlib.Path(prototype.file).name
+            self.report(info, clause.line, f"{info.name}: {call_name} is only declared in {header} (its code is in a "
+                                           "library): the external clause needs a Library annotation")
         where = f"{info.name} -> {call_name}"
         if result is not None:
             formal = formals.get(result)

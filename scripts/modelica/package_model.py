@@ -323,7 +323,8 @@ class _ClassBuilder:
                 if target.data == "class_definition":
                     nested = self.build(target, info, info.full_name)
                     if nested.name in info.classes or nested.name in info.components:
-                        self.problems.append(Problem(self.file, nested.line, f"{nested.name} declared twice in {info.name}"))
+                        self.problems.append(Problem(self.file, nested.line,
+                                                     f"{nested.name} declared twice in {info.name}"))
                     info.classes[nested.name] = nested
                 else:
                     self._component_clause(target, info, prefixes, protected)
@@ -354,7 +355,8 @@ class _ClassBuilder:
             description = child(declaration_node, "description")
             component = Component(name, type_name, prefixes, type_dims + children(declaration, "array_subscripts"),
                                   child(declaration, "modification"), condition.children[0] if condition else None,
-                                  child(description, "annotation_clause"), protected, info, declaration.children[0].line)
+                                  child(description, "annotation_clause"), protected, info,
+                                  declaration.children[0].line)
             if name in info.components or name in info.classes:
                 self.problems.append(Problem(self.file, component.line, f"{name} declared twice in {info.name}"))
             info.components[name] = component

@@ -110,7 +110,8 @@ class ParserTest(unittest.TestCase):
             ("model M\n  Real x;\nalgorithm\n  x = 1;\nend M;", 4, 5, "unexpected '='"),   # = in algorithms
             ("model M\n  Real x[end];\nend M;", None, None, None),                     # `end` is an index
             ("model M\n  Real x = y[1] end;\nend M;", 2, 17, "unexpected 'end'"),
-            ("model M\n  Real x;\nequation\n  if x > 1 then x = 1; end when;\nend M;", 4, 28, "unexpected 'when', expected 'if'"),
+            ("model M\n  Real x;\nequation\n  if x > 1 then x = 1; end when;\nend M;", 4, 28,
+             "unexpected 'when', expected 'if'"),
             ("model M\n  Real x = 1\nend M;", 3, 1, "unexpected 'end'"),
             ("model M\n  final redeclare Real x;\nend M;", 2, 9, "unexpected 'redeclare'"),  # prefix order
             ("model M\n  Real x;", 2, 1, "unexpected end of file"),
@@ -122,12 +123,14 @@ class ParserTest(unittest.TestCase):
                     continue
                 with self.assertRaises(modelica_parser.ModelicaSyntaxError) as caught:
                     modelica_parser.parse(text, "snippet.mo")
-                self.assertEqual((caught.exception.line, caught.exception.column), (line, column), str(caught.exception))
+                where = (caught.exception.line, caught.exception.column)
+                self.assertEqual(where, (line, column), str(caught.exception))
                 self.assertIn(what, caught.exception.what)
                 self.assertTrue(str(caught.exception).startswith(f"snippet.mo:{line}:{column}: "))
 
     def test_initial_and_end_in_both_of_their_roles(self):
-        tree = modelica_parser.parse("model M\n Real x[2];\nequation\n x[end] = 1;\n x[1] = if initial() then 1 else 2;\n"
+        tree = modelica_parser.parse("model M\n Real x[2];\nequation\n x[end] = 1;\n"
+                                     " x[1] = if initial() then 1 else 2;\n"
                                      "initial equation\n x[end - 1] = 0;\ninitial algorithm\nend M;")
         self.assertEqual(len(list(tree.find_data("end_index"))), 2)
         self.assertEqual(len(list(tree.find_data("initial"))), 2)
@@ -140,11 +143,11 @@ def run_checker(package, *extra, in_process=True):
     if in_process:
         output = io.StringIO()
         with contextlib.redirect_stdout(output), contextlib.redirect_stderr(output):
-            code = check_modelica.main([str(package), *extra])
+            code = check_modelica.main([str(package), *map(str, extra)])
         text = output.getvalue()
     else:
-        result = subprocess.run([sys.executable, str(CHECKER), str(package), *extra], capture_output=True, text=True,
-                                timeout=120)
+        result = subprocess.run([sys.executable, str(CHECKER), str(package), *map(str, extra)], capture_output=True,
+                                text=True, timeout=120)
         code, text = result.returncode, result.stdout + result.stderr
     problems = [line for line in text.splitlines() if not line.startswith("check_modelica:")]
     return code, problems, text
