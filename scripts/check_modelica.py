@@ -34,9 +34,11 @@ problem (2 on a usage error). The rules:
    const char*, an ExternalObject -> void* (const allowed); an output (or an array) is a
    pointer to the same, const for input arrays and strings, not const for outputs; an
    array of declared length n needs a C array parameter of length n when the C side
-   declares one; size(a, k) -> an integer type (the specification says size_t; with the
-   Include prototype in scope C converts it); the assigned result maps the same way as an
-   input scalar (String -> const char*). Without an explicit call the default call is
+   declares one; an array declared with `:` passes its size(a, k) (or is declared with
+   a length from other inputs); size(a, k) -> an integer type (the specification says
+   size_t; with the Include prototype in scope C converts it; so does an integer
+   literal); the assigned result maps the same way as an input scalar (String ->
+   const char*). Without an explicit call the default call is
    checked (inputs then outputs, each array followed by its sizes, a single scalar
    output as the result).
 4. connect(a, b): both sides are connectors of one connector class or of one of the
@@ -318,6 +320,35 @@ class Checker:
             return
         for index, (arg, (pname, ctype)) in enumerate(zip(args, prototype.params), start=1):
             self._check_argument(info, clause, where, index, arg, pname, ctype, formals)
+        self._check_sizes_passed(info, clause, where, args, formals)
+
+    def _check_sizes_passed(self, info, clause, where, args, formals):
+        """An array formal declared with `:` passes each such dimension's size(a, k): the
+        C side has no other way to know its length (declare the length from other inputs,
+        e.g. `x[6 * n]`, to pass it as n)."""
+        passed = set()
+        for arg in args:
+            if isinstance(arg, tuple):
+                passed.add((arg[1], arg[2]))
+            elif isinstance(arg, Tree) and arg.data == "function_call" and isinstance(arg.children[0], Tree) and \
+                    reference_text(arg.children[0]) == "size":
+                arguments = child(arg.children[1], "function_arguments")
+                values = arguments.children if arguments is not None else []
+                if len(values) == 2 and isinstance(values[0], Tree) and values[0].data == "component_reference" and \
+                        self._literal(values[1]) is not None:
+                    passed.add((reference_text(values[0]), self._literal(values[1])))
+        for index, arg in enumerate(args, start=1):
+            if not (isinstance(arg, Tree) and arg.data == "component_reference"):
+                continue
+            formal = formals.get(reference_text(arg))
+            if formal is None:
+                continue
+            subscripts = [sub for dims in formal.dims for sub in dims.children]
+            for k, subscript in enumerate(subscripts, start=1):
+                if isinstance(subscript, Tree) and subscript.data == "colon" and (formal.name, k) not in passed:
+                    self.report(info, clause.line, f"{where}: argument {index} '{formal.name}' is declared with ':' "
+                                                   f"but size({formal.name}, {k}) is not passed: the C side cannot "
+                                                   "know its length")
 
     def _default_call(self, info):
         """Section 12.9: inputs then outputs, arrays followed by their sizes; a single scalar
@@ -407,13 +438,13 @@ class Checker:
         elif isinstance(arg, Tree) and arg.data in ("number", "string", "true", "false"):
             text = str(arg.children[0]) if arg.children else arg.data
             want = {"string": CType("char", 1, True), "true": CType("int"), "false": CType("int")}.get(
-                arg.data, CType("int") if text.isdigit() else CType("double"))
+                arg.data, CType("size") if text.isdigit() else CType("double"))
             label += f" {text}"
         else:
             self.report(info, clause.line, f"{label}: an external call passes formals, constants and size() only")
             return
         if not self._matches(want, ctype):
-            shown = "an integer (size)" if want.base == "size" else str(want).replace("None", "")
+            shown = "an integer type" if want.base == "size" else str(want)
             self.report(info, clause.line, f"{label} maps to {shown}, parameter {index} ({pname}) of the prototype "
                                            f"is {ctype}")
 
