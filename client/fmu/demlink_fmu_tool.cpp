@@ -6,51 +6,31 @@
 #include <exception>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "demlink/cli/command_line.hpp"
 #include "fmu_config.hpp"
 #include "zip_writer.hpp"
-
-namespace {
-
-constexpr const char* kUsage =
-    "usage: demlink-fmu CONFIG -o OUTPUT.fmu [--fmu-library PATH]\n"
-    "  CONFIG         the FMU configuration (docs/fmi.md)\n"
-    "  -o OUTPUT.fmu  the FMU to write\n"
-    "  --fmu-library  the generic FMU library (default: the one built with this tool)\n"
-    "  --model-description  print modelDescription.xml and exit\n";
-
-}  // namespace
 
 int main(int argc, char** argv) {
   std::string config_path;
   std::string output;
   std::string fmu_library = DEMLINK_FMU_LIBRARY;
   bool print_only = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    const bool hasValue = i + 1 < argc;
-    if (arg == "-h" || arg == "--help") {
-      std::cout << kUsage;
-      return 0;
-    }
-    if (arg == "-o" && hasValue) {
-      output = argv[++i];
-    } else if (arg == "--fmu-library" && hasValue) {
-      fmu_library = argv[++i];
-    } else if (arg == "--model-description") {
-      print_only = true;
-    } else if (config_path.empty() && !arg.starts_with("-")) {
-      config_path = arg;
-    } else {
-      std::cerr << "demlink-fmu: unexpected argument '" << arg << "'\n" << kUsage;
-      return 2;
-    }
-  }
-  if (config_path.empty() || (output.empty() && !print_only)) {
-    std::cerr << kUsage;
+  CLI::App app("Packages a DEMLink component set as an FMI 2.0 Co-Simulation FMU (docs/fmi.md).", "demlink-fmu");
+  app.add_option("CONFIG", config_path, "the FMU configuration (docs/fmi.md)")->required()->type_name("FILE");
+  demlink::cli::addText(app, "-o", output, "the FMU to write")->type_name("OUTPUT.fmu");
+  demlink::cli::addText(app, "--fmu-library", fmu_library,
+                        "the generic FMU library (default: the one built with this tool)")
+      ->type_name("PATH");
+  app.add_flag("--model-description", print_only, "print modelDescription.xml and exit");
+  if (const std::optional<int> exitCode = demlink::cli::parse(app, argc, argv)) return *exitCode;
+  if (output.empty() && !print_only) {
+    std::cerr << "error: -o: the FMU to write is required (or --model-description)\n"
+              << "(demlink-fmu --help lists the options)\n";
     return 2;
   }
   try {
