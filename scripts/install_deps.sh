@@ -26,6 +26,10 @@ packages=(
   # scripts/run_fuzz.sh: clang with the libFuzzer/ASan runtimes (only recommended by clang,
   # and recommendations are not installed below).
   clang libclang-rt-14-dev
+  # the win64 client side (scripts/build_win64.sh, tests/windows): mingw-w64 with POSIX
+  # threads, objdump for the import check, wine64 alone runs 64-bit programs (no i386
+  # architecture needed), dpkg-dev unpacks protobuf's source package (scripts/win64_protobuf.sh)
+  g++-mingw-w64-x86-64-posix binutils-mingw-w64-x86-64 wine64 dpkg-dev
 )
 if [[ "${1:-}" == "--with-peers" ]]; then
   packages+=(liggghts time)

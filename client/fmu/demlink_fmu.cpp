@@ -8,6 +8,7 @@
 /// the outputs lag one communication interval. Why not send-then-receive: a master that
 /// steps several DEMLink FMUs of one server in one thread would deadlock (docs/c_abi.md).
 /// Nothing here waits for Compiled before the first step, for the same reason.
+#include <cctype>
 #include <cmath>
 #include <cstring>
 #include <exception>
@@ -111,6 +112,12 @@ std::string pathOfUri(std::string uri) {
     }
   }
   while (out.size() > 1 && out.back() == '/') out.pop_back();
+#if defined(_WIN32)
+  // file:///C:/dir names the path C:/dir.
+  if (out.size() >= 3 && out[0] == '/' && std::isalpha(static_cast<unsigned char>(out[1])) && out[2] == ':') {
+    out.erase(0, 1);
+  }
+#endif
   return out;
 }
 
