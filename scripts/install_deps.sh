@@ -19,6 +19,8 @@ packages=(
   python3 python3-protobuf
   # scripts/plot_cosim.py (PNG plots, headless Agg backend)
   python3-matplotlib
+  # scripts/check_modelica.py: the Modelica grammar (scripts/modelica/modelica.lark) runs on Lark
+  python3-lark
   # tests/core/deformable/data: regenerating the Gmsh test meshes (not needed to build or test)
   gmsh
   # tests/multihost: network namespaces and veth pairs (ip netns, ip link)

@@ -23,12 +23,12 @@ model SimulationBox "Server address, communication interval and the DEM run's se
     annotation (Dialog(group = "Speed and accuracy"));
   parameter DEMLink.Types.Integrator integrator = DEMLink.Types.Integrator.Default "Time integrator"
     annotation (Dialog(group = "Speed and accuracy"));
-  parameter Real restitutionTolerance = -1
+  parameter Real restitutionTolerance(unit = "1") = -1
     "Largest restitution error the server's time-step limit allows (negative: 0.01 or the preset's); larger accepts a larger timeStep (trades accuracy for speed)"
     annotation (Dialog(group = "Speed and accuracy"));
   parameter Modelica.Units.SI.Velocity maxImpactVelocity = -1
     "Largest expected impact speed, for the time-step limit (negative: 2 m/s)" annotation (Dialog(group = "Speed and accuracy"));
-  parameter Real coarseGraining = -1
+  parameter Real coarseGraining(unit = "1") = -1
     "Parcels of this factor times the grains' size from lattices and sources, same mass flow (negative: 1, none)"
     annotation (Dialog(group = "Speed and accuracy"));
   parameter String expectedNames[:] = fill("", 0)

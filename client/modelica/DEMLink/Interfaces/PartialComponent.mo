@@ -8,7 +8,8 @@ partial model PartialComponent "Connection, declaration and Bye of one DEMLink c
   parameter Boolean exchanged "True: exchanged every tc; false: declared only"
     annotation (Dialog(tab = "Declaration", enable = false));
   parameter Integer declInts[:] "Declare package ints" annotation (Dialog(tab = "Declaration", enable = false));
-  parameter Real declReals[:] "Declare package reals from index 1" annotation (Dialog(tab = "Declaration", enable = false));
+  parameter Real declReals[:] "Declare package reals from index 1"
+    annotation (__DEMLink(mixedUnits = true), Dialog(tab = "Declaration", enable = false));
   parameter String declStrings[:] "Declare package strings from index 2"
     annotation (Dialog(tab = "Declaration", enable = false));
 protected

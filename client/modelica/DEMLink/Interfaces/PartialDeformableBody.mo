@@ -4,9 +4,9 @@ partial model PartialDeformableBody "Connection, driven pose, reactions and Bye 
   parameter String name "Unique component name on the server";
   parameter Modelica.Units.SI.Time tc = simBox.tc "Communication interval";
   parameter String material = "steel" "Contact material of the body's surface";
-  parameter Real fixedRegions[:] = fill(0.0, 0)
+  parameter Real fixedRegions[:](each unit = "m") = fill(0.0, 0)
     "Boxes whose nodes are fixed: lo x y z, hi x y z per box [m] (6 values each)";
-  parameter Real drivenRegions[:] = fill(0.0, 0)
+  parameter Real drivenRegions[:](each unit = "m") = fill(0.0, 0)
     "Boxes whose nodes follow the driven pose: lo x y z, hi x y z per box [m] (6 values each)";
   parameter Modelica.Units.SI.Position drivenReference[3] = {0, 0, 0} "Point the driven pose refers to, at t = 0";
   parameter String attachedTo = "" "Rigid body whose pose drives the driven nodes (empty: the inputs do)";

@@ -7,7 +7,7 @@ partial model PartialRigidBody "A body moved by the system model; returns the wr
   parameter Modelica.Units.SI.Position referencePoint[3] = {0, 0, 0}
     "Reference point in the geometry's frame: the point whose pose is sent, and the torque's reference";
   parameter Modelica.Units.SI.Position initialPosition[3] = {0, 0, 0} "Reference point at the start, world frame";
-  parameter Real initialOrientation[4] = {1, 0, 0, 0} "Quaternion w x y z, body to world, at the start";
+  parameter Real initialOrientation[4](each unit = "1") = {1, 0, 0, 0} "Quaternion w x y z, body to world, at the start";
   parameter DEMLink.Types.BodyMotion motion = DEMLink.Types.BodyMotion.Predicted "Motion between exchanges";
   parameter Integer geometry "0: STL file on the server, 1: box, 2: STL file on the client";
   parameter String geometryText "STL path (geometry 0 or 2)";

@@ -6,11 +6,11 @@ model FlowSensor "Count and mass of the particles crossing a rectangle or disc"
     final declStrings = {attachedTo});
   parameter DEMLink.Types.FlowShape shape = DEMLink.Types.FlowShape.Disc "Surface shape";
   parameter Modelica.Units.SI.Position centre[3] = {0, 0, 0} "Centre (body frame when attached)";
-  parameter Real normal[3] = {0, 0, 1} "Normal: crossings along it count as positive";
+  parameter Real normal[3](each unit = "1") = {0, 0, 1} "Normal: crossings along it count as positive";
   parameter Modelica.Units.SI.Radius radius = 0.5 "Disc radius" annotation (Dialog(enable = shape == DEMLink.Types.FlowShape.Disc));
   parameter Modelica.Units.SI.Length length = 1 "Rectangle length" annotation (Dialog(enable = shape == DEMLink.Types.FlowShape.Rectangle));
   parameter Modelica.Units.SI.Length width = 1 "Rectangle width" annotation (Dialog(enable = shape == DEMLink.Types.FlowShape.Rectangle));
-  parameter Real lengthAxis[3] = {1, 0, 0} "Direction of the rectangle's length (perpendicular to normal)"
+  parameter Real lengthAxis[3](each unit = "1") = {1, 0, 0} "Direction of the rectangle's length (perpendicular to normal)"
     annotation (Dialog(enable = shape == DEMLink.Types.FlowShape.Rectangle));
   parameter String attachedTo = "" "Rigid body the surface follows (empty: fixed)";
   Modelica.Blocks.Interfaces.IntegerOutput positiveCountTotal(start = 0, fixed = true) "Crossings along the normal since the start"

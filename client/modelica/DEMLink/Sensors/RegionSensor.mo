@@ -6,7 +6,7 @@ model RegionSensor "Count, mass, centre of mass and mean velocity of the particl
   parameter DEMLink.Types.RegionShape shape = DEMLink.Types.RegionShape.Box "Region shape";
   parameter Modelica.Units.SI.Position centre[3] = {0, 0, 0} "Centre (body frame when attached)";
   parameter Modelica.Units.SI.Length size[3] = {1, 1, 1} "Box edge lengths" annotation (Dialog(enable = shape == DEMLink.Types.RegionShape.Box));
-  parameter Real orientation[4] = {1, 0, 0, 0} "Box orientation, quaternion w x y z" annotation (Dialog(enable = shape == DEMLink.Types.RegionShape.Box));
+  parameter Real orientation[4](each unit = "1") = {1, 0, 0, 0} "Box orientation, quaternion w x y z" annotation (Dialog(enable = shape == DEMLink.Types.RegionShape.Box));
   parameter Modelica.Units.SI.Radius radius = 0.5 "Sphere radius" annotation (Dialog(enable = shape == DEMLink.Types.RegionShape.Sphere));
   parameter String attachedTo = "" "Rigid body the region follows, e.g. a bucket (empty: fixed)";
   parameter Boolean use_pose_in = false "Centre and orientation from the inputs centre_in, orientation_in"
