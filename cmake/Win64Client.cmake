@@ -52,7 +52,11 @@ set_target_properties(demlink_c PROPERTIES PREFIX "" IMPORT_PREFIX "" IMPORT_SUF
 target_link_options(demlink_c PRIVATE -Wl,--exclude-libs,ALL)
 
 set(fmu_dir ${client_dir}/fmu)
-add_library(demlink_fmu_config STATIC ${fmu_dir}/fmu_config.cpp ${fmu_dir}/zip_writer.cpp)
+# client/fmu: the FMU library (demlink_fmu.cpp), the packaging tool (not cross-built) and
+# the configuration and archive code both use (every other file).
+file(GLOB fmu_config_sources CONFIGURE_DEPENDS ${fmu_dir}/*.cpp)
+list(REMOVE_ITEM fmu_config_sources ${fmu_dir}/demlink_fmu.cpp ${fmu_dir}/demlink_fmu_tool.cpp)
+add_library(demlink_fmu_config STATIC ${fmu_config_sources})
 target_include_directories(demlink_fmu_config PUBLIC ${fmu_dir})
 target_link_libraries(demlink_fmu_config PRIVATE demlink_build_flags)
 
