@@ -7,6 +7,9 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config
   libasio-dev libprotobuf-dev protobuf-compiler
+  # scripts/build_pic_protobuf.sh: `apt-get source protobuf` unpacks with dpkg-source (the
+  # system's apt sources need a deb-src entry for bookworm)
+  dpkg-dev
   libeigen3-dev libspdlog-dev libfmt-dev
   # FEM bodies: CHOLMOD's supernodal Cholesky for large meshes (optional: without it the
   # build falls back to Eigen's SimplicialLDLT)

@@ -50,4 +50,10 @@ TEST(FmuUnderWine, ServerEndOfRunIsDiscardWithTerminated) {
   EXPECT_NE(summary.find(demlink::fmu::kEndSummary), std::string::npos) << summary;
 }
 
+/// The receive-first option's timing (box.time == t after fmi2DoStep(t, h)).
+TEST(FmuUnderWine, ReceiveFirstOrderLagsOneInterval) {
+  const std::string summary = runMasterUnderWine(DEMLINK_SHORT_RECEIVE_FIRST_FMU, "receive_first", {"end"});
+  EXPECT_NE(summary.find(demlink::fmu::kReceiveFirstEndSummary), std::string::npos) << summary;
+}
+
 }  // namespace

@@ -23,6 +23,8 @@ protected
   Modelica.Blocks.Interfaces.BooleanInput onNow "on_in, or true";
   Boolean sentOn(start = true, fixed = true) "Whether the server removes";
   Integer status(start = 0, fixed = true);
+  Integer samplesSent(start = 0, fixed = true) "Samples whose inputs were sent (each sample's first call)";
+  Integer samplesReceived(start = 0, fixed = true) "Samples whose outputs were received (the second call)";
   Integer counts[2](each start = 0, each fixed = true);
   Real masses[2](each start = 0, each fixed = true);
 equation
@@ -38,8 +40,16 @@ algorithm
         if onNow then 1 else 0));
       sentOn := onNow;
     end if;
+    // The sample's first call sends the inputs at t (send first; docs/modelica.md, "How a component runs").
     (status, counts, masses) := DEMLink.Functions.External.particleSinkRead(client, 0);
     DEMLink.Functions.checkExchange(client, status);
+    samplesSent := pre(samplesSent) + 1;
+  end when;
+  when pre(samplesSent) > pre(samplesReceived) then
+    // The event iteration after every component's first call: this one returns [t, t + tc].
+    (status, counts, masses) := DEMLink.Functions.External.particleSinkRead(client, 0);
+    DEMLink.Functions.checkExchange(client, status);
+    samplesReceived := pre(samplesSent);
     countTotal := counts[2];
     massTotal := masses[2];
     massInterval := masses[1];

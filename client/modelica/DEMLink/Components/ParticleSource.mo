@@ -66,6 +66,8 @@ protected
   Real sentRate(start = declaredRate, fixed = true) "The rate the server inserts at";
   Boolean sentOn(start = true, fixed = true) "Whether the server inserts";
   Integer status(start = 0, fixed = true);
+  Integer samplesSent(start = 0, fixed = true) "Samples whose inputs were sent (each sample's first call)";
+  Integer samplesReceived(start = 0, fixed = true) "Samples whose outputs were received (the second call)";
   Integer counts[3](each start = 0, each fixed = true);
   Real masses[3](each start = 0, each fixed = true);
 equation
@@ -90,8 +92,16 @@ algorithm
       DEMLink.Functions.check(client, DEMLink.Functions.External.particleSourceSetRate(client, 0, rateNow));
       sentRate := rateNow;
     end if;
+    // The sample's first call sends the inputs at t (send first; docs/modelica.md, "How a component runs").
     (status, counts, masses) := DEMLink.Functions.External.particleSourceRead(client, 0);
     DEMLink.Functions.checkExchange(client, status);
+    samplesSent := pre(samplesSent) + 1;
+  end when;
+  when pre(samplesSent) > pre(samplesReceived) then
+    // The event iteration after every component's first call: this one returns [t, t + tc].
+    (status, counts, masses) := DEMLink.Functions.External.particleSourceRead(client, 0);
+    DEMLink.Functions.checkExchange(client, status);
+    samplesReceived := pre(samplesSent);
     countTotal := counts[2];
     massTotal := masses[2];
     shortfallTotal := counts[3];

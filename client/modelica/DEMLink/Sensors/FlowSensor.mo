@@ -23,12 +23,22 @@ model FlowSensor "Count and mass of the particles crossing a rectangle or disc"
     annotation (Placement(transformation(extent = {{100, -70}, {120, -50}})));
 protected
   Integer status(start = 0, fixed = true);
+  Integer samplesSent(start = 0, fixed = true) "Samples whose inputs were sent (each sample's first call)";
+  Integer samplesReceived(start = 0, fixed = true) "Samples whose outputs were received (the second call)";
   Integer counts[4](each start = 0, each fixed = true);
   Real masses[4](each start = 0, each fixed = true);
 algorithm
   when sample(0, tc) then
+    // The sample's first call sends the inputs at t (send first; docs/modelica.md, "How a component runs").
     (status, counts, masses) := DEMLink.Functions.External.flowSensorRead(client, 0);
     DEMLink.Functions.checkExchange(client, status);
+    samplesSent := pre(samplesSent) + 1;
+  end when;
+  when pre(samplesSent) > pre(samplesReceived) then
+    // The event iteration after every component's first call: this one returns [t, t + tc].
+    (status, counts, masses) := DEMLink.Functions.External.flowSensorRead(client, 0);
+    DEMLink.Functions.checkExchange(client, status);
+    samplesReceived := pre(samplesSent);
     positiveCountTotal := counts[3];
     negativeCountTotal := counts[4];
     positiveMassTotal := masses[3];

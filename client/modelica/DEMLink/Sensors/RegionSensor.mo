@@ -37,6 +37,8 @@ protected
   Real sentPose[7](start = cat(1, centre, orientation), each fixed = true) "The pose the server uses";
   Real sentSize[4](start = cat(1, size, {radius}), each fixed = true) "The size and radius the server uses";
   Integer status(start = 0, fixed = true);
+  Integer samplesSent(start = 0, fixed = true) "Samples whose inputs were sent (each sample's first call)";
+  Integer samplesReceived(start = 0, fixed = true) "Samples whose outputs were received (the second call)";
   Real out[7](each start = 0, each fixed = true);
 equation
   connect(centre_in, centreNow);
@@ -65,8 +67,16 @@ algorithm
       sentPose := cat(1, centreNow, orientationNow);
       sentSize := cat(1, sizeNow, {radiusNow});
     end if;
+    // The sample's first call sends the inputs at t (send first; docs/modelica.md, "How a component runs").
     (status, count, out) := DEMLink.Functions.External.regionSensorRead(client, 0);
     DEMLink.Functions.checkExchange(client, status);
+    samplesSent := pre(samplesSent) + 1;
+  end when;
+  when pre(samplesSent) > pre(samplesReceived) then
+    // The event iteration after every component's first call: this one returns [t, t + tc].
+    (status, count, out) := DEMLink.Functions.External.regionSensorRead(client, 0);
+    DEMLink.Functions.checkExchange(client, status);
+    samplesReceived := pre(samplesSent);
     mass := out[1];
     centreOfMass := out[2:4];
     meanVelocity := out[5:7];
