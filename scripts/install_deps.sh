@@ -40,6 +40,10 @@ if [[ "${1:-}" == "--with-peers" ]]; then
   packages+=(liggghts time)
 fi
 
+# `apt-get source` for the protobuf runtimes built from Debian's source (scripts/win64_protobuf.sh,
+# scripts/build_pic_protobuf.sh).
+"$(dirname "$0")/lib/ensure_deb_src.sh"
+
 missing=()
 for p in "${packages[@]}"; do
   if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then

@@ -6,8 +6,8 @@
 # full runtime, not just protobuf-lite.
 #   scripts/win64_protobuf.sh [PREFIX]   (default build/third_party/protobuf-win64)
 # The result is cached: a second run with the same version only checks the stamp.
-# Fetching the source needs a deb-src line; when none is configured, one for bookworm is
-# added (/etc/apt/sources.list.d/demlink-deb-src.sources) and the package lists updated.
+# Fetching the source needs a deb-src entry: scripts/lib/ensure_deb_src.sh adds one for
+# bookworm when none is configured.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
@@ -29,25 +29,7 @@ upstream=${version#*:}
 upstream=${upstream%-*}
 source_dir=$work/src/protobuf-$upstream
 if [[ ! -f "$source_dir/CMakeLists.txt" ]]; then
-  if ! grep -rqs '^deb-src\|^Types:.*deb-src' /etc/apt/sources.list /etc/apt/sources.list.d/; then
-    echo "win64_protobuf: adding a deb-src entry for bookworm"
-    SUDO=""
-    if [[ $(id -u) -ne 0 ]]; then SUDO="sudo"; fi
-    $SUDO tee /etc/apt/sources.list.d/demlink-deb-src.sources > /dev/null <<'SOURCES'
-Types: deb-src
-URIs: http://deb.debian.org/debian
-Suites: bookworm bookworm-updates
-Components: main
-Signed-By: /usr/share/keyrings/debian-archive-keyring.gpg
-
-Types: deb-src
-URIs: http://deb.debian.org/debian-security
-Suites: bookworm-security
-Components: main
-Signed-By: /usr/share/keyrings/debian-archive-keyring.gpg
-SOURCES
-    $SUDO apt-get update -qq
-  fi
+  scripts/lib/ensure_deb_src.sh
   rm -rf "$work/src"
   mkdir -p "$work/src"
   (cd "$work/src" && apt-get source -qq "protobuf=$version")
