@@ -159,6 +159,8 @@ int main(int argc, char** argv) {
   view.start();
   hub.offer(world);
   std::vector<double> a, b, ratios, offerShares;
+  double offerSeconds = 0.0;
+  std::uint64_t capturesInB = 0;
   {
     Page page(view.port(), rate);
     while (page.frames == 0) {  // the page is connected and has its first frame
@@ -170,6 +172,7 @@ int main(int argc, char** argv) {
       for (int k = 0; k < blockSteps; ++k) world.step();
       const double timeA = (threadCpuSeconds() - start) / blockSteps;
       double inOffer = 0.0;
+      const std::uint64_t capturesBefore = hub.captures();
       start = threadCpuSeconds();
       for (int k = 0; k < blockSteps; ++k) {
         world.step();
@@ -178,6 +181,8 @@ int main(int argc, char** argv) {
         inOffer += threadCpuSeconds() - before;
       }
       const double timeB = (threadCpuSeconds() - start) / blockSteps;
+      offerSeconds += inOffer;
+      capturesInB += hub.captures() - capturesBefore;
       a.push_back(timeA);
       b.push_back(timeB);
       ratios.push_back(timeB / timeA);
@@ -189,7 +194,11 @@ int main(int argc, char** argv) {
                 static_cast<double>(page.last_frame_bytes.load()) / static_cast<double>(particles));
   }
   std::printf("A (no view) %.3f ms/step, B (view) %.3f ms/step, B/A %.4f, median of pair ratios %.4f, "
-              "offer() %.2f %% of B's step\n",
-              1e3 * median(a), 1e3 * median(b), median(b) / median(a), median(ratios), 100.0 * median(offerShares));
+              "offer() %.2f %% of B's step; %.3f ms per capture (%llu captures in B), i.e. %.2f %% of a second "
+              "at %.0f frames/s\n",
+              1e3 * median(a), 1e3 * median(b), median(b) / median(a), median(ratios), 100.0 * median(offerShares),
+              1e3 * offerSeconds / static_cast<double>(std::max<std::uint64_t>(capturesInB, 1)),
+              static_cast<unsigned long long>(capturesInB),
+              100.0 * rate * offerSeconds / static_cast<double>(std::max<std::uint64_t>(capturesInB, 1)), rate);
   return 0;
 }

@@ -77,7 +77,10 @@ std::string helloJson(ViewFeed& feed, double maxRate) {
 }  // namespace
 
 ViewConnection::ViewConnection(ViewHost& host, asio::ip::tcp::socket socket)
-    : host_(host), socket_(std::move(socket)), request_timer_(socket_.get_executor()) {}
+    : host_(host),
+      socket_(std::move(socket)),
+      request_timer_(socket_.get_executor()),
+      retry_timer_(socket_.get_executor()) {}
 
 void ViewConnection::start() {
   request_timer_.expires_after(std::chrono::duration_cast<Clock::duration>(
@@ -278,11 +281,17 @@ void ViewConnection::offerFrame() {
   // 0.9: captures arrive on the feed's clock, so allow a little early rather than skip one.
   ViewFeed& feed = host_.feed();
   const bool live = feed.frameCount() == 0;
-  if (live && since < 0.9 / rate_) return;
+  if (live && since < 0.9 / rate_) {
+    retryFrameAfter(1.0 / rate_ - since);
+    return;
+  }
   const double cap = host_.options().max_bytes_per_second;
   byte_allowance_ = std::min(cap, byte_allowance_ + cap * std::chrono::duration<double>(now - allowance_time_).count());
   allowance_time_ = now;
-  if (byte_allowance_ < 0.0) return;
+  if (byte_allowance_ < 0.0) {
+    retryFrameAfter(-byte_allowance_ / cap);
+    return;
+  }
   if (feed.sceneVersion() != sent_scene_version_) {  // a new simulation: its scene first
     sent_scene_version_ = feed.sceneVersion();
     sendText(feed.sceneJson());
@@ -316,6 +325,16 @@ void ViewConnection::offerFrame() {
       return;
     }
     self->writeNext();
+  });
+}
+
+void ViewConnection::retryFrameAfter(double seconds) {
+  if (retry_armed_) return;
+  retry_armed_ = true;
+  retry_timer_.expires_after(std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds)));
+  retry_timer_.async_wait([self = shared_from_this()](const asio::error_code& error) {
+    self->retry_armed_ = false;
+    if (!error) self->offerFrame();
   });
 }
 
@@ -354,6 +373,7 @@ void ViewConnection::close() {
   open_ = false;
   asio::error_code ignored;
   request_timer_.cancel();
+  retry_timer_.cancel();
   socket_.shutdown(asio::ip::tcp::socket::shutdown_both, ignored);
   socket_.close(ignored);
   if (websocket_) host_.demandChanged();

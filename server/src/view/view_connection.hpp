@@ -69,10 +69,15 @@ class ViewConnection : public std::enable_shared_from_this<ViewConnection> {
   void sendControl(WebSocketOpcode opcode, std::string payload);
   void writeNext();
   void writeRawThenClose(std::string bytes);
+  /// Calls offerFrame() again after `seconds`, so a capture that came too early for this
+  /// page's rate or byte budget (a run's last one, say) is still sent.
+  void retryFrameAfter(double seconds);
 
   ViewHost& host_;
   asio::ip::tcp::socket socket_;
   asio::steady_timer request_timer_;
+  asio::steady_timer retry_timer_;
+  bool retry_armed_ = false;
   std::array<char, 4096> read_buffer_{};
   HttpRequestParser http_;
   WebSocketFrameParser frames_;
