@@ -28,6 +28,9 @@ packages=(
   gmsh
   # tests/multihost: network namespaces and veth pairs (ip netns, ip link)
   iproute2
+  # the view (docs/view.md): three.js for the page, served from /usr/share/javascript/three;
+  # headless Chromium and Node for its browser test (tests/view/check_view_in_browser.mjs)
+  libjs-three chromium nodejs
   # scripts/run_fuzz.sh: clang with the libFuzzer/ASan runtimes (only recommended by clang,
   # and recommendations are not installed below).
   clang libclang-rt-14-dev
