@@ -6,6 +6,7 @@ server, client or protocol header at all):
 
     apps -> cosim -> backend -> run -> scene -> core
     net  -> core's top-level headers and core/parallel only (never the engine's folders)
+    view -> net's transport helpers (asio.hpp, same_token.hpp) and core; apps include it
     client -> core/parallel only
     cli  -> nothing of the server
 
@@ -29,7 +30,8 @@ SERVER_ALLOWED = {
     "backend": {"run", "scene"},
     "cosim": {"backend", "run", "scene", "net/session_handler.hpp"},
     "net": set(),
-    "apps": {"cosim", "backend", "run", "scene", "net", "cli"},
+    "view": {"net/asio.hpp", "net/same_token.hpp"},
+    "apps": {"cosim", "backend", "run", "scene", "net", "view", "cli"},
 }
 
 

@@ -129,7 +129,9 @@
 #ifndef DEMLINK_DEMLINK_C_H
 #define DEMLINK_DEMLINK_C_H
 
-#if defined(DEMLINK_C_BUILDING)
+#if defined(DEMLINK_C_BUILDING) && defined(_WIN32)
+#define DL_API __declspec(dllexport)
+#elif defined(DEMLINK_C_BUILDING)
 #define DL_API __attribute__((visibility("default")))
 #else
 #define DL_API

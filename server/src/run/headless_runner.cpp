@@ -119,7 +119,7 @@ void checkHeadless(TranslatedScene& scene) {
   for (const std::string& warning : core::sampleScheduleWarnings(scene.world)) spdlog::warn("{}", warning);
 }
 
-RunSummary runHeadless(TranslatedScene& scene) {
+RunSummary runHeadless(TranslatedScene& scene, const StepObserver& observer) {
   core::World& world = scene.world;
   const RunOptions& run = scene.run;
   const std::string& box = run.field_prefix;
@@ -160,10 +160,12 @@ RunSummary runHeadless(TranslatedScene& scene) {
   try {
     world.setStageTiming(true);  // the run log's per-stage rows
     driver.start(world);
+    if (observer) observer(world);
     ProgressMeter progress(run.progress_interval, endStep, world.stepCount());
     while (world.stepCount() < endStep) {
       world.advance(1);  // the driver's outputs see every step
       driver.afterStep(world);
+      if (observer) observer(world);
       progress.update(world);
     }
     driver.finish(world);
