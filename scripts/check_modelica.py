@@ -22,7 +22,8 @@ problem (2 on a usage error). The rules:
    (to a component, through the components' types, or an enumeration literal), unless
    it is a for/comprehension iterator of the class; and uses no conditional component
    (declared with `if`) outside connect equations (section 4.4.5). Modifiers name an
-   element of the modified class (or an attribute of a predefined type). A call of a
+   element of the modified class (or an attribute of a predefined or enumeration type,
+   section 4.9). A call of a
    function of the package passes at most as many positional arguments as it has inputs,
    named arguments that are inputs, and every input that has no default.
 3. External "C" functions: the C function is declared in the header of the external
@@ -64,8 +65,8 @@ import sys
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent / "modelica"))
 
 # package_model first: without Lark, its parser module stops with the package to install.
-from package_model import (PREDEFINED_TYPES, Builtin, ClassInfo, Component, External, Problem,  # noqa: E402
-                           Resolver, annotation_value, child, dotted, line_of, load_package,
+from package_model import (ENUMERATION_ATTRIBUTES, PREDEFINED_TYPES, Builtin, ClassInfo, Component,  # noqa: E402
+                           External, Problem, Resolver, annotation_value, child, dotted, line_of, load_package,
                            modification_arguments, reference_parts, reference_text, string_value,
                            walk_expressions)
 from c_header import CType, HeaderError, HeaderReader  # noqa: E402
@@ -207,7 +208,7 @@ class Checker:
         if isinstance(target, Builtin):
             return PREDEFINED_TYPES.get(target.name)
         if isinstance(target, ClassInfo):
-            return target
+            return ENUMERATION_ATTRIBUTES if target.enumeration is not None else target
         return None
 
     def _check_modifiers(self, target, class_modification, info, where):
@@ -219,7 +220,8 @@ class Checker:
             element = None
             if isinstance(attributes, set):
                 if first not in attributes:
-                    self.report(info, line_of(modification), f"{where}: {target.name} has no attribute {first}")
+                    type_name = target.full_name if isinstance(target, ClassInfo) else target.name
+                    self.report(info, line_of(modification), f"{where}: {type_name} has no attribute {first}")
                 continue
             if isinstance(attributes, ClassInfo):
                 element = self.resolver.find_element(attributes, first)

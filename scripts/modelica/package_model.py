@@ -32,6 +32,8 @@ PREDEFINED_TYPES = {
     "ExternalObject": set(),
     "StateSelect": set(), "AssertionLevel": set(), "Clock": set(),
 }
+# Section 4.9.5: the attributes of an enumeration type.
+ENUMERATION_ATTRIBUTES = {"value", "quantity", "min", "max", "start", "fixed"}
 # Chapters 3 and 10-12 and 16: built-in operators and functions callable by their plain name.
 BUILTIN_FUNCTIONS = set("""
 abs sign sqrt div mod rem ceil floor integer Integer String Boolean Real der delay cardinality homotopy

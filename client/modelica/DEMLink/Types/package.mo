@@ -22,4 +22,8 @@ package Types "Choices of the DEMLink components"
     Engineering "Design work: bulk quantities within a few per cent",
     Validation "Comparisons with experiments: restitution within 1 %")
     "Speed/accuracy preset for the settings left at their default (docs/accuracy.md)";
+  type PointStyle = enumeration(Splat "Thin disc facing the view point (cheapest)",
+    Diamond "Thin square turned 45 degrees, facing the view point", Sphere "Sphere (dearest)",
+    Auto "By distance to the view point: spheres near, diamonds farther, splats far")
+    "Shape DEMPoints draws for each particle";
 end Types;
