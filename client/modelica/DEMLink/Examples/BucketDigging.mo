@@ -17,7 +17,8 @@ model BucketDigging "A bucket (CADPart) drawn through a gravel pit on a prescrib
     material = "gravel", initialPosition = {x0, 0, z0}) annotation (Placement(transformation(extent = {{-10, -10}, {10, 10}})));
   DEMLink.Sensors.RegionSensor fill(name = "fill", attachedTo = "bucket", centre = {0, 0, 0.03}, size = {0.12, 0.1, 0.06})
     "The bucket's inside, moving with it" annotation (Placement(transformation(extent = {{30, -10}, {50, 10}})));
-  DEMLink.Visualization.DEMPoints points(name = "points", maxCount = 100)
+  DEMLink.Visualization.DEMPoints points(name = "points", maxCount = 100, viewPoint = {0, -0.8, 0.5}, lodDistance = 0.9)
+    "Spheres on the near side of the bed, diamonds beyond (set viewPoint to the camera's position)"
     annotation (Placement(transformation(extent = {{30, 60}, {50, 80}})));
   parameter Modelica.Units.SI.Time T = 0.6 "Duration of the pass";
   parameter Modelica.Units.SI.Position x0 = -0.2 "Start of the pass (bucket floor centre)";

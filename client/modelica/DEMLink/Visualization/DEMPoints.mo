@@ -6,7 +6,7 @@ model DEMPoints "Decimated particle view: positions and radii of at most maxCoun
     "Most particles shown (the server lists those whose id is a multiple of a stride: the same ones at every sample)";
   parameter Boolean animation = true "Draw the particles (MultiBody animation)";
   parameter Integer maxShapes(min = 1) = maxCount
-    "Most particles drawn (every shapeStride-th listed row, so the drawn ones spread over all ids)"
+    "Most particles drawn (an even stride over the listed rows, so the drawn ones spread over all ids)"
     annotation (Dialog(group = "Animation", enable = animation));
   parameter DEMLink.Types.PointStyle style = DEMLink.Types.PointStyle.Auto "Shape of each drawn particle"
     annotation (Dialog(group = "Animation", enable = animation));
@@ -37,9 +37,9 @@ protected
   Real flatVelocities[3 * maxCount](each start = 0, each fixed = true);
   Integer listedIds[maxCount](each start = 0, each fixed = true);
   Real listed[maxCount](each start = 0, each fixed = true);
-  final parameter Integer shapeStride = div(maxCount + min(maxShapes, maxCount) - 1, min(maxShapes, maxCount))
-    "Listed rows per drawn particle";
-  final parameter Integer shapeCount = div(maxCount + shapeStride - 1, shapeStride) "Drawn particles (at most maxShapes)";
+  final parameter Integer shapeCount = min(maxShapes, maxCount) "Shapes of each kind";
+  Integer rowStride(start = 1, fixed = true) "Listed rows per drawn particle: count over shapeCount, rounded up";
+  Integer row(start = 1, fixed = true) "Listed row of the drawn particle being classified";
   // Every drawn particle has one shape of each kind; the two kinds it is not drawn as have size 0,
   // so the level of detail changes at run time without a shapeType that varies.
   Modelica.Units.SI.Position shapeCentre[shapeCount, 3](each start = 0, each fixed = true) "Drawn particle's centre";
@@ -92,20 +92,21 @@ algorithm
       radii[i] := if i <= count then listed[i] else 0;
       ids[i] := if i <= count then listedIds[i] else 0;
     end for;
+    rowStride := max(1, div(count + shapeCount - 1, shapeCount));
     for k in 1:shapeCount loop
-      shapeCentre[k, :] := positions[(k - 1) * shapeStride + 1, :];
+      row := (k - 1) * rowStride + 1;
+      shapeCentre[k, :] := if row <= count then positions[row, :] else zeros(3);
       eyeDistance := Modelica.Math.Vectors.length(viewPoint - shapeCentre[k, :]);
       toEye[k, :] := if eyeDistance > 0 then (viewPoint - shapeCentre[k, :]) / eyeDistance else {0, 0, 1};
       drawnAs := if style <> DEMLink.Types.PointStyle.Auto then style
         elseif eyeDistance < lodDistance then DEMLink.Types.PointStyle.Sphere
         elseif eyeDistance < splatDistance then DEMLink.Types.PointStyle.Diamond
         else DEMLink.Types.PointStyle.Splat;
-      sphereDiameter[k] := if drawnAs == DEMLink.Types.PointStyle.Sphere then 2 * radii[(k - 1) * shapeStride + 1] else 0;
-      diamondSide[k] := if drawnAs == DEMLink.Types.PointStyle.Diamond then sqrt(2) * radii[(k - 1) * shapeStride + 1]
-        else 0;
-      diamondThickness[k] := if drawnAs == DEMLink.Types.PointStyle.Diamond then
-        flatness * 2 * radii[(k - 1) * shapeStride + 1] else 0;
-      splatDiameter[k] := if drawnAs == DEMLink.Types.PointStyle.Splat then 2 * radii[(k - 1) * shapeStride + 1] else 0;
+      // Rows beyond count have radius 0: no shape of any kind.
+      sphereDiameter[k] := if drawnAs == DEMLink.Types.PointStyle.Sphere and row <= count then 2 * radii[row] else 0;
+      diamondSide[k] := if drawnAs == DEMLink.Types.PointStyle.Diamond and row <= count then sqrt(2) * radii[row] else 0;
+      diamondThickness[k] := flatness * sqrt(2) * diamondSide[k];
+      splatDiameter[k] := if drawnAs == DEMLink.Types.PointStyle.Splat and row <= count then 2 * radii[row] else 0;
       splatThickness[k] := flatness * splatDiameter[k];
     end for;
   end when;
@@ -115,8 +116,8 @@ at most <code>maxCount</code> of them: those whose id is a multiple of a stride 
 largest id over maxCount, rounded up), in increasing id order, so a row of
 <code>positions</code>, <code>velocities</code> and <code>ids</code> follows the same
 particle from sample to sample whatever the engine's storage order.</p>
-<p>With <code>animation</code>, every <code>shapeStride</code>-th listed row (at most
-<code>maxShapes</code>) is drawn with MultiBody shapes sized by its radius, in the shape
+<p>With <code>animation</code>, at most <code>maxShapes</code> of the listed rows, an even
+stride over them, are drawn with MultiBody shapes, each sized by its particle's radius, in the shape
 <code>style</code> names: a sphere, a diamond (a thin square turned 45 degrees) or a splat
 (a thin disc), the flat ones facing <code>viewPoint</code>. With <code>Auto</code>, a
 particle nearer than <code>lodDistance</code> to <code>viewPoint</code> is a sphere, one
