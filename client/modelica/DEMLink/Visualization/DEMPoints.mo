@@ -1,5 +1,6 @@
 within DEMLink.Visualization;
-model DEMPoints "Decimated particle view: positions and radii of at most maxCount particles, drawn as splats, diamonds or spheres"
+model DEMPoints
+  "Decimated particle view: positions and radii of at most maxCount particles, drawn as splats, diamonds or spheres"
   extends DEMLink.Interfaces.PartialComponent(name = "points", final kind = "particle_view", final exchanged = true,
     final declInts = {maxCount}, final declReals = fill(0.0, 0), final declStrings = fill("", 0));
   parameter Integer maxCount(min = 1) = 200
@@ -94,19 +95,23 @@ algorithm
     end for;
     rowStride := max(1, div(count + shapeCount - 1, shapeCount));
     for k in 1:shapeCount loop
-      row := (k - 1) * rowStride + 1;
-      shapeCentre[k, :] := if row <= count then positions[row, :] else zeros(3);
+      // Past count (even past maxCount for the last shapes): no shape of any kind; min keeps the
+      // index in bounds in the branch not taken.
+      row := min((k - 1) * rowStride + 1, maxCount + 1);
+      shapeCentre[k, :] := if row <= count then positions[min(row, maxCount), :] else zeros(3);
       eyeDistance := Modelica.Math.Vectors.length(viewPoint - shapeCentre[k, :]);
       toEye[k, :] := if eyeDistance > 0 then (viewPoint - shapeCentre[k, :]) / eyeDistance else {0, 0, 1};
       drawnAs := if style <> DEMLink.Types.PointStyle.Auto then style
         elseif eyeDistance < lodDistance then DEMLink.Types.PointStyle.Sphere
         elseif eyeDistance < splatDistance then DEMLink.Types.PointStyle.Diamond
         else DEMLink.Types.PointStyle.Splat;
-      // Rows beyond count have radius 0: no shape of any kind.
-      sphereDiameter[k] := if drawnAs == DEMLink.Types.PointStyle.Sphere and row <= count then 2 * radii[row] else 0;
-      diamondSide[k] := if drawnAs == DEMLink.Types.PointStyle.Diamond and row <= count then sqrt(2) * radii[row] else 0;
+      sphereDiameter[k] := if drawnAs == DEMLink.Types.PointStyle.Sphere and row <= count then
+        2 * radii[min(row, maxCount)] else 0;
+      diamondSide[k] := if drawnAs == DEMLink.Types.PointStyle.Diamond and row <= count then
+        sqrt(2) * radii[min(row, maxCount)] else 0;
       diamondThickness[k] := flatness * sqrt(2) * diamondSide[k];
-      splatDiameter[k] := if drawnAs == DEMLink.Types.PointStyle.Splat and row <= count then 2 * radii[row] else 0;
+      splatDiameter[k] := if drawnAs == DEMLink.Types.PointStyle.Splat and row <= count then
+        2 * radii[min(row, maxCount)] else 0;
       splatThickness[k] := flatness * splatDiameter[k];
     end for;
   end when;
@@ -117,7 +122,8 @@ largest id over maxCount, rounded up), in increasing id order, so a row of
 <code>positions</code>, <code>velocities</code> and <code>ids</code> follows the same
 particle from sample to sample whatever the engine's storage order.</p>
 <p>With <code>animation</code>, at most <code>maxShapes</code> of the listed rows, an even
-stride over them, are drawn with MultiBody shapes, each sized by its particle's radius, in the shape
+stride over them, are drawn with MultiBody shapes, each sized by its particle's radius, in
+the shape
 <code>style</code> names: a sphere, a diamond (a thin square turned 45 degrees) or a splat
 (a thin disc), the flat ones facing <code>viewPoint</code>. With <code>Auto</code>, a
 particle nearer than <code>lodDistance</code> to <code>viewPoint</code> is a sphere, one
