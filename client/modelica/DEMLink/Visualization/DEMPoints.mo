@@ -97,7 +97,7 @@ algorithm
     for k in 1:shapeCount loop
       // Past count (even past maxCount for the last shapes): no shape of any kind; min keeps the
       // index in bounds in the branch not taken.
-      row := min((k - 1) * rowStride + 1, maxCount + 1);
+      row := (k - 1) * rowStride + 1;
       shapeCentre[k, :] := if row <= count then positions[min(row, maxCount), :] else zeros(3);
       eyeDistance := Modelica.Math.Vectors.length(viewPoint - shapeCentre[k, :]);
       toEye[k, :] := if eyeDistance > 0 then (viewPoint - shapeCentre[k, :]) / eyeDistance else {0, 0, 1};
