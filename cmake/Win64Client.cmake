@@ -35,11 +35,11 @@ file(GLOB client_sources CONFIGURE_DEPENDS ${client_dir}/src/*.cpp)
 file(GLOB c_abi_sources CONFIGURE_DEPENDS ${client_dir}/src/c_*.cpp)
 list(REMOVE_ITEM client_sources ${c_abi_sources})
 
+add_subdirectory(${PROJECT_SOURCE_DIR}/core/parallel core_parallel)
 add_library(demlink_client STATIC ${client_sources})
-target_include_directories(demlink_client PUBLIC ${client_dir}/include
-                                          PRIVATE ${PROJECT_SOURCE_DIR}/core/include)
+target_include_directories(demlink_client PUBLIC ${client_dir}/include)
 target_include_directories(demlink_client SYSTEM PRIVATE ${DEMLINK_ASIO_INCLUDE})
-target_link_libraries(demlink_client PUBLIC demlink::proto PRIVATE demlink::wire Threads::Threads ws2_32 mswsock
+target_link_libraries(demlink_client PUBLIC demlink::proto PRIVATE demlink::wire demlink::parallel Threads::Threads ws2_32 mswsock
                                                                  demlink_build_flags)
 target_compile_definitions(demlink_client PRIVATE ASIO_STANDALONE ASIO_NO_DEPRECATED)
 set_source_files_properties(${client_dir}/src/connection.cpp PROPERTIES COMPILE_OPTIONS -Wno-null-dereference)
