@@ -24,10 +24,6 @@ constexpr const char* kDeformablesNeedAnInertialFrame =
     "deformable bodies in a moving frame are not supported yet (their nodes feel no fictitious forces); use an "
     "inertial frame";
 
-void requireFiniteVector(const std::string& field, const Vec3& v) {
-  for (int k = 0; k < 3; ++k) requireFinite(field + "[" + std::to_string(k) + "]", v[k]);
-}
-
 }  // namespace
 
 World::World(SimulationSettings settings, std::string settingsField)
@@ -480,7 +476,7 @@ void World::selectStepStages() { stepper_.select(sceneFeatures()); }
 void World::runStage(Stage stage, StepContext& context) {
   switch (stage) {
     case Stage::kMeshMotion: return moveMeshes(context);
-    case Stage::kInsertRemove: return runComponents(kStageInsertRemove);
+    case Stage::kInsertRemove: return runComponents(Stage::kInsertRemove);
     case Stage::kBoundsRemoval:
     case Stage::kGrowingBounds: return removeOutsideBounds();
     case Stage::kVelocityVerlet: return firstKickAndDrift(context);
@@ -499,7 +495,7 @@ void World::runStage(Stage stage, StepContext& context) {
     case Stage::kSecondHalfKick: return secondHalfKick(context);
     case Stage::kClumpHalfKick: return integrateClumps(0.5 * context.dt, 0.0, false);
     case Stage::kAdvanceClock: ++state_.step_count; return;
-    case Stage::kObserve: return runComponents(kStageObserve);
+    case Stage::kObserve: return runComponents(Stage::kObserve);
     case Stage::kWatchdog: return runWatchdog();
     case Stage::kParticleContacts:
     case Stage::kPlaneContacts:
@@ -799,8 +795,8 @@ WorldComponent& World::addComponent(std::unique_ptr<WorldComponent> component) {
   }
   WorldComponent& added = *component;
   components_.all.push_back(std::move(component));
-  if (added.stages() & kStageInsertRemove) components_.insert_remove.push_back(&added);
-  if (added.stages() & kStageObserve) components_.observe.push_back(&added);
+  if (added.stages() & stageBit(Stage::kInsertRemove)) components_.insert_remove.push_back(&added);
+  if (added.stages() & stageBit(Stage::kObserve)) components_.observe.push_back(&added);
   if (initialized_) {
     added.initialize(*this);
     selectStepStages();
@@ -808,8 +804,8 @@ WorldComponent& World::addComponent(std::unique_ptr<WorldComponent> component) {
   return added;
 }
 
-void World::runComponents(std::uint32_t stage) {
-  if (stage == kStageInsertRemove) {
+void World::runComponents(Stage stage) {
+  if (stage == Stage::kInsertRemove) {
     for (WorldComponent* component : components_.insert_remove) component->insertAndRemove(*this);
   } else {
     for (WorldComponent* component : components_.observe) component->observe(*this);

@@ -4,6 +4,7 @@
 /// object writes and reads its own section payload, checking what it reads.
 #include "demlink/core/state/checkpoint.hpp"
 
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -93,6 +94,12 @@ std::vector<std::string> readMaterialNames(StateReader in, std::vector<Material>
   }
   in.requireEnd();
   return names;
+}
+
+std::string checkpointFileName(std::uint64_t number) {
+  char name[48];
+  std::snprintf(name, sizeof name, "checkpoint_%06llu.bin", static_cast<unsigned long long>(number));
+  return name;
 }
 
 std::string readCheckpointBytes(const std::filesystem::path& path) {

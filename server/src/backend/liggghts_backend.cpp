@@ -448,7 +448,7 @@ RunSummary runHeadlessLiggghts(const v1::Scene& declarations, TranslatedScene& s
     backend.advanceTo(std::min(plan.end_step, (backend.stepCount() / stride + 1) * stride));
     backend.syncParticles();
     if (checkpointEvery > 0 && backend.stepCount() % checkpointEvery == 0) {
-      backend.writeCheckpoint(directory / fmt::format("checkpoint_{:06}.bin", backend.stepCount() / checkpointEvery));
+      backend.writeCheckpoint(directory / core::checkpointFileName(backend.stepCount() / checkpointEvery));
       ++checkpoints;
     }
     if (backend.stepCount() % frameEvery != 0 && backend.stepCount() != plan.end_step) continue;
@@ -460,7 +460,7 @@ RunSummary runHeadlessLiggghts(const v1::Scene& declarations, TranslatedScene& s
   }
   if (rank == 0 && run.final_particles_csv) writeParticleCsv(world, directory / "particles_final.csv");
   if (run.final_checkpoint) {
-    backend.writeCheckpoint(directory / "checkpoint_final.bin");
+    backend.writeCheckpoint(directory / core::kFinalCheckpointFileName);
     ++checkpoints;
   }
   for (std::size_t k = 0; k < backend.sourceCount(); ++k) {

@@ -81,14 +81,14 @@ CompileFailure failureOf(const core::InputError& error, const std::vector<Declar
   const auto [field, index] = renameField(error.field(), all);
   const std::string component =
       index >= 0 ? all[static_cast<std::size_t>(index)].declaration.name() : fallbackComponent;
-  return CompileFailure(makeError(v1::Error::INVALID_DECLARATION, field + " = " + error.value() + ": " + error.reason(),
-                                  component, field, true));
+  const core::InputError renamed(field, error.value(), error.reason());
+  return CompileFailure(makeError(v1::Error::INVALID_DECLARATION, renamed.what(), component, field, true));
 }
 
 CompileFailure failure(const std::string& component, const std::string& field, const std::string& value,
                        const std::string& reason) {
   return CompileFailure(
-      makeError(v1::Error::INVALID_DECLARATION, field + " = " + value + ": " + reason, component, field, true));
+      makeError(v1::Error::INVALID_DECLARATION, core::InputError(field, value, reason).what(), component, field, true));
 }
 
 /// The file paths a declaration names: (field below the component, the path to rewrite).

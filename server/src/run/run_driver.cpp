@@ -126,7 +126,7 @@ void RunDriver::afterStep(const core::World& world) {
     writeContacts(world);
   }
   if (plan_.checkpoint_every > 0 && step % plan_.checkpoint_every == 0) {
-    writeCheckpoint(world, fmt::format("checkpoint_{:06}.bin", step / plan_.checkpoint_every));
+    writeCheckpoint(world, core::checkpointFileName(step / plan_.checkpoint_every));
   }
 }
 
@@ -134,7 +134,7 @@ void RunDriver::finish(const core::World& world, const std::string& reason) {
   if (ended_) return;
   try {
     if (last_frame_step_ != world.stepCount()) writeFrame(world);
-    if (run_.final_checkpoint) writeCheckpoint(world, "checkpoint_final.bin");
+    if (run_.final_checkpoint) writeCheckpoint(world, core::kFinalCheckpointFileName);
     if (run_.final_particles_csv) {
       timed(timing_.output_seconds, [&] { writeParticleCsv(world, directory() / "particles_final.csv"); });
     }
@@ -154,7 +154,7 @@ void RunDriver::finish(const core::World& world, const std::string& reason) {
 void RunDriver::fail(const core::World& world, const std::string& why) {
   if (ended_) return;
   try {
-    writeCheckpoint(world, "checkpoint_final.bin");
+    writeCheckpoint(world, core::kFinalCheckpointFileName);
   } catch (const std::exception& error) {
     spdlog::error("final checkpoint not written: {}", error.what());
   }

@@ -95,12 +95,12 @@ TEST(StageTable, NamesAreUniqueAndPassesFollowTheForceStage) {
 /// A component that only says which stages it runs in.
 class StageProbe final : public WorldComponent {
  public:
-  StageProbe(std::string name, std::uint32_t stages) : WorldComponent(std::move(name)), stages_(stages) {}
+  StageProbe(std::string name, StageSet stages) : WorldComponent(std::move(name)), stages_(stages) {}
   [[nodiscard]] std::string_view kind() const override { return "probe"; }
-  [[nodiscard]] std::uint32_t stages() const override { return stages_; }
+  [[nodiscard]] StageSet stages() const override { return stages_; }
 
  private:
-  std::uint32_t stages_;
+  StageSet stages_;
 };
 
 void addSphere(World& world, const Vec3& position) {
@@ -154,9 +154,9 @@ TEST(StageTable, EveryFeatureAddsItsStagesInStepOrder) {
       ClumpTemplate("pair", {{Vec3(-0.002, 0.0, 0.0), 0.002}, {Vec3(0.002, 0.0, 0.0), 0.002}}));
   clump.material = material;
   world.addClump(clump);
-  world.addComponent(std::make_unique<StageProbe>("feed", kStageInsertRemove));
-  world.addComponent(std::make_unique<StageProbe>("drain", kStageInsertRemove | kStageObserve));
-  world.addComponent(std::make_unique<StageProbe>("sensor", kStageObserve));
+  world.addComponent(std::make_unique<StageProbe>("feed", stageBit(Stage::kInsertRemove)));
+  world.addComponent(std::make_unique<StageProbe>("drain", stageBit(Stage::kInsertRemove) | stageBit(Stage::kObserve)));
+  world.addComponent(std::make_unique<StageProbe>("sensor", stageBit(Stage::kObserve)));
   const std::vector<std::string> expected{
       "mesh_motion",      "probe:feed",         "probe:drain",     "growing_bounds", "velocity_verlet",
       "moving_frame",     "clump_rigid_bodies", "neighbour_list",  "forces",         "particle_contacts:hertz_mindlin",

@@ -241,7 +241,7 @@ class World {
   void moveMeshes(StepContext& context);
   void moveDeformables(StepContext& context);
   void finishDeformables(const StepContext& context);
-  void runComponents(std::uint32_t stage);
+  void runComponents(Stage stage);
   void removeOutsideBounds();
   void firstKickAndDrift(StepContext& context);
   void explicitEulerUpdate(const StepContext& context);

@@ -35,6 +35,11 @@ inline constexpr char kCheckpointMagic[9] = "DEMLCKPT";
 inline constexpr std::uint32_t kCheckpointVersion = 2;
 inline constexpr std::uint32_t kCheckpointByteOrderMark = 0x01020304u;
 
+/// The name of a run's checkpoint number `number`: "checkpoint_NNNNNN.bin" (six digits
+/// at least), and the one of its end: "checkpoint_final.bin".
+[[nodiscard]] std::string checkpointFileName(std::uint64_t number);
+inline constexpr char kFinalCheckpointFileName[] = "checkpoint_final.bin";
+
 /// Writes world.saveCheckpoint to `path` (writeCheckpointBytes). Throws
 /// std::runtime_error if the file cannot be written. Defined with World's checkpoint.
 void writeCheckpointFile(const World& world, const std::filesystem::path& path);
