@@ -7,6 +7,9 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config
   libasio-dev libprotobuf-dev protobuf-compiler
+  # scripts/build_pic_protobuf.sh: `apt-get source protobuf` unpacks with dpkg-source (the
+  # system's apt sources need a deb-src entry for bookworm)
+  dpkg-dev
   libeigen3-dev libspdlog-dev libfmt-dev
   # FEM bodies: CHOLMOD's supernodal Cholesky for large meshes (optional: without it the
   # build falls back to Eigen's SimplicialLDLT)
@@ -19,6 +22,8 @@ packages=(
   python3 python3-protobuf
   # scripts/plot_cosim.py (PNG plots, headless Agg backend)
   python3-matplotlib
+  # scripts/check_modelica.py: the Modelica grammar (scripts/modelica/modelica.lark) runs on Lark
+  python3-lark
   # tests/core/deformable/data: regenerating the Gmsh test meshes (not needed to build or test)
   gmsh
   # tests/multihost: network namespaces and veth pairs (ip netns, ip link)
