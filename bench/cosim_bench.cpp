@@ -1,5 +1,5 @@
 /// demlink-bench-cosim: what the co-simulation coupling costs (its two target figures; plan in
-/// bench/cosim_bench.md, figures in docs/benchmarks.md "Co-simulation").
+/// bench/cosim_bench.md, how to run it in docs/benchmarks.md "Co-simulation").
 ///
 ///   demlink-bench-cosim roundtrip [--clients N] [--exchanges M] [--warmup W] [--kind body|sensor]
 ///                                 [--spin off,on,forced] [--runs K] [--pace-us P]
@@ -62,14 +62,14 @@
 #include "demlink/client/rigid_body.hpp"
 #include "demlink/client/sensor_components.hpp"
 #include "demlink/client/session.hpp"
-#include "demlink/core/step/spin_history.hpp"
-#include "demlink/core/step/spin_wait.hpp"
+#include "demlink/core/parallel/spin_history.hpp"
+#include "demlink/core/parallel/spin_wait.hpp"
 #include "demlink/core/walls/coupled_motion.hpp"
 #include "demlink/core/world.hpp"
 #include "demlink/server/cosim/cosim_host.hpp"
 #include "demlink/server/net/asio.hpp"
 #include "demlink/server/net/tcp_server.hpp"
-#include "demlink/server/run/particle_csv.hpp"
+#include "demlink/server/scene/particle_csv.hpp"
 #include "demlink/server/scene/scene_loader.hpp"
 #include "demlink/server/scene/scene_translator.hpp"
 

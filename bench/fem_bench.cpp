@@ -13,9 +13,11 @@
 
 #include <chrono>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
+#include <optional>
 #include <string>
+
+#include "demlink/cli/command_line.hpp"
 
 #include "demlink/core/deformable/fem_assembly.hpp"
 #include "demlink/core/deformable/fem_body.hpp"
@@ -52,17 +54,11 @@ double stepCost(FemBody& body, double dt, int steps) {
 int main(int argc, char** argv) {
   long maxDof = 120000;
   int steps = 200;
-  for (int i = 1; i + 1 < argc; i += 2) {
-    const std::string flag = argv[i];
-    if (flag == "--max-dof") {
-      maxDof = std::atol(argv[i + 1]);
-    } else if (flag == "--steps") {
-      steps = std::atoi(argv[i + 1]);
-    } else {
-      std::fprintf(stderr, "usage: demlink-bench-fem [--max-dof N] [--steps S]\n");
-      return 2;
-    }
-  }
+  CLI::App app("Cost of the linear FEM body's two integrators against its size.", "demlink-bench-fem");
+  demlink::cli::addWholeNumber<long>(app, "--max-dof", maxDof, 1, 100000000,
+                                     "largest cantilever to build, in degrees of freedom (default 120000)");
+  demlink::cli::addWholeNumber<int>(app, "--steps", steps, 1, 1000000, "steps timed per scheme (default 200)");
+  if (const std::optional<int> exitCode = demlink::cli::parse(app, argc, argv)) return *exitCode;
   const std::string path =
       (std::filesystem::temp_directory_path() / ("demlink_fem_bench_" + std::to_string(::getpid()) + ".msh"))
           .string();

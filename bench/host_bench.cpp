@@ -1,7 +1,7 @@
 /// demlink-bench-host: what this machine gives a second thread, measured on the kinds of
 /// work a DEM step is made of. The thread targets (two threads >= 1.8x one on two idle
 /// cores) assume a second core that doubles every kind of work; a virtual machine's two
-/// CPUs may not (docs/benchmarks.md, "What the host gives a second thread").
+/// CPUs may not (docs/benchmarks.md, "Threads, size distributions, memory").
 ///
 /// For one and for two threads (each pinned to its own CPU when the process may use two),
 /// each thread working on its own data, it reports every thread's throughput and the
@@ -22,9 +22,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <functional>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
+
+#include "demlink/cli/command_line.hpp"
 
 namespace {
 
@@ -176,19 +179,18 @@ void report(const char* what, const char* unit, const std::vector<double>& one, 
 
 int main(int argc, char** argv) {
   double seconds = 0.2;
-  for (int i = 1; i < argc; ++i) {
-    const std::string flag = argv[i];
-    if (flag == "--seconds" && i + 1 < argc) {
-      seconds = std::atof(argv[++i]);
-    } else {
-      std::fprintf(stderr, "usage: demlink-bench-host [--seconds S]   (unknown argument '%s')\n", flag.c_str());
-      return 2;
-    }
-  }
-  if (!(seconds > 0.0 && seconds <= 60.0)) {
-    std::fprintf(stderr, "--seconds must be in (0, 60], got %g\n", seconds);
-    return 2;
-  }
+  CLI::App app("What this machine gives a second thread, on the kinds of work a DEM step is made of.",
+               "demlink-bench-host");
+  demlink::cli::addValue(app, "--seconds", "time per measurement [s], in (0, 60] (default 0.2)",
+                         [&seconds](const std::string& text) {
+                           const double value = demlink::cli::number("--seconds", text);
+                           if (!(value > 0.0 && value <= 60.0)) {
+                             demlink::cli::refuse("--seconds", text, "must be in (0, 60]");
+                           }
+                           seconds = value;
+                         })
+      ->type_name("S");
+  if (const std::optional<int> exitCode = demlink::cli::parse(app, argc, argv)) return *exitCode;
   const std::vector<int> cpus = allowedCpus();
   std::printf("CPUs this process may use: %zu; threads pinned to CPUs", cpus.size());
   for (std::size_t k = 0; k < std::min<std::size_t>(2, cpus.size()); ++k) std::printf(" %d", cpus[k]);

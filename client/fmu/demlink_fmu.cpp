@@ -10,6 +10,7 @@
 /// thread needs it (each send-first step waits for the other FMUs' inputs; docs/fmi.md).
 /// Nothing waits for Compiled before the first step, so initializing several FMUs of one
 /// server in one thread does not block.
+#include <cctype>
 #include <cmath>
 #include <cstring>
 #include <exception>
@@ -114,6 +115,12 @@ std::string pathOfUri(std::string uri) {
     }
   }
   while (out.size() > 1 && out.back() == '/') out.pop_back();
+#if defined(_WIN32)
+  // file:///C:/dir names the path C:/dir.
+  if (out.size() >= 3 && out[0] == '/' && std::isalpha(static_cast<unsigned char>(out[1])) && out[2] == ':') {
+    out.erase(0, 1);
+  }
+#endif
   return out;
 }
 

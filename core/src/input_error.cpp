@@ -66,11 +66,4 @@ void requireInRange(const std::string& field, double value, double lo, double hi
   }
 }
 
-void requireCountInRange(const std::string& field, std::uint64_t value, std::uint64_t lo, std::uint64_t hi) {
-  if (value < lo || value > hi) {
-    throw InputError(field, std::to_string(value),
-                     "must lie in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
-  }
-}
-
 }  // namespace demlink::core

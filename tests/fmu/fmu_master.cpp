@@ -1,15 +1,13 @@
 /// A small FMI 2.0 Co-Simulation master for the DEMLink FMU test: unpacks the .fmu, reads
-/// modelDescription.xml for the model identifier, GUID and value references, dlopens the
-/// library and runs the plate-into-bed scenario of plate_in_bed.cfg against a server.
+/// modelDescription.xml for the model identifier, GUID and value references, loads the
+/// library of its platform (linux64, or win64 in the win64 build) and runs the
+/// plate-into-bed scenario of plate_in_bed.cfg against a server.
 /// Usage: fmu_master FMU HOST PORT WORKDIR [end]. Prints one summary line; exit 0 when
 /// every physical and timing check holds, 1 otherwise (the reason on stderr). With "end" it
 /// steps short_run.cfg until the server ends the run and checks fmi2Discard and
 /// fmi2Terminated. Timing: after fmi2DoStep(t, h) the box's time must be t + h in the
 /// send-first order (FMI 2.0: outputs at the step's end) and t in the receive-first one
 /// (the interval [t - h, t], one interval behind).
-#include <dlfcn.h>
-#include <sys/stat.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdarg>
@@ -23,6 +21,7 @@
 
 #include "fmi2.h"
 #include "fmu_config.hpp"
+#include "shared_library.hpp"
 #include "zip_writer.hpp"
 
 namespace {
@@ -43,8 +42,8 @@ int failWith(const std::string& why) {
 }
 
 template <class F>
-F symbol(void* library, const char* name) {
-  void* s = dlsym(library, name);
+F symbol(const demlink::fmu::SharedLibrary& library, const char* name) {
+  const F s = library.function<F>(name);
   if (s == nullptr) {
     std::fprintf(stderr, "fmu_master: %s is not exported\n", name);
     std::exit(1);
@@ -89,9 +88,9 @@ int main(int argc, char** argv) {
     return vr[name];
   };
 
-  const std::string libraryPath = (work / "binaries" / "linux64" / (model + ".so")).string();
-  void* library = dlopen(libraryPath.c_str(), RTLD_NOW | RTLD_LOCAL);
-  if (library == nullptr) return failWith(std::string("dlopen: ") + dlerror());
+  const demlink::fmu::SharedLibrary library(
+      (work / "binaries" / demlink::fmu::kFmiPlatform / (model + demlink::fmu::kLibrarySuffix)).string());
+  if (!library.loaded()) return failWith(library.error());
   const auto instantiate = symbol<decltype(&fmi2Instantiate)>(library, "fmi2Instantiate");
   const auto setupExperiment = symbol<decltype(&fmi2SetupExperiment)>(library, "fmi2SetupExperiment");
   const auto enterInit = symbol<decltype(&fmi2EnterInitializationMode)>(library, "fmi2EnterInitializationMode");
@@ -117,7 +116,10 @@ int main(int argc, char** argv) {
   const auto expectedOutputTime = [&](double t, double h) { return sendFirst ? t + h : t; };
   double maxTimeError = 0.0;
   const fmi2CallbackFunctions callbacks{logger, nullptr, nullptr, nullptr, nullptr};
-  const std::string resources = "file://" + std::filesystem::absolute(work / "resources").string();
+  // file:///dir, or file:///C:/dir on Windows.
+  std::string resourcePath = std::filesystem::absolute(work / "resources").generic_string();
+  if (!resourcePath.starts_with("/")) resourcePath.insert(0, "/");
+  const std::string resources = "file://" + resourcePath;
   if (argc == 6) {
     // The box's end time is 10 ms: the steps whose answers end by then succeed (send first:
     // 0..4, ending at 2..10 ms; receive first: 0..5, ending at 0..10 ms), the next one finds

@@ -5,7 +5,8 @@
 /// (rank 0 serves, rank 1 mirrors its host; cosim_lockstep.hpp). A component LIGGGHTS
 /// cannot run is refused at the compile naming it, and the server stays up. A
 /// co-simulation's checkpoint continues in demlink-run, and with its client in
-/// demlink-server --restore.
+/// demlink-server --restore. A client switches a ParticleSource off and on and changes its
+/// rate, and LIGGGHTS inserts accordingly.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -17,6 +18,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <numbers>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -419,6 +421,99 @@ TEST(LiggghtsCosim, RefusedComponentIsNamedAndTheServerStaysUp) {
   EXPECT_EQ(session.finishedInfo().reason(), "end time reached");
   connection.close();
   EXPECT_EQ(server.waitForExit(std::chrono::seconds(30)), 0);
+  if (!::testing::Test::HasFailure()) std::filesystem::remove_all(out);
+}
+
+
+/// What a switched source inserted, read by its client at the three switches.
+struct SwitchedSourceRun {
+  client::CountAndMass on;                 ///< total after the first 5 ms at kFeedRate
+  client::CountAndMass off;                ///< total after 5 ms switched off
+  client::CountAndMass doubled;            ///< total after 5 ms on again at 2 kFeedRate
+  std::uint64_t off_interval_inserts = 0;  ///< sum of the interval outputs while off
+  std::uint64_t particles = 0;             ///< the box's particle count at the end
+  std::string finished;
+  std::string announced;
+};
+
+constexpr double kFeedRate = 10000.0;   // [1/s]: 50 particles in 5 ms
+constexpr double kFeedRadius = 0.002;   // [m]
+constexpr std::uint64_t kPhaseExchanges = 50;  // 5 ms each
+
+/// A ParticleSource declared by a client over TCP on a server of `ranks` (startServer):
+/// on at kFeedRate for 5 ms, switched off for 5 ms, then on again at twice the rate for 5 ms
+/// (setEnabled and changeRate sent with the packages at steps 500 and 1000).
+SwitchedSourceRun runSwitchedSource(int ranks, const std::filesystem::path& out) {
+  SwitchedSourceRun run;
+  Child server = startServer(ranks, out, {"--once"});
+  const int port = announcedPort(server, run.announced);
+  if (port <= 0) return run;
+  client::Connection connection;
+  connectTo(connection, port, "feed");
+  client::Session session(connection);
+  auto& box = session.add<client::SimulationBox>("box");
+  box.setTimeStep(kDt).setEndTime(static_cast<double>(3 * kPhaseExchanges * kInterval) * kDt);
+  box.setInitialGravity({0.0, 0.0, -9.81}).setExpectedCount(4);
+  box.setBounds({-0.03, -0.03, -0.005}, {0.03, 0.03, 0.05});
+  box.setCommunicationInterval(static_cast<double>(kInterval) * kDt);
+  session.add<client::Material>("glass").setDensity(2500.0).setYoungsModulus(5e6);
+  session.add<client::Plane>("floor").setNormal({0.0, 0.0, 1.0}).setMaterial("glass");
+  auto& feed = session.add<client::ParticleSource>("feed");
+  // Shot downwards at 2 m/s, each particle leaves the 10 mm tall region within 5 ms, so it
+  // never holds more than ~10 % of its volume.
+  feed.setMaterial("glass").setRadius(kFeedRadius).setBox({0.0, 0.0, 0.03}, {0.02, 0.02, 0.005});
+  feed.setRateParticles(kFeedRate).setVelocity({0.0, 0.0, -2.0});
+  feed.setCommunicationInterval(static_cast<double>(kInterval) * kDt);
+  session.declare();
+  session.waitCompiled();
+  std::uint64_t exchanges = 0;
+  while (session.exchange()) {
+    ++exchanges;
+    if (exchanges > kPhaseExchanges && exchanges <= 2 * kPhaseExchanges) {
+      run.off_interval_inserts += feed.insertedInterval().count;
+    }
+    if (exchanges == kPhaseExchanges) {
+      run.on = feed.insertedTotal();
+      feed.setEnabled(false);
+    } else if (exchanges == 2 * kPhaseExchanges) {
+      run.off = feed.insertedTotal();
+      feed.setEnabled(true);
+      feed.changeRate(2.0 * kFeedRate);
+    } else if (exchanges == 3 * kPhaseExchanges) {
+      run.doubled = feed.insertedTotal();
+      run.particles = box.particleCount();
+    }
+  }
+  run.finished = session.finished() ? session.finishedInfo().reason() : "";
+  connection.close();
+  server.waitForExit(std::chrono::seconds(60));
+  return run;
+}
+
+TEST(LiggghtsCosim, SourceRateAndOnOffFromTheClientReachLiggghts) {
+  // A client's ParticleSourceInput (on/off, rate) changes what LIGGGHTS inserts, and the
+  // source's outputs report it. LIGGGHTS inserts in batches (at most every millisecond:
+  // 10 particles at kFeedRate, 20 at twice it), so each 5 ms phase is met within one batch;
+  // our engine, run as the reference, within one particle. Off, nothing is inserted at all.
+  const std::filesystem::path out = scratch("source");
+  const double particleMass = 2500.0 * 4.0 / 3.0 * std::numbers::pi * std::pow(kFeedRadius, 3);  // [kg]
+  for (const int ranks : {0, 1, 2}) {
+    const SwitchedSourceRun run = runSwitchedSource(ranks, out / std::to_string(ranks));
+    const std::string on = ranks == 0 ? "native" : "LIGGGHTS on " + std::to_string(ranks) + " rank(s)";
+    const double batch = ranks == 0 ? 1.0 : 2.0 * kFeedRate * 1e-3;  // [-] the tolerance of a phase
+    ASSERT_EQ(run.finished, "end time reached") << on << "\n" << run.announced;
+    EXPECT_NEAR(static_cast<double>(run.on.count), kFeedRate * 5e-3, batch / 2.0 + 0.5) << on;
+    EXPECT_EQ(run.off.count, run.on.count) << on << ": an off source inserts nothing";
+    EXPECT_EQ(run.off_interval_inserts, 0u) << on;
+    EXPECT_NEAR(static_cast<double>(run.doubled.count - run.off.count), 2.0 * kFeedRate * 5e-3, batch + 0.5) << on;
+    EXPECT_NEAR(run.doubled.mass, static_cast<double>(run.doubled.count) * particleMass, 1e-9 * run.doubled.mass)
+        << on << ": the reported mass is the inserted particles'";
+    EXPECT_EQ(run.particles, run.doubled.count) << on << ": every inserted particle is in the box";
+    std::printf("switched source on %s: %llu inserted in the first 5 ms, %llu while off, %llu at twice the rate\n",
+                on.c_str(), static_cast<unsigned long long>(run.on.count),
+                static_cast<unsigned long long>(run.off.count - run.on.count),
+                static_cast<unsigned long long>(run.doubled.count - run.off.count));
+  }
   if (!::testing::Test::HasFailure()) std::filesystem::remove_all(out);
 }
 

@@ -60,8 +60,8 @@
  *                    factor >= 1 (optional), [16] watchdog overlap limit, a fraction of
  *                    the smaller radius in (0, 2] (optional; default 0.5); ints[0]
  *                    expected component count (<= 0:
- *                    none), ints[1] engine threads (optional; negative: default 1, 0: all
- *                    cores), ints[2] contact model and ints[3] integrator (optional; as
+ *                    none), ints[1] engine threads (optional; negative: default 1, 0:
+ *                    the usable CPUs less the load average), ints[2] contact model and ints[3] integrator (optional; as
  *                    dl_declare_simulation_box_ex), ints[4] fidelity preset (optional;
  *                    0 none, 1 draft, 2 engineering, 3 validation);
  *                    strings[2..] expected component names.
@@ -129,7 +129,9 @@
 #ifndef DEMLINK_DEMLINK_C_H
 #define DEMLINK_DEMLINK_C_H
 
-#if defined(DEMLINK_C_BUILDING)
+#if defined(DEMLINK_C_BUILDING) && defined(_WIN32)
+#define DL_API __declspec(dllexport)
+#elif defined(DEMLINK_C_BUILDING)
 #define DL_API __attribute__((visibility("default")))
 #else
 #define DL_API
@@ -236,7 +238,7 @@ DL_API int dl_declare_simulation_box(dl_client* client, const char* name, double
  * (NaN or negative: the server's default 0.01; larger accepts a larger time step, trading
  * accuracy for speed); vtkInterval
  * [s] (NaN or negative: default, 0: first and last frame only); threads (negative: default 1,
- * 0: all cores); frame = the room's linear acceleration(3) [m/s^2], angular velocity(3)
+ * 0: the usable CPUs less the load average); frame = the room's linear acceleration(3) [m/s^2], angular velocity(3)
  * [rad/s], angular acceleration(3) [rad/s^2], origin(3) [m] (NULL: inertial room). No
  * expected count: use dl_declarations_done. */
 DL_API int dl_declare_simulation_box_ex(dl_client* client, const char* name, double interval, double timeStep,

@@ -300,6 +300,11 @@ void ParticleSource::closeSegment(double t) {
   segment_start_ = t;
 }
 
+void ParticleSource::countInsertedElsewhere(std::uint64_t count, double mass) {
+  report_.inserted_count += count;
+  report_.inserted_mass += mass;
+}
+
 void ParticleSource::setEnabled(const World& world, bool enabled) {
   if (enabled == enabled_) return;
   closeSegment(world.time());

@@ -5,7 +5,7 @@
 ///                  [--max-frame-bytes N] [--max-queued-bytes N] [--max-unwelcomed N]
 ///                  [--progress S] [--spin-wait-us US] [--record FILE] [--replay FILE] [--data-root DIR] [--overwrite]
 ///                  [--restore FILE]
-///                  [--once | --max-simulations N] [--backend native|liggghts] [--help] [--version]
+///                  [--once | --max-simulations N] [--backend native|liggghts] [--view ADDR:PORT] [--help] [--version]
 ///   mpirun -np N demlink-server --backend liggghts ...   (docs/scale-out.md)
 ///
 /// Prints "demlink-server listening on ADDR:PORT" once it accepts connections (scripts and
@@ -31,7 +31,7 @@
 #include "demlink/core/input_error.hpp"
 #include "demlink/server/backend/simulation_backend.hpp"
 #ifdef DEMLINK_HAS_LIGGGHTS
-#include "demlink/server/backend/cosim_lockstep.hpp"
+#include "demlink/server/cosim/cosim_lockstep.hpp"
 #include "demlink/server/backend/liggghts_backend.hpp"
 #endif
 #include "demlink/server/cosim/cosim_host.hpp"
@@ -41,6 +41,8 @@
 #include "demlink/server/net/tcp_server.hpp"
 #include "demlink/server/scene/scene_loader.hpp"
 #include "demlink/server/scene/scene_translator.hpp"
+#include "demlink/server/view/live_view_hub.hpp"
+#include "demlink/server/view/view_server.hpp"
 
 namespace {
 
@@ -71,6 +73,7 @@ struct CommandLine {
   bool overwrite = false;
   bool once = false;
   std::string backend = "native";
+  std::optional<std::string> view;
 };
 
 /// Registers the options on `app`, writing into `line`.
@@ -143,6 +146,10 @@ void addOptions(CLI::App& app, CommandLine& line) {
                   line.restore = text;
                 })
       ->type_name("FILE");
+  cli::addText(app, "--view", line.view,
+               "serve a live 3D view of the running simulation in a browser at ADDR:PORT (or PORT on 127.0.0.1; "
+               "docs/view.md); its WebSocket takes the --token")
+      ->type_name("ADDR:PORT");
   app.add_flag("--overwrite", line.overwrite, "a simulation may write into an output folder that holds a run's outputs");
   CLI::Option* once = app.add_flag("--once", line.once, "exit after the first simulation ends (= --max-simulations 1)");
   cli::addWholeNumber<std::uint64_t>(app, "--max-simulations", line.max_simulations, 1,
@@ -262,6 +269,20 @@ int run(int argc, char** argv) {
     return 0;
   }
 
+  // The view runs on its own thread; the simulations offer it their worlds after each step.
+  std::unique_ptr<demlink::server::LiveViewHub> viewHub;
+  std::unique_ptr<demlink::server::ViewServer> view;
+  if (line.view) {
+    demlink::server::ViewServerOptions viewOptions;
+    demlink::server::parseViewAddress(*line.view, "--view", viewOptions);
+    viewOptions.access_token = line.token.value_or("");
+    viewHub = std::make_unique<demlink::server::LiveViewHub>();
+    view = std::make_unique<demlink::server::ViewServer>(*viewHub, viewOptions);
+    options.step_observer = [hub = viewHub.get()](const demlink::core::World& world) { hub->offer(world); };
+    view->start();
+    std::printf("demlink-server view at %s%s\n", view->url().c_str(),
+                viewOptions.access_token.empty() ? "" : "?token=<the access token>");
+  }
   demlink::server::CosimHost host(options);
   demlink::server::TcpServerOptions net;
   net.listen_address = line.listen;

@@ -24,7 +24,6 @@
 #include <stdexcept>
 #include <vector>
 
-#include "demlink/core/components/sampled_component.hpp"
 #include "demlink/core/input_error.hpp"
 #include "demlink/core/state/checkpoint.hpp"
 #include "demlink/core/state/state_stream.hpp"
@@ -32,8 +31,6 @@
 #include "demlink/server/backend/liggghts_motion.hpp"
 #include "demlink/server/backend/liggghts_script.hpp"
 #include "demlink/server/run/frame_series.hpp"
-#include "demlink/server/run/output_directory.hpp"
-#include "demlink/server/run/particle_csv.hpp"
 #include "demlink/server/run/run_driver.hpp"
 
 namespace demlink::server {
@@ -123,8 +120,6 @@ LiggghtsBackend::LiggghtsBackend(core::World& world, const std::string& logFile,
       liggghtsCommands(world_, data.string(), meshFiles, restartFile.string());  // may refuse
   const std::vector<std::string> sources = liggghtsSourceCommands(world_);                // may refuse
   commands.insert(commands.end(), sources.begin(), sources.end());
-  sources_ = static_cast<std::size_t>(
-      std::count_if(sources.begin(), sources.end(), [](const std::string& line) { return line.find(" insert/") != std::string::npos; }));
   int ok = 1;
   if (rank == 0 && restore.empty()) ok = writeFile(data, liggghtsDataFile(world_)) ? 1 : 0;
   for (std::size_t k = 0; k < meshPaths.size(); ++k) {
@@ -144,6 +139,22 @@ LiggghtsBackend::LiggghtsBackend(core::World& world, const std::string& logFile,
   motions_.resize(world_.meshes().size());
   for (std::size_t k = 0; k < motions_.size(); ++k) {
     for (const std::string& line : liggghtsMeshMotionSetup(k)) command(line);
+  }
+  // The insertion fixes as created (a restored fix may start from its restart's counters,
+  // which the restored sources' reports hold already).
+  for (const auto& component : world_.components()) {
+    if (auto* source = dynamic_cast<core::ParticleSource*>(component.get())) {
+      SourceFix fix;
+      fix.source = source;
+      fix.rate = liggghtsSourceRate(*source);
+      fix.active = !liggghtsInsertCommand(world_, *source, sources_.size(), 0).empty();
+      if (fix.active) {
+        const std::array<double, 2> counters = fixVector<2>(lammps_, liggghtsInsertFix(sources_.size(), 0));
+        fix.counted = static_cast<std::uint64_t>(std::llround(counters[0]));
+        fix.counted_mass = counters[1];
+      }
+      sources_.push_back(fix);
+    }
   }
   MPI_Barrier(MPI_COMM_WORLD);
   std::error_code ignored;
@@ -254,6 +265,38 @@ bool LiggghtsBackend::updateMeshMotion() {
   return created;
 }
 
+void LiggghtsBackend::countInserted() {
+  for (std::size_t k = 0; k < sources_.size(); ++k) {
+    SourceFix& fix = sources_[k];
+    if (!fix.active) continue;
+    const std::array<double, 2> counters = fixVector<2>(lammps_, liggghtsInsertFix(k, fix.generation));
+    const auto count = static_cast<std::uint64_t>(std::llround(counters[0]));
+    fix.source->countInsertedElsewhere(count - fix.counted, counters[1] - fix.counted_mass);
+    fix.counted = count;
+    fix.counted_mass = counters[1];
+  }
+}
+
+bool LiggghtsBackend::updateSources() {
+  bool changed = false;
+  for (std::size_t k = 0; k < sources_.size(); ++k) {
+    SourceFix& fix = sources_[k];
+    if (liggghtsSourceRate(*fix.source) == fix.rate) continue;
+    countInserted();
+    if (fix.active) command("unfix " + liggghtsInsertFix(k, fix.generation));
+    // A new id: a fix of an old id would take that id's state from a restart file.
+    ++fix.generation;
+    const std::string insert = liggghtsInsertCommand(world_, *fix.source, k, fix.generation);
+    if (!insert.empty()) command(insert);
+    fix.rate = liggghtsSourceRate(*fix.source);
+    fix.active = !insert.empty();
+    fix.counted = 0;
+    fix.counted_mass = 0.0;
+    changed = true;
+  }
+  return changed;
+}
+
 void LiggghtsBackend::advanceTo(std::uint64_t step) {
   if (step <= step_) return;
   // The first run sets up neighbour lists and forces; later ones continue exactly where
@@ -261,7 +304,9 @@ void LiggghtsBackend::advanceTo(std::uint64_t step) {
   // fix is only seen by a run that sets up (LIGGGHTS builds its fix lists there); the
   // set-up recomputes the forces at the same positions, which changes nothing. A changed
   // twist of a mesh whose fixes exist needs none: they read it from variables each step.
-  const bool refixed = updateMeshMotion();
+  // A fix made or deleted (a source's or a mesh's) is only seen by a run that sets up.
+  const bool sourcesChanged = updateSources();
+  const bool refixed = updateMeshMotion() || sourcesChanged;
   command(fmt::format("run {}{}", step - step_, started_ && !refixed ? " pre no post no" : " post no"));
   started_ = true;
   const std::uint64_t steps = step - step_;
@@ -367,6 +412,7 @@ void LiggghtsBackend::syncParticles() {
     ++inserted_.count;
     inserted_.mass += p.mass.back();
   }
+  countInserted();
   // advanceTo() has moved the clock and set the mesh wrenches.
   const std::vector<std::uint64_t> removed = runLiggghtsComponents(world_);
   if (removed.empty()) return;
@@ -387,8 +433,8 @@ void LiggghtsBackend::syncParticles() {
 }
 
 std::pair<std::uint64_t, double> LiggghtsBackend::sourceInserted(std::size_t source) const {
-  const std::array<double, 2> values = fixVector<2>(lammps_, liggghtsInsertFix(source));
-  return {static_cast<std::uint64_t>(std::llround(values[0])), values[1]};
+  const core::SourceReport& report = sources_.at(source).source->report();
+  return {report.inserted_count, report.inserted_mass};
 }
 
 std::pair<core::Vec3, core::Vec3> LiggghtsBackend::meshWrench(std::size_t mesh) const {
@@ -419,7 +465,12 @@ RunSummary runHeadlessLiggghts(const v1::Scene& declarations, TranslatedScene& s
                                " s; nothing left to run");
   }
   const std::filesystem::path directory = run.output_directory;
-  if (rank == 0) claimOutputDirectory(directory, run.overwrite, box + ".output.directory");
+  // Rank 0 writes every output with the native run's driver (frames, summary.csv, a CSV
+  // per sink and sensor, run_log.csv, the final CSV); a checkpoint is a collective
+  // (LiggghtsBackend::writeCheckpoint), so the other ranks take part in each one the plan
+  // schedules, in the same order.
+  std::optional<RunDriver> driver;
+  if (rank == 0) driver.emplace(world, run, plan, directory, box + ".output.directory");
   MPI_Barrier(MPI_COMM_WORLD);
 
   const auto start = std::chrono::steady_clock::now();
@@ -433,35 +484,40 @@ RunSummary runHeadlessLiggghts(const v1::Scene& declarations, TranslatedScene& s
   const std::uint64_t stride =
       liggghtsStride(world, checkpointEvery > 0 ? std::gcd(frameEvery, checkpointEvery) : frameEvery);
   prepareLiggghtsComponents(world, stride);
-  // Rank 0 writes the outputs from the synced world with the native run's writers: the
-  // particle series (output.vtk_interval), summary.csv and a CSV per sink and sensor.
-  std::optional<FrameSeries> frames;
-  if (rank == 0) {
-    (void)core::writeSamplesToCsv(world, directory);
-    frames.emplace(directory, box + ".output.directory");
-    frames->writePlanes(world);
-    frames->writeFrame(world, 0.0);
-  }
   std::uint64_t checkpoints = 0;
-  const auto wallSeconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
-  while (backend.stepCount() < plan.end_step) {
-    backend.advanceTo(std::min(plan.end_step, (backend.stepCount() / stride + 1) * stride));
-    backend.syncParticles();
-    if (checkpointEvery > 0 && backend.stepCount() % checkpointEvery == 0) {
-      backend.writeCheckpoint(directory / core::checkpointFileName(backend.stepCount() / checkpointEvery));
-      ++checkpoints;
-    }
-    if (backend.stepCount() % frameEvery != 0 && backend.stepCount() != plan.end_step) continue;
-    const FrameStats stats = frames ? frames->writeFrame(world, wallSeconds()) : frameStats(world);
-    spdlog::info("t = {:.4f} s | {} particles ({} inserted, {} lost at the box) | kinetic energy {:.4g} J | "
-                 "mean z {:.6g} m | max z {:.6g} m",
-                 backend.time(), stats.particles, backend.insertedParticles().count, world.removedAtBounds().count,
-                 stats.kinetic_energy, stats.mean_z, stats.max_z);
-  }
-  if (rank == 0 && run.final_particles_csv) writeParticleCsv(world, directory / "particles_final.csv");
-  if (run.final_checkpoint) {
-    backend.writeCheckpoint(directory / core::kFinalCheckpointFileName);
+  const auto checkpoint = [&](const std::filesystem::path& path) {
+    backend.writeCheckpoint(path);
     ++checkpoints;
+  };
+  try {
+    if (driver) {
+      driver->setCheckpointWriter(checkpoint);
+      driver->start(world);
+    }
+    while (backend.stepCount() < plan.end_step) {
+      backend.advanceTo(std::min(plan.end_step, (backend.stepCount() / stride + 1) * stride));
+      backend.syncParticles();
+      const std::uint64_t step = backend.stepCount();
+      if (driver) {
+        driver->afterStep(world);
+      } else if (plan.checkpointDue(step)) {
+        checkpoint(directory / plan.checkpointName(step));
+      }
+      if (!plan.frameDue(step)) continue;
+      const FrameStats stats = frameStats(world);
+      spdlog::info("t = {:.4f} s | {} particles ({} inserted, {} lost at the box) | kinetic energy {:.4g} J | "
+                   "mean z {:.6g} m | max z {:.6g} m",
+                   backend.time(), stats.particles, backend.insertedParticles().count, world.removedAtBounds().count,
+                   stats.kinetic_energy, stats.mean_z, stats.max_z);
+    }
+    if (driver) {
+      driver->finish(world);
+    } else if (run.final_checkpoint) {
+      checkpoint(directory / core::kFinalCheckpointFileName);
+    }
+  } catch (const std::exception& error) {
+    if (driver) driver->abort(error.what());
+    throw;
   }
   for (std::size_t k = 0; k < backend.sourceCount(); ++k) {
     const auto [count, mass] = backend.sourceInserted(k);
@@ -470,6 +526,7 @@ RunSummary runHeadlessLiggghts(const v1::Scene& declarations, TranslatedScene& s
 
   RunSummary summary;
   summary.steps = backend.stepCount() - startStep;
+  summary.frames = driver ? driver->frameCount() : 0;
   summary.checkpoints = checkpoints;
   summary.final_particles = world.particles().size();
   summary.final_time = backend.time();

@@ -105,62 +105,117 @@ std::vector<LiggghtsSizeClass> liggghtsSizeClasses(const core::SizeDistribution&
   return classes;
 }
 
-std::string liggghtsInsertFix(std::size_t source) { return fmt::format("demlink_source{}", source); }
+std::string liggghtsInsertFix(std::size_t source, std::uint32_t generation) {
+  return generation == 0 ? fmt::format("demlink_source{}", source)
+                         : fmt::format("demlink_source{}_{}", source, generation);
+}
+
+namespace {
+
+/// The region's volume [m^3] (LIGGGHTS inserts into a volume: a disc has its thickness).
+double regionVolume(const core::SourceRegion& region) {
+  if (region.kind == core::SourceRegion::Kind::Box) return 8.0 * region.half_extents.prod();
+  return std::numbers::pi * region.radius * region.radius * region.thickness;
+}
+
+/// The LIGGGHTS region command of `source` (named after its first insertion fix `fix`),
+/// or an InputError for what LIGGGHTS cannot insert into as we do.
+std::string sourceRegionCommand(const core::ParticleSource& source, const std::string& fix, const std::string& field) {
+  const core::ParticleSourceSpec& spec = source.spec();
+  if (!spec.attached_mesh.empty()) {
+    throw core::InputError(field + ".attached_mesh", spec.attached_mesh,
+                           "the LIGGGHTS backend inserts into fixed regions only; run it on the native backend");
+  }
+  const core::SourceRegion& region = spec.region;
+  const core::Vec3& c = region.centre;
+  if (region.kind == core::SourceRegion::Kind::Box) {
+    if (region.orientation.angularDistance(core::Quat::Identity()) > 1.0e-12) {
+      throw core::InputError(field + ".box.orientation", "rotated",
+                             "LIGGGHTS's insertion regions are axis-aligned boxes; run it on the native backend");
+    }
+    const core::Vec3 lo = c - region.half_extents;
+    const core::Vec3 hi = c + region.half_extents;
+    return fmt::format("region {}_region block {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} units box", fix, lo.x(),
+                       hi.x(), lo.y(), hi.y(), lo.z(), hi.z());
+  }
+  const core::Vec3 normal = region.orientation * core::Vec3::UnitZ();
+  const int axis = axisOf(normal);
+  if (axis < 0) {
+    throw core::InputError(field + ".disc.normal", fmt::format("({}, {}, {})", normal.x(), normal.y(), normal.z()),
+                           "LIGGGHTS's insertion cylinders lie along x, y or z; run it on the native backend");
+  }
+  const double rMax = spec.sizes.maxRadius();
+  if (region.thickness < 2.0 * rMax) {
+    throw core::InputError(field + ".disc.thickness", core::formatValue(region.thickness),
+                           "LIGGGHTS inserts into a volume: give a thickness of at least the largest diameter (" +
+                               core::formatValue(2.0 * rMax) + " m)");
+  }
+  const char* axes = "xyz";
+  const int u = (axis + 1) % 3;
+  const int w = (axis + 2) % 3;
+  // LIGGGHTS's cylinder takes the two other coordinates in x, y, z order.
+  const int first = std::min(u, w);
+  const int second = std::max(u, w);
+  return fmt::format("region {}_region cylinder {} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} units box", fix, axes[axis],
+                     c[first], c[second], region.radius, c[axis] - 0.5 * region.thickness,
+                     c[axis] + 0.5 * region.thickness);
+}
+
+}  // namespace
+
+double liggghtsSourceRate(const core::ParticleSource& source) { return source.enabled() ? source.rate() : 0.0; }
+
+std::string liggghtsInsertCommand(const core::World& world, const core::ParticleSource& source, std::size_t index,
+                                  std::uint32_t generation) {
+  const core::ParticleSourceSpec& spec = source.spec();
+  const double rate = liggghtsSourceRate(source);
+  const double dt = world.settings().time_step;
+  const double now = world.time();
+  if (!(rate > 0.0) || now >= spec.stop_time) return {};
+  const std::string base = liggghtsInsertFix(index, 0);  // owns the templates and the region
+  const std::string fix = liggghtsInsertFix(index, generation);
+  const double materialDensity = world.materials().at(spec.material).density;
+  // Each insertion fills at most a tenth of the region (LIGGGHTS under-delivers into a
+  // crowded region), and happens at least every millisecond, so the rate stays smooth.
+  const double meanVolume = spec.sizes.meanVolume();
+  const double countRate = spec.rate_kg_per_s ? rate / (materialDensity * meanVolume) : rate;  // [1/s]
+  const auto most = static_cast<std::uint64_t>(std::max(1.0, std::round(1.0e-3 / dt)));
+  const auto every = std::clamp<std::uint64_t>(
+      static_cast<std::uint64_t>(std::floor(0.1 * regionVolume(spec.region) / (countRate * dt * meanVolume))), 1, most);
+  std::string amount = "nparticles INF";
+  if (std::isfinite(spec.stop_time)) {
+    // The first fix covers the whole active time (a restored one continues its count from
+    // its restart file); a replacement what is left of it at the new rate.
+    const double from = generation == 0 ? spec.start_time : std::max(spec.start_time, now);
+    const double total = rate * (spec.stop_time - from);
+    amount = spec.rate_kg_per_s ? fmt::format("mass {:.17g}", total)
+                                : fmt::format("nparticles {}", static_cast<std::uint64_t>(std::llround(total)));
+  }
+  std::string start;
+  const auto startStep = static_cast<std::uint64_t>(std::llround(spec.start_time / dt));
+  if (startStep > world.stepCount()) start = fmt::format(" start {}", startStep);
+  const core::Vec3& v = spec.velocity;
+  const core::Vec3& omega = spec.angular_velocity;
+  return fmt::format(
+      "fix {} all insert/rate/region seed {} distributiontemplate {}_sizes maxattempt {} {} {} {:.17g} "
+      "insert_every {}{} overlapcheck yes all_in yes vel constant {:.17g} {:.17g} {:.17g} "
+      "omega constant {:.17g} {:.17g} {:.17g} region {}_region",
+      fix, liggghtsSeed(spec.seed, 1000 + generation), base, spec.max_attempts, amount,
+      spec.rate_kg_per_s ? "massrate" : "particlerate", rate, every, start, v.x(), v.y(), v.z(), omega.x(), omega.y(),
+      omega.z(), base);
+}
 
 std::vector<std::string> liggghtsSourceCommands(const core::World& world) {
   std::vector<std::string> commands;
-  const double dt = world.settings().time_step;
   std::size_t index = 0;
   for (const auto& component : world.components()) {
     const auto* source = dynamic_cast<const core::ParticleSource*>(component.get());
     if (source == nullptr) continue;
     const core::ParticleSourceSpec& spec = source->spec();
-    const std::string field = "particle_source " + source->name();
-    const std::string fix = liggghtsInsertFix(index++);
-    if (!spec.attached_mesh.empty()) {
-      throw core::InputError(field + ".attached_mesh", spec.attached_mesh,
-                             "the LIGGGHTS backend inserts into fixed regions only; run it on the native backend");
-    }
-    const double rate = spec.rate_kg_per_s ? *spec.rate_kg_per_s : spec.rate_particles_per_s.value_or(0.0);
-    if (!(rate > 0.0)) continue;  // inserts nothing
-    const core::SourceRegion& region = spec.region;
-    const core::Vec3& c = region.centre;
-    const double rMax = spec.sizes.maxRadius();
-    std::string regionCommand;
-    double volume = 0.0;  // [m^3]
-    if (region.kind == core::SourceRegion::Kind::Box) {
-      if (region.orientation.angularDistance(core::Quat::Identity()) > 1.0e-12) {
-        throw core::InputError(field + ".box.orientation", "rotated",
-                               "LIGGGHTS's insertion regions are axis-aligned boxes; run it on the native backend");
-      }
-      const core::Vec3 lo = c - region.half_extents;
-      const core::Vec3 hi = c + region.half_extents;
-      regionCommand = fmt::format("region {}_region block {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} units box", fix,
-                                  lo.x(), hi.x(), lo.y(), hi.y(), lo.z(), hi.z());
-      volume = 8.0 * region.half_extents.prod();
-    } else {
-      const core::Vec3 normal = region.orientation * core::Vec3::UnitZ();
-      const int axis = axisOf(normal);
-      if (axis < 0) {
-        throw core::InputError(field + ".disc.normal", fmt::format("({}, {}, {})", normal.x(), normal.y(), normal.z()),
-                               "LIGGGHTS's insertion cylinders lie along x, y or z; run it on the native backend");
-      }
-      if (region.thickness < 2.0 * rMax) {
-        throw core::InputError(field + ".disc.thickness", core::formatValue(region.thickness),
-                               "LIGGGHTS inserts into a volume: give a thickness of at least the largest diameter (" +
-                                   core::formatValue(2.0 * rMax) + " m)");
-      }
-      const char* axes = "xyz";
-      const int u = (axis + 1) % 3;
-      const int w = (axis + 2) % 3;
-      // LIGGGHTS's cylinder takes the two other coordinates in x, y, z order.
-      const int first = std::min(u, w);
-      const int second = std::max(u, w);
-      regionCommand = fmt::format("region {}_region cylinder {} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} units box", fix,
-                                  axes[axis], c[first], c[second], region.radius, c[axis] - 0.5 * region.thickness,
-                                  c[axis] + 0.5 * region.thickness);
-      volume = std::numbers::pi * region.radius * region.radius * region.thickness;
-    }
+    const std::string fix = liggghtsInsertFix(index, 0);
+    // Every source gets its templates and region, even one that inserts nothing yet: a
+    // client may switch it on or give it a rate at run time (LiggghtsBackend::advanceTo).
+    const std::string region = sourceRegionCommand(*source, fix, "particle_source " + source->name());
     const std::vector<LiggghtsSizeClass> classes = liggghtsSizeClasses(spec.sizes);
     const double materialDensity = world.materials().at(spec.material).density;
     std::string distribution;
@@ -174,32 +229,11 @@ std::vector<std::string> liggghtsSourceCommands(const core::World& world) {
     }
     commands.push_back(fmt::format("fix {}_sizes all particledistribution/discrete/numberbased {} {}{}", fix,
                                    liggghtsSeed(spec.seed, 0), classes.size(), distribution));
-    commands.push_back(regionCommand);
-    // Each insertion fills at most a tenth of the region (LIGGGHTS under-delivers into a
-    // crowded region), and happens at least every millisecond, so the rate stays smooth.
-    const double meanVolume = spec.sizes.meanVolume();
-    const double countRate = spec.rate_kg_per_s ? rate / (materialDensity * meanVolume) : rate;  // [1/s]
-    const auto most = static_cast<std::uint64_t>(std::max(1.0, std::round(1.0e-3 / dt)));
-    const auto every = std::clamp<std::uint64_t>(
-        static_cast<std::uint64_t>(std::floor(0.1 * volume / (countRate * dt * meanVolume))), 1, most);
-    std::string amount = "nparticles INF";
-    if (std::isfinite(spec.stop_time)) {
-      const double total = rate * (spec.stop_time - spec.start_time);
-      amount = spec.rate_kg_per_s ? fmt::format("mass {:.17g}", total)
-                                  : fmt::format("nparticles {}", static_cast<std::uint64_t>(std::llround(total)));
+    commands.push_back(region);
+    if (std::string insert = liggghtsInsertCommand(world, *source, index, 0); !insert.empty()) {
+      commands.push_back(std::move(insert));
     }
-    std::string start;
-    const auto startStep = static_cast<std::uint64_t>(std::llround(spec.start_time / dt));
-    if (startStep > world.stepCount()) start = fmt::format(" start {}", startStep);
-    const core::Vec3& v = spec.velocity;
-    const core::Vec3& omega = spec.angular_velocity;
-    commands.push_back(fmt::format(
-        "fix {} all insert/rate/region seed {} distributiontemplate {}_sizes maxattempt {} {} {} {:.17g} "
-        "insert_every {}{} overlapcheck yes all_in yes vel constant {:.17g} {:.17g} {:.17g} "
-        "omega constant {:.17g} {:.17g} {:.17g} region {}_region",
-        fix, liggghtsSeed(spec.seed, 1000), fix, spec.max_attempts, amount,
-        spec.rate_kg_per_s ? "massrate" : "particlerate", rate, every, start, v.x(), v.y(), v.z(), omega.x(),
-        omega.y(), omega.z(), fix));
+    ++index;
   }
   return commands;
 }

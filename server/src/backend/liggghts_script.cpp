@@ -11,6 +11,7 @@
 
 #include "demlink/core/particles/sphere.hpp"
 #include "demlink/core/input_error.hpp"
+#include "demlink/server/scene/proto_convert.hpp"
 
 namespace demlink::server {
 namespace {
@@ -64,11 +65,6 @@ void refuseUnmappedFields(const v1::ComponentDeclaration& component, const std::
   }
 }
 
-std::string kindName(const v1::ComponentDeclaration& component) {
-  const auto* field = v1::ComponentDeclaration::descriptor()->FindFieldByNumber(static_cast<int>(component.kind_case()));
-  return field != nullptr ? field->name() : "kind";
-}
-
 /// The axis (0, 1, 2) a plane's normal lies along, or -1.
 int planeAxis(const core::Vec3& normal) {
   for (int axis = 0; axis < 3; ++axis) {
@@ -103,16 +99,17 @@ void requireLiggghtsCompatible(const v1::Scene& scene, const core::World& world)
   std::string box = "simulation_box";
   for (int i = 0; i < scene.components_size(); ++i) {
     const v1::ComponentDeclaration& component = scene.components(i);
-    const std::string field = fmt::format("components[{}].{}", i, kindName(component));
+    const std::string field = componentPath(i) + "." + componentKindName(component.kind_case());
     const std::string reason = refusalReason(component.kind_case());
     refuseIf(!reason.empty(), field, component.name(), reason + "; run it on the native backend");
     refuseUnmappedFields(component, field);
-    if (component.has_simulation_box()) box = fmt::format("components[{}].simulation_box", i);
+    if (component.has_simulation_box()) box = componentPath(i) + ".simulation_box";
   }
   const core::SimulationSettings& settings = world.settings();
   refuseIf(!settings.frame.isInertial(), box + ".frame", "moving room",
            "LIGGGHTS has no fictitious forces of a moving room; run it on the native backend");
-  refuseIf(settings.contact_model != core::ContactModel::HertzMindlin, box + ".contact_model", "LINEAR_SPRING_DASHPOT",
+  refuseIf(settings.contact_model != core::ContactModel::HertzMindlin, box + ".contact_model",
+           std::string(core::toString(settings.contact_model)),
            "the LIGGGHTS backend maps the Hertz-Mindlin law only");
   refuseIf(settings.integrator != core::IntegratorKind::VelocityVerlet, box + ".integrator", "EXPLICIT_EULER",
            "LIGGGHTS integrates with velocity Verlet (fix nve/sphere) only");

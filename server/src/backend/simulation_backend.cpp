@@ -6,6 +6,7 @@
 
 #include "demlink/core/input_error.hpp"
 #include "demlink/core/state/checkpoint.hpp"
+#include "demlink/server/scene/proto_convert.hpp"
 
 namespace demlink::server {
 
@@ -19,12 +20,13 @@ BackendKind parseBackendKind(const std::string& field, const std::string& value)
 }
 
 void requireBackendAgrees(const v1::Scene& scene, BackendKind backend) {
-  for (const v1::ComponentDeclaration& component : scene.components()) {
+  for (int i = 0; i < scene.components_size(); ++i) {
+    const v1::ComponentDeclaration& component = scene.components(i);
     if (!component.has_simulation_box()) continue;
     const v1::SimulationBox::Backend wanted = component.simulation_box().backend();
     if (wanted == v1::SimulationBox::BACKEND_UNSPECIFIED) continue;
     if ((wanted == v1::SimulationBox::LIGGGHTS) != (backend == BackendKind::Liggghts)) {
-      throw core::InputError(component.name() + ".simulation_box.backend", v1::SimulationBox::Backend_Name(wanted),
+      throw core::InputError(componentPath(i) + ".simulation_box.backend", v1::SimulationBox::Backend_Name(wanted),
                              std::string("the scene and the command line (--backend ") +
                                  (backend == BackendKind::Liggghts ? "liggghts" : "native") + ") must agree");
     }

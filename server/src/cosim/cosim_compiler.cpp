@@ -14,6 +14,7 @@
 #include <spdlog/fmt/fmt.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <map>
 
@@ -26,6 +27,7 @@
 #include "demlink/server/scene/translate_deformables.hpp"
 #include "demlink/server/scene/translate_rigid_body.hpp"
 #include "demlink/server/run/contact_output_plan.hpp"
+#include "demlink/server/scene/proto_convert.hpp"
 
 namespace demlink::server {
 namespace {
@@ -37,12 +39,6 @@ using Kind = v1::ComponentDeclaration;
 /// 1e-220 s time step, found by the host fuzzer) would stall every connection for ever.
 /// 1e8 steps is minutes even for a handful of particles; no coupling needs more.
 constexpr std::uint64_t kMaxStepsPerInterval = 100'000'000;
-
-std::string kindName(Kind::KindCase kind) {
-  const google::protobuf::FieldDescriptor* field =
-      v1::ComponentDeclaration::descriptor()->FindFieldByNumber(static_cast<int>(kind));
-  return field != nullptr ? std::string(field->name()) : "(none)";
-}
 
 bool exchangeable(Kind::KindCase kind) {
   switch (kind) {
@@ -59,30 +55,13 @@ bool exchangeable(Kind::KindCase kind) {
   }
 }
 
-/// Replaces a leading "components[i]" by the i-th component's name; returns the index.
-std::pair<std::string, int> renameField(const std::string& field, const std::vector<DeclaredComponent>& all) {
-  static const std::string kPrefix = "components[";
-  if (field.rfind(kPrefix, 0) != 0) return {field, -1};
-  const std::size_t close = field.find(']');
-  if (close == std::string::npos) return {field, -1};
-  int index = -1;
-  try {
-    index = std::stoi(field.substr(kPrefix.size(), close - kPrefix.size()));
-  } catch (const std::exception&) {
-    return {field, -1};
-  }
-  if (index < 0 || static_cast<std::size_t>(index) >= all.size()) return {field, -1};
-  return {all[static_cast<std::size_t>(index)].declaration.name() + field.substr(close + 1), index};
-}
-
 /// The engine's InputError as a fatal INVALID_DECLARATION naming the component by name.
 CompileFailure failureOf(const core::InputError& error, const std::vector<DeclaredComponent>& all,
                          const std::string& fallbackComponent = {}) {
-  const auto [field, index] = renameField(error.field(), all);
-  const std::string component =
-      index >= 0 ? all[static_cast<std::size_t>(index)].declaration.name() : fallbackComponent;
-  const core::InputError renamed(field, error.value(), error.reason());
-  return CompileFailure(makeError(v1::Error::INVALID_DECLARATION, renamed.what(), component, field, true));
+  const NamedField named = nameDeclaredField(error.field(), all);
+  const std::string component = named.component ? all[*named.component].declaration.name() : fallbackComponent;
+  const core::InputError renamed(named.field, error.value(), error.reason());
+  return CompileFailure(makeError(v1::Error::INVALID_DECLARATION, renamed.what(), component, named.field, true));
 }
 
 CompileFailure failure(const std::string& component, const std::string& field, const std::string& value,
@@ -202,6 +181,19 @@ std::string reportText(const CompiledSimulation& out, const core::World& world) 
 
 }  // namespace
 
+NamedField nameDeclaredField(const std::string& field, const std::vector<DeclaredComponent>& all) {
+  static const std::string kPrefix = "components[";
+  if (!field.starts_with(kPrefix)) return {field, std::nullopt};
+  const std::size_t close = field.find(']');
+  if (close == std::string::npos) return {field, std::nullopt};
+  std::size_t index = 0;
+  const char* first = field.data() + kPrefix.size();
+  const char* last = field.data() + close;
+  const auto [end, error] = std::from_chars(first, last, index);
+  if (error != std::errc() || end != last || index >= all.size()) return {field, std::nullopt};
+  return {all[index].declaration.name() + field.substr(close + 1), index};
+}
+
 v1::Error makeError(v1::Error::Code code, const std::string& message, const std::string& component,
                     const std::string& field, bool fatal) {
   v1::Error error;
@@ -231,8 +223,6 @@ bool CosimCompiler::isRepeat(ConnectionId owner, const v1::ComponentDeclaration&
   });
 }
 
-std::size_t CosimCompiler::remoteCount() const { return declared_.size() - base_count_; }
-
 const v1::SimulationBox* CosimCompiler::box() const {
   for (const DeclaredComponent& d : declared_) {
     if (d.declaration.has_simulation_box()) return &d.declaration.simulation_box();
@@ -251,7 +241,7 @@ std::optional<v1::Error> CosimCompiler::declare(ConnectionId owner, const v1::Co
   }
   if (name.empty()) {
     return makeError(v1::Error::DUPLICATE_NAME, "every component needs a non-empty name (a " +
-                                                    kindName(declaration.kind_case()) + " has none)",
+                                                    componentKindName(declaration.kind_case()) + " has none)",
                      name, "component.name");
   }
   if (std::string problem = core::nameProblem(name); !problem.empty()) {
@@ -374,7 +364,7 @@ CompiledSimulation CosimCompiler::compile(const std::filesystem::path& sceneDire
     CosimComponent c;
     c.name = d.declaration.name();
     c.kind_case = d.declaration.kind_case();
-    c.kind = kindName(c.kind_case);
+    c.kind = componentKindName(c.kind_case);
     c.id = static_cast<std::uint32_t>(i + 1);
     c.owner = d.owner;
     const std::string field = c.name + ".communication_interval";
@@ -455,9 +445,11 @@ CompiledSimulation CosimCompiler::compile(const std::filesystem::path& sceneDire
                   "exchange a component");
   }
   // Warnings name the component as errors do ("box.simulation_box.output.vtk_interval").
-  for (const std::string& warning : out.plan.warnings) out.report.add_warnings(renameField(warning, declared_).first);
+  for (const std::string& warning : out.plan.warnings) {
+    out.report.add_warnings(nameDeclaredField(warning, declared_).field);
+  }
   for (const std::string& warning : core::sampleScheduleWarnings(world)) {
-    out.report.add_warnings(renameField(warning, declared_).first);
+    out.report.add_warnings(nameDeclaredField(warning, declared_).field);
   }
   for (const std::string& stage : world.activeStages()) out.report.add_active_stages(stage);
   out.report.set_time_step(dt);

@@ -76,7 +76,6 @@ struct CosimHost::Impl {
   std::optional<Progress> progress;
   std::uint64_t exchanges = 0;  ///< packages accepted in the running simulation [-]
   std::unique_ptr<SessionRecorder> recorder;
-  std::filesystem::path last_directory;
 
   // --- recording -----------------------------------------------------------------
   void record(v1::SessionEvent::Kind kind, ConnectionId id = 0, const v1::ClientMessage* message = nullptr,
@@ -195,12 +194,18 @@ struct CosimHost::Impl {
   [[nodiscard]] std::optional<v1::Error> refusedByBackend(const CompiledSimulation& compiled) const {
     v1::Scene declared;
     for (const DeclaredComponent& d : compiler.declarations()) *declared.add_components() = d.declaration;
+    // Both checks name fields "components[i]..." of `declared`, in the declarations' order.
+    const auto refusedAs = [&](const core::InputError& error, const std::string& prefix) {
+      const NamedField named = nameDeclaredField(error.field(), compiler.declarations());
+      const std::string component =
+          named.component ? compiler.declarations()[*named.component].declaration.name() : std::string();
+      const core::InputError renamed(named.field, error.value(), error.reason());
+      return makeError(v1::Error::INVALID_DECLARATION, prefix + renamed.what(), component, named.field, true);
+    };
     try {
       requireBackendAgrees(declared, options.backend);
     } catch (const core::InputError& disagreement) {
-      const std::string& field = disagreement.field();  // "<box name>.simulation_box.backend"
-      return makeError(v1::Error::INVALID_DECLARATION, disagreement.what(), field.substr(0, field.find('.')), field,
-                       true);
+      return refusedAs(disagreement, "");
     }
     if (options.backend != BackendKind::Liggghts) return std::nullopt;
     if (!options.liggghts) {
@@ -209,13 +214,7 @@ struct CosimHost::Impl {
     try {
       requireLiggghtsCompatible(declared, compiled.scene->world);
     } catch (const core::InputError& refusal) {
-      // The refusal names components by their index in the declared set; the client knows names.
-      std::string component;
-      for (const v1::ComponentDeclaration& d : declared.components()) {
-        if (refusal.value() == d.name()) component = d.name();
-      }
-      return makeError(v1::Error::INVALID_DECLARATION, std::string("LIGGGHTS backend: ") + refusal.what(), component,
-                       refusal.field(), true);
+      return refusedAs(refusal, "LIGGGHTS backend: ");
     }
     return std::nullopt;
   }
@@ -256,7 +255,6 @@ struct CosimHost::Impl {
       endSimulation(out, e.message());
       return;
     }
-    last_directory = directory;
     const CompiledSimulation& c = sim->compiled();
     spdlog::info("simulation {} compiled:\n{}", number(), c.report.text());
     spdlog::info("simulation {} starts with {} connections -> {}", number(), connections.size(), directory.string());
@@ -756,7 +754,6 @@ bool CosimHost::simulationRunning() const { return impl_->sim != nullptr; }
 
 std::uint64_t CosimHost::simulationsFinished() const { return impl_->finished; }
 
-std::filesystem::path CosimHost::lastOutputDirectory() const { return impl_->last_directory; }
 
 const core::World* CosimHost::world() const {
   return impl_->sim ? &impl_->sim->compiled().scene->world : nullptr;

@@ -5,7 +5,8 @@
 /// since the previous answer. ParticleSource: inserted during the interval and in total,
 /// shortfall in total (report()). ParticleSink: removed during the interval and in total.
 /// RegionSensor: measure() of the world now. FlowSensor: crossings during the interval and
-/// in total. ParticleView: every stride-th particle by slot, stride = ceil(N / max_count).
+/// in total. ParticleView: the particles whose id is a multiple of the stride, in id order,
+/// stride = ceil(largest id / max_count).
 /// RigidBody: the interval's wrench and the server's pose. MassSpringBody / FemBody: the
 /// reported nodes' displacements, the reactions and broken springs at the interval's end.
 #include "demlink/server/cosim/cosim_outputs.hpp"

@@ -73,14 +73,6 @@ std::vector<std::size_t> ExchangeScheduler::missing() const {
   return out;
 }
 
-std::vector<std::size_t> ExchangeScheduler::dueNow() const {
-  std::vector<std::size_t> out;
-  for (const Entry& e : entries_) {
-    if (dueAt(e, step_)) out.push_back(e.index);
-  }
-  return out;
-}
-
 bool ExchangeScheduler::anyActive() const {
   return std::any_of(entries_.begin(), entries_.end(), [](const Entry& e) { return e.active; });
 }

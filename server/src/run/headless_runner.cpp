@@ -19,7 +19,6 @@
 #include "demlink/core/input_error.hpp"
 #include "demlink/core/components/particle_source.hpp"
 #include "demlink/core/components/sampled_component.hpp"
-#include "demlink/server/backend/simulation_backend.hpp"
 #include "demlink/server/run/contact_output_plan.hpp"
 #include "demlink/server/run/deformable_series.hpp"
 #include "demlink/server/run/frame_series.hpp"
@@ -120,7 +119,7 @@ void checkHeadless(TranslatedScene& scene) {
   for (const std::string& warning : core::sampleScheduleWarnings(scene.world)) spdlog::warn("{}", warning);
 }
 
-RunSummary runHeadless(TranslatedScene& scene) {
+RunSummary runHeadless(TranslatedScene& scene, const StepObserver& observer) {
   core::World& world = scene.world;
   const RunOptions& run = scene.run;
   const std::string& box = run.field_prefix;
@@ -161,11 +160,12 @@ RunSummary runHeadless(TranslatedScene& scene) {
   try {
     world.setStageTiming(true);  // the run log's per-stage rows
     driver.start(world);
+    if (observer) observer(world);
     ProgressMeter progress(run.progress_interval, endStep, world.stepCount());
-    NativeBackend backend(world);
-    while (backend.stepCount() < endStep) {
-      backend.advanceTo(backend.stepCount() + 1);  // the driver's outputs see every step
+    while (world.stepCount() < endStep) {
+      world.advance(1);  // the driver's outputs see every step
       driver.afterStep(world);
+      if (observer) observer(world);
       progress.update(world);
     }
     driver.finish(world);

@@ -13,7 +13,7 @@
 #include "demlink/core/step/interval_steps.hpp"
 #include "demlink/server/run/contact_output_plan.hpp"
 #include "demlink/server/run/output_directory.hpp"
-#include "demlink/server/run/particle_csv.hpp"
+#include "demlink/server/scene/particle_csv.hpp"
 
 namespace demlink::server {
 namespace {
@@ -60,6 +60,18 @@ RunPlan planRun(const RunOptions& run, double timeStep, bool endTimeRequired) {
   return plan;
 }
 
+bool RunPlan::frameDue(std::uint64_t step) const {
+  return (frame_every > 0 && step % frame_every == 0) || step == end_step;
+}
+
+bool RunPlan::checkpointDue(std::uint64_t step) const {
+  return checkpoint_every > 0 && step % checkpoint_every == 0;
+}
+
+std::string RunPlan::checkpointName(std::uint64_t step) const {
+  return core::checkpointFileName(step / checkpoint_every);
+}
+
 RunDriver::RunDriver(core::World& world, const RunOptions& run, RunPlan plan, const std::filesystem::path& directory,
                      const std::string& directoryField)
     : run_(run),
@@ -79,6 +91,7 @@ double RunDriver::wallSeconds() const { return secondsSince(start_); }
 void RunDriver::start(const core::World& world) {
   start_ = Clock::now();
   first_step_ = world.stepCount();
+  last_step_ = first_step_;
   first_build_ = world.neighbourList().buildCount();
   timed(timing_.output_seconds, [&] {
     frames_.writePlanes(world);
@@ -102,7 +115,13 @@ void RunDriver::writeFrame(const core::World& world) {
 }
 
 void RunDriver::writeCheckpoint(const core::World& world, const std::string& name) {
-  timed(timing_.output_seconds, [&] { core::writeCheckpointFile(world, directory() / name); });
+  timed(timing_.output_seconds, [&] {
+    if (checkpoint_writer_) {
+      checkpoint_writer_(directory() / name);
+    } else {
+      core::writeCheckpointFile(world, directory() / name);
+    }
+  });
   ++timing_.checkpoints;
 }
 
@@ -118,16 +137,15 @@ void RunDriver::writeContacts(const core::World& world) {
 }
 
 void RunDriver::afterStep(const core::World& world) {
-  timing_.particle_steps += world.particles().size();
   const std::uint64_t step = world.stepCount();
+  timing_.particle_steps += world.particles().size() * (step - last_step_);
+  last_step_ = step;
   deformables_.afterStep(world);
-  if ((plan_.frame_every > 0 && step % plan_.frame_every == 0) || step == plan_.end_step) writeFrame(world);
+  if (plan_.frameDue(step)) writeFrame(world);
   if (plan_.contact_every > 0 && step % plan_.contact_every == 0 && contactsRecordedNow(world, plan_)) {
     writeContacts(world);
   }
-  if (plan_.checkpoint_every > 0 && step % plan_.checkpoint_every == 0) {
-    writeCheckpoint(world, core::checkpointFileName(step / plan_.checkpoint_every));
-  }
+  if (plan_.checkpointDue(step)) writeCheckpoint(world, plan_.checkpointName(step));
 }
 
 void RunDriver::finish(const core::World& world, const std::string& reason) {

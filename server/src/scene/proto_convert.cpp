@@ -3,11 +3,21 @@
 
 #include <system_error>
 
+#include <google/protobuf/descriptor.h>
+
 #include "demlink/core/input_error.hpp"
 #include "demlink/core/unit_quaternion.hpp"
 #include "demlink/core/log_text.hpp"
 
 namespace demlink::server {
+
+std::string componentPath(int index) { return "components[" + std::to_string(index) + "]"; }
+
+std::string componentKindName(v1::ComponentDeclaration::KindCase kind) {
+  const google::protobuf::FieldDescriptor* field =
+      v1::ComponentDeclaration::descriptor()->FindFieldByNumber(static_cast<int>(kind));
+  return field != nullptr ? std::string(field->name()) : "kind";
+}
 
 core::Vec3 toVec3(const v1::Vector3& v) { return {v.x(), v.y(), v.z()}; }
 

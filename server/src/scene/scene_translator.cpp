@@ -14,6 +14,7 @@
 #include "demlink/server/scene/scene_translator.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 
 #include <map>
@@ -22,6 +23,7 @@
 
 #include <fmt/format.h>
 
+#include "demlink/core/contact/contact_law_registry.hpp"
 #include "demlink/core/input_error.hpp"
 #include "demlink/core/log_text.hpp"
 #include "demlink/core/names.hpp"
@@ -46,8 +48,6 @@ namespace {
 
 using core::InputError;
 using MaterialNames = std::map<std::string, std::uint32_t>;
-
-std::string componentPath(int index) { return "components[" + std::to_string(index) + "]"; }
 
 std::string quoted(const std::string& text) { return core::quotedLogText(text); }
 
@@ -93,20 +93,24 @@ int checkStructure(const v1::Scene& scene) {
   return boxes.front();
 }
 
+/// The scene's contact model is the registry's law of the same name (HERTZ_MINDLIN ->
+/// "hertz_mindlin", contact_law_registry.hpp), so a new law needs its registry entry and its
+/// enum value, and no switch here; unspecified is Hertz-Mindlin.
+core::ContactModel contactModelOf(const v1::SimulationBox& box, const std::string& prefix) {
+  if (box.contact_model() == v1::SimulationBox::CONTACT_MODEL_UNSPECIFIED) return core::ContactModel::HertzMindlin;
+  std::string name = v1::SimulationBox::ContactModel_Name(box.contact_model());
+  std::transform(name.begin(), name.end(), name.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (const std::optional<core::ContactModel> model = core::contactModelNamed(name)) return *model;
+  throw InputError(prefix + ".contact_model", std::to_string(box.contact_model()), "unknown contact model");
+}
+
 core::SimulationSettings toSettings(const v1::SimulationBox& box, const std::string& prefix,
                                     const core::CoarseGraining& coarse, FidelityChoice& fidelity) {
   core::SimulationSettings settings;
   if (box.has_time_step()) settings.time_step = box.time_step();
   if (box.has_gravity()) settings.gravity = toVec3(box.gravity());
-  switch (box.contact_model()) {
-    case v1::SimulationBox::CONTACT_MODEL_UNSPECIFIED:
-    case v1::SimulationBox::HERTZ_MINDLIN: settings.contact_model = core::ContactModel::HertzMindlin; break;
-    case v1::SimulationBox::LINEAR_SPRING_DASHPOT:
-      settings.contact_model = core::ContactModel::LinearSpringDashpot;
-      break;
-    default:
-      throw InputError(prefix + ".contact_model", std::to_string(box.contact_model()), "unknown contact model");
-  }
+  settings.contact_model = contactModelOf(box, prefix);
   switch (box.integrator()) {
     case v1::SimulationBox::INTEGRATOR_UNSPECIFIED:
     case v1::SimulationBox::VELOCITY_VERLET: settings.integrator = core::IntegratorKind::VelocityVerlet; break;

@@ -14,6 +14,7 @@
 #include "demlink/server/scene/input_limits.hpp"
 #include "demlink/core/components/random.hpp"
 #include "demlink/server/scene/particle_lattice.hpp"
+#include "demlink/server/scene/proto_convert.hpp"
 
 namespace demlink::server {
 
@@ -23,7 +24,7 @@ void addClumpTemplates(const v1::Scene& scene, core::World& world) {
   for (int i = 0; i < scene.components_size(); ++i) {
     const v1::ComponentDeclaration& component = scene.components(i);
     if (!component.has_clump_template()) continue;
-    const std::string prefix = "components[" + std::to_string(i) + "].clump_template";
+    const std::string prefix = componentPath(i) + ".clump_template";
     std::vector<core::ClumpSphere> spheres;
     for (const v1::ClumpSphere& sphere : component.clump_template().spheres()) {
       spheres.push_back({core::Vec3(sphere.offset().x(), sphere.offset().y(), sphere.offset().z()), sphere.radius()});

@@ -239,7 +239,7 @@ void addDeformableBodies(const v1::Scene& scene, const MaterialResolver& resolve
                          const FileScope& files, core::World& world) {
   for (int i = 0; i < scene.components_size(); ++i) {
     const v1::ComponentDeclaration& component = scene.components(i);
-    const std::string path = "components[" + std::to_string(i) + "]";
+    const std::string path = componentPath(i);
     // An attached body's reference is the mesh's reference point at t = 0.
     std::optional<std::size_t> mesh;
     const auto attach = [&](const std::string& attachedTo, const std::string& prefix, core::Vec3& reference) {

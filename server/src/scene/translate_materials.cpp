@@ -10,6 +10,7 @@
 #include "demlink/core/log_text.hpp"
 #include "demlink/core/names.hpp"
 #include "demlink/core/materials/material_database.hpp"
+#include "demlink/server/scene/proto_convert.hpp"
 
 namespace demlink::server {
 namespace {
@@ -54,7 +55,7 @@ void addMaterialPairs(const v1::Scene& scene, const std::map<std::string, std::u
     const v1::ComponentDeclaration& component = scene.components(i);
     if (!component.has_material_pair()) continue;
     const v1::MaterialPair& pair = component.material_pair();
-    const std::string prefix = "components[" + std::to_string(i) + "].material_pair";
+    const std::string prefix = componentPath(i) + ".material_pair";
     const std::uint32_t a = pairMaterial(materials, pair.material_a(), prefix + ".material_a");
     const std::uint32_t b = pairMaterial(materials, pair.material_b(), prefix + ".material_b");
     core::PairOverride values;

@@ -148,7 +148,7 @@ core::SampleSchedule scheduleOf(const Declaration& declaration, const std::strin
 void addSensorComponents(const v1::Scene& scene, core::World& world) {
   for (int i = 0; i < scene.components_size(); ++i) {
     const v1::ComponentDeclaration& component = scene.components(i);
-    const std::string path = "components[" + std::to_string(i) + "]";
+    const std::string path = componentPath(i);
     switch (component.kind_case()) {
       case v1::ComponentDeclaration::kParticleSink: {
         const v1::ParticleSink& sink = component.particle_sink();

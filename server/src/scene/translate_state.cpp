@@ -13,7 +13,7 @@
 #include "demlink/core/state/checkpoint.hpp"
 #include "demlink/core/input_error.hpp"
 #include "demlink/core/log_text.hpp"
-#include "demlink/server/run/particle_csv.hpp"
+#include "demlink/server/scene/particle_csv.hpp"
 #include "demlink/server/scene/proto_convert.hpp"
 
 namespace demlink::server {

@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "demlink/core/step/parallel.hpp"
-#include "demlink/core/step/spin_wait.hpp"
+#include "demlink/core/parallel/spin_wait.hpp"
 #include "demlink/core/step/thread_pool.hpp"
 
 namespace demlink::core {

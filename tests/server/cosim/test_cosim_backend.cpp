@@ -1,7 +1,7 @@
 // The host and its engine: the scene and the server must agree on the backend; on
 // LIGGGHTS the host refuses what LIGGGHTS cannot run, naming the component, before any
 // engine exists; and a mirror host fed with the leader's events (what the MPI ranks
-// other than 0 do, backend/cosim_lockstep.hpp) holds the very same world, with the
+// other than 0 do, cosim/cosim_lockstep.hpp) holds the very same world, with the
 // leader's before_engine called before every stretch of stepping.
 #include <gtest/gtest.h>
 
@@ -57,6 +57,7 @@ TEST(CosimBackend, LiggghtsRefusalNamesTheComponentBeforeAnyEngineExists) {
   ASSERT_FALSE(errors.empty());
   EXPECT_EQ(errors.back().code(), v1::Error::INVALID_DECLARATION);
   EXPECT_EQ(errors.back().component(), "scoop");
+  EXPECT_EQ(errors.back().field(), "scoop.clump_template") << "named as the compiler names fields";
   EXPECT_NE(errors.back().message().find("clump_template"), std::string::npos) << errors.back().message();
   EXPECT_NE(errors.back().message().find("LIGGGHTS"), std::string::npos) << errors.back().message();
   EXPECT_EQ(built, 0);

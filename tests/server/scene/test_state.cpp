@@ -13,7 +13,7 @@
 #include "demlink/core/state/checkpoint.hpp"
 #include "demlink/core/input_error.hpp"
 #include "demlink/core/components/particle_source.hpp"
-#include "demlink/server/run/particle_csv.hpp"
+#include "demlink/server/scene/particle_csv.hpp"
 #include "demlink/server/scene/scene_loader.hpp"
 #include "demlink/server/scene/scene_translator.hpp"
 #include "test_support.hpp"

@@ -30,7 +30,7 @@ struct ConnectOptions {
   std::size_t max_frame_bytes = 64u << 20;  ///< largest accepted ServerMessage [bytes]
   /// How long a receive polls the socket before it blocks [us]: a blocked thread takes
   /// tens of microseconds to wake, which dominates a short exchange. Spun only while a
-  /// free CPU allows it (docs/benchmarks.md, "waits"); 0: block at once. Unset: 50 us, or
+  /// free CPU allows it (docs/benchmarks.md, "Waits"); 0: block at once. Unset: 50 us, or
   /// DEMLINK_SPIN_WAIT_US from the environment (as for the C ABI).
   std::optional<std::chrono::microseconds> spin_wait;
 };

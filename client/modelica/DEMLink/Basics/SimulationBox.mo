@@ -16,7 +16,7 @@ model SimulationBox "Server address, communication interval and the DEM run's se
   parameter Modelica.Units.SI.Position boundsUpper[3] = {5, 5, 5} "Upper corner of the DEM domain";
   parameter Modelica.Units.SI.Time vtkInterval = -1 "VTK output interval of the server (negative: the server's default)"
     annotation (Dialog(group = "Server output"));
-  parameter Integer threads = -1 "Engine threads (negative: 1, 0: all cores)" annotation (Dialog(group = "Speed and accuracy"));
+  parameter Integer threads = -1 "Engine threads (negative: 1, 0: automatic, the usable CPUs less the load average)" annotation (Dialog(group = "Speed and accuracy"));
   parameter DEMLink.Types.Fidelity fidelity = DEMLink.Types.Fidelity.NoPreset
     "Preset for the speed/accuracy settings left at their default" annotation (Dialog(group = "Speed and accuracy"));
   parameter DEMLink.Types.ContactModel contactModel = DEMLink.Types.ContactModel.Default "Contact law"

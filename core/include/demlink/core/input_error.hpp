@@ -51,7 +51,5 @@ void requireHalfOpenRange(const std::string& field, double value, double lo, dou
 /// The check for every duration and bounded quantity: throws InputError unless value is
 /// finite and lo <= value <= hi; `unit` (e.g. "s") follows the bounds in the reason.
 void requireInRange(const std::string& field, double value, double lo, double hi, const std::string& unit = "");
-/// The same for a count: throws InputError unless lo <= value <= hi.
-void requireCountInRange(const std::string& field, std::uint64_t value, std::uint64_t lo, std::uint64_t hi);
 
 }  // namespace demlink::core

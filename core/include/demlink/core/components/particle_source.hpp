@@ -130,6 +130,10 @@ class ParticleSource final : public WorldComponent {
   /// The current rate in the declared unit [1/s or kg/s].
   [[nodiscard]] double rate() const;
   [[nodiscard]] const SourceReport& report() const { return report_; }
+  /// Adds to the report what another engine inserted for this source (the LIGGGHTS
+  /// backend's insertion fix: that engine places the particles, so insertAndRemove never
+  /// runs there and the client's outputs come from here).
+  void countInsertedElsewhere(std::uint64_t count, double mass);
   [[nodiscard]] const ParticleSourceSpec& spec() const { return spec_; }
   /// One line for logs: inserted count and mass, shortfall, requested.
   [[nodiscard]] std::string summaryLine() const;

@@ -45,7 +45,7 @@
 #include <thread>
 #include <vector>
 
-#include "demlink/core/step/spin_wait.hpp"
+#include "demlink/core/parallel/spin_wait.hpp"
 
 namespace demlink::core {
 

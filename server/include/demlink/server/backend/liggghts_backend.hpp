@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "demlink/core/components/particle_source.hpp"
 #include "demlink/server/backend/simulation_backend.hpp"
 #include "demlink/server/run/headless_runner.hpp"
 #include "demlink/v1/scene.pb.h"
@@ -42,7 +43,9 @@ class LiggghtsBackend final : public SimulationBackend {
   LiggghtsBackend& operator=(const LiggghtsBackend&) = delete;
 
   [[nodiscard]] std::string_view name() const override { return "liggghts"; }
-  /// Runs LIGGGHTS to `step`, moving each mesh at the twist its compiled-world mesh has
+  /// Runs LIGGGHTS to `step`, first replacing the insertion fix of every particle source
+  /// whose rate or on/off a client changed (liggghtsInsertCommand: the new fix inserts at
+  /// the new rate from this step on; an off source has none), moving each mesh at the twist its compiled-world mesh has
   /// (fix move/mesh, liggghts_motion.hpp: a mesh's first twist creates its move fixes and
   /// makes this run set up again; later twists only set the variables the fixes read),
   /// then advances the compiled world's clock and mesh poses by
@@ -59,10 +62,11 @@ class LiggghtsBackend final : public SimulationBackend {
   /// Particles LIGGGHTS's sources inserted that a syncParticles() handed over (an atom
   /// inserted and lost within one stride is in neither tally).
   [[nodiscard]] const core::RemovalTally& insertedParticles() const { return inserted_; }
-  /// Particles and mass [kg] LIGGGHTS's insertion fix of source `source` reports inserted.
+  /// Particles and mass [kg] the world's `source`-th particle source has inserted (its
+  /// report, which syncParticles() feeds from LIGGGHTS's insertion fixes).
   [[nodiscard]] std::pair<std::uint64_t, double> sourceInserted(std::size_t source) const;
-  /// Insertion fixes (sources with a positive rate) [-].
-  [[nodiscard]] std::size_t sourceCount() const { return sources_; }
+  /// The world's particle sources [-].
+  [[nodiscard]] std::size_t sourceCount() const { return sources_.size(); }
   [[nodiscard]] const core::World& world() const override { return world_; }
   /// Force on mesh `mesh` by the particles [N] and its torque about the mesh's reference
   /// point [N m], of the last step (fix mesh/surface/stress). advanceTo() also sets them
@@ -96,20 +100,34 @@ class LiggghtsBackend final : public SimulationBackend {
   /// Gives LIGGGHTS the twist of every mesh whose twist changed; true if a mesh's move
   /// fixes had to be created (the next run must set up).
   bool updateMeshMotion();
+  /// Per particle source: its insertion fix now and what of its counters the source's
+  /// report holds already.
+  struct SourceFix {
+    core::ParticleSource* source = nullptr;
+    double rate = 0.0;             ///< liggghtsSourceRate when the fix was made [1/s or kg/s]
+    bool active = false;           ///< a fix exists (it inserts something)
+    std::uint32_t generation = 0;  ///< liggghtsInsertFix(index, generation)
+    std::uint64_t counted = 0;     ///< the fix's particles already in the report [-]
+    double counted_mass = 0.0;     ///< [kg]
+  };
+  std::vector<SourceFix> sources_;
+  /// Adds what the insertion fixes inserted since the last call to their sources' reports.
+  void countInserted();
+  /// Replaces the insertion fix of every source whose rate changed; true if one did.
+  bool updateSources();
   /// Reads the `.liggghts_ids` file of checkpoint `restore` into the members below.
   void restoreTagMap(const std::filesystem::path& restore);
   std::vector<std::uint64_t> tag_ids_;                         ///< atom tag - 1 -> our stable id
   std::unordered_map<std::uint64_t, std::size_t> tag_of_id_;  ///< our stable id -> atom tag
   core::RemovalTally inserted_;
-  std::size_t sources_ = 0;  ///< insertion fixes
 };
 
 /// runHeadless on LIGGGHTS: refuses what it cannot run (requireLiggghtsCompatible), restores
-/// run.restore_file (a LiggghtsBackend checkpoint's `.bin`) if given, steps to the end time
-/// in strides that land on every output.vtk_interval (a progress line each) and
-/// output.checkpoint_interval (checkpoint_NNNNNN.*, LiggghtsBackend::writeCheckpoint), then
-/// rank 0 writes particles_final.csv and checkpoint_final.* into the output directory.
-/// Every rank must call it.
+/// run.restore_file (a LiggghtsBackend checkpoint's `.bin`) if given, and steps to the end
+/// time in strides that land on every output.vtk_interval (a progress line each) and
+/// output.checkpoint_interval. Rank 0 writes the outputs with the RunDriver of a native run
+/// (its checkpoints through LiggghtsBackend::writeCheckpoint, in which every rank takes
+/// part). Every rank must call it.
 RunSummary runHeadlessLiggghts(const v1::Scene& declarations, TranslatedScene& scene);
 
 }  // namespace demlink::server

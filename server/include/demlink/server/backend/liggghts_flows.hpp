@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "demlink/core/components/particle_source.hpp"
 #include "demlink/core/components/size_distribution.hpp"
 #include "demlink/core/world.hpp"
 
@@ -35,13 +36,27 @@ struct LiggghtsSizeClass {
 /// ours (to the quadrature's ~1e-10).
 [[nodiscard]] std::vector<LiggghtsSizeClass> liggghtsSizeClasses(const core::SizeDistribution& sizes);
 
-/// The id of the insertion fix of the world's `source`-th particle source (its global
-/// vector: particles inserted, mass inserted [kg]).
-[[nodiscard]] std::string liggghtsInsertFix(std::size_t source);
+/// The id of an insertion fix of the world's `source`-th particle source (its global
+/// vector: particles inserted, mass inserted [kg]). Generation 0 is the fix the backend
+/// starts with (it also names the source's templates and region); a run-time change of the
+/// rate or of on/off replaces the fix by one of the next generation.
+[[nodiscard]] std::string liggghtsInsertFix(std::size_t source, std::uint32_t generation = 0);
+
+/// The rate `source` inserts at now, in its declared unit: its rate, or 0 when switched off.
+[[nodiscard]] double liggghtsSourceRate(const core::ParticleSource& source);
+
+/// The `fix ... insert/rate/region` command of the world's `index`-th source at its current
+/// rate (liggghtsSourceRate) from the world's current step on, with id
+/// liggghtsInsertFix(index, generation); empty when it inserts nothing (off, rate 0 or past
+/// its stop time). A finite stop time limits the amount: generation 0 to rate x the active
+/// time (a restored fix continues its count), a replacement to what is left at its rate.
+[[nodiscard]] std::string liggghtsInsertCommand(const core::World& world, const core::ParticleSource& source,
+                                                std::size_t index, std::uint32_t generation);
 
 /// The commands of the world's particle sources, in order (per source: one
 /// particletemplate/sphere per size class, particledistribution/discrete/numberbased, the
-/// region, fix insert/rate/region). Refuses, with an InputError naming the source's field,
+/// region, and fix insert/rate/region when it inserts now). Every source gets its region,
+/// so a client can switch it on later. Refuses, with an InputError naming the source's field,
 /// what LIGGGHTS cannot insert as we do: a region attached to a mesh, a rotated box, a disc
 /// whose normal is not along x, y or z or that is thinner than the largest diameter (LIGGGHTS
 /// inserts into a volume).

@@ -21,7 +21,8 @@ enum class BackendKind : std::uint8_t { Native, Liggghts };
 [[nodiscard]] BackendKind parseBackendKind(const std::string& field, const std::string& value);
 
 /// A SimulationBox of `scene` whose `backend` is set must name `backend` (the command
-/// line's); throws core::InputError naming "<box name>.simulation_box.backend" otherwise.
+/// line's); throws core::InputError naming "components[i].simulation_box.backend" otherwise
+/// (the scene's path; a co-simulation names the box instead, nameDeclaredField).
 void requireBackendAgrees(const v1::Scene& scene, BackendKind backend);
 
 class SimulationBackend {

@@ -41,6 +41,17 @@ struct DeclaredComponent {
   std::optional<ConnectionId> owner;  ///< nullopt: from the scene file
 };
 
+/// A field path with its component named, as a client sees it.
+struct NamedField {
+  std::string field;                     ///< "<name>.<rest>", or the path as it was
+  std::optional<std::size_t> component;  ///< index into the declarations
+};
+
+/// The one rule for the engine's field paths: the scene's "components[i].<rest>" (what
+/// translateScene and the backend's refusals name) becomes "<name of declaration i>.<rest>";
+/// any other path is kept, with no component.
+[[nodiscard]] NamedField nameDeclaredField(const std::string& field, const std::vector<DeclaredComponent>& all);
+
 /// One component of a compiled simulation and its engine handles.
 struct CosimComponent {
   std::string name;
@@ -101,8 +112,6 @@ class CosimCompiler {
   };
   [[nodiscard]] Missing missing() const;
   [[nodiscard]] const std::vector<DeclaredComponent>& declarations() const { return declared_; }
-  /// Declarations that came from clients [-].
-  [[nodiscard]] std::size_t remoteCount() const;
 
   /// Compiles the declared set. Throws CompileFailure with Error{INVALID_DECLARATION, fatal}
   /// naming the component and the field ("<name>.<kind>.<field>"). The scene file's

@@ -81,6 +81,9 @@ struct CosimOptions {
   /// Called before the running simulation calls its engine, which every MPI rank must
   /// do together: rank 0 broadcasts the events collected since the last call.
   std::function<void()> before_engine;
+  /// Sees the running simulation's world after every step and at its start (the live view,
+  /// LiveViewHub::offer); it must not change the world.
+  std::function<void(const core::World&)> step_observer;
   /// This host mirrors rank 0's on another MPI rank: it drives the engine in lockstep but
   /// writes no output files.
   bool mirror = false;
@@ -116,9 +119,6 @@ class CosimHost final : public SessionHandler {
   /// The pending simulation ends with TIMEOUT to its clients, as poll() does after the
   /// assembly timeout (the session replay calls it at a recorded ASSEMBLY_TIMEOUT marker).
   std::vector<Outgoing> expireAssemblyNow(SteadyClock::time_point now);
-  /// The output directory of the running (or, after it ended, the last) simulation; empty
-  /// before the first compile.
-  [[nodiscard]] std::filesystem::path lastOutputDirectory() const;
   /// The running simulation's world, for tests and in-process drivers; null when none runs.
   [[nodiscard]] const core::World* world() const;
   /// The running simulation (components, couplings, scheduler); null when none runs.

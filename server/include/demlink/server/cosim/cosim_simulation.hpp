@@ -103,6 +103,7 @@ class CosimSimulation {
   std::map<std::size_t, v1::DataPackage> inputs_;  ///< stored inputs of the current step
   std::unique_ptr<RunDriver> driver_;  ///< null on a mirror
   std::function<void()> before_engine_;
+  std::function<void(const core::World&)> step_observer_;  ///< options.step_observer
   std::unique_ptr<SimulationBackend> backend_;  ///< steps the compiled world (native or LIGGGHTS)
   /// The backend writes the checkpoints, at the stops (LIGGGHTS: the compiled world holds
   /// its particles only there, and a checkpoint needs LIGGGHTS's restart files too); the

@@ -44,8 +44,6 @@ class ExchangeScheduler {
   Offer offer(std::size_t index, std::uint64_t step);
   /// Active components due now whose package is missing.
   [[nodiscard]] std::vector<std::size_t> missing() const;
-  /// Active components due now (received or not).
-  [[nodiscard]] std::vector<std::size_t> dueNow() const;
   /// True when every component due now has reported (also when none is due).
   [[nodiscard]] bool complete() const { return missing().empty(); }
   /// Any component still exchanged.

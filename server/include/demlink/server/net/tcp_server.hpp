@@ -22,7 +22,7 @@
 #include <unordered_map>
 #include <vector>
 
-#include "demlink/core/step/spin_wait.hpp"
+#include "demlink/core/parallel/spin_wait.hpp"
 #include "demlink/server/net/session_handler.hpp"
 #include "demlink/wire/frame_codec.hpp"
 
@@ -57,7 +57,7 @@ struct TcpServerOptions {
   /// setting, so tests leave it off.
   bool stop_on_signals = false;
   /// How long the network loop polls for the next event before it blocks in epoll_wait
-  /// (core/step/spin_wait.hpp: spun only while a free CPU allows it); zero: block at once.
+  /// (core/parallel/spin_wait.hpp: spun only while a free CPU allows it); zero: block at once.
   /// A blocked loop takes tens of microseconds to wake, which dominates a short exchange.
   std::chrono::nanoseconds spin_wait = core::defaultSpinBudget();
 };

@@ -6,7 +6,7 @@
 /// (World::setContactOutput).
 #include "demlink/core/contact/contact_record.hpp"
 #include "demlink/server/run/run_driver.hpp"
-#include "demlink/server/run/run_options.hpp"
+#include "demlink/server/scene/run_options.hpp"
 
 namespace demlink::server {
 

@@ -24,6 +24,7 @@
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -31,7 +32,7 @@
 #include "demlink/server/run/deformable_series.hpp"
 #include "demlink/server/run/frame_series.hpp"
 #include "demlink/server/run/run_log.hpp"
-#include "demlink/server/run/run_options.hpp"
+#include "demlink/server/scene/run_options.hpp"
 
 namespace demlink::server {
 
@@ -42,6 +43,13 @@ struct RunPlan {
   std::uint64_t checkpoint_every = 0;  ///< [-]; 0: no periodic checkpoints
   std::uint64_t contact_every = 0;     ///< [-]; 0: no contact output
   std::vector<std::string> warnings;   ///< times rounded to whole steps (intervalSteps)
+
+  /// A frame is due at `step`: every frame_every steps, and at end_step.
+  [[nodiscard]] bool frameDue(std::uint64_t step) const;
+  /// A periodic checkpoint is due at `step` (every checkpoint_every steps).
+  [[nodiscard]] bool checkpointDue(std::uint64_t step) const;
+  /// The periodic checkpoint's file name at `step`: checkpoint_NNNNNN.bin, N = step / checkpoint_every.
+  [[nodiscard]] std::string checkpointName(std::uint64_t step) const;
 };
 
 /// Converts run.end_time, run.vtk_interval, run.checkpoint_interval and run.contact_interval with
@@ -61,9 +69,16 @@ class RunDriver {
 
   /// Wall time spent initialising the world before the run [s], for the run log.
   void setInitialiseSeconds(double seconds) { timing_.initialise_seconds = seconds; }
+  /// Writes a checkpoint at a path (the base name ends in .bin).
+  using CheckpointWriter = std::function<void(const std::filesystem::path&)>;
+  /// Writes the checkpoints with `writer` instead of core::writeCheckpointFile of the world
+  /// (the LIGGGHTS backend adds its restart files, LiggghtsBackend::writeCheckpoint).
+  void setCheckpointWriter(CheckpointWriter writer) { checkpoint_writer_ = std::move(writer); }
   /// planes.vtp and the frame of the current step; the run's wall clock starts here.
   void start(const core::World& world);
-  /// Call after every world step: writes the frame and checkpoint due at this step.
+  /// Call after every world step, or after a stride of steps in which no output but the
+  /// last step's falls (a backend that hands its particles over every few steps): writes
+  /// the frame and checkpoint due at this step.
   void afterStep(const core::World& world);
   /// The final outputs and timing rows (plus "timing,finish_reason,<reason>" if `reason`
   /// is not empty). Only the first finish() or abort() writes; if an output fails, the
@@ -99,7 +114,9 @@ class RunDriver {
   std::vector<std::filesystem::path> sensor_files_;
   RunTiming timing_;
   std::chrono::steady_clock::time_point start_;
+  CheckpointWriter checkpoint_writer_;
   std::uint64_t first_step_ = 0;
+  std::uint64_t last_step_ = 0;  ///< of the last start() / afterStep()
   std::uint64_t first_build_ = 0;
   std::uint64_t last_frame_step_ = 0;
   bool ended_ = false;

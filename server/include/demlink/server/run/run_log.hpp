@@ -13,7 +13,7 @@
 #include <string_view>
 
 #include "demlink/core/world.hpp"
-#include "demlink/server/run/run_options.hpp"
+#include "demlink/server/scene/run_options.hpp"
 
 namespace demlink::server {
 

@@ -9,8 +9,16 @@
 
 #include "demlink/core/math_types.hpp"
 #include "demlink/v1/geometry.pb.h"
+#include "demlink/v1/scene.pb.h"
 
 namespace demlink::server {
+
+/// The scene path of the `index`-th component, "components[index]": how every error names a
+/// field of a scene (a co-simulation shows the component's name instead, nameDeclaredField).
+[[nodiscard]] std::string componentPath(int index);
+
+/// A declaration's kind as the schema names it ("rigid_body"); "kind" when none is set.
+[[nodiscard]] std::string componentKindName(v1::ComponentDeclaration::KindCase kind);
 
 /// The vector as given (no checks).
 [[nodiscard]] core::Vec3 toVec3(const v1::Vector3& v);

@@ -17,7 +17,7 @@
 
 #include "demlink/core/particles/coarse_graining.hpp"
 #include "demlink/core/world.hpp"
-#include "demlink/server/run/run_options.hpp"
+#include "demlink/server/scene/run_options.hpp"
 #include "demlink/server/scene/fidelity_preset.hpp"
 #include "demlink/server/scene/translate_mesh_body.hpp"
 #include "demlink/v1/scene.pb.h"

@@ -2,7 +2,7 @@
 ///
 /// Wire: a batch is MPI_Bcast of its byte count (int64; -1: stop), then of its bytes:
 /// events as (uint32 size, serialised v1::SessionEvent) one after another.
-#include "demlink/server/backend/cosim_lockstep.hpp"
+#include "demlink/server/cosim/cosim_lockstep.hpp"
 
 #include <mpi.h>
 #include <spdlog/fmt/fmt.h>

@@ -7,7 +7,7 @@
 #include <fstream>
 #include <thread>
 
-#include "demlink/core/step/spin_wait.hpp"
+#include "demlink/core/parallel/spin_wait.hpp"
 
 namespace demlink::core {
 namespace {

@@ -4,7 +4,7 @@
 /// must be consumed) and written with {:.17g}, which round-trips every double.
 /// Fields are plain (no quoting): a material name containing a comma, a quote
 /// or a line break is refused when writing rather than written ambiguously.
-#include "demlink/server/run/particle_csv.hpp"
+#include "demlink/server/scene/particle_csv.hpp"
 
 #include <spdlog/fmt/fmt.h>
 

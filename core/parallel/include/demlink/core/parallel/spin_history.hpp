@@ -25,7 +25,7 @@
 #include <cstdint>
 #include <optional>
 
-#include "demlink/core/step/spin_wait.hpp"
+#include "demlink/core/parallel/spin_wait.hpp"
 
 namespace demlink::core {
 

@@ -6,8 +6,8 @@
 #include <cstdint>
 #include <optional>
 
-#include "demlink/core/step/spin_history.hpp"
-#include "demlink/core/step/spin_wait.hpp"
+#include "demlink/core/parallel/spin_history.hpp"
+#include "demlink/core/parallel/spin_wait.hpp"
 
 namespace demlink::core {
 namespace {
