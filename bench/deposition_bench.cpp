@@ -55,6 +55,7 @@
 #include <vector>
 
 #include "demlink/cli/command_line.hpp"
+#include "demlink/core/particles/sphere.hpp"
 #include "demlink/core/input_error.hpp"
 #include "demlink/core/world.hpp"
 
@@ -161,7 +162,7 @@ std::vector<InitParticle> generateBed(std::size_t n, const std::string& sizes, d
   }
   std::sort(radii.begin(), radii.end(), std::greater<>());
   double volume = 0.0;
-  for (const double r : radii) volume += 4.0 / 3.0 * std::numbers::pi * r * r * r;
+  for (const double r : radii) volume += demlink::core::sphereVolume(r);
   const double height = volume / (0.25 * box * box);
   const double cell = 2.0 * radii.front();
   const auto keyOf = [&](const Vec3& x) {

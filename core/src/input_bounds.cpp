@@ -7,6 +7,10 @@
 
 namespace demlink::core {
 
+void requireFiniteVector(const std::string& field, const Vec3& v) {
+  for (int k = 0; k < 3; ++k) requireFinite(field + "[" + std::to_string(k) + "]", v[k]);
+}
+
 void requireBoundedVector(const std::string& field, const Vec3& v, double bound, const std::string& unit) {
   for (int k = 0; k < 3; ++k) {
     const std::string name = field + "[" + std::to_string(k) + "]";

@@ -7,12 +7,6 @@
 
 namespace demlink::core {
 
-namespace {
-void requireFiniteVector(const std::string& field, const Vec3& v) {
-  for (int k = 0; k < 3; ++k) requireFinite(field + "[" + std::to_string(k) + "]", v[k]);
-}
-}  // namespace
-
 std::uint32_t maxThreads() {
   const unsigned hardware = std::thread::hardware_concurrency();  // 0: unknown
   return hardware > 0 ? hardware : kMaxThreadsUnknownHardware;

@@ -1,7 +1,6 @@
 #include "demlink/core/world.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -17,7 +16,6 @@
 #include "demlink/core/step/integrator.hpp"
 #include "demlink/core/step/frame_motion.hpp"
 #include "demlink/core/step/parallel.hpp"
-#include "demlink/core/step/stage_sampling.hpp"
 
 namespace demlink::core {
 namespace {
@@ -25,10 +23,6 @@ namespace {
 constexpr const char* kDeformablesNeedAnInertialFrame =
     "deformable bodies in a moving frame are not supported yet (their nodes feel no fictitious forces); use an "
     "inertial frame";
-
-void requireFiniteVector(const std::string& field, const Vec3& v) {
-  for (int k = 0; k < 3; ++k) requireFinite(field + "[" + std::to_string(k) + "]", v[k]);
-}
 
 }  // namespace
 
@@ -46,7 +40,7 @@ void World::setFrameMotion(const FrameMotion& motion) {
 }
 
 void World::requireNoClumpsInRotatingFrame(const FrameMotion& motion, const std::string& fieldPrefix) const {
-  if (clump_templates_.empty()) return;
+  if (clumps_.templates.empty()) return;
   if (!motion.angular_velocity.isZero(0.0) || !motion.angular_acceleration.isZero(0.0)) {
     throw InputError(fieldPrefix + ".angular_velocity", "non-zero",
                      "clumps in a rotating frame are not supported yet (their rigid-body kick has no fictitious "
@@ -55,7 +49,7 @@ void World::requireNoClumpsInRotatingFrame(const FrameMotion& motion, const std:
 }
 
 void World::requireNoDeformablesInMovingFrame(const FrameMotion& motion, const std::string& fieldPrefix) const {
-  if (deformables_.empty() || motion.isInertial()) return;
+  if (deformables_.bodies.empty() || motion.isInertial()) return;
   throw InputError(fieldPrefix, "non-inertial", kDeformablesNeedAnInertialFrame);
 }
 
@@ -121,13 +115,13 @@ void World::setPairOverride(std::uint32_t materialA, std::uint32_t materialB, co
     if (m >= materials_.size()) throw InputError(fieldPrefix + ".material", std::to_string(m), "no such material");
   }
   values.validate(fieldPrefix);
-  for (const PairOverrideEntry& entry : pair_overrides_) {
+  for (const PairOverrideEntry& entry : contacts_.overrides) {
     if (std::minmax(entry.material_a, entry.material_b) == std::minmax(materialA, materialB)) {
       throw InputError(fieldPrefix, materials_[materialA].name + " / " + materials_[materialB].name,
                        "this material pair already has an override");
     }
   }
-  pair_overrides_.push_back({materialA, materialB, values});
+  contacts_.overrides.push_back({materialA, materialB, values});
 }
 
 std::uint64_t World::addParticle(const ParticleSpec& spec, const std::string& fieldPrefix) {
@@ -141,7 +135,7 @@ std::uint64_t World::addParticle(const ParticleSpec& spec, const std::string& fi
   coverMaterial(spec.material);
   const std::uint64_t id = state_.next_particle_id++;
   particles_.append(spec, materials_[spec.material].density, id);
-  rebuild_pending_ = true;
+  neighbours_.rebuild_pending = true;
   return id;
 }
 
@@ -156,30 +150,30 @@ std::size_t World::addPlane(PlaneSpec plane, const std::string& fieldPrefix) {
   plane.normal /= length;
   if (plane.rigid) plane.material = rigidTwin(plane.material);
   coverMaterial(plane.material);
-  planes_.push_back(PlaneWall{std::move(plane), {}, {}, Vec3::Zero(), Vec3::Zero()});
-  rebuild_pending_ = true;
+  walls_.planes.push_back(PlaneWall{std::move(plane), {}, {}, Vec3::Zero(), Vec3::Zero()});
+  neighbours_.rebuild_pending = true;
   if (initialized_) selectStepStages();
-  return planes_.size() - 1;
+  return walls_.planes.size() - 1;
 }
 
 std::uint32_t World::addClumpTemplate(ClumpTemplate shape, const std::string& fieldPrefix) {
   if (findClumpTemplate(shape.name())) {
     throw InputError(fieldPrefix + ".name", shape.name(), "clump template name already used");
   }
-  clump_templates_.push_back(std::move(shape));
+  clumps_.templates.push_back(std::move(shape));
   if (initialized_) selectStepStages();
-  return static_cast<std::uint32_t>(clump_templates_.size() - 1);
+  return static_cast<std::uint32_t>(clumps_.templates.size() - 1);
 }
 
 std::optional<std::uint32_t> World::findClumpTemplate(const std::string& name) const {
-  for (std::size_t k = 0; k < clump_templates_.size(); ++k) {
-    if (clump_templates_[k].name() == name) return static_cast<std::uint32_t>(k);
+  for (std::size_t k = 0; k < clumps_.templates.size(); ++k) {
+    if (clumps_.templates[k].name() == name) return static_cast<std::uint32_t>(k);
   }
   return std::nullopt;
 }
 
 std::uint64_t World::addClump(const ClumpSpec& spec, const std::string& fieldPrefix) {
-  if (spec.template_index >= clump_templates_.size()) {
+  if (spec.template_index >= clumps_.templates.size()) {
     throw InputError(fieldPrefix + ".clump_template", std::to_string(spec.template_index), "no such clump template");
   }
   if (spec.material >= materials_.size()) {
@@ -190,7 +184,7 @@ std::uint64_t World::addClump(const ClumpSpec& spec, const std::string& fieldPre
   requireBoundedVector(fieldPrefix + ".angular_velocity", spec.angular_velocity, kMaxAngularVelocity, "rad/s");
   const Quat orientation = requireUnitQuaternion(fieldPrefix + ".orientation", spec.orientation);
   coverMaterial(spec.material);
-  const ClumpTemplate& shape = clump_templates_[spec.template_index];
+  const ClumpTemplate& shape = clumps_.templates[spec.template_index];
   const double density = materials_[spec.material].density;  // [kg/m^3]
   ClumpBody body;
   body.id = state_.next_clump_id++;
@@ -217,9 +211,9 @@ std::uint64_t World::addClump(const ClumpSpec& spec, const std::string& fieldPre
     body.member_slots.push_back(static_cast<std::uint32_t>(slot));
   }
   placeClumpMembers(body, shape, particles_, true);
-  clumps_.push_back(std::move(body));
-  rebuild_pending_ = true;
-  return clumps_.back().id;
+  clumps_.bodies.push_back(std::move(body));
+  neighbours_.rebuild_pending = true;
+  return clumps_.bodies.back().id;
 }
 
 std::size_t World::addMesh(MeshBody mesh, const std::string& fieldPrefix) {
@@ -228,12 +222,10 @@ std::size_t World::addMesh(MeshBody mesh, const std::string& fieldPrefix) {
   }
   if (mesh.rigid()) mesh.setMaterialIndex(rigidTwin(mesh.materialIndex()));
   coverMaterial(mesh.materialIndex());
-  meshes_.push_back(std::move(mesh));
-  mesh_near_.emplace_back();
-  mesh_colliding_.push_back(0);
-  rebuild_pending_ = true;
+  walls_.addMesh(std::move(mesh));
+  neighbours_.rebuild_pending = true;
   if (initialized_) selectStepStages();
-  return meshes_.size() - 1;
+  return walls_.meshes.size() - 1;
 }
 
 std::size_t World::addDeformableBody(std::unique_ptr<DeformableBody> body, const std::string& fieldPrefix) {
@@ -244,7 +236,7 @@ std::size_t World::addDeformableBody(std::unique_ptr<DeformableBody> body, const
   if (body->surface().materialIndex() >= materials_.size()) {
     throw InputError(fieldPrefix + ".material", std::to_string(body->surface().materialIndex()), "no such material");
   }
-  for (const auto& existing : deformables_) {
+  for (const auto& existing : deformables_.bodies) {
     if (existing->name() == body->name()) {
       throw InputError(fieldPrefix + ".name", body->name(), "deformable body name already used");
     }
@@ -252,10 +244,10 @@ std::size_t World::addDeformableBody(std::unique_ptr<DeformableBody> body, const
   if (state_.frame_moving) {
     throw InputError(fieldPrefix + ".name", body->name(), kDeformablesNeedAnInertialFrame);
   }
-  deformables_.push_back(std::move(body));
-  deformable_near_.emplace_back();
-  rebuild_pending_ = true;
-  return deformables_.size() - 1;
+  deformables_.bodies.push_back(std::move(body));
+  deformables_.near.emplace_back();
+  neighbours_.rebuild_pending = true;
+  return deformables_.bodies.size() - 1;
 }
 
 std::uint32_t World::rigidTwin(std::uint32_t material) {
@@ -275,7 +267,7 @@ void World::declareFutureParticles(std::uint32_t material, double minRadius, con
   if (material >= materials_.size()) {
     throw InputError(fieldPrefix + ".material", std::to_string(material), "no such material");
   }
-  future_particles_.emplace_back(material, minRadius);
+  contacts_.future_particles.emplace_back(material, minRadius);
 }
 
 void World::advanceClockTo(std::uint64_t stepCount) {
@@ -296,43 +288,43 @@ void World::initialize() {
     radiusSum += radius;
   };
   for (std::size_t i = 0; i < particles_.size(); ++i) noteRadius(particles_.material[i], particles_.radius[i]);
-  for (const auto& [material, radius] : future_particles_) noteRadius(material, radius);
-  const std::size_t sizedCount = particles_.size() + future_particles_.size();
+  for (const auto& [material, radius] : contacts_.future_particles) noteRadius(material, radius);
+  const std::size_t sizedCount = particles_.size() + contacts_.future_particles.size();
   const double meanRadius = sizedCount > 0 ? radiusSum / static_cast<double>(sizedCount) : 0.0;
   if (settings_.contact_model == ContactModel::LinearSpringDashpot && meanRadius <= 0.0 &&
       settings_.linear_normal_stiffness <= 0.0) {
     throw InputError(settings_field_ + ".linear_normal_stiffness", "0",
                      "the linear law needs a stiffness when the scene starts without particles");
   }
-  pair_reference_ = {meanRadius, settings_.max_impact_velocity, settings_.linear_normal_stiffness};
+  contacts_.reference = {meanRadius, settings_.max_impact_velocity, settings_.linear_normal_stiffness};
   buildPairTable(materialsInUse());
-  seen_speeds_ = collectSeenSpeeds();
-  initialize_warnings_.clear();
+  time_step_.seen_speeds = collectSeenSpeeds();
+  time_step_.warnings.clear();
   double impactSpeed = settings_.max_impact_velocity;
-  if (!seen_speeds_.empty() && seen_speeds_.front().speed > impactSpeed) {
-    const SeenSpeed& fastest = seen_speeds_.front();
+  if (!time_step_.seen_speeds.empty() && time_step_.seen_speeds.front().speed > impactSpeed) {
+    const SeenSpeed& fastest = time_step_.seen_speeds.front();
     impactSpeed = fastest.speed;
-    initialize_warnings_.push_back(settings_field_ + ".max_impact_velocity = " +
+    time_step_.warnings.push_back(settings_field_ + ".max_impact_velocity = " +
                                    formatValue(settings_.max_impact_velocity) + " m/s is below the speed of " +
                                    fastest.what + " (" + formatValue(fastest.speed) +
                                    " m/s); the time step is validated for " + formatValue(impactSpeed) + " m/s");
   }
-  time_step_report_ = criticalTimeStep(materials_, pair_table_, settings_.contact_model, settings_.integrator,
+  time_step_.report = criticalTimeStep(materials_, contacts_.table, settings_.contact_model, settings_.integrator,
                                        minRadius, impactSpeed, settings_.restitution_tolerance);
-  for (const auto& body : deformables_) {
+  for (const auto& body : deformables_.bodies) {
     const double limit = body->criticalTimeStep();
     if (!std::isfinite(limit)) continue;  // an unconditionally stable scheme sets no bound
-    time_step_report_.addConstraint({"deformable " + body->name(),
+    time_step_.report.addConstraint({"deformable " + body->name(),
                                      std::string(body->kind()) + " body: " + body->criticalTimeStepReason() +
                                          "; softer springs or heavier nodes relax it",
                                      limit});
   }
-  if (settings_.time_step > time_step_report_.limit && !settings_.allow_unsafe_time_step) {
+  if (settings_.time_step > time_step_.report.limit && !settings_.allow_unsafe_time_step) {
     const TimeStepConstraint& limiting = *std::find_if(
-        time_step_report_.constraints.begin(), time_step_report_.constraints.end(),
-        [&](const TimeStepConstraint& c) { return c.name == time_step_report_.limited_by; });
+        time_step_.report.constraints.begin(), time_step_.report.constraints.end(),
+        [&](const TimeStepConstraint& c) { return c.name == time_step_.report.limited_by; });
     throw InputError(settings_field_ + ".time_step", formatValue(settings_.time_step),
-                     "exceeds the critical limit " + formatValue(time_step_report_.limit) + " s (limited by " +
+                     "exceeds the critical limit " + formatValue(time_step_.report.limit) + " s (limited by " +
                          limiting.name + ": " + limiting.detail +
                          "); lower it, raise restitution_tolerance, or set allow_unsafe_time_step to accept the "
                          "risk");
@@ -344,8 +336,8 @@ void World::initialize() {
     }
     state_.neighbour_skin = smallest > 0.0 ? 0.5 * smallest : 1.0e-3;
   }
-  neighbours_ = NeighbourList(state_.neighbour_skin);
-  pair_kernel_ = choosePairKernel(settings_.portable_kernel);
+  neighbours_.list = NeighbourList(state_.neighbour_skin);
+  contacts_.kernel = choosePairKernel(settings_.portable_kernel);
   if (settings_.threads > 1) {
     try {
       pool_ = std::make_unique<ThreadPool>(settings_.threads);
@@ -359,13 +351,14 @@ void World::initialize() {
   requireNoDeformablesInMovingFrame(state_.frame, settings_field_ + ".frame");
   requireBoundedFrameAccelerations();
   initialized_ = true;
-  for (const auto& component : components_) component->initialize(*this);
+  for (const auto& component : components_.all) component->initialize(*this);
   selectStepStages();
-  updateMeshCollision(time());
+  walls_.updateMeshCollision(time());
   rebuildNeighbours();
-  force_step_ = state_.step_count;
-  force_weight_ = 0.0;
-  (this->*compute_forces_)();
+  // The initial forces belong to the step count now and weigh nothing in time integrals.
+  StepContext initial{settings_.time_step, state_.step_count, pool_.get()};
+  initial.force_step = state_.step_count;
+  (this->*compute_forces_)(initial);
   gatherClumpForces();
   requireFiniteFirstStep();
   watchdog_.resetEnergy();
@@ -374,11 +367,11 @@ void World::initialize() {
 std::vector<std::uint32_t> World::materialsInUse() const {
   std::vector<char> inUse(materials_.size(), 0);
   for (const std::uint32_t m : particles_.material) inUse[m] = 1;
-  for (const auto& entry : future_particles_) inUse[entry.first] = 1;
-  for (const PlaneWall& plane : planes_) inUse[plane.spec.material] = 1;
-  for (const MeshBody& mesh : meshes_) inUse[mesh.materialIndex()] = 1;
-  for (const auto& body : deformables_) inUse[body->surface().materialIndex()] = 1;
-  for (const PairOverrideEntry& entry : pair_overrides_) inUse[entry.material_a] = inUse[entry.material_b] = 1;
+  for (const auto& entry : contacts_.future_particles) inUse[entry.first] = 1;
+  for (const PlaneWall& plane : walls_.planes) inUse[plane.spec.material] = 1;
+  for (const MeshBody& mesh : walls_.meshes) inUse[mesh.materialIndex()] = 1;
+  for (const auto& body : deformables_.bodies) inUse[body->surface().materialIndex()] = 1;
+  for (const PairOverrideEntry& entry : contacts_.overrides) inUse[entry.material_a] = inUse[entry.material_b] = 1;
   std::vector<std::uint32_t> used;
   for (std::uint32_t m = 0; m < inUse.size(); ++m) {
     if (inUse[m] != 0) used.push_back(m);
@@ -387,17 +380,17 @@ std::vector<std::uint32_t> World::materialsInUse() const {
 }
 
 void World::buildPairTable(const std::vector<std::uint32_t>& used) {
-  pair_table_ = ContactPairTable(materials_, settings_.contact_model, pair_reference_, pair_overrides_, used);
-  rolling_active_ = pair_table_.anyRollingFriction();
-  cohesion_active_ = pair_table_.anyCohesion();
+  contacts_.table = ContactPairTable(materials_, settings_.contact_model, contacts_.reference, contacts_.overrides, used);
+  contacts_.rolling = contacts_.table.anyRollingFriction();
+  contacts_.cohesion = contacts_.table.anyCohesion();
   selectForceKernel();
 }
 
 void World::selectForceKernel() {
-  using Kernel = void (World::*)();
+  using Kernel = void (World::*)(StepContext&);
   // Index: rolling + 2 cohesion + 4 recording.
-  const std::size_t index = (rolling_active_ ? 1u : 0u) + (cohesion_active_ ? 2u : 0u) +
-                            (contact_output_.active() ? 4u : 0u);
+  const std::size_t index = (contacts_.rolling ? 1u : 0u) + (contacts_.cohesion ? 2u : 0u) +
+                            (recorder_.settings.active() ? 4u : 0u);
   compute_forces_ = visitContactLaw(settings_.contact_model, [index]<class Law>() {
     return [&]<std::size_t... I>(std::index_sequence<I...>) {
       constexpr std::array<Kernel, 8> kernels{
@@ -410,29 +403,29 @@ void World::selectForceKernel() {
 void World::setContactOutput(const ContactOutputSettings& settings) {
   // The same settings again keep what was recorded (the run driver repeats the request
   // its runner made before initialize()).
-  if (settings.every_steps == contact_output_.every_steps && settings.mesh_loads == contact_output_.mesh_loads) return;
-  contact_output_ = settings;
-  contact_snapshot_ = ContactSnapshot{};
-  mesh_loads_.clear();
+  if (settings.every_steps == recorder_.settings.every_steps && settings.mesh_loads == recorder_.settings.mesh_loads) return;
+  recorder_.settings = settings;
+  recorder_.snapshot = ContactSnapshot{};
+  recorder_.mesh_loads.clear();
   if (!initialized_) return;
   selectForceKernel();
   selectStepStages();
 }
 
 std::span<const TriangleLoad> World::meshLoads(std::size_t index) const {
-  if (index >= mesh_loads_.size()) return {};
-  return mesh_loads_[index];
+  if (index >= recorder_.mesh_loads.size()) return {};
+  return recorder_.mesh_loads[index];
 }
 
 void World::coverMaterial(std::uint32_t material) {
-  if (!initialized_ || pair_table_.covers(material)) return;
-  std::vector<std::uint32_t> used = pair_table_.usedMaterials();
+  if (!initialized_ || contacts_.table.covers(material)) return;
+  std::vector<std::uint32_t> used = contacts_.table.usedMaterials();
   used.push_back(material);
   std::sort(used.begin(), used.end());
-  const bool rolling = rolling_active_;
-  const bool cohesion = cohesion_active_;
+  const bool rolling = contacts_.rolling;
+  const bool cohesion = contacts_.cohesion;
   buildPairTable(used);
-  if (rolling != rolling_active_ || cohesion != cohesion_active_) selectStepStages();
+  if (rolling != contacts_.rolling || cohesion != contacts_.cohesion) selectStepStages();
 }
 
 void World::step() { advance(1); }
@@ -443,85 +436,47 @@ void World::advance(std::uint64_t steps) {
   struct PayOwedKick {
     World& world;
     ~PayOwedKick() {
-      if (world.half_kick_owed_) world.payOwedHalfKick();
+      if (world.stepper_.takeOwedKick()) {
+        kick(world.particles_, world.state_.gravity, 0.5 * world.settings_.time_step, world.pool_.get());
+      }
     }
   } pay{*this};
-  for (std::uint64_t n = 0; n < steps; ++n) stepOnce(kick_deferrable_ && n + 1 < steps);
+  for (std::uint64_t n = 0; n < steps; ++n) stepOnce(n + 1 < steps);
 }
 
-void World::payOwedHalfKick() {
-  half_kick_owed_ = false;
-  kick(particles_, state_.gravity, 0.5 * settings_.time_step, pool_.get());
-}
-
-void World::stepOnce(bool mayOweKick) {
-  forces_cleared_ = false;
-  StepContext context{settings_.time_step, state_.step_count, pool_.get()};
+void World::stepOnce(bool anotherStepFollows) {
   // The watchdog inspects the step's end after advance_clock: the count is one on then.
-  context.may_owe_kick = mayOweKick && !watchdogInspects(state_.step_count + 1);
-  // A step that would owe its second half kick to the next one (secondHalfKick) may as
-  // well pay it, with the next step's first kick and drift, inside its pair loop: each
-  // chunk then kicks the rows it has just finished while they are in its thread's cache,
-  // instead of a pass of its own over every column at the next step's start. The same
-  // additions in the same order, so the same bits (Determinism tests).
-  next_kick_in_forces_ = context.may_owe_kick && !state_.frame_moving;
-  force_step_ = state_.step_count + 1;  // the forces of a step belong to its end
-  force_weight_ = settings_.time_step;
-  const std::uint64_t weight = stage_timing_ ? stageTimingWeight(state_.step_count) : 0;
-  if (weight == 0) {
-    for (const Stage stage : step_stages_) runStage(stage, context);
-    return;
-  }
-  using Clock = std::chrono::steady_clock;
-  Clock::time_point last = Clock::now();
-  for (const Stage stage : step_stages_) {
-    runStage(stage, context);
-    const Clock::time_point now = Clock::now();
-    stage_seconds_[static_cast<std::size_t>(stage)] +=
-        static_cast<double>(weight) * std::chrono::duration<double>(now - last).count();
-    last = now;
-  }
+  const bool endUnobserved = anotherStepFollows && !watchdogInspects(state_.step_count + 1);
+  StepContext context =
+      stepper_.beginStep(settings_.time_step, state_.step_count, pool_.get(), endUnobserved, state_.frame_moving);
+  stepper_.run(context, [this](Stage stage, StepContext& c) { runStage(stage, c); });
 }
 
 SceneFeatures World::sceneFeatures() const {
   SceneFeatures f;
-  f.meshes = !meshes_.empty();
-  f.planes = !planes_.empty();
-  f.insert_remove_components = !insert_remove_components_.empty();
-  f.observe_components = !observe_components_.empty();
+  f.meshes = !walls_.meshes.empty();
+  f.planes = !walls_.planes.empty();
+  f.insert_remove_components = !components_.insert_remove.empty();
+  f.observe_components = !components_.observe.empty();
   f.fixed_bounds = settings_.bounds && !settings_.bounds->growing;
   f.growing_bounds = settings_.bounds && settings_.bounds->growing;
   f.velocity_verlet = settings_.integrator == IntegratorKind::VelocityVerlet;
   f.frame_moving = state_.frame_moving;
-  f.clumps = !clump_templates_.empty();
-  f.rolling = rolling_active_;
-  f.deformables = !deformables_.empty();
+  f.clumps = !clumps_.templates.empty();
+  f.rolling = contacts_.rolling;
+  f.deformables = !deformables_.bodies.empty();
   f.watchdog = settings_.watchdog.every_steps > 0;
-  f.cohesion = cohesion_active_;
-  f.contact_recording = contact_output_.active();
+  f.cohesion = contacts_.cohesion;
+  f.contact_recording = recorder_.settings.active();
   return f;
 }
 
-void World::selectStepStages() {
-  step_stages_.clear();
-  for (const Stage stage : selectStages(sceneFeatures())) {
-    if (!stageInfo(stage).pass) step_stages_.push_back(stage);
-  }
-  // Between a step's second half kick and the next step's first kick only these stages
-  // may run for the kick to be owed: none of them reads a velocity or a force (the
-  // watchdog does, at the steps it inspects: secondHalfKick pays before those). Every
-  // other stage (components, clumps, meshes, deformables, bounds, a moving frame)
-  // reads or changes them there.
-  kick_deferrable_ = std::all_of(step_stages_.begin(), step_stages_.end(), [](Stage stage) {
-    return stage == Stage::kVelocityVerlet || stage == Stage::kNeighbourList || stage == Stage::kForces ||
-           stage == Stage::kSecondHalfKick || stage == Stage::kAdvanceClock || stage == Stage::kWatchdog;
-  });
-}
+void World::selectStepStages() { stepper_.select(sceneFeatures()); }
 
 void World::runStage(Stage stage, StepContext& context) {
   switch (stage) {
     case Stage::kMeshMotion: return moveMeshes(context);
-    case Stage::kInsertRemove: return runComponents(kStageInsertRemove);
+    case Stage::kInsertRemove: return runComponents(Stage::kInsertRemove);
     case Stage::kBoundsRemoval:
     case Stage::kGrowingBounds: return removeOutsideBounds();
     case Stage::kVelocityVerlet: return firstKickAndDrift(context);
@@ -535,12 +490,12 @@ void World::runStage(Stage stage, StepContext& context) {
     case Stage::kDeformableMotion: return moveDeformables(context);
     case Stage::kDeformableForces: return finishDeformables(context);
     case Stage::kNeighbourList: return updateNeighbours(context);
-    case Stage::kForces: return (this->*compute_forces_)();
+    case Stage::kForces: return (this->*compute_forces_)(context);
     case Stage::kClumpForceSum: return gatherClumpForces();
     case Stage::kSecondHalfKick: return secondHalfKick(context);
     case Stage::kClumpHalfKick: return integrateClumps(0.5 * context.dt, 0.0, false);
     case Stage::kAdvanceClock: ++state_.step_count; return;
-    case Stage::kObserve: return runComponents(kStageObserve);
+    case Stage::kObserve: return runComponents(Stage::kObserve);
     case Stage::kWatchdog: return runWatchdog();
     case Stage::kParticleContacts:
     case Stage::kPlaneContacts:
@@ -555,60 +510,59 @@ void World::runStage(Stage stage, StepContext& context) {
 void World::moveMeshes(StepContext& context) {
   const double dt = context.dt;
   // Forces of this step are evaluated at the end of the step.
-  if (updateMeshCollision(static_cast<double>(context.step + 1) * dt)) rebuild_pending_ = true;
-  for (std::size_t m = 0; m < meshes_.size(); ++m) {
-    MeshBody& mesh = meshes_[m];
+  if (walls_.updateMeshCollision(static_cast<double>(context.step + 1) * dt)) neighbours_.rebuild_pending = true;
+  for (std::size_t m = 0; m < walls_.meshes.size(); ++m) {
+    MeshBody& mesh = walls_.meshes[m];
     if (!mesh.linearVelocity().isZero(0.0) || !mesh.angularVelocity().isZero(0.0)) {
       mesh.advance(dt);
-      energy_fed_ = true;
+      watchdog_.noteEnergyFed();
     }
-    const bool farEnough = mesh.maxDisplacementSinceMark() > 0.5 * neighbours_.skin();
-    context.mesh_moved_far = context.mesh_moved_far || (mesh_colliding_[m] != 0 && farEnough);
+    const bool farEnough = mesh.maxDisplacementSinceMark() > 0.5 * neighbours_.list.skin();
+    context.mesh_moved_far = context.mesh_moved_far || (walls_.mesh_colliding[m] != 0 && farEnough);
   }
 }
 
 void World::moveDeformables(StepContext& context) {
-  for (const auto& body : deformables_) {
+  for (const auto& body : deformables_.bodies) {
     body->beginStep(context.dt, state_.gravity);
     context.mesh_moved_far =
-        context.mesh_moved_far || body->surface().maxDisplacementSinceMark() > 0.5 * neighbours_.skin();
+        context.mesh_moved_far || body->surface().maxDisplacementSinceMark() > 0.5 * neighbours_.list.skin();
   }
 }
 
 void World::finishDeformables(const StepContext& context) {
-  for (const auto& body : deformables_) {
+  for (const auto& body : deformables_.bodies) {
     const std::uint64_t brokenBefore = body->brokenCount();
     body->endStep(context.dt, state_.gravity);
     // A tear may have deactivated triangles: the next step's near lists leave them out.
-    if (body->brokenCount() != brokenBefore) rebuild_pending_ = true;
+    if (body->brokenCount() != brokenBefore) neighbours_.rebuild_pending = true;
   }
 }
 
-void World::firstKickAndDrift(const StepContext& context) {
+void World::firstKickAndDrift(StepContext& context) {
   const double dt = context.dt;
   // In a kick-deferrable scene nothing reads or adds to force and torque between this
   // kick and the force stage (stages velocity_verlet, neighbour_list, forces), so the
-  // kick clears them and the pair loop need not (a clearing pass of 2.4 MB at 50,000
-  // particles). A step that throws in between leaves them zero; stepOnce resets the flag.
+  // kick clears them and the pair loop need not: one pass over the force columns less.
   const ForcesAfterKick after =
-      kick_deferrable_ && !state_.frame_moving ? ForcesAfterKick::kCleared : ForcesAfterKick::kKept;
-  if (first_kick_done_) {
-    // The last step's pair loop ran it (computeForces) and cleared force and torque.
-    first_kick_done_ = false;
-    ++fused_kicks_;
-    forces_cleared_ = true;
-    return;
+      stepper_.kickDeferrable() && !state_.frame_moving ? ForcesAfterKick::kCleared : ForcesAfterKick::kKept;
+  switch (stepper_.takeFirstKick()) {
+    case FirstKick::kDoneInForces:
+      // The last step's pair loop ran it (computeForces) and cleared force and torque.
+      context.forces_cleared = true;
+      return;
+    case FirstKick::kTwiceAndDrift:
+      kickTwiceAndDrift(particles_, state_.gravity, 0.5 * dt, dt, context.pool, after);
+      break;
+    case FirstKick::kHalfAndDrift:
+      if (state_.frame_moving) {
+        frameKickAndDrift(particles_, state_.gravity, state_.frame, 0.5 * dt, dt, context.pool);
+      } else {
+        kickAndDrift(particles_, state_.gravity, 0.5 * dt, dt, context.pool, after);
+      }
+      break;
   }
-  if (half_kick_owed_) {
-    half_kick_owed_ = false;
-    ++fused_kicks_;
-    kickTwiceAndDrift(particles_, state_.gravity, 0.5 * dt, dt, context.pool, after);
-  } else if (state_.frame_moving) {
-    frameKickAndDrift(particles_, state_.gravity, state_.frame, 0.5 * dt, dt, context.pool);
-  } else {
-    kickAndDrift(particles_, state_.gravity, 0.5 * dt, dt, context.pool, after);
-  }
-  forces_cleared_ = after == ForcesAfterKick::kCleared;
+  context.forces_cleared = after == ForcesAfterKick::kCleared;
 }
 
 void World::explicitEulerUpdate(const StepContext& context) {
@@ -625,31 +579,27 @@ void World::advanceFrame(const StepContext& context) {
 }
 
 void World::updateNeighbours(const StepContext& context) {
-  if (rebuild_pending_ || context.mesh_moved_far || neighbourListsStale(context.pool)) rebuildNeighbours();
+  if (neighbours_.rebuild_pending || context.mesh_moved_far || neighbourListsStale(context.pool)) rebuildNeighbours();
 }
 
 bool World::neighbourListsStale(ThreadPool* pool) const {
   // Mesh and deformable-surface near lists assume that no particle moved more than
   // skin/2 (and the surface no more than skin/2): the classic rule. Pairs and planes
   // alone need only their relative motion (rebuild_guard.hpp).
-  if (!meshes_.empty() || !deformables_.empty()) return neighbours_.needsRebuild(particles_.position, pool);
-  return rebuild_guard_.stale(neighbours_.builtPositions(), particles_.position, pool);
+  if (!walls_.meshes.empty() || !deformables_.bodies.empty()) return neighbours_.list.needsRebuild(particles_.position, pool);
+  return neighbours_.guard.stale(neighbours_.list.builtPositions(), particles_.position, pool);
 }
 
 void World::armRebuildGuard() {
-  const std::span<const Vec3> built = neighbours_.builtPositions();
-  rebuild_guard_.arm(built, particles_.radius, neighbours_.skin());
-  for (const PlaneWall& wall : planes_) {
-    rebuild_guard_.addPlane(wall.spec.point, wall.spec.normal, wall.near_slots, built, particles_.radius);
+  const std::span<const Vec3> built = neighbours_.list.builtPositions();
+  neighbours_.guard.arm(built, particles_.radius, neighbours_.list.skin());
+  for (const PlaneWall& wall : walls_.planes) {
+    neighbours_.guard.addPlane(wall.spec.point, wall.spec.normal, wall.near_slots, built, particles_.radius);
   }
 }
 
 void World::secondHalfKick(const StepContext& context) {
-  if (first_kick_done_) return;  // paid in the pair loop, with the next step's first kick
-  if (context.may_owe_kick) {
-    half_kick_owed_ = true;
-    return;
-  }
+  if (!stepper_.takeSecondKick(context)) return;  // owed, or paid in the pair loop
   if (state_.frame_moving) {
     frameKick(particles_, state_.gravity, state_.frame, 0.5 * context.dt, context.pool);
   } else {
@@ -658,27 +608,27 @@ void World::secondHalfKick(const StepContext& context) {
 }
 
 template <class Law, ForcePasses kPasses>
-void World::computeForces() {
-  const double dt = settings_.time_step;
+void World::computeForces(StepContext& context) {
+  const double dt = context.dt;
   ParticleArrays& p = particles_;
   PairLoopPartition& parts = partition_;
   // Contact records this evaluation? (Only the recording instantiation asks.)
   bool snapshot = false;
   if constexpr (kPasses.recording) {
-    const std::uint64_t every = contact_output_.every_steps;
-    snapshot = every > 0 && (force_weight_ == 0.0 || force_step_ % every == 0);
-    part_records_.resize(parts.chunks());
-    for (auto& records : part_records_) records.clear();
+    const std::uint64_t every = recorder_.settings.every_steps;
+    snapshot = every > 0 && (context.force_weight == 0.0 || context.force_step % every == 0);
+    recorder_.part_records.resize(parts.chunks());
+    for (auto& records : recorder_.part_records) records.clear();
     if (snapshot) {
-      contact_snapshot_.contacts.clear();
-      contact_snapshot_.step = force_step_;
-      contact_snapshot_.valid = true;
+      recorder_.snapshot.contacts.clear();
+      recorder_.snapshot.step = context.force_step;
+      recorder_.snapshot.valid = true;
     }
-    if (contact_output_.mesh_loads) {
-      mesh_loads_.resize(meshes_.size());
-      for (std::size_t m = 0; m < meshes_.size(); ++m) {
-        mesh_loads_[m].resize(meshes_[m].triangles().size());
-        for (TriangleLoad& load : mesh_loads_[m]) {
+    if (recorder_.settings.mesh_loads) {
+      recorder_.mesh_loads.resize(walls_.meshes.size());
+      for (std::size_t m = 0; m < walls_.meshes.size(); ++m) {
+        recorder_.mesh_loads[m].resize(walls_.meshes[m].triangles().size());
+        for (TriangleLoad& load : recorder_.mesh_loads[m]) {
           load.force.setZero();
           load.normal_force = load.tangential_force = 0.0;
         }
@@ -686,13 +636,13 @@ void World::computeForces() {
     }
   }
   auto chunkRecords = [&](std::uint32_t chunk) -> std::vector<ContactRecord>* {
-    return snapshot ? &part_records_[chunk] : nullptr;
+    return snapshot ? &recorder_.part_records[chunk] : nullptr;
   };
   auto recording = [&](ContactKind kind, std::size_t index, std::vector<TriangleLoad>* loads) {
     ContactRecording r;
-    r.contacts = snapshot ? &contact_snapshot_.contacts : nullptr;
+    r.contacts = snapshot ? &recorder_.snapshot.contacts : nullptr;
     r.loads = loads;
-    r.dt = force_weight_;
+    r.dt = context.force_weight;
     r.kind = kind;
     r.index = index;
     return r;
@@ -704,88 +654,87 @@ void World::computeForces() {
   // adds their forces in plane order; each wall's load is the chunks' sums in chunk order,
   // whoever ran them. Recording keeps list order: the planes run after all pairs then.
   ThreadPool* pool = pool_.get();
-  const bool clear = !std::exchange(forces_cleared_, false);
-  const auto pairRows = pair_kernel_ == PairKernel::kAvx2Fma ? &particleContactRowsAvx2Fma<Law, kPasses>
+  const bool clear = !std::exchange(context.forces_cleared, false);
+  const auto pairRows = contacts_.kernel == PairKernel::kAvx2Fma ? &particleContactRowsAvx2Fma<Law, kPasses>
                                                              : &particleContactRows<Law, kPasses>;
   const std::uint32_t chunks = parts.chunks();
   const bool planesInChunks = !kPasses.recording;
   // Per plane: one load per chunk, and the last for the slots after the listed rows.
   const std::size_t loadsPerPlane = std::size_t{chunks} + 1;
-  plane_loads_.assign(planes_.size() * loadsPerPlane, PlaneLoad{});
+  walls_.plane_loads.assign(walls_.planes.size() * loadsPerPlane, PlaneLoad{});
   const auto planeContacts = [&](std::size_t load, std::size_t begin, std::size_t end) {
-    for (std::size_t w = 0; w < planes_.size(); ++w) {
-      plane_loads_[w * loadsPerPlane + load] = planeContactSlots<Law, kPasses>(
-          p, planes_[w], pair_table_, dt, begin, end, recording(ContactKind::kPlane, w, nullptr));
+    for (std::size_t w = 0; w < walls_.planes.size(); ++w) {
+      walls_.plane_loads[w * loadsPerPlane + load] = planeContactSlots<Law, kPasses>(
+          p, walls_.planes[w], contacts_.table, dt, begin, end, recording(ContactKind::kPlane, w, nullptr));
     }
   };
-  // The next step's first kick in the chunks (stepOnce; consumed here, so no evaluation
-  // outside a step sees it): only where every force of a row is final when its chunks
-  // are, i.e. the chunks add the planes too, every slot has rows, and no mesh or
-  // deformable surface adds forces after the loop.
-  const bool kickInChunks = std::exchange(next_kick_in_forces_, false) && planesInChunks && chunks > 0 &&
-                            parts.rowEnd(chunks - 1) == p.size() && meshes_.empty() && deformables_.empty();
+  // The next step's first kick in the chunks (Stepper::beginStep): only where every force
+  // of a row is final when its chunks are, i.e. the chunks add the planes too, every slot
+  // has rows, and no mesh or deformable surface adds forces after the loop.
+  const bool kickInChunks = context.next_kick_in_forces && planesInChunks && chunks > 0 &&
+                            parts.rowEnd(chunks - 1) == p.size() && walls_.meshes.empty() && deformables_.bodies.empty();
   const Vec3 gravity = state_.gravity;
   parts.run(pool, [&](std::uint32_t chunk) {
     const ChunkForces out = parts.start(chunk, p.force, p.torque, clear);
-    pairRows(p, neighbours_, pair_table_, dt, parts.rowBegin(chunk), parts.rowEnd(chunk), out, chunkRecords(chunk));
+    pairRows(p, neighbours_.list, contacts_.table, dt, parts.rowBegin(chunk), parts.rowEnd(chunk), out, chunkRecords(chunk));
     if (planesInChunks) planeContacts(chunk, parts.rowBegin(chunk), parts.rowEnd(chunk));
     if (kickInChunks) {
       const auto [begin, end] = parts.rowsDoneAfter(chunk);
       kickTwiceAndDriftRows(p, gravity, 0.5 * dt, dt, begin, end);
     }
   });
-  first_kick_done_ = kickInChunks;
+  stepper_.setKickDoneInForces(kickInChunks);
   // Slots the list has no rows for yet (none between rebuilds, kept for safety).
   const std::size_t listed = std::min(p.size(), chunks > 0 ? parts.rowEnd(chunks - 1) : 0);
   std::fill(p.force.begin() + static_cast<std::ptrdiff_t>(listed), p.force.end(), Vec3::Zero());
   std::fill(p.torque.begin() + static_cast<std::ptrdiff_t>(listed), p.torque.end(), Vec3::Zero());
   if (snapshot) {
-    for (const auto& records : part_records_) {
-      contact_snapshot_.contacts.insert(contact_snapshot_.contacts.end(), records.begin(), records.end());
+    for (const auto& records : recorder_.part_records) {
+      recorder_.snapshot.contacts.insert(recorder_.snapshot.contacts.end(), records.begin(), records.end());
     }
   }
   planeContacts(chunks, planesInChunks ? listed : 0, p.size());
-  for (std::size_t w = 0; w < planes_.size(); ++w) {
-    PlaneWall& wall = planes_[w];
+  for (std::size_t w = 0; w < walls_.planes.size(); ++w) {
+    PlaneWall& wall = walls_.planes[w];
     wall.force.setZero();
     wall.torque.setZero();
     for (std::size_t c = 0; c < loadsPerPlane; ++c) {
-      wall.force += plane_loads_[w * loadsPerPlane + c].force;
-      wall.torque += plane_loads_[w * loadsPerPlane + c].torque;
+      wall.force += walls_.plane_loads[w * loadsPerPlane + c].force;
+      wall.torque += walls_.plane_loads[w * loadsPerPlane + c].torque;
     }
   }
-  for (std::size_t m = 0; m < meshes_.size(); ++m) {
-    meshes_[m].clearWrench();
-    if (mesh_colliding_[m] == 0) continue;
-    std::vector<TriangleLoad>* loads = kPasses.recording && contact_output_.mesh_loads ? &mesh_loads_[m] : nullptr;
-    meshContactForces<Law, kPasses>(p, meshes_[m], mesh_near_[m], pair_table_, dt, mesh_contacts_scratch_,
+  for (std::size_t m = 0; m < walls_.meshes.size(); ++m) {
+    walls_.meshes[m].clearWrench();
+    if (walls_.mesh_colliding[m] == 0) continue;
+    std::vector<TriangleLoad>* loads = kPasses.recording && recorder_.settings.mesh_loads ? &recorder_.mesh_loads[m] : nullptr;
+    meshContactForces<Law, kPasses>(p, walls_.meshes[m], walls_.mesh_near[m], contacts_.table, dt, walls_.contact_scratch,
                                     recording(ContactKind::kMesh, m, loads));
   }
-  for (std::size_t d = 0; d < deformables_.size(); ++d) {
-    DeformableSurface& surface = deformables_[d]->surface();
+  for (std::size_t d = 0; d < deformables_.bodies.size(); ++d) {
+    DeformableSurface& surface = deformables_.bodies[d]->surface();
     surface.clearForces();
-    meshContactForces<Law, kPasses>(p, surface, deformable_near_[d], pair_table_, dt, mesh_contacts_scratch_,
+    meshContactForces<Law, kPasses>(p, surface, deformables_.near[d], contacts_.table, dt, walls_.contact_scratch,
                                     recording(ContactKind::kDeformable, d, nullptr));
   }
 }
 
 void World::integrateClumps(double kickStep, double driftStep, bool driftFirst) {
-  for (ClumpBody& body : clumps_) {
+  for (ClumpBody& body : clumps_.bodies) {
     if (driftFirst) driftClump(body, driftStep);
     // A frame that only translates is a gravity shift (rotating frames are refused with clumps).
     kickClump(body, state_.gravity - state_.frame.linear_acceleration, kickStep);
     if (!driftFirst && driftStep > 0.0) driftClump(body, driftStep);
-    placeClumpMembers(body, clump_templates_[body.template_index], particles_, driftStep > 0.0);
+    placeClumpMembers(body, clumps_.templates[body.template_index], particles_, driftStep > 0.0);
   }
 }
 
 void World::gatherClumpForces() {
-  for (ClumpBody& body : clumps_) core::gatherClumpForces(body, particles_);
+  for (ClumpBody& body : clumps_.bodies) core::gatherClumpForces(body, particles_);
 }
 
 void World::removeFlaggedWithClumps(RemovalTally& tally) {
-  std::vector<char>& flags = removal_flags_;
-  for (const ClumpBody& body : clumps_) {
+  std::vector<char>& flags = clumps_.removal_flags;
+  for (const ClumpBody& body : clumps_.bodies) {
     const bool any = std::any_of(body.member_slots.begin(), body.member_slots.end(),
                                  [&](std::uint32_t slot) { return flags[slot] != 0; });
     if (!any) continue;
@@ -793,7 +742,7 @@ void World::removeFlaggedWithClumps(RemovalTally& tally) {
     ++tally.count;
     tally.mass += body.mass;
   }
-  std::erase_if(clumps_, [&](const ClumpBody& body) { return flags[body.member_slots.front()] != 0; });
+  std::erase_if(clumps_.bodies, [&](const ClumpBody& body) { return flags[body.member_slots.front()] != 0; });
   std::vector<std::uint32_t> keep;
   keep.reserve(particles_.size());
   for (std::size_t i = 0; i < particles_.size(); ++i) {
@@ -837,27 +786,17 @@ void World::removeOutsideBounds() {
       state_.removed_at_bounds);
 }
 
-bool World::updateMeshCollision(double time) {
-  bool changed = false;
-  for (std::size_t m = 0; m < meshes_.size(); ++m) {
-    const char colliding = meshes_[m].collidesAt(time) ? 1 : 0;
-    changed = changed || colliding != mesh_colliding_[m];
-    mesh_colliding_[m] = colliding;
-  }
-  return changed;
-}
-
 WorldComponent& World::addComponent(std::unique_ptr<WorldComponent> component) {
   if (!component) throw InputError("component", "null", "no component given");
-  for (const auto& existing : components_) {
+  for (const auto& existing : components_.all) {
     if (existing->name() == component->name()) {
       throw InputError(component->name() + ".name", component->name(), "component name already used");
     }
   }
   WorldComponent& added = *component;
-  components_.push_back(std::move(component));
-  if (added.stages() & kStageInsertRemove) insert_remove_components_.push_back(&added);
-  if (added.stages() & kStageObserve) observe_components_.push_back(&added);
+  components_.all.push_back(std::move(component));
+  if (added.stages() & stageBit(Stage::kInsertRemove)) components_.insert_remove.push_back(&added);
+  if (added.stages() & stageBit(Stage::kObserve)) components_.observe.push_back(&added);
   if (initialized_) {
     added.initialize(*this);
     selectStepStages();
@@ -865,11 +804,11 @@ WorldComponent& World::addComponent(std::unique_ptr<WorldComponent> component) {
   return added;
 }
 
-void World::runComponents(std::uint32_t stage) {
-  if (stage == kStageInsertRemove) {
-    for (WorldComponent* component : insert_remove_components_) component->insertAndRemove(*this);
+void World::runComponents(Stage stage) {
+  if (stage == Stage::kInsertRemove) {
+    for (WorldComponent* component : components_.insert_remove) component->insertAndRemove(*this);
   } else {
-    for (WorldComponent* component : observe_components_) component->observe(*this);
+    for (WorldComponent* component : components_.observe) component->observe(*this);
   }
 }
 
@@ -878,46 +817,46 @@ void World::applySlotMapping(const std::vector<std::uint32_t>& oldSlotOfNew) {
   particles_.permute(oldSlotOfNew);
   std::vector<std::uint32_t> newOfCurrent(before, kRemovedSlot);
   for (std::size_t k = 0; k < oldSlotOfNew.size(); ++k) newOfCurrent[oldSlotOfNew[k]] = static_cast<std::uint32_t>(k);
-  for (ClumpBody& body : clumps_) {
+  for (ClumpBody& body : clumps_.bodies) {
     for (std::uint32_t& slot : body.member_slots) slot = newOfCurrent[slot];
   }
-  if (pending_new_slot_of_old_.empty()) {
-    pending_new_slot_of_old_ = std::move(newOfCurrent);
+  if (neighbours_.pending_new_slot_of_old.empty()) {
+    neighbours_.pending_new_slot_of_old = std::move(newOfCurrent);
   } else {
-    for (std::uint32_t& slot : pending_new_slot_of_old_) {
+    for (std::uint32_t& slot : neighbours_.pending_new_slot_of_old) {
       if (slot != kRemovedSlot) slot = newOfCurrent[slot];
     }
   }
-  rebuild_pending_ = true;
+  neighbours_.rebuild_pending = true;
 }
 
 void World::rebuildNeighbours() {
   const std::uint32_t every = settings_.sort_every_builds;
-  if (every > 0 && neighbours_.buildCount() % every == 0 && particles_.size() > 1) {
+  if (every > 0 && neighbours_.list.buildCount() % every == 0 && particles_.size() > 1) {
     // Cell-ordered slots keep neighbours close in memory for the force loop.
     CellGrid grid;
-    grid.build(particles_.position, particles_.radius, neighbours_.skin());
+    grid.build(particles_.position, particles_.radius, neighbours_.list.skin());
     applySlotMapping(grid.spatialOrder(particles_.position));
   }
-  neighbours_.build(particles_, pending_new_slot_of_old_, pool_.get(), !clumps_.empty());
-  partition_.plan(neighbours_.offsets(), neighbours_.partners());
-  for (PlaneWall& wall : planes_) wall.buildNearList(particles_, neighbours_.skin(), pending_new_slot_of_old_);
-  for (std::size_t m = 0; m < meshes_.size(); ++m) {
-    if (mesh_colliding_[m] != 0) {
-      mesh_near_[m].build(particles_, meshes_[m], neighbours_.grid(), neighbours_.skin(), pending_new_slot_of_old_);
+  neighbours_.list.build(particles_, neighbours_.pending_new_slot_of_old, pool_.get(), !clumps_.bodies.empty());
+  partition_.plan(neighbours_.list.offsets(), neighbours_.list.partners());
+  for (PlaneWall& wall : walls_.planes) wall.buildNearList(particles_, neighbours_.list.skin(), neighbours_.pending_new_slot_of_old);
+  for (std::size_t m = 0; m < walls_.meshes.size(); ++m) {
+    if (walls_.mesh_colliding[m] != 0) {
+      walls_.mesh_near[m].build(particles_, walls_.meshes[m], neighbours_.list.grid(), neighbours_.list.skin(), neighbours_.pending_new_slot_of_old);
     } else {
-      mesh_near_[m] = MeshNearList{};  // not in contact: no candidates, springs released
+      walls_.mesh_near[m] = MeshNearList{};  // not in contact: no candidates, springs released
     }
-    meshes_[m].markNeighbourBuild();
+    walls_.meshes[m].markNeighbourBuild();
   }
-  for (std::size_t d = 0; d < deformables_.size(); ++d) {
-    const DeformableSurface& surface = deformables_[d]->surface();
-    deformable_near_[d].build(particles_, surface.worldVertices(), surface.triangles(), surface.active(),
-                              neighbours_.grid(), neighbours_.skin(), pending_new_slot_of_old_);
-    deformables_[d]->surface().markNeighbourBuild();
+  for (std::size_t d = 0; d < deformables_.bodies.size(); ++d) {
+    const DeformableSurface& surface = deformables_.bodies[d]->surface();
+    deformables_.near[d].build(particles_, surface.worldVertices(), surface.triangles(), surface.active(),
+                              neighbours_.list.grid(), neighbours_.list.skin(), neighbours_.pending_new_slot_of_old);
+    deformables_.bodies[d]->surface().markNeighbourBuild();
   }
-  pending_new_slot_of_old_.clear();
-  rebuild_pending_ = false;
+  neighbours_.pending_new_slot_of_old.clear();
+  neighbours_.rebuild_pending = false;
   armRebuildGuard();
 }
 
@@ -928,11 +867,11 @@ std::vector<std::string> World::activeStages() const {
   std::vector<std::string> names;
   for (const Stage stage : selectStages(sceneFeatures())) {
     if (stage == Stage::kDeformableMotion || stage == Stage::kDeformableForces) {
-      for (const auto& body : deformables_) names.push_back(std::string(body->kind()) + ":" + body->name());
+      for (const auto& body : deformables_.bodies) names.push_back(std::string(body->kind()) + ":" + body->name());
     } else if (stage == Stage::kInsertRemove) {
-      componentsIn(insert_remove_components_, names);
+      componentsIn(components_.insert_remove, names);
     } else if (stage == Stage::kObserve) {
-      componentsIn(observe_components_, names);
+      componentsIn(components_.observe, names);
     } else if (stage == Stage::kParticleContacts) {
       names.push_back("particle_contacts:" + std::string(toString(settings_.contact_model)));
     } else {
@@ -944,7 +883,7 @@ std::vector<std::string> World::activeStages() const {
 
 double World::kineticEnergy() const {
   double energy = 0.0;
-  for (const ClumpBody& body : clumps_) energy += body.kineticEnergy();
+  for (const ClumpBody& body : clumps_.bodies) energy += body.kineticEnergy();
   for (std::size_t i = 0; i < particles_.size(); ++i) {
     if (particles_.clump_id[i] != 0) continue;  // counted with its body
     energy += 0.5 * particles_.mass[i] * particles_.velocity[i].squaredNorm() +
@@ -954,9 +893,9 @@ double World::kineticEnergy() const {
 }
 
 double World::totalMass() const {
-  if (clumps_.empty()) return std::accumulate(particles_.mass.begin(), particles_.mass.end(), 0.0);
+  if (clumps_.bodies.empty()) return std::accumulate(particles_.mass.begin(), particles_.mass.end(), 0.0);
   double mass = 0.0;
-  for (const ClumpBody& body : clumps_) mass += body.mass;
+  for (const ClumpBody& body : clumps_.bodies) mass += body.mass;
   for (std::size_t i = 0; i < particles_.size(); ++i) {
     if (particles_.clump_id[i] == 0) mass += particles_.mass[i];
   }
@@ -981,7 +920,7 @@ std::vector<SeenSpeed> World::collectSeenSpeeds() const {
     }
   }
   if (fastest < p.size()) speeds.push_back({"particle " + std::to_string(p.id[fastest]), fastestSpeed});
-  for (const auto& component : components_) {
+  for (const auto& component : components_.all) {
     if (const std::optional<double> speed = component->largestSpeed(*this); speed && *speed > 0.0) {
       speeds.push_back({std::string(component->kind()) + " " + component->name(), *speed});
     }
@@ -990,7 +929,7 @@ std::vector<SeenSpeed> World::collectSeenSpeeds() const {
   for (std::size_t i = 0; i < p.size(); ++i) {
     reach = std::max(reach, (p.position[i] - state_.frame.origin).norm() + p.radius[i]);
   }
-  for (const MeshBody& mesh : meshes_) {
+  for (const MeshBody& mesh : walls_.meshes) {
     reach = std::max(reach, (mesh.position() - state_.frame.origin).norm() + mesh.boundingRadius());
     const double moving = mesh.linearVelocity().norm() + mesh.angularVelocity().norm() * mesh.boundingRadius();
     const double speed = std::max(moving, mesh.speedLimit());
@@ -1103,8 +1042,8 @@ WatchShare watchChunks(ThreadPool* pool, std::size_t n, const Body& body) {
 template <class Law>
 void World::measureContacts(WatchdogReading& reading) const {
   const ParticleArrays& p = particles_;
-  const auto offsets = neighbours_.offsets();
-  const auto partners = neighbours_.partners();
+  const auto offsets = neighbours_.list.offsets();
+  const auto partners = neighbours_.list.partners();
   // Adds a contact's energies to `share`; true when it is the deepest so far.
   auto note = [](WatchShare& share, double overlap, double rA, double rB, const ContactPairParams& params) {
     if (overlap <= 0.0) return false;
@@ -1123,7 +1062,7 @@ void World::measureContacts(WatchdogReading& reading) const {
       for (std::uint32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
         const std::uint32_t j = partners[k];
         const double overlap = p.radius[i] + p.radius[j] - (p.position[j] - p.position[i]).norm();
-        if (note(share, overlap, p.radius[i], p.radius[j], pair_table_(p.material[i], p.material[j]))) {
+        if (note(share, overlap, p.radius[i], p.radius[j], contacts_.table(p.material[i], p.material[j]))) {
           share.deep_a = i;
           share.deep_b = j;
         }
@@ -1137,13 +1076,13 @@ void World::measureContacts(WatchdogReading& reading) const {
     reading.deepest = "particles " + std::to_string(p.id[all.deep_a]) + " and " + std::to_string(p.id[all.deep_b]);
   }
   // Planes after all pairs, as a serial scan: a plane contact is the deepest only when deeper.
-  for (std::size_t w = 0; w < planes_.size(); ++w) {
-    const PlaneWall& wall = planes_[w];
+  for (std::size_t w = 0; w < walls_.planes.size(); ++w) {
+    const PlaneWall& wall = walls_.planes[w];
     WatchShare share;
     share.max_overlap_fraction = reading.max_overlap_fraction;
     for (const std::uint32_t i : wall.near_slots) {
       const double overlap = p.radius[i] - (p.position[i] - wall.spec.point).dot(wall.spec.normal);
-      if (note(share, overlap, p.radius[i], 0.0, pair_table_(p.material[i], wall.spec.material))) {
+      if (note(share, overlap, p.radius[i], 0.0, contacts_.table(p.material[i], wall.spec.material))) {
         reading.deepest = "particle " + std::to_string(p.id[i]) + " on plane " + wall.spec.name;
       }
     }
@@ -1176,14 +1115,14 @@ WatchdogReading World::watch() {
   }
   r.max_speed = motion.max_speed;
   if (motion.fastest != WatchShare::kNone) r.fastest = "particle " + std::to_string(p.id[motion.fastest]);
-  for (const MeshBody& mesh : meshes_) {
+  for (const MeshBody& mesh : walls_.meshes) {
     const double speed = mesh.linearVelocity().norm() + mesh.angularVelocity().norm() * mesh.boundingRadius();
     if (speed > r.max_speed) {
       r.max_speed = speed;
       r.fastest = "mesh " + mesh.name();
     }
   }
-  for (const auto& body : deformables_) {
+  for (const auto& body : deformables_.bodies) {
     for (const Vec3& x : body->surface().positions()) {
       if (!std::isfinite(x.sum()) && r.non_finite.empty()) {
         r.non_finite = std::string(body->kind()) + " body " + body->name() + " (node positions)";
@@ -1197,12 +1136,10 @@ WatchdogReading World::watch() {
   // Sources, moving meshes and a moving frame feed energy in: no energy check then.
   // Mesh contacts' elastic energy and deformable bodies' energy are not measured, so scenes
   // with meshes or deformable bodies are not checked either.
-  r.energy_checked = insert_remove_components_.empty() && !state_.frame_moving && !energy_fed_ && meshes_.empty() &&
-                     deformables_.empty();
-  if (energy_fed_) {
-    watchdog_.resetEnergy();
-    energy_fed_ = false;
-  }
+  const bool energyFed = watchdog_.takeEnergyFed();
+  r.energy_checked = components_.insert_remove.empty() && !state_.frame_moving && !energyFed && walls_.meshes.empty() &&
+                     deformables_.bodies.empty();
+  if (energyFed) watchdog_.resetEnergy();
   return r;
 }
 
@@ -1215,13 +1152,13 @@ void World::runWatchdog() {
   if (!watchdogInspects(state_.step_count)) return;
   const WatchdogReading reading = watch();
   if (std::optional<SimulationFault> fault =
-          watchdog_.assess(reading, settings_.watchdog, time_step_report_.impact_speed, state_.step_count)) {
+          watchdog_.assess(reading, settings_.watchdog, time_step_.report.impact_speed, state_.step_count)) {
     throw *fault;
   }
 }
 
 std::vector<std::string> World::warnings() const {
-  std::vector<std::string> all = initialize_warnings_;
+  std::vector<std::string> all = time_step_.warnings;
   all.insert(all.end(), watchdog_.warnings().begin(), watchdog_.warnings().end());
   return all;
 }

@@ -18,7 +18,9 @@
 #include <unordered_map>
 
 #include "demlink/core/components/component_state.hpp"
+#include "demlink/core/input_bounds.hpp"
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/particles/sphere.hpp"
 #include "demlink/core/unit_quaternion.hpp"
 #include "demlink/core/state/state_stream.hpp"
 #include "demlink/core/walls/triangle_geometry.hpp"
@@ -26,15 +28,6 @@
 
 namespace demlink::core {
 namespace {
-
-void requireFiniteVector(const std::string& field, const Vec3& v) {
-  for (int k = 0; k < 3; ++k) requireFinite(field + "[" + std::to_string(k) + "]", v[k]);
-}
-
-/// Sphere mass exactly as ParticleArrays::append computes it [kg].
-double sphereMass(double radius, double density) {
-  return 4.0 / 3.0 * std::numbers::pi * radius * radius * radius * density;
-}
 
 /// Time in [start, stop] elapsed since start at time t [s].
 double activeTime(double t, double start, double stop) { return std::max(0.0, std::min(t, stop) - start); }

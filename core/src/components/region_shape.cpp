@@ -8,16 +8,14 @@
 #include <cmath>
 #include <numbers>
 
+#include "demlink/core/input_bounds.hpp"
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/particles/sphere.hpp"
 #include "demlink/core/unit_quaternion.hpp"
 #include "demlink/core/world.hpp"
 
 namespace demlink::core {
 namespace {
-
-void requireFiniteVector(const std::string& field, const Vec3& v) {
-  for (int k = 0; k < 3; ++k) requireFinite(field + "[" + std::to_string(k) + "]", v[k]);
-}
 
 std::string formatVector(const Vec3& v) {
   return "(" + formatValue(v.x()) + ", " + formatValue(v.y()) + ", " + formatValue(v.z()) + ")";
@@ -105,7 +103,7 @@ VolumeShape VolumeShape::sphere(double radius, const std::string& fieldPrefix) {
 }
 
 double VolumeShape::volume() const {
-  if (kind_ == Kind::Sphere) return 4.0 / 3.0 * std::numbers::pi * radius_ * radius_ * radius_;
+  if (kind_ == Kind::Sphere) return sphereVolume(radius_);
   return 8.0 * half_sides_.prod();
 }
 

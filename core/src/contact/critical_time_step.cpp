@@ -8,6 +8,7 @@
 
 #include "demlink/core/contact/contact_law_registry.hpp"
 #include "demlink/core/contact/time_step_calibration.hpp"
+#include "demlink/core/particles/sphere.hpp"
 
 namespace demlink::core {
 
@@ -48,10 +49,7 @@ TimeStepReport criticalTimeStep(const std::vector<Material>& materials, const Co
   report.restitution_tolerance = restitutionTolerance;
   report.rayleigh_time_step = std::numeric_limits<double>::infinity();
   report.contact_duration = std::numeric_limits<double>::infinity();
-  auto massOf = [&](std::size_t k) {
-    const double r = minRadiusOfMaterial[k];
-    return 4.0 / 3.0 * std::numbers::pi * r * r * r * materials[k].density;
-  };
+  auto massOf = [&](std::size_t k) { return sphereMass(minRadiusOfMaterial[k], materials[k].density); };
   std::size_t rayleighMaterial = 0;
   TimeStepConstraint contact{"", "", std::numeric_limits<double>::infinity()};
   for (std::size_t a = 0; a < materials.size(); ++a) {

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "demlink/core/particles/sphere.hpp"
+
 namespace demlink::core {
 namespace {
 
@@ -11,9 +13,8 @@ namespace {
 double matchedLinearStiffness(const Material& a, const Material& b, double eStar,
                               const LinearStiffnessReference& ref) {
   if (ref.normal_stiffness > 0.0) return ref.normal_stiffness;
-  const double volume = 4.0 / 3.0 * std::numbers::pi * std::pow(ref.radius, 3);
-  const double ma = a.density * volume;
-  const double mb = b.density * volume;
+  const double ma = sphereMass(ref.radius, a.density);
+  const double mb = sphereMass(ref.radius, b.density);
   const double mStar = ma * mb / (ma + mb);
   const double rStar = 0.5 * ref.radius;
   const double v = ref.impact_velocity;

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "demlink/core/state/state_stream.hpp"
+#include "demlink/core/particles/sphere.hpp"
 
 namespace demlink::core {
 namespace {
@@ -21,8 +22,7 @@ void permuteColumn(std::vector<T>& column, std::span<const std::uint32_t> oldSlo
 }  // namespace
 
 void ParticleArrays::append(const ParticleSpec& spec, double density, std::uint64_t stableId) {
-  // Sphere mass is 4/3 pi R^3 rho (the solver paper's table 3 prints 3/4, a typo).
-  const double m = 4.0 / 3.0 * std::numbers::pi * spec.radius * spec.radius * spec.radius * density;
+  const double m = sphereMass(spec.radius, density);
   position.push_back(spec.position);
   velocity.push_back(spec.velocity);
   angular_velocity.push_back(spec.angular_velocity);

@@ -513,7 +513,7 @@ RunSummary runHeadlessLiggghts(const v1::Scene& declarations, TranslatedScene& s
     if (driver) {
       driver->finish(world);
     } else if (run.final_checkpoint) {
-      checkpoint(directory / "checkpoint_final.bin");
+      checkpoint(directory / core::kFinalCheckpointFileName);
     }
   } catch (const std::exception& error) {
     if (driver) driver->abort(error.what());

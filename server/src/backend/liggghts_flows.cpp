@@ -257,7 +257,7 @@ void prepareLiggghtsComponents(core::World& world, std::uint64_t stride) {
 
 std::vector<std::uint64_t> runLiggghtsComponents(core::World& world) {
   for (const auto& component : world.components()) {
-    if ((component->stages() & core::kStageObserve) != 0) component->observe(world);
+    if ((component->stages() & core::stageBit(core::Stage::kObserve)) != 0) component->observe(world);
   }
   const std::vector<core::ParticleSink*> sinks = componentsOf<core::ParticleSink>(world);
   if (sinks.empty()) return {};

@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <tuple>
 
+#include "demlink/core/particles/sphere.hpp"
 #include "demlink/core/input_error.hpp"
 #include "demlink/server/scene/proto_convert.hpp"
 
@@ -143,7 +144,7 @@ std::string liggghtsDataFile(const core::World& world) {
   text += "\nAtoms\n\n";
   for (std::size_t i = 0; i < p.size(); ++i) {
     const double r = p.radius[i];
-    const double density = p.mass[i] / (4.0 / 3.0 * std::numbers::pi * r * r * r);
+    const double density = p.mass[i] / core::sphereVolume(r);
     text += fmt::format("{} {} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g}\n", i + 1, p.material[i] + 1, 2.0 * r, density,
                         p.position[i].x(), p.position[i].y(), p.position[i].z());
   }

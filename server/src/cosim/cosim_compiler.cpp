@@ -60,15 +60,14 @@ CompileFailure failureOf(const core::InputError& error, const std::vector<Declar
                          const std::string& fallbackComponent = {}) {
   const NamedField named = nameDeclaredField(error.field(), all);
   const std::string component = named.component ? all[*named.component].declaration.name() : fallbackComponent;
-  return CompileFailure(makeError(v1::Error::INVALID_DECLARATION,
-                                  named.field + " = " + error.value() + ": " + error.reason(), component, named.field,
-                                  true));
+  const core::InputError renamed(named.field, error.value(), error.reason());
+  return CompileFailure(makeError(v1::Error::INVALID_DECLARATION, renamed.what(), component, named.field, true));
 }
 
 CompileFailure failure(const std::string& component, const std::string& field, const std::string& value,
                        const std::string& reason) {
   return CompileFailure(
-      makeError(v1::Error::INVALID_DECLARATION, field + " = " + value + ": " + reason, component, field, true));
+      makeError(v1::Error::INVALID_DECLARATION, core::InputError(field, value, reason).what(), component, field, true));
 }
 
 /// The file paths a declaration names: (field below the component, the path to rewrite).

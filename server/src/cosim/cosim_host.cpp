@@ -199,9 +199,8 @@ struct CosimHost::Impl {
       const NamedField named = nameDeclaredField(error.field(), compiler.declarations());
       const std::string component =
           named.component ? compiler.declarations()[*named.component].declaration.name() : std::string();
-      return makeError(v1::Error::INVALID_DECLARATION,
-                       prefix + named.field + " = " + error.value() + ": " + error.reason(), component, named.field,
-                       true);
+      const core::InputError renamed(named.field, error.value(), error.reason());
+      return makeError(v1::Error::INVALID_DECLARATION, prefix + renamed.what(), component, named.field, true);
     };
     try {
       requireBackendAgrees(declared, options.backend);

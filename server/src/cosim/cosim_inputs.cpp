@@ -62,8 +62,8 @@ std::optional<std::pair<std::string, double>> firstNonFinite(const Message& mess
 v1::Error invalid(const CosimComponent& component, const std::string& field, const std::string& value,
                   const std::string& reason) {
   return makeError(v1::Error::INVALID_INPUT,
-                   "component \"" + component.name + "\": " + field + " = " + value + ": " + reason, component.name,
-                   field, true);
+                   "component \"" + component.name + "\": " + core::InputError(field, value, reason).what(),
+                   component.name, field, true);
 }
 
 /// Error{INVALID_INPUT} unless `q` is a unit quaternion within 1e-6.

@@ -265,7 +265,7 @@ CosimSimulation::Advance CosimSimulation::advance() {
   // The first stop at or after each checkpoint step (every rank: a collective on LIGGGHTS).
   if (const std::uint64_t every = compiled_.plan.checkpoint_every;
       backend_checkpoints_ && every > 0 && w.stepCount() / every > first / every) {
-    backend_->writeCheckpoint(directory_ / fmt::format("checkpoint_{:06}.bin", w.stepCount() / every));
+    backend_->writeCheckpoint(directory_ / core::checkpointFileName(w.stepCount() / every));
   }
   out.end_reached = compiled_.end_step > 0 && *stop >= compiled_.end_step;
   return out;
@@ -275,7 +275,7 @@ void CosimSimulation::finish(const std::string& reason) {
   if (backend_checkpoints_ && !finished_ && compiled_.scene->run.final_checkpoint) {
     finished_ = true;
     beforeEngine();
-    backend_->writeCheckpoint(directory_ / "checkpoint_final.bin");
+    backend_->writeCheckpoint(directory_ / core::kFinalCheckpointFileName);
   }
   finished_ = true;
   if (!driver_) return;

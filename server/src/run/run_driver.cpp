@@ -69,7 +69,7 @@ bool RunPlan::checkpointDue(std::uint64_t step) const {
 }
 
 std::string RunPlan::checkpointName(std::uint64_t step) const {
-  return fmt::format("checkpoint_{:06}.bin", step / checkpoint_every);
+  return core::checkpointFileName(step / checkpoint_every);
 }
 
 RunDriver::RunDriver(core::World& world, const RunOptions& run, RunPlan plan, const std::filesystem::path& directory,
@@ -152,7 +152,7 @@ void RunDriver::finish(const core::World& world, const std::string& reason) {
   if (ended_) return;
   try {
     if (last_frame_step_ != world.stepCount()) writeFrame(world);
-    if (run_.final_checkpoint) writeCheckpoint(world, "checkpoint_final.bin");
+    if (run_.final_checkpoint) writeCheckpoint(world, core::kFinalCheckpointFileName);
     if (run_.final_particles_csv) {
       timed(timing_.output_seconds, [&] { writeParticleCsv(world, directory() / "particles_final.csv"); });
     }
@@ -172,7 +172,7 @@ void RunDriver::finish(const core::World& world, const std::string& reason) {
 void RunDriver::fail(const core::World& world, const std::string& why) {
   if (ended_) return;
   try {
-    writeCheckpoint(world, "checkpoint_final.bin");
+    writeCheckpoint(world, core::kFinalCheckpointFileName);
   } catch (const std::exception& error) {
     spdlog::error("final checkpoint not written: {}", error.what());
   }

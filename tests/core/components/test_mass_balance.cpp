@@ -66,7 +66,7 @@ class ForgetfulSink final : public WorldComponent {
  public:
   ForgetfulSink(Vec3 centre, double radius) : WorldComponent("forgetful"), centre_(centre), radius_(radius) {}
   [[nodiscard]] std::string_view kind() const override { return "forgetful_sink"; }
-  [[nodiscard]] std::uint32_t stages() const override { return kStageInsertRemove; }
+  [[nodiscard]] StageSet stages() const override { return stageBit(Stage::kInsertRemove); }
   void insertAndRemove(World& world) override {
     const ParticleArrays& p = world.particles();
     double forgottenMass = 0.0;  // [kg]

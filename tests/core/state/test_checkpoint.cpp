@@ -24,7 +24,7 @@ class StepCounter final : public WorldComponent {
  public:
   StepCounter() : WorldComponent("counter") {}
   [[nodiscard]] std::string_view kind() const override { return "step_counter"; }
-  [[nodiscard]] std::uint32_t stages() const override { return kStageObserve; }
+  [[nodiscard]] StageSet stages() const override { return stageBit(Stage::kObserve); }
   void observe(const World& /*world*/) override { ++count_; }
   void saveState(StateWriter& out) const override { out.write(count_); }
   void loadState(StateReader& in) override { count_ = in.read<std::uint64_t>(); }

@@ -16,6 +16,8 @@ inline constexpr double kMaxAngularVelocity = 1.0e7;       ///< a particle's or 
 inline constexpr double kMaxAngularAcceleration = 1.0e12;  ///< the room's angular acceleration [rad/s^2]
 inline constexpr double kMaxCoordinate = 1.0e9;            ///< a particle's position [m]
 
+/// Throws InputError naming `field + "[k]"` for the first component that is not finite.
+void requireFiniteVector(const std::string& field, const Vec3& v);
 /// Throws InputError naming `field + "[k]"` for the first component that is not finite
 /// or whose magnitude exceeds `bound` (`unit` follows the bound in the reason).
 void requireBoundedVector(const std::string& field, const Vec3& v, double bound, const std::string& unit);

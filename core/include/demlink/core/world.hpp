@@ -15,27 +15,22 @@
 #include <string_view>
 #include <vector>
 
-#include "demlink/core/deformable/deformable_body.hpp"
-#include "demlink/core/particles/clump_body.hpp"
-#include "demlink/core/particles/clump_template.hpp"
-#include "demlink/core/contact/contact_pair_table.hpp"
-#include "demlink/core/contact/contact_record.hpp"
+#include "demlink/core/components/component_list.hpp"
+#include "demlink/core/contact/contact_recorder.hpp"
+#include "demlink/core/contact/contact_setup.hpp"
 #include "demlink/core/contact/critical_time_step.hpp"
-#include "demlink/core/contact/pair_kernel.hpp"
+#include "demlink/core/deformable/deformable_set.hpp"
 #include "demlink/core/materials/material.hpp"
-#include "demlink/core/walls/mesh_body.hpp"
-#include "demlink/core/walls/mesh_contact.hpp"
-#include "demlink/core/walls/mesh_near_list.hpp"
-#include "demlink/core/particles/neighbour_list.hpp"
-#include "demlink/core/particles/rebuild_guard.hpp"
-#include "demlink/core/step/pair_loop_partition.hpp"
+#include "demlink/core/particles/clump_set.hpp"
+#include "demlink/core/particles/neighbour_search.hpp"
 #include "demlink/core/particles/particle_arrays.hpp"
-#include "demlink/core/walls/plane_wall.hpp"
 #include "demlink/core/simulation_settings.hpp"
+#include "demlink/core/step/pair_loop_partition.hpp"
 #include "demlink/core/step/stage_table.hpp"
+#include "demlink/core/step/stepper.hpp"
 #include "demlink/core/step/thread_pool.hpp"
 #include "demlink/core/step/watchdog.hpp"
-#include "demlink/core/components/world_component.hpp"
+#include "demlink/core/walls/walls.hpp"
 #include "demlink/core/world_state.hpp"
 
 namespace demlink::core {
@@ -73,10 +68,10 @@ class World {
   /// a source that adds clumps later must declareFutureParticles(material,
   /// template.minRadius(), ...) before initialize(). See docs/clumps.md.
   std::uint64_t addClump(const ClumpSpec& spec, const std::string& fieldPrefix = "clump");
-  [[nodiscard]] const std::vector<ClumpTemplate>& clumpTemplates() const { return clump_templates_; }
+  [[nodiscard]] const std::vector<ClumpTemplate>& clumpTemplates() const { return clumps_.templates; }
   [[nodiscard]] std::optional<std::uint32_t> findClumpTemplate(const std::string& name) const;
   /// Live clumps (order changes when clumps are removed).
-  [[nodiscard]] const std::vector<ClumpBody>& clumps() const { return clumps_; }
+  [[nodiscard]] const std::vector<ClumpBody>& clumps() const { return clumps_.bodies; }
 
   /// Adds a mesh body under prescribed motion (its material index must exist);
   /// returns its index. Set its pose and velocity through mesh(index).
@@ -87,9 +82,9 @@ class World {
   /// (errors name "<fieldPrefix>.material" / "<fieldPrefix>.name"); the frame must be
   /// inertial. Returns its index. Its criticalTimeStep() joins the time-step check.
   std::size_t addDeformableBody(std::unique_ptr<DeformableBody> body, const std::string& fieldPrefix = "deformable");
-  [[nodiscard]] const std::vector<std::unique_ptr<DeformableBody>>& deformableBodies() const { return deformables_; }
+  [[nodiscard]] const std::vector<std::unique_ptr<DeformableBody>>& deformableBodies() const { return deformables_.bodies; }
   /// The body at `index` (std::out_of_range otherwise), e.g. to set a driven pose.
-  [[nodiscard]] DeformableBody& deformableBody(std::size_t index) { return *deformables_.at(index); }
+  [[nodiscard]] DeformableBody& deformableBody(std::size_t index) { return *deformables_.bodies.at(index); }
 
   /// Changes the motion of the frame (the "room" of the docs) from the next step
   /// on (validated; names "frame.<field>"): a change of the world's state, the
@@ -115,7 +110,7 @@ class World {
   /// Adds a scene component (source, sink, sensor, tracker); the world owns it and
   /// runs it in the stages it declares. Returns a reference that stays valid.
   WorldComponent& addComponent(std::unique_ptr<WorldComponent> component);
-  [[nodiscard]] const std::vector<std::unique_ptr<WorldComponent>>& components() const { return components_; }
+  [[nodiscard]] const std::vector<std::unique_ptr<WorldComponent>>& components() const { return components_.all; }
 
   /// Removes every particle for which `remove(slot)` is true (evaluated once per
   /// slot, in slot order, before anything moves) and adds them to `tally`.
@@ -147,9 +142,9 @@ class World {
   /// inspects, and the last step, make their second half kick as usual.
   void advance(std::uint64_t steps);
   /// Whether advance() may owe half kicks in this scene (set with the stages).
-  [[nodiscard]] bool kickDeferrable() const { return kick_deferrable_; }
+  [[nodiscard]] bool kickDeferrable() const { return stepper_.kickDeferrable(); }
   /// Half kicks advance() has owed and paid with the next step's kick so far.
-  [[nodiscard]] std::uint64_t fusedKicks() const { return fused_kicks_; }
+  [[nodiscard]] std::uint64_t fusedKicks() const { return stepper_.fusedKicks(); }
 
   /// Writes everything the next step depends on (settings, materials, particle
   /// columns, neighbour and near lists with histories, planes, meshes, counters,
@@ -180,33 +175,33 @@ class World {
   [[nodiscard]] ParticleArrays& particles() { return particles_; }
   [[nodiscard]] const ParticleArrays& particles() const { return particles_; }
   [[nodiscard]] const std::vector<Material>& materials() const { return materials_; }
-  [[nodiscard]] const std::vector<PlaneWall>& planes() const { return planes_; }
-  [[nodiscard]] const std::vector<MeshBody>& meshes() const { return meshes_; }
-  [[nodiscard]] MeshBody& mesh(std::size_t index) { return meshes_.at(index); }
-  [[nodiscard]] const TimeStepReport& timeStepReport() const { return time_step_report_; }
+  [[nodiscard]] const std::vector<PlaneWall>& planes() const { return walls_.planes; }
+  [[nodiscard]] const std::vector<MeshBody>& meshes() const { return walls_.meshes; }
+  [[nodiscard]] MeshBody& mesh(std::size_t index) { return walls_.meshes.at(index); }
+  [[nodiscard]] const TimeStepReport& timeStepReport() const { return time_step_.report; }
   /// The index of the rigid twin of `material` (Material::rigid, named "<name> (rigid)"),
   /// added on first use; rigid planes and meshes use it.
   std::uint32_t rigidTwin(std::uint32_t material);
   /// Estimates the wall time of every stage from now on by timing a sample of steps
   /// (step/stage_sampling.hpp: well under 1 % of the step's cost); off by default.
-  void setStageTiming(bool on) { stage_timing_ = on; }
+  void setStageTiming(bool on) { stepper_.setTiming(on); }
   /// Estimated wall seconds of each stage since timing was switched on, by Stage.
-  [[nodiscard]] const std::array<double, kStageCount>& stageSeconds() const { return stage_seconds_; }
+  [[nodiscard]] const std::array<double, kStageCount>& stageSeconds() const { return stepper_.stageSeconds(); }
   /// Every speed the world could see at initialize() (particles, sources, meshes,
   /// the frame's rotation), fastest first.
-  [[nodiscard]] const std::vector<SeenSpeed>& seenSpeeds() const { return seen_speeds_; }
+  [[nodiscard]] const std::vector<SeenSpeed>& seenSpeeds() const { return time_step_.seen_speeds; }
   /// The impact speed the time step is validated for [m/s]: the largest of
   /// max_impact_velocity and the seen speeds.
-  [[nodiscard]] double validatedImpactSpeed() const { return time_step_report_.impact_speed; }
+  [[nodiscard]] double validatedImpactSpeed() const { return time_step_.report.impact_speed; }
   /// Warnings of initialize() (a declared speed below a seen one) and of the
   /// watchdog so far, in order.
   [[nodiscard]] std::vector<std::string> warnings() const;
   /// Measures what the watchdog checks, now (stage watchdog calls it every
   /// every_steps steps; tests call it directly).
   [[nodiscard]] WatchdogReading watch();
-  [[nodiscard]] const ContactPairTable& pairTable() const { return pair_table_; }
+  [[nodiscard]] const ContactPairTable& pairTable() const { return contacts_.table; }
   [[nodiscard]] const RemovalTally& removedAtBounds() const { return state_.removed_at_bounds; }
-  [[nodiscard]] const NeighbourList& neighbourList() const { return neighbours_; }
+  [[nodiscard]] const NeighbourList& neighbourList() const { return neighbours_.list; }
   /// The pair loop's chunks and their force buffers (memory reports).
   [[nodiscard]] const PairLoopPartition& pairLoopPartition() const { return partition_; }
   /// The step's thread pool; null when running on one thread.
@@ -216,7 +211,7 @@ class World {
   /// each component as "<kind>:<name>" in the stages it runs in.
   [[nodiscard]] std::vector<std::string> activeStages() const;
   /// The build of the pair loop this world runs (pair_kernel.hpp; chosen at initialize()).
-  [[nodiscard]] PairKernel pairKernel() const { return pair_kernel_; }
+  [[nodiscard]] PairKernel pairKernel() const { return contacts_.kernel; }
   /// Translational + rotational kinetic energy [J].
   [[nodiscard]] double kineticEnergy() const;
   /// Total particle mass [kg].
@@ -227,9 +222,9 @@ class World {
   /// (contact_record.hpp). Inactive settings (the default) leave the recording pass
   /// out of the force stage. May be called before or after initialize().
   void setContactOutput(const ContactOutputSettings& settings);
-  [[nodiscard]] const ContactOutputSettings& contactOutput() const { return contact_output_; }
+  [[nodiscard]] const ContactOutputSettings& contactOutput() const { return recorder_.settings; }
   /// The contacts of the last recorded force evaluation (valid = false before one).
-  [[nodiscard]] const ContactSnapshot& contactSnapshot() const { return contact_snapshot_; }
+  [[nodiscard]] const ContactSnapshot& contactSnapshot() const { return recorder_.snapshot; }
   /// Loads per triangle of mesh `index`; empty unless mesh loads are on and a force
   /// evaluation ran since.
   [[nodiscard]] std::span<const TriangleLoad> meshLoads(std::size_t index) const;
@@ -246,27 +241,26 @@ class World {
   void moveMeshes(StepContext& context);
   void moveDeformables(StepContext& context);
   void finishDeformables(const StepContext& context);
-  void runComponents(std::uint32_t stage);
+  void runComponents(Stage stage);
   void removeOutsideBounds();
-  void firstKickAndDrift(const StepContext& context);
+  void firstKickAndDrift(StepContext& context);
   void explicitEulerUpdate(const StepContext& context);
   void advanceFrame(const StepContext& context);
   void integrateClumps(double kickStep, double driftStep, bool driftFirst);
   void updateNeighbours(const StepContext& context);
   template <class Law, ForcePasses kPasses>
-  void computeForces();
+  void computeForces(StepContext& context);
   /// Picks compute_forces_ for the law and the passes the scene uses.
   void selectForceKernel();
   void gatherClumpForces();
   void secondHalfKick(const StepContext& context);
-  /// One step; `mayOweKick`: another step follows within advance().
-  void stepOnce(bool mayOweKick);
-  void payOwedHalfKick();
+  /// One step; `anotherStepFollows` within advance().
+  void stepOnce(bool anotherStepFollows);
   /// Whether the watchdog inspects the state when the step count is `stepCount`.
   [[nodiscard]] bool watchdogInspects(std::uint64_t stepCount) const;
   void runWatchdog();
 
-  /// The speeds the scene shows before it runs (seen_speeds_), fastest first.
+  /// The speeds the scene shows before it runs (time_step_.seen_speeds), fastest first.
   [[nodiscard]] std::vector<SeenSpeed> collectSeenSpeeds() const;
   /// Refuses settings or particles whose first step would overflow, naming the field.
   void requireFiniteFirstStep() const;
@@ -275,8 +269,6 @@ class World {
   template <class Law>
   void measureContacts(WatchdogReading& reading) const;
 
-  /// Updates mesh_colliding_ for a force evaluation at `time` [s]; true if any changed.
-  bool updateMeshCollision(double time);
   /// Throws InputError naming the frame's angular velocity (acceleration) when its
   /// centrifugal (Euler) acceleration at the farthest particle exceeds kMaxAcceleration.
   void requireBoundedFrameAccelerations() const;
@@ -292,7 +284,7 @@ class World {
   void requireNoDeformablesInMovingFrame(const FrameMotion& motion, const std::string& fieldPrefix) const;
   void applySlotMapping(const std::vector<std::uint32_t>& oldSlotOfNew);
   void rebuildNeighbours();
-  /// Arms rebuild_guard_ for the neighbour list's last build and the planes' near lists.
+  /// Arms neighbours_.guard for the neighbour list's last build and the planes' near lists.
   void armRebuildGuard();
   /// Whether the neighbour and near lists may have missed a contact since their build.
   [[nodiscard]] bool neighbourListsStale(ThreadPool* pool) const;
@@ -300,76 +292,33 @@ class World {
 
   SimulationSettings settings_;  ///< what the user chose; never changed after construction
   std::string settings_field_;    ///< how errors name the settings
-  WorldState state_;
+  WorldState state_;              ///< what evolves: clock, frame, gravity, skin, bounds, counters
   std::vector<Material> materials_;
   ParticleArrays particles_;
-  std::vector<PlaneWall> planes_;
-  std::vector<MeshBody> meshes_;
-  std::vector<MeshNearList> mesh_near_;
-  /// Per mesh: collides at the current force evaluation (see MeshBody collision window).
-  std::vector<char> mesh_colliding_;
-  std::vector<MeshContactPoint> mesh_contacts_scratch_;
-  std::vector<std::unique_ptr<DeformableBody>> deformables_;
-  /// Per deformable body: candidate triangles of its surface per nearby particle.
-  std::vector<MeshNearList> deformable_near_;
-  ContactPairTable pair_table_;
-  LinearStiffnessReference pair_reference_;
-  std::vector<PairOverrideEntry> pair_overrides_;
-  TimeStepReport time_step_report_;
-  std::vector<SeenSpeed> seen_speeds_;
-  std::vector<std::string> initialize_warnings_;
+  ClumpSet clumps_;
+  Walls walls_;                   ///< planes and meshes with their near lists
+  DeformableSet deformables_;     ///< deformable bodies with their near lists
+  ComponentList components_;
+  NeighbourSearch neighbours_;    ///< Verlet list, rebuild guard, pending slot map
+  PairLoopPartition partition_;   ///< the pair loop's chunks and force buffers
+  ContactSetup contacts_;         ///< pair table, overrides, future particles, passes, kernel
+  void (World::*compute_forces_)(StepContext&) = nullptr;  ///< the force stage (selectForceKernel)
+  ContactRecorder recorder_;      ///< contact output
+  TimeStepCheck time_step_;       ///< the critical time step, seen speeds, warnings of initialize()
   Watchdog watchdog_;
-  bool energy_fed_ = false;  ///< a mesh moved since the last watchdog check
-  bool stage_timing_ = false;
-  std::array<double, kStageCount> stage_seconds_{};
-  NeighbourList neighbours_;
-  RebuildGuard rebuild_guard_;  ///< armed by every neighbour build and restore
-  PairLoopPartition partition_;
-  std::vector<PlaneLoad> plane_loads_;  ///< per plane and pair chunk, then the unlisted slots (computeForces)
+  Stepper stepper_;               ///< the stage calls of a step, owed half kicks, stage timing
   std::unique_ptr<ThreadPool> pool_;  ///< null when running on one thread
-  PairKernel pair_kernel_ = PairKernel::kPortable;  ///< chosen at initialize()
-  bool kick_deferrable_ = false;  ///< advance() may owe half kicks (selectStepStages)
-  bool forces_cleared_ = false;   ///< this step's first kick left force and torque zero (firstKickAndDrift)
-  bool half_kick_owed_ = false;   ///< the last step left its second half kick to the next one
-  /// This step's pair loop runs the second half kick and the next step's first kick and
-  /// drift, chunk by chunk (stepOnce says when; computeForces).
-  bool next_kick_in_forces_ = false;
-  bool first_kick_done_ = false;  ///< the last step's pair loop ran this step's first kick
-  std::uint64_t fused_kicks_ = 0;
-  void (World::*compute_forces_)() = nullptr;
-  bool rolling_active_ = false;
-  bool cohesion_active_ = false;
-  ContactOutputSettings contact_output_;
-  ContactSnapshot contact_snapshot_;
-  std::vector<std::vector<TriangleLoad>> mesh_loads_;      ///< per mesh, per triangle (mesh loads on)
-  std::vector<std::vector<ContactRecord>> part_records_;   ///< per pair-loop part, merged in part order
-  std::uint64_t force_step_ = 0;  ///< step count the force evaluation in progress belongs to
-  double force_weight_ = 0.0;     ///< its weight in time integrals [s]: dt in a step, 0 at initialisation
   bool initialized_ = false;
-  /// The stage calls of one step, in table order (passes excluded: they run inside forces).
-  std::vector<Stage> step_stages_;
-  bool rebuild_pending_ = true;
-  /// Slot of every particle of the last neighbour build in the current numbering
-  /// (empty: unchanged). Composed across removals and sorts until the next build.
-  std::vector<std::uint32_t> pending_new_slot_of_old_;
-  std::vector<std::unique_ptr<WorldComponent>> components_;
-  /// (material, smallest radius) of particles that sources will insert later.
-  std::vector<std::pair<std::uint32_t, double>> future_particles_;
-  std::vector<WorldComponent*> insert_remove_components_;
-  std::vector<WorldComponent*> observe_components_;
-  std::vector<ClumpTemplate> clump_templates_;
-  std::vector<ClumpBody> clumps_;
-  std::vector<char> removal_flags_;  ///< scratch of removeParticlesIf when clumps exist
 };
 
 template <class RemovePredicate>
 void World::removeParticlesIf(RemovePredicate remove, RemovalTally& tally) {
-  if (!clumps_.empty()) {
-    removal_flags_.assign(particles_.size(), 0);
+  if (!clumps_.bodies.empty()) {
+    clumps_.removal_flags.assign(particles_.size(), 0);
     bool any = false;
     for (std::size_t i = 0; i < particles_.size(); ++i) {
       if (remove(i)) {
-        removal_flags_[i] = 1;
+        clumps_.removal_flags[i] = 1;
         any = true;
       }
     }

@@ -25,7 +25,7 @@ class DeformableAttachment final : public WorldComponent {
   DeformableAttachment(std::string name, std::size_t bodyIndex, std::size_t meshIndex);
 
   [[nodiscard]] std::string_view kind() const override { return "deformable_attachment"; }
-  [[nodiscard]] std::uint32_t stages() const override { return kStageInsertRemove; }
+  [[nodiscard]] StageSet stages() const override { return stageBit(Stage::kInsertRemove); }
   void initialize(World& world) override;
   void insertAndRemove(World& world) override;
 

@@ -52,7 +52,7 @@ class FlowSensor final : public SampledComponent {
              std::string fieldPrefix);
 
   [[nodiscard]] std::string_view kind() const override { return "flow_sensor"; }
-  [[nodiscard]] std::uint32_t stages() const override { return kStageObserve; }
+  [[nodiscard]] StageSet stages() const override { return stageBit(Stage::kObserve); }
   void initialize(World& world) override;
   void observe(const World& world) override;
   /// time_s, then for the interval and the total: positive, negative and net count, and

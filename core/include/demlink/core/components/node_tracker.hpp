@@ -24,7 +24,7 @@ class NodeTracker final : public SampledComponent {
   NodeTracker(std::string name, std::vector<TrackedNode> nodes, SampleSchedule schedule, std::string fieldPrefix);
 
   [[nodiscard]] std::string_view kind() const override { return "node_tracker"; }
-  [[nodiscard]] std::uint32_t stages() const override { return kStageObserve; }
+  [[nodiscard]] StageSet stages() const override { return stageBit(Stage::kObserve); }
   void initialize(World& world) override;
   void observe(const World& world) override;
   /// time_s; per node <body>_<node>_{x,y,z}_m, _{ux,uy,uz}_m, _{vx,vy,vz}_m_s.

@@ -21,7 +21,7 @@ class ParticleSink final : public SampledComponent {
                std::string fieldPrefix);
 
   [[nodiscard]] std::string_view kind() const override { return "particle_sink"; }
-  [[nodiscard]] std::uint32_t stages() const override { return kStageInsertRemove | kStageObserve; }
+  [[nodiscard]] StageSet stages() const override { return stageBit(Stage::kInsertRemove) | stageBit(Stage::kObserve); }
   void initialize(World& world) override;
   void insertAndRemove(World& world) override;
   void observe(const World& world) override;

@@ -105,7 +105,7 @@ class ParticleSource final : public WorldComponent {
   ParticleSource(std::string name, ParticleSourceSpec spec, std::string fieldPrefix);
 
   [[nodiscard]] std::string_view kind() const override { return "particle_source"; }
-  [[nodiscard]] std::uint32_t stages() const override { return kStageInsertRemove; }
+  [[nodiscard]] StageSet stages() const override { return stageBit(Stage::kInsertRemove); }
   void initialize(World& world) override;
   void insertAndRemove(World& world) override;
   /// Insertion speed plus the spin at the rim (and the attached body's speed when added).

@@ -47,7 +47,7 @@ class ParticleTracker final : public SampledComponent {
                   SampleSchedule schedule, std::string fieldPrefix);
 
   [[nodiscard]] std::string_view kind() const override { return "tracker"; }
-  [[nodiscard]] std::uint32_t stages() const override { return kStageObserve; }
+  [[nodiscard]] StageSet stages() const override { return stageBit(Stage::kObserve); }
   void initialize(World& world) override;
   void observe(const World& world) override;
   /// time_s; per particle p<id>_status (1 present, 0 not yet present, -1 removed),

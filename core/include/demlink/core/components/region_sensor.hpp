@@ -31,7 +31,7 @@ class RegionSensor final : public SampledComponent {
                std::string fieldPrefix);
 
   [[nodiscard]] std::string_view kind() const override { return "region_sensor"; }
-  [[nodiscard]] std::uint32_t stages() const override { return kStageObserve; }
+  [[nodiscard]] StageSet stages() const override { return stageBit(Stage::kObserve); }
   void initialize(World& world) override;
   void observe(const World& world) override;
   /// time_s, count, mass_kg, mean_vx_m_s, mean_vy_m_s, mean_vz_m_s, com_x_m, com_y_m, com_z_m

@@ -11,17 +11,19 @@
 #include <string>
 #include <string_view>
 
+#include "demlink/core/step/stage_table.hpp"
+
 namespace demlink::core {
 
 class World;
 class StateWriter;
 class StateReader;
 
-/// Stages a component takes part in (bit set).
-enum ComponentStage : std::uint32_t {
-  kStageInsertRemove = 1u << 0,  ///< stage insert_remove: after mesh motion, before the drift
-  kStageObserve = 1u << 1,       ///< stage observe: last, at the step's end time
-};
+/// Stages a component takes part in: stageBit(Stage::kInsertRemove) (after mesh
+/// motion, before the drift) and stageBit(Stage::kObserve) (last, at the step's end time).
+using StageSet = std::uint32_t;
+static_assert(kStageCount <= 32, "a StageSet holds one bit per stage");
+[[nodiscard]] constexpr StageSet stageBit(Stage stage) { return StageSet{1} << static_cast<unsigned>(stage); }
 
 class WorldComponent {
  public:
@@ -34,8 +36,8 @@ class WorldComponent {
   [[nodiscard]] const std::string& name() const { return name_; }
   /// Kind for reports, e.g. "particle_source".
   [[nodiscard]] virtual std::string_view kind() const = 0;
-  /// Bit set of ComponentStage values.
-  [[nodiscard]] virtual std::uint32_t stages() const = 0;
+  /// The stages it runs in (insert_remove, observe).
+  [[nodiscard]] virtual StageSet stages() const = 0;
 
   /// Called once by World::initialize(), after materials are mixed and before the
   /// first force evaluation; throw InputError for a reference that does not

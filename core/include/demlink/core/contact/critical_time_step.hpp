@@ -59,6 +59,21 @@ struct TimeStepReport {
   [[nodiscard]] std::vector<std::string> describe() const;
 };
 
+/// A speed the world can see before it runs, and what moves at it.
+struct SeenSpeed {
+  std::string what;    ///< "particle 12", "particle_source feed", "mesh bucket", "frame rotation"
+  double speed = 0.0;  ///< [m/s]
+};
+
+/// What World::initialize() found about the time step: the limits, the speeds the
+/// scene shows before it runs (fastest first), and its warnings (a declared impact
+/// speed below a seen one).
+struct TimeStepCheck {
+  TimeStepReport report;
+  std::vector<SeenSpeed> seen_speeds;
+  std::vector<std::string> warnings;
+};
+
 double rayleighTimeStep(const Material& m, double radius);
 
 /// minRadiusOfMaterial[k] <= 0 means no particle uses material k (e.g. a wall

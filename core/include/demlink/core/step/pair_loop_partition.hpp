@@ -17,27 +17,23 @@
 /// thread count, one included (one thread runs the chunks in run()'s order: each odd
 /// chunk right after its later even neighbour).
 ///
-/// Why run() is a dataflow, not two phases (all even chunks, a join, all odd ones, the
-/// previous schedule): each join waits for the slower thread, and on a VM whose two
-/// vCPUs ran at unequal speeds (one 25-40 % slower for seconds at a time, measured with
-/// two pinned one-thread runs) the faster thread idled twice per step or stole whole
-/// chunks whose rows then sat in the wrong cache for the next kick. Now the threads
-/// claim even chunks, and the thread that finishes the second even neighbour of an odd
-/// chunk runs that odd chunk at once, while both chunks' rows are in its cache: one join
-/// per force evaluation, no waiting for a dependency ever, and the same sums in the same
-/// order as the two phases.
+/// Why run() is a dataflow, not two phases (all even chunks, a join, all odd ones):
+/// each join waits for the slower thread, and on machines whose cores run at unequal
+/// speeds the faster thread would idle twice per step or steal whole chunks whose rows
+/// then sit in the wrong cache for the next kick. The threads claim even chunks, and
+/// the thread that finishes the second even neighbour of an odd chunk runs that odd
+/// chunk at once, while both chunks' rows are in its cache: one join per force
+/// evaluation, no waiting for a dependency, and the same sums in the same order as two
+/// phases would make.
 ///
-/// Why not per-chunk spill buffers for the slots beyond a chunk's rows, added up in
-/// chunk order afterwards (the design before the two phases): slots are in cell order
-/// (CellGrid::spatialOrder), so a chunk reaches one to three cell layers past its rows, and clearing and
-/// adding those spills cost as much memory traffic as the pair loop saved by sharing it:
-/// two threads ran a 5,000-particle bed's force stage slower than one
-/// (docs/benchmarks.md).
+/// Why no per-chunk spill buffers for the slots beyond a chunk's rows, added up in
+/// chunk order afterwards: slots are in cell order (CellGrid::spatialOrder), so a chunk
+/// reaches one to three cell layers past its rows, and clearing and adding those spills
+/// costs as much memory traffic as sharing the pair loop saves.
 ///
-/// Why one thread runs the same chunks, not one chunk over all rows (the design until
-/// 2026-11-29): a 1-thread run then summed in row order and differed from a threaded one
-/// by round-off. With the same plan it gives the threaded runs' bits, at a one-thread
-/// speed within 1.5 % of the single chunk's (A/B medians 1.00-1.013; docs/benchmarks.md).
+/// Why one thread runs the same chunks, not one chunk over all rows: a run then sums
+/// every force in the same order whatever the thread count, so one thread gives the
+/// threaded runs' bits (docs/benchmarks.md has the cost, measured).
 #include <algorithm>
 #include <atomic>
 #include <cstdint>

@@ -10,6 +10,12 @@
 /// (the force stage is one call chosen at initialisation, with the law and the
 /// rolling term compiled in), listed so that the report says which passes that
 /// call makes. Everything else is one call per step when selected, none otherwise.
+///
+/// A row marked `kick_may_be_owed` neither reads nor changes velocities or forces
+/// between a step's second half kick and the next step's first kick (or, as
+/// `forces`, runs after that first kick): a scene whose selected rows all carry
+/// the mark may leave a step's second half kick owed to the next step
+/// (Stepper, World::advance).
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -63,6 +69,17 @@ struct StepContext {
   /// (World::advance: another step follows, nothing between them reads velocities, and
   /// the watchdog does not inspect this step's end).
   bool may_owe_kick = false;
+  /// The step's force evaluation also runs the second half kick and the next step's
+  /// first kick and drift, chunk by chunk in the pair loop (Stepper::beginStep).
+  bool next_kick_in_forces = false;
+  /// The first kick left force and torque zero, so the force stage need not clear them.
+  bool forces_cleared = false;
+  /// The step count the forces being evaluated belong to: the step's end (at
+  /// initialisation, the count now).
+  std::uint64_t force_step = 0;
+  /// The force evaluation's weight in time integrals [s]: dt in a step, 0 at
+  /// initialisation.
+  double force_weight = 0.0;
 };
 
 /// The features of a scene that decide which stages run.
@@ -89,6 +106,7 @@ struct StageInfo {
   /// and the component stages report each component as "<kind>:<name>".
   std::string_view name;
   bool pass;  ///< part of the stage call above it, not a call of its own
+  bool kick_may_be_owed;  ///< allows a second half kick owed across steps (see above)
   std::string_view does;
   std::string_view reads;
   std::string_view writes;
@@ -101,8 +119,11 @@ struct StageInfo {
 [[nodiscard]] const StageInfo& stageInfo(Stage stage);
 /// The stages (passes included) a scene with `features` runs, in step order.
 [[nodiscard]] std::vector<Stage> selectStages(const SceneFeatures& features);
-/// The whole table as Markdown: | stage | does | reads | writes | runs when |
-/// (passes as "↳ `name`"), one row per line.
+/// Whether a scene running `stages` may owe a step's second half kick to the next
+/// step: every one of them is marked kick_may_be_owed.
+[[nodiscard]] bool kickMayBeOwed(const std::vector<Stage>& stages);
+/// The whole table as Markdown: | stage | does | reads | writes | runs when | kick
+/// may be owed | (passes as "↳ `name`"), one row per line.
 [[nodiscard]] std::string stageTableMarkdown();
 
 }  // namespace demlink::core

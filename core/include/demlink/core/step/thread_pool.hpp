@@ -1,26 +1,24 @@
 #pragma once
 /// A small persistent thread pool for the step's parallel loops.
 ///
-/// Why not OpenMP fork/join: a step runs ~5 parallel loops of 0.01-3 ms. libgomp's
-/// waiting threads spin for a long time; when another process holds the second
-/// core, the spinning thread keeps the core its partner needs, and each join can
-/// cost a whole scheduler time slice: a 2-thread run became ~470x slower beside
-/// two busy processes (docs/benchmarks.md). Here a waiting thread follows the
-/// spin-then-block rule of spin_wait.hpp: it polls for a bounded time (the budget,
-/// 50 us by default) while a free CPU allows it, so the next hand-over of the same
-/// step costs well under a microsecond instead of a futex wake-up (tens of us), then
-/// sleeps on a futex via C++20 std::atomic::wait, giving the core away.
+/// Why not OpenMP fork/join: a step runs a handful of short parallel loops (tens of
+/// microseconds to milliseconds). libgomp's waiting threads spin for a long time; when
+/// another process holds the second core, the spinning thread keeps the core its
+/// partner needs, and each join can cost a whole scheduler time slice. Here a waiting
+/// thread follows the spin-then-block rule of spin_wait.hpp: it polls for a bounded
+/// time (the budget) while a free CPU allows it, so the next hand-over of the same step
+/// costs well under a microsecond instead of a futex wake-up, then sleeps on a futex
+/// via C++20 std::atomic::wait, giving the core away.
 ///
 /// Work claiming: run(chunks, body) gives every thread (the caller is thread 0) a home
 /// range of contiguous chunks, the same for every loop of the same size. A thread claims
 /// its home range front to back, then the others' ranges from their backs, each claim
 /// one compare-and-swap on the range's own cache line. Why home ranges: the step's loops
 /// stream the same particles one after another, so a thread that gets the same chunks
-/// again finds them in its own cache; with one shared ticket the chunks landed on the
-/// threads at random and each loop pulled half of its data from the other core's cache:
-/// two threads were slower than one on two idle cores (docs/benchmarks.md). Stealing
-/// from the back keeps the rest: a descheduled or slow thread only holds up the chunk
-/// it is running, never a fixed share of the work.
+/// again finds them in its own cache; chunks handed out by one shared ticket land on the
+/// threads at random, and each loop pulls half of its data from the other core's cache.
+/// Stealing from the back keeps the rest: a descheduled or slow thread only holds up the
+/// chunk it is running, never a fixed share of the work.
 ///
 /// When a loop goes to the workers (offersToWorkers): every loop of two or more chunks
 /// while a worker is awake (spinning between loops: a hand-over costs about a
@@ -28,20 +26,16 @@
 /// free CPU for every pool thread (the woken worker then spins between loops again), and
 /// only a loop whose last run held at least kWakeWorthBusySeconds of work when it does
 /// not. Why the gate decides: a worker without a free core arrives late or not at all
-/// while the caller pays the wake-up (tens of microseconds under a hypervisor) and waits
-/// for its chunk in flight; beside one busy process, waking it for every loop of
-/// 0.1-0.6 ms made two threads 1.1-1.2x slower than one (50,000 particles). With free
-/// cores a wake-up is paid once: a rule that also asked for 150 us of work per loop left a
-/// worker that fell asleep (the gate's first estimate, the load average, often sees the
-/// runs just before as busy) asleep for good in a scene of short loops (5,000 particles,
-/// 70 us steps: 1.10x the 1-thread speed instead of 1.18x over 20,000 steps). No
-/// serial-against-threaded timing. A worker descheduled by another process holds up at
-/// most the one chunk it is running, the caller claims all the
-/// others, and the caller's join wait spins only while the gate of spin_wait.hpp sees a
-/// free CPU for every pool thread, so it blocks at once and leaves its core to the
-/// descheduled worker (the scheduler pulls it over) when it does not. Callers make their
-/// results independent of which thread ran which chunk (parallel.hpp), so none of this
-/// changes a result.
+/// while the caller pays the wake-up and waits for its chunk in flight. With free cores
+/// a wake-up is paid once, and a worker that fell asleep is woken again by the next
+/// loop, however short the loops are. No serial-against-threaded timing. A worker
+/// descheduled by another process holds up at most the one chunk it is running, the
+/// caller claims all the others, and the caller's join wait spins only while the gate
+/// of spin_wait.hpp sees a free CPU for every pool thread, so it blocks at once and
+/// leaves its core to the descheduled worker (the scheduler pulls it over) when it does
+/// not. Callers make their results independent of which thread ran which chunk
+/// (parallel.hpp), so none of this changes a result. docs/benchmarks.md has the
+/// measurements behind these choices.
 #include <array>
 #include <atomic>
 #include <chrono>
@@ -70,11 +64,9 @@ class ThreadStartError : public std::runtime_error {
 /// How long a pool thread spins between loops before it sleeps, when nothing else is
 /// asked for [ns]: DEMLINK_SPIN_WAIT_US when set (0 = never), otherwise 200 us. Longer
 /// than an exchange wait's 50 us because a step's serial stretches (mesh contacts,
-/// sensors, the watchdog) last ~50-200 us at 50,000 particles, and a worker
-/// that sleeps through one pays a wake-up (30-80 us on a 2-vCPU VM) and starts the next
-/// loop late; measured at 50,000 particles, 2 threads on idle cores: 1.38x the 1-thread
-/// speed with 50 us, 1.59x with 200 us, 1.62x with 500 us. Spinning is still gated to
-/// free CPUs (spin_wait.hpp).
+/// sensors, the watchdog) last up to a few hundred microseconds in large scenes, and a
+/// worker that sleeps through one pays a wake-up and starts the next loop late
+/// (docs/benchmarks.md). Spinning is still gated to free CPUs (spin_wait.hpp).
 [[nodiscard]] std::chrono::nanoseconds defaultPoolSpinBudget();
 
 /// What `threads: 0` (auto) resolves to, and why.

@@ -23,6 +23,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <string_view>
 #include <vector>
 
@@ -45,12 +46,6 @@ struct WatchdogSettings {
 
   /// Throws InputError naming `fieldPrefix + ".<field>"`.
   void validate(const std::string& fieldPrefix) const;
-};
-
-/// A speed the world can see before it runs, and what moves at it.
-struct SeenSpeed {
-  std::string what;    ///< "particle 12", "particle_source feed", "mesh bucket", "frame rotation"
-  double speed = 0.0;  ///< [m/s]
 };
 
 /// Thrown by World::step when a watchdog check under the STOP policy fails.
@@ -96,11 +91,17 @@ class Watchdog {
   [[nodiscard]] const std::vector<std::string>& warnings() const { return warnings_; }
   /// Largest speed any check has seen [m/s] and what moved at it.
   [[nodiscard]] double largestSpeedSeen() const { return largest_speed_; }
+  /// Notes that something fed energy in (a mesh moved): the next reading is not
+  /// checked for energy growth, and the history starts again after it.
+  void noteEnergyFed() { energy_fed_ = true; }
+  /// Whether energy was fed in since the last call (and forgets it).
+  [[nodiscard]] bool takeEnergyFed() { return std::exchange(energy_fed_, false); }
 
  private:
   void warnOnce(const std::string& check, const std::string& message);
 
   bool energy_seen_ = false;
+  bool energy_fed_ = false;    ///< a mesh moved since the last reading
   double energy_min_ = 0.0;    ///< smallest total energy since the reset [J]
   double energy_scale_ = 0.0;  ///< largest kinetic + elastic energy since the reset [J]
   double largest_speed_ = 0.0;
