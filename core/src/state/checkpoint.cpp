@@ -45,6 +45,7 @@
 #include "demlink/core/components/component_state.hpp"
 #include "demlink/core/deformable/deformable_body.hpp"
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/input_file.hpp"
 #include "demlink/core/state/state_stream.hpp"
 #include "demlink/core/world.hpp"
 
@@ -451,12 +452,7 @@ void World::restoreCheckpoint(std::string_view bytes, const std::string& source)
 }
 
 std::string readCheckpointBytes(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path.string(), "(unreadable)", "cannot open the checkpoint file");
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  if (in.bad()) throw InputError(path.string(), "(unreadable)", "cannot read the checkpoint file");
-  return bytes.str();
+  return readInputFile("checkpoint file", path);
 }
 
 void writeCheckpointFile(const World& world, const std::filesystem::path& path) {
