@@ -251,11 +251,10 @@ double MassSpringSpec::Box::nodeCount() const {
   double count = 1.0;
   for (int a = 0; a < 3; ++a) {
     const double extent = hi[a] - lo[a];
-    if (!(extent > 0.0) || !(node_spacing > 0.0) || !std::isfinite(extent / node_spacing)) {
-      return std::numeric_limits<double>::infinity();
-    }
-    // buildLattice's rule: a thin axis is one layer, else round(extent / spacing) cells.
-    count *= extent < node_spacing ? 1.0 : std::max(1.0, std::round(extent / node_spacing)) + 1.0;
+    if (!(node_spacing > 0.0) || !std::isfinite(extent / node_spacing)) return std::numeric_limits<double>::infinity();
+    // buildLattice's rule: a thin axis is one layer, else round(extent / spacing) cells
+    // (a box it refuses for other reasons counts as one layer there).
+    count *= !(extent >= node_spacing) ? 1.0 : std::max(1.0, std::round(extent / node_spacing)) + 1.0;
   }
   return count;
 }

@@ -261,6 +261,7 @@ void addDeformableBodies(const v1::Scene& scene, const MaterialResolver& resolve
       prefix = path + ".mass_spring_body";
       core::MassSpringSpec spec = translateMassSpringBody(component.mass_spring_body(), component.name(),
                                                           resolveMaterial, files, prefix);
+      attach(component.mass_spring_body().attached_to(), prefix, spec.driven_reference);
       if (spec.box) {
         // Refused before the lattice is built: a node with its springs costs about a sphere.
         const double nodes = spec.box->nodeCount();
@@ -271,7 +272,6 @@ void addDeformableBodies(const v1::Scene& scene, const MaterialResolver& resolve
         requireParticleMemory(prefix + ".box.node_spacing", core::formatValue(spec.box->node_spacing),
                               world.particles().size() + deformableNodes(world) + static_cast<std::uint64_t>(nodes));
       }
-      attach(component.mass_spring_body().attached_to(), prefix, spec.driven_reference);
       body = std::make_unique<core::MassSpringBody>(spec, prefix);
     } else if (component.has_fem_body()) {
       prefix = path + ".fem_body";
