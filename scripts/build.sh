@@ -10,6 +10,10 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 preset=${1:-release}
 shift || true
+# The self-contained C ABI and FMU libraries need a position-independent libprotobuf.a
+# (docs/fmi.md, "Self-contained binaries"); without deb-src apt sources the build goes on
+# with libraries that need the system's libprotobuf and libstdc++.
+scripts/build_pic_protobuf.sh || echo "warning: no PIC protobuf: the C ABI and FMU libraries are not self-contained" >&2
 cmake --preset "$preset" -G Ninja
 if (($# > 0)); then
   cmake --build --preset "$preset" --target "$@"

@@ -8,7 +8,10 @@
 # CYCLES dumps have settled on its body. Exit code 1 if a process failed or mass is not
 # balanced (or less than 90 % of what the bucket carried reached the truck).
 #   scripts/demo_cosim.sh [OUT_DIR] [CYCLES] [--backend native|liggghts] [--ranks N] [--small]
-#   (defaults: out/cosim_demo, 2, native, 1 rank, the full site)
+#                         [--view PORT]
+#   (defaults: out/cosim_demo, 2, native, 1 rank, the full site, no view)
+# --view PORT serves the live 3D view of the site on 127.0.0.1:PORT and prints its address
+# (docs/view.md); open it in a browser while the demo runs.
 # --backend liggghts runs the server on LIGGGHTS-PUBLIC under `mpirun -np N` (N > 1; one
 # rank: no mpirun) and the truck with --stand-still (LIGGGHTS has no moving room: the truck
 # is loaded, then says Bye without driving). --small: the site with a 1.6 m pit (about
@@ -17,17 +20,19 @@
 # Expects a release build (scripts/build.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-backend=native ranks=1 small=0 positional=()
+backend=native ranks=1 small=0 view= positional=()
 while (($#)); do
   case $1 in
     --backend) backend=$2; shift 2 ;;
     --ranks) ranks=$2; shift 2 ;;
     --small) small=1; shift ;;
+    --view) view=$2; shift 2 ;;
     *) positional+=("$1"); shift ;;
   esac
 done
 [[ $backend == native || $backend == liggghts ]] || { echo "demo_cosim: --backend $backend: expected native or liggghts" >&2; exit 2; }
 [[ $ranks =~ ^[1-9][0-9]*$ ]] || { echo "demo_cosim: --ranks $ranks: expected a whole number >= 1" >&2; exit 2; }
+[[ -z $view || $view =~ ^[0-9]+$ ]] || { echo "demo_cosim: --view $view: expected a port number" >&2; exit 2; }
 out=${positional[0]:-out/cosim_demo}
 cycles=${positional[1]:-2}
 bin=build/release
@@ -43,6 +48,7 @@ if ((small)); then
   python3 examples/cosim/make_site_scene.py --pit-half-x 0.8 --output "$scene"
 fi
 server_cmd=("$bin/server/demlink-server")
+[[ -n $view ]] && server_cmd+=(--view "127.0.0.1:$view")
 truck_flags=()
 # Every rank settles the pit before the compile answers, and a busy machine makes that
 # slow: the clients wait up to half an hour for it (their default is 300 s).
@@ -67,6 +73,10 @@ source scripts/lib/child_server.sh
 port=$(wait_for_server_port "$out/server.log" "$server" 120) ||
   { echo "demo_cosim: the server did not start:" >&2; cat "$out/server.log" >&2; exit 1; }
 echo "demo_cosim: server on 127.0.0.1:$port; output in $out"
+if [[ -n $view ]]; then
+  view_url=$(grep -m1 -o 'view at http://[^ ]*' "$out/server.log" | cut -d' ' -f3)
+  echo "demo_cosim: live view at ${view_url:-http://127.0.0.1:$view/} (open it in a browser)"
+fi
 
 # The truck declares the SimulationBox first; the server compiles once the excavator's
 # bucket and fill sensor are declared too (the box's expected_names).

@@ -261,7 +261,7 @@ def plot_coupling(rows, path):
     for r in rows:
         groups.setdefault((r["order"], r["mass_kg"]), []).append(r)
     for (order, mass), rs in groups.items():
-        style = "o-" if order == "exchange" else "s--"
+        style = "o-" if order == "send_first" else "s--"
         ok = [r for r in rs if r["status"] == "ok"]
         xs = [number(r["interval_s"]) for r in ok]
         a.plot(xs, [1e3 * abs(number(r["depth_error_m"])) + 1e-6 for r in ok], style, label="%s, %s kg" % (order, mass))

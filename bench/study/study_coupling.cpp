@@ -69,7 +69,7 @@ CouplingResult runCase(const Knobs& knobs, std::size_t grains, const std::string
   double z = surface + kPlateHalfThickness + 0.001;
   double v = 0.0;
   world.mesh(0).setPose(Vec3(0.5 * kSide, 0.5 * kSide, z), core::Quat::Identity());
-  double heldForce = 0.0;  // the force of the interval that ended (ReceiveThenSend)
+  double heldForce = 0.0;  // the force of the interval that ended (ReceiveFirst)
   const double t0 = world.time();
   std::vector<double> heights;
   SceneResult cost;
@@ -78,7 +78,7 @@ CouplingResult runCase(const Knobs& knobs, std::size_t grains, const std::string
     motion.beginInterval(world, pose, core::RigidTwist{Vec3(0.0, 0.0, v), Vec3::Zero()}, c.interval_steps);
     advance(world, world.time() + interval, cost, cpuLimit, [&] { motion.afterStep(world); });
     const double received = motion.endInterval(world).mean_force.z();
-    const double force = c.order == ClientOrder::Exchange ? received : heldForce;
+    const double force = c.order == ClientOrder::SendFirst ? received : heldForce;
     heldForce = received;
     const double a = force / c.mass + g;
     z += v * interval + 0.5 * a * interval * interval;
@@ -108,7 +108,7 @@ CouplingResult runCase(const Knobs& knobs, std::size_t grains, const std::string
 }  // namespace
 
 const char* toString(ClientOrder order) {
-  return order == ClientOrder::Exchange ? "exchange" : "receive_then_send";
+  return order == ClientOrder::SendFirst ? "send_first" : "receive_first";
 }
 
 std::vector<CouplingResult> runCoupling(const Knobs& knobs, std::size_t grains, double settle, double duration,

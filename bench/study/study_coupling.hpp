@@ -6,11 +6,13 @@
 /// co-simulation host drives for a RigidBody (docs/cosim.md "Motion coupling"); the host
 /// adds no physics to it, only transport. The client integrates m dv/dt = F + m g exactly
 /// for a force held constant over each interval, with one of two orders:
-///   Exchange        the C++ client's exchange(): send the state at t_k, receive the mean
-///                   force over [t_k, t_k+1], integrate the interval with it;
-///   ReceiveThenSend the C ABI's (and Modelica's) order: at t_k receive the force of the
-///                   interval that ended, integrate [t_k, t_k+1] with it, send: the force
-///                   the body feels lags the motion by one interval.
+///   SendFirst    every client's default (the C++ client's exchange(), the C ABI's
+///                DL_ORDER_SEND_FIRST and _SPLIT, the Modelica package, the FMU): send the
+///                state at t_k, receive the mean force over [t_k, t_k+1], integrate the
+///                interval with it;
+///   ReceiveFirst the C ABI's DL_ORDER_RECEIVE_FIRST and the FMU's receive_first option: at
+///                t_k receive the force of the interval that ended, integrate [t_k, t_k+1]
+///                with it, send: the force the body feels lags the motion by one interval.
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -20,14 +22,14 @@
 
 namespace demlink::study {
 
-enum class ClientOrder { Exchange, ReceiveThenSend };
+enum class ClientOrder { SendFirst, ReceiveFirst };
 
 [[nodiscard]] const char* toString(ClientOrder order);
 
 struct CouplingCase {
   std::uint64_t interval_steps = 1;
   double mass = 0.2;  ///< plate mass [kg]
-  ClientOrder order = ClientOrder::Exchange;
+  ClientOrder order = ClientOrder::SendFirst;
 };
 
 struct CouplingResult {

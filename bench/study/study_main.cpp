@@ -328,6 +328,12 @@ int main(int argc, char** argv) {
       ->type_name("LIST");
   bool skipCoupling = false;
   app.add_flag("--skip-coupling", skipCoupling, "leave out the coupled-plate sweep");
+  std::vector<std::uint64_t> couplingIntervals;
+  app.add_option("--coupling-intervals", couplingIntervals,
+                 "the coupling sweep's intervals in engine steps, comma-separated (default 1,10,100,300,1000; "
+                 "include 1, the reference)")
+      ->delimiter(',')
+      ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{100000}));
   if (const std::optional<int> exitCode = demlink::cli::parse(app, argc, argv)) return *exitCode;
   spdlog::set_level(spdlog::level::err);  // the unsafe time steps warn on purpose
   std::filesystem::create_directories(outDir);
@@ -413,12 +419,14 @@ int main(int argc, char** argv) {
 
   // The coupling sweep runs beside the scenes on the calling thread.
   std::vector<CouplingCase> cases;
-  const std::vector<std::uint64_t> intervals = smoke ? std::vector<std::uint64_t>{1, 10}
-                                                     : std::vector<std::uint64_t>{1, 10, 100, 300, 1000};
+  const std::vector<std::uint64_t> intervals =
+      !couplingIntervals.empty() ? couplingIntervals
+      : smoke                    ? std::vector<std::uint64_t>{1, 10}
+                                 : std::vector<std::uint64_t>{1, 10, 100, 300, 1000};
   const std::vector<double> masses = smoke ? std::vector<double>{0.2} : std::vector<double>{0.02, 0.2, 2.0};
-  for (ClientOrder order : {ClientOrder::Exchange, ClientOrder::ReceiveThenSend}) {
+  for (ClientOrder order : {ClientOrder::SendFirst, ClientOrder::ReceiveFirst}) {
     if (skipCoupling) break;
-    if (smoke && order == ClientOrder::ReceiveThenSend) continue;
+    if (smoke && order == ClientOrder::ReceiveFirst) continue;
     for (double m : masses) {
       for (std::uint64_t n : intervals) cases.push_back({n, m, order});
     }

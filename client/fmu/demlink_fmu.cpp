@@ -2,12 +2,15 @@
 ///
 /// One instance is one DEMLink client (one connection) that declares the components of its
 /// configuration (resources/demlink_fmu.cfg) at fmi2ExitInitializationMode and makes ONE
-/// DataPackage exchange per fmi2DoStep, in the C ABI's order: receive first, then send.
-/// A step from t_k to t_k+1 therefore returns the outputs of the interval that ended at t_k
-/// (at the first step: the initial outputs of Compiled) and sends the inputs set for t_k:
-/// the outputs lag one communication interval. Why not send-then-receive: a master that
-/// steps several DEMLink FMUs of one server in one thread would deadlock (docs/c_abi.md).
-/// Nothing here waits for Compiled before the first step, for the same reason.
+/// DataPackage exchange per fmi2DoStep(t, h). In the default order (send first) it sends
+/// the inputs set for t, then receives the outputs of [t, t + h]: after the step the
+/// outputs are those at t + h, as FMI 2.0 Co-Simulation defines them. The receive-first
+/// order (configuration `exchange_order = receive_first`) receives [t - h, t] before sending:
+/// one interval of lag, but a master that steps several DEMLink FMUs of one server in one
+/// thread needs it (each send-first step waits for the other FMUs' inputs; docs/fmi.md).
+/// Nothing waits for Compiled before the first step, so initializing several FMUs of one
+/// server in one thread does not block.
+#include <cctype>
 #include <cmath>
 #include <cstring>
 #include <exception>
@@ -25,6 +28,7 @@ namespace {
 
 using demlink::fmu::Causality;
 using demlink::fmu::ComponentSpec;
+using demlink::fmu::ExchangeOrder;
 using demlink::fmu::FmuConfig;
 using demlink::fmu::Slot;
 using demlink::fmu::Variable;
@@ -111,6 +115,12 @@ std::string pathOfUri(std::string uri) {
     }
   }
   while (out.size() > 1 && out.back() == '/') out.pop_back();
+#if defined(_WIN32)
+  // file:///C:/dir names the path C:/dir.
+  if (out.size() >= 3 && out[0] == '/' && std::isalpha(static_cast<unsigned char>(out[1])) && out[2] == ':') {
+    out.erase(0, 1);
+  }
+#endif
   return out;
 }
 
@@ -202,31 +212,9 @@ fmi2Status storeOutputs(Instance& instance) {
   return fmi2OK;
 }
 
-fmi2Status exchange(Instance& instance) {
-  const std::size_t n = instance.config.components.size();
-  if (instance.first_step) {
-    // The initial outputs of Compiled (the first exchange waits for it).
-    if (const int status = dl_wait_compiled(instance.client); status != DL_OK) {
-      return failCall(instance, "dl_wait_compiled", status);
-    }
-    for (std::size_t i = 0; i < n; ++i) {
-      if (!demlink::fmu::isExchanged(instance.config.components[i].kind)) continue;
-      if (const int status = dl_get_outputs(instance.client, static_cast<int>(i), instance.package); status != DL_OK) {
-        return failCall(instance, "dl_get_outputs", status);
-      }
-      if (storeOutputs(instance) != fmi2OK) return fmi2Error;
-    }
-    instance.first_step = false;
-  } else {
-    for (std::size_t i = 0; i < n; ++i) {
-      if (!demlink::fmu::isExchanged(instance.config.components[i].kind)) continue;
-      if (const int status = dl_recv_package(instance.client, instance.package); status != DL_OK) {
-        return failCall(instance, "dl_recv_package", status);
-      }
-      if (storeOutputs(instance) != fmi2OK) return fmi2Error;
-    }
-  }
-  for (std::size_t i = 0; i < n; ++i) {
+/// Sends the inputs of every exchanged component for the FMU's time.
+fmi2Status sendInputs(Instance& instance) {
+  for (std::size_t i = 0; i < instance.config.components.size(); ++i) {
     if (!demlink::fmu::isExchanged(instance.config.components[i].kind)) continue;
     const long long handle = static_cast<long long>(i);
     std::vector<double> inputs;
@@ -236,6 +224,45 @@ fmi2Status exchange(Instance& instance) {
     if (status != DL_OK) return failCall(instance, "dl_send_package", status);
   }
   return fmi2OK;
+}
+
+/// Receives one answer per exchanged component (each the interval its last send began).
+fmi2Status receiveOutputs(Instance& instance) {
+  for (const ComponentSpec& c : instance.config.components) {
+    if (!demlink::fmu::isExchanged(c.kind)) continue;
+    if (const int status = dl_recv_package(instance.client, instance.package); status != DL_OK) {
+      return failCall(instance, "dl_recv_package", status);
+    }
+    if (storeOutputs(instance) != fmi2OK) return fmi2Error;
+  }
+  return fmi2OK;
+}
+
+/// The initial outputs of Compiled (the receive-first order's first step).
+fmi2Status storeInitialOutputs(Instance& instance) {
+  if (const int status = dl_wait_compiled(instance.client); status != DL_OK) {
+    return failCall(instance, "dl_wait_compiled", status);
+  }
+  for (std::size_t i = 0; i < instance.config.components.size(); ++i) {
+    if (!demlink::fmu::isExchanged(instance.config.components[i].kind)) continue;
+    if (const int status = dl_get_outputs(instance.client, static_cast<int>(i), instance.package); status != DL_OK) {
+      return failCall(instance, "dl_get_outputs", status);
+    }
+    if (storeOutputs(instance) != fmi2OK) return fmi2Error;
+  }
+  return fmi2OK;
+}
+
+/// One DataPackage exchange per step in the configured order (top of this file).
+fmi2Status exchange(Instance& instance) {
+  if (instance.config.exchange_order == ExchangeOrder::kSendFirst) {
+    if (const fmi2Status status = sendInputs(instance); status != fmi2OK) return status;
+    return receiveOutputs(instance);
+  }
+  const fmi2Status received = instance.first_step ? storeInitialOutputs(instance) : receiveOutputs(instance);
+  if (received != fmi2OK) return received;
+  instance.first_step = false;
+  return sendInputs(instance);
 }
 
 Instance* asInstance(fmi2Component c) { return static_cast<Instance*>(c); }

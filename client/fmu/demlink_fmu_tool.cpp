@@ -1,8 +1,9 @@
 /// demlink-fmu: packages a DEMLink component set as an FMI 2.0 Co-Simulation FMU
 /// (docs/fmi.md). Reads the FMU configuration, writes modelDescription.xml, copies the
-/// generic FMU library as binaries/linux64/<model>.so next to libdemlink_c.so (found through
-/// the library's RUNPATH $ORIGIN) and the configuration as resources/demlink_fmu.cfg, and
-/// zips them into the .fmu.
+/// generic FMU library (the C ABI compiled in) as binaries/linux64/<model>.so and the
+/// configuration as resources/demlink_fmu.cfg, and zips them into the .fmu. With
+/// --win64-library the FMU also holds the cross-built Windows library as
+/// binaries/win64/<model>.dll.
 #include <cstdio>
 #include <exception>
 #include <fstream>
@@ -17,11 +18,11 @@
 namespace {
 
 constexpr const char* kUsage =
-    "usage: demlink-fmu CONFIG -o OUTPUT.fmu [--fmu-library PATH] [--c-library PATH]\n"
+    "usage: demlink-fmu CONFIG -o OUTPUT.fmu [--fmu-library PATH] [--win64-library PATH]\n"
     "  CONFIG         the FMU configuration (docs/fmi.md)\n"
     "  -o OUTPUT.fmu  the FMU to write\n"
     "  --fmu-library  the generic FMU library (default: the one built with this tool)\n"
-    "  --c-library    libdemlink_c.so (default: the one built with this tool)\n"
+    "  --win64-library  the win64 FMU library demlink_fmu.dll (default: none, linux64 only)\n"
     "  --model-description  print modelDescription.xml and exit\n";
 
 }  // namespace
@@ -30,7 +31,7 @@ int main(int argc, char** argv) {
   std::string config_path;
   std::string output;
   std::string fmu_library = DEMLINK_FMU_LIBRARY;
-  std::string c_library = DEMLINK_C_LIBRARY;
+  std::string win64_library;
   bool print_only = false;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -43,8 +44,8 @@ int main(int argc, char** argv) {
       output = argv[++i];
     } else if (arg == "--fmu-library" && hasValue) {
       fmu_library = argv[++i];
-    } else if (arg == "--c-library" && hasValue) {
-      c_library = argv[++i];
+    } else if (arg == "--win64-library" && hasValue) {
+      win64_library = argv[++i];
     } else if (arg == "--model-description") {
       print_only = true;
     } else if (config_path.empty() && !arg.starts_with("-")) {
@@ -66,12 +67,14 @@ int main(int argc, char** argv) {
       std::cout << description;
       return 0;
     }
-    const std::vector<demlink::fmu::ZipEntry> entries = {
+    std::vector<demlink::fmu::ZipEntry> entries = {
         {"modelDescription.xml", description},
         {"binaries/linux64/" + config.model_identifier + ".so", demlink::fmu::readFile(fmu_library)},
-        {"binaries/linux64/libdemlink_c.so", demlink::fmu::readFile(c_library)},
-        {"resources/demlink_fmu.cfg", text},
     };
+    if (!win64_library.empty()) {
+      entries.push_back({"binaries/win64/" + config.model_identifier + ".dll", demlink::fmu::readFile(win64_library)});
+    }
+    entries.push_back({"resources/demlink_fmu.cfg", text});
     std::ofstream out(output, std::ios::binary | std::ios::trunc);
     const std::string archive = demlink::fmu::zipArchive(entries);
     out.write(archive.data(), static_cast<std::streamsize>(archive.size()));

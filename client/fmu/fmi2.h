@@ -10,7 +10,9 @@
 
 #include <stddef.h>
 
-#if defined(DEMLINK_FMU_BUILDING)
+#if defined(DEMLINK_FMU_BUILDING) && defined(_WIN32)
+#define FMI2_EXPORT __declspec(dllexport)
+#elif defined(DEMLINK_FMU_BUILDING)
 #define FMI2_EXPORT __attribute__((visibility("default")))
 #else
 #define FMI2_EXPORT

@@ -4,15 +4,16 @@
 /// (demlink-fmu writes modelDescription.xml from it) and the FMU library (which reads the
 /// same file from the FMU's resources), so both number the variables identically.
 ///
-/// File format, one statement per line ('#' starts a comment):
-///   model IDENTIFIER            C identifier: the FMU's modelIdentifier and library name
-///   description TEXT            (optional)
-///   host HOST / port N / token T / timeout SECONDS / client_name NAME   (parameter defaults)
-///   interval SECONDS            communication interval = the FMU's communication step
-///   component KIND NAME [ints=i,i,...] [reals=r,r,...] [strings=s,s,...]
-/// A component's lists are the generic declare layout of docs/c_abi.md without its fixed
-/// prefix: ints from ints[0], reals from reals[1] (reals[0] is the interval, set by the FMU),
-/// strings from strings[2] (kind and name come first). "nan" is a real ("not given").
+/// File format ('#' starts a comment; docs/fmi.md "Configuration"): first the FMU's
+/// statements, one `key = value` per line:
+///   model = IDENTIFIER          C identifier: the FMU's modelIdentifier and library name
+///   description = TEXT          (optional)
+///   host / port / token / timeout / client_name = ...   (parameter defaults)
+///   interval = SECONDS          communication interval = the FMU's communication step
+///   exchange_order = ORDER      send_first (default) or receive_first (docs/fmi.md, "Timing")
+/// then one section per component: a line `[KIND NAME]` and its fields, one `field = value`
+/// per line (the fields of each kind, their units and their place in the C ABI's generic
+/// declare layout: fmu_fields.cpp). A vector is its numbers separated by spaces.
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -29,6 +30,12 @@ struct ComponentSpec {
   std::vector<std::string> strings;  ///< declare strings[2..]
 };
 
+/// When fmi2DoStep(t, h) sends and receives (docs/fmi.md, "Timing").
+enum class ExchangeOrder {
+  kSendFirst,     ///< send the inputs at t, receive [t, t + h]: outputs at t + h (FMI 2.0)
+  kReceiveFirst,  ///< receive [t - h, t], then send: one interval of lag; several FMUs of one server in one thread
+};
+
 struct FmuConfig {
   std::string model_identifier;
   std::string description;
@@ -38,6 +45,7 @@ struct FmuConfig {
   std::string client_name;  ///< "" : the model identifier
   double timeout_s = 30.0;
   double interval_s = 0.0;  ///< communication interval [s]
+  ExchangeOrder exchange_order = ExchangeOrder::kSendFirst;
   std::vector<ComponentSpec> components;
 };
 
@@ -59,6 +67,7 @@ struct Variable {
   std::string name;
   std::string description;
   VariableType type = VariableType::kReal;
+  std::string unit;  ///< of a Real ("" none)
   Causality causality = Causality::kOutput;
   std::uint32_t value_reference = 0;  ///< unique within its type (FMI 2.0 numbers each type apart)
   double start = 0.0;                 ///< Real / Integer parameters and inputs
@@ -68,11 +77,19 @@ struct Variable {
   int index = 0;       ///< index within the slot's array
 };
 
-/// Input and output names of an exchanged kind (the generic input/output layout).
+/// One input or output of an exchanged kind: its name within the component, SI unit
+/// (modelDescription's unit; "" for counts, which FMI 2.0 Integers cannot carry) and meaning.
+struct Signal {
+  std::string name;
+  std::string unit;
+  std::string description;
+};
+
+/// Inputs and outputs of an exchanged kind, in the generic input/output layout's order.
 struct KindLayout {
-  std::vector<std::string> input_reals;
-  std::vector<std::string> output_ints;
-  std::vector<std::string> output_reals;
+  std::vector<Signal> input_reals;
+  std::vector<Signal> output_ints;
+  std::vector<Signal> output_reals;
 };
 
 /// True for the kinds the FMU exchanges every step; false for declared-only kinds.
@@ -91,6 +108,13 @@ FmuConfig readConfigFile(const std::string& path);
 std::vector<Variable> variablesOf(const FmuConfig& config);
 /// A stable GUID of the configuration text ("{xxxxxxxx-xxxx-xxxx-xxxx-xxxxxxxxxxxx}").
 std::string guidOf(std::string_view configText);
+/// The units modelDescription.xml declares (UnitDefinitions): name and the exponents of the
+/// SI base units kg, m, s, rad in that order.
+struct UnitDefinition {
+  const char* name;
+  int kg, m, s, rad;
+};
+const std::vector<UnitDefinition>& unitDefinitions();
 /// modelDescription.xml for the configuration.
 std::string modelDescriptionXml(const FmuConfig& config, const std::string& guid);
 

@@ -125,6 +125,24 @@ const char* dl_last_server_error_component(const dl_client* client) {
   return c == nullptr ? "" : text(c->server_component);
 }
 
+int dl_set_exchange_order(dl_client* client, int order) {
+  return guarded(client, [&](Client& c) -> int {
+    if (order != DL_ORDER_SEND_FIRST && order != DL_ORDER_SEND_FIRST_SPLIT && order != DL_ORDER_RECEIVE_FIRST) {
+      throw ArgumentError("exchange order " + std::to_string(order) +
+                          " is none of DL_ORDER_SEND_FIRST (0), DL_ORDER_SEND_FIRST_SPLIT (1), DL_ORDER_RECEIVE_FIRST (2)");
+    }
+    if (c.session) {
+      for (std::size_t i = 0; i < c.session->size(); ++i) {
+        if (c.session->component(i).awaitingAnswer()) {
+          throw StateError("dl_set_exchange_order: an answer is in flight; change the order between samples");
+        }
+      }
+    }
+    c.exchange_order = order;
+    return DL_OK;
+  });
+}
+
 int dl_send_package(dl_client* client, const dl_package* package) {
   return guarded(client, [&](Client& c) -> int {
     const Package* p = asPackage(package);

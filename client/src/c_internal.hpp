@@ -6,6 +6,7 @@
 /// every call turns a swapped client/package argument into DL_ERR_ARGUMENT, not a crash.
 #include <cstdint>
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,9 @@ struct Client {
   Connection connection;
   std::unique_ptr<Session> session;
   double timeout_s = 30.0;
+  int exchange_order = DL_ORDER_SEND_FIRST;  ///< of the typed exchange calls (dl_set_exchange_order)
+  /// Components whose split-order first call of the sample has been made (the next call is the second).
+  std::set<const Component*> split_sent;
   std::string address;  ///< host:port connected to
   std::string last_error;
   int server_code = 0;

@@ -1,7 +1,7 @@
 /// Typed helpers of the C ABI: one declare call per kind and one exchange/read call per
 /// exchanged kind, with scalars and fixed-size arrays a Modelica external function can
-/// pass directly. The exchange calls receive the interval that ended, then send the next
-/// package (why: demlink_c.h, "Blocking and the exchange order").
+/// pass directly. The exchange calls follow the client's exchange order (demlink_c.h,
+/// "Exchange orders").
 #include <array>
 #include <climits>
 #include <cmath>
@@ -103,7 +103,55 @@ T& typed(Client& c, int component, const char* kind) {
   return *t;
 }
 
-/// Receive the answer in flight (if any), read outputs, set inputs, send the next package.
+/// A due package is sent unless the run's last step has passed (the server then ends it).
+bool sendIfDue(Session& session, Component& component) {
+  if (session.endStep() != 0 && component.nextSendStep() >= session.endStep()) return false;
+  session.send(component);
+  return true;
+}
+
+/// The one-call send-first order waits for its own answer, which needs every component due
+/// at the same step to have sent: another of this client's components still to send would
+/// wait forever. Refused instead, naming the order that handles it.
+void requireAloneAtItsStep(Session& session, const Component& component) {
+  for (std::size_t i = 0; i < session.size(); ++i) {
+    const Component& other = session.component(i);
+    if (&other == &component || !other.exchanged() || other.awaitingAnswer()) continue;
+    if (other.nextSendStep() == component.nextSendStep()) {
+      throw StateError("component '" + other.name() + "' of this client is also due at step " +
+                       std::to_string(component.nextSendStep()) +
+                       ": with several exchanged components use DL_ORDER_SEND_FIRST_SPLIT (two calls per sample) "
+                       "or DL_ORDER_RECEIVE_FIRST (dl_set_exchange_order)");
+    }
+  }
+}
+
+/// True when the answer in flight for `component` ends at the next step the world advances
+/// to: the nearest step where any component of the simulation is due (Compiled's
+/// all_components; this client's own when the server lists none). Only then can the
+/// split order's second call wait for it: a component with a longer interval than the
+/// fastest one gets its answer while the faster ones step on, and receives it at its next
+/// sample's first call instead.
+bool answerEndsThisRound(Session& session, const Component& component) {
+  const std::uint64_t sent = component.nextSendStep();
+  const std::uint64_t start = session.compiled().start_step();
+  std::uint64_t next = 0;
+  const auto consider = [&](std::uint64_t interval) {
+    if (interval == 0) return;
+    const std::uint64_t candidate = start + ((sent - start) / interval + 1) * interval;
+    if (next == 0 || candidate < next) next = candidate;
+  };
+  if (session.compiled().all_components_size() > 0) {
+    for (const v1::CompiledComponent& c : session.compiled().all_components()) consider(c.interval_steps());
+  } else {
+    for (std::size_t i = 0; i < session.size(); ++i) consider(session.component(i).intervalSteps());
+  }
+  return sent + component.intervalSteps() == next;
+}
+
+/// One typed exchange call in the client's order (demlink_c.h, "Exchange orders"):
+/// setInputs() stores the call's inputs on the component, readOutputs() copies its latest
+/// outputs to the caller.
 template <class Read, class Write>
 int exchangeStep(Client& c, Component& component, Read&& readOutputs, Write&& setInputs) {
   Session& session = sessionOf(c);
@@ -115,12 +163,45 @@ int exchangeStep(Client& c, Component& component, Read&& readOutputs, Write&& se
     return fail(c, DL_ERR_FINISHED, "the simulation has finished: " + session.finishedInfo().reason());
   };
   if (session.finished()) return finished();
-  if (component.awaitingAnswer() && !session.receive(component)) return finished();
-  readOutputs();
-  setInputs();
-  // After the last step nothing is due; the server then ends the simulation.
-  if (session.endStep() == 0 || component.nextSendStep() < session.endStep()) session.send(component);
-  return DL_OK;
+  switch (c.exchange_order) {
+    case DL_ORDER_RECEIVE_FIRST:
+      if (component.awaitingAnswer() && !session.receive(component)) return finished();
+      readOutputs();
+      setInputs();
+      sendIfDue(session, component);
+      return DL_OK;
+    case DL_ORDER_SEND_FIRST_SPLIT:
+      if (c.split_sent.contains(&component)) {  // the sample's second call
+        c.split_sent.erase(&component);
+        if (component.awaitingAnswer() && answerEndsThisRound(session, component) && !session.receive(component)) {
+          return finished();
+        }
+      } else {  // the first: an answer that ended since the last sample, then the inputs at t
+        if (component.awaitingAnswer() && !session.receive(component)) return finished();
+        setInputs();
+        if (!sendIfDue(session, component)) {
+          session.waitFinished();
+          return finished();
+        }
+        c.split_sent.insert(&component);
+      }
+      readOutputs();
+      return DL_OK;
+    default:  // DL_ORDER_SEND_FIRST
+      if (component.awaitingAnswer()) {
+        throw StateError("component '" + component.name() +
+                         "' has an answer in flight (sent in another order); receive it with dl_recv_package");
+      }
+      requireAloneAtItsStep(session, component);
+      setInputs();
+      if (!sendIfDue(session, component)) {
+        session.waitFinished();
+        return finished();
+      }
+      if (!session.receive(component)) return finished();
+      readOutputs();
+      return DL_OK;
+  }
 }
 
 void copyCounts(const v1::CountAndMass* const* values, int n, int* counts, double* masses) {

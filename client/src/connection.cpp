@@ -4,8 +4,10 @@
 /// way to abort a pending read), so the connection is unusable after a timeout.
 #include "demlink/client/connection.hpp"
 
+#if !defined(_WIN32)
 #include <sys/socket.h>
 #include <sys/types.h>
+#endif
 
 #include <array>
 #include <cerrno>
@@ -71,6 +73,18 @@ struct Connection::Impl {
   /// Reads what the socket holds now, without blocking, into the decoder. kEnd: end of
   /// stream or an error, which the blocking read then reports.
   Read readNow() {
+#if defined(_WIN32)
+    // Winsock has no per-call MSG_DONTWAIT: the socket is non-blocking (connect), which
+    // leaves Asio's asynchronous operations as they are.
+    std::error_code ec;
+    const std::size_t got = socket.read_some(asio::buffer(buffer), ec);
+    if (ec == asio::error::would_block || ec == asio::error::try_again || ec == asio::error::interrupted) {
+      return Read::kNothing;
+    }
+    if (ec || got == 0) return Read::kEnd;
+    decoder.feed(std::string_view(buffer.data(), got));
+    return Read::kBytes;
+#else
     const ssize_t n = ::recv(socket.native_handle(), buffer.data(), buffer.size(), MSG_DONTWAIT);
     if (n > 0) {
       decoder.feed(std::string_view(buffer.data(), static_cast<std::size_t>(n)));
@@ -78,12 +92,25 @@ struct Connection::Impl {
     }
     if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR)) return Read::kNothing;
     return Read::kEnd;
+#endif
   }
 
   /// Sends what the socket takes now without blocking, from `offset` of the frame; the
   /// new offset. Throws ConnectionError on a socket error.
   std::size_t sendNow(std::size_t offset) {
     while (offset < frame.size()) {
+#if defined(_WIN32)
+      std::error_code ec;
+      const std::size_t n = socket.write_some(asio::buffer(frame.data() + offset, frame.size() - offset), ec);
+      if (ec == asio::error::would_block || ec == asio::error::try_again) break;
+      if (ec == asio::error::interrupted) continue;
+      if (ec || n == 0) {
+        const std::string why = ec ? ec.message() : "nothing sent";
+        closeSocket();
+        throw ConnectionError("send failed: " + why);
+      }
+      offset += n;
+#else
       const ssize_t n = ::send(socket.native_handle(), frame.data() + offset, frame.size() - offset,
                                MSG_DONTWAIT | MSG_NOSIGNAL);
       if (n > 0) {
@@ -97,6 +124,7 @@ struct Connection::Impl {
         closeSocket();
         throw ConnectionError("send failed: " + why);
       }
+#endif
     }
     return offset;
   }
@@ -151,6 +179,9 @@ const v1::Welcome& Connection::connect(const std::string& host, std::uint16_t po
   core::SpinGate::instance().addExchangeParty(1);
   // Small packages every interval: Nagle's algorithm would delay each by up to 40 ms.
   impl_->socket.set_option(asio::ip::tcp::no_delay(true), ec);
+#if defined(_WIN32)
+  impl_->socket.non_blocking(true, ec);  // readNow and sendNow never block (above)
+#endif
 
   v1::ClientMessage hello;
   hello.mutable_hello()->set_protocol_version(v1::PROTOCOL_VERSION_CURRENT);

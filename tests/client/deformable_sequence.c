@@ -2,7 +2,8 @@
  * its four driven corners (dl_declare_mass_spring_box; the pose is held where the sheet was
  * built through dl_deformable_body_exchange) and an FEM beam clamped at one end
  * (dl_declare_fem_mesh, the mesh a file under the server's data root), both under gravity.
- * One client per component, receive-then-send as a Modelica tool calls them.
+ * One client per component in one thread, in the explicit receive-first order
+ * (DL_ORDER_RECEIVE_FIRST: one call per sample, never waiting for a later component).
  * Usage: deformable_sequence HOST PORT MSH_FILE SECONDS
  * Prints one line: "sheet <driven Fz> nodes <count> broken <n> beam <fixed Fz> <fixed Fx>"
  * [N], each force the mean over the exchanges of the second half of the run (the sheet,
@@ -55,6 +56,7 @@ int main(int argc, char** argv) {
       fprintf(stderr, "deformable_sequence: out of memory\n");
       return 1;
     }
+    ok = ok && check(dl_set_exchange_order(clients[i], DL_ORDER_RECEIVE_FIRST), clients[i], "dl_set_exchange_order");
     ok = ok && check(dl_connect_to_host(clients[i], argv[1], atoi(argv[2]), kNames[i], ""), clients[i],
                      "dl_connect_to_host");
   }

@@ -327,6 +327,14 @@ struct MiniScheduler {
         cc->set_remote(true);
         fillFakeOutputs(e.kind, e.id, 0, *c->add_initial_outputs(), nullptr);
       }
+      for (const Entry& e : entries) {  // every connection's, as the server lists them
+        auto* cc = c->add_all_components();
+        cc->set_name(e.declaration.name());
+        cc->set_id(e.id);
+        cc->set_kind(e.kind);
+        cc->set_interval_steps(e.interval);
+        cc->set_remote(true);
+      }
       p->send(m);
     }
 

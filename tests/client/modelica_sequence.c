@@ -1,9 +1,11 @@
 /* A Modelica-style call sequence through the typed declarations, in C (the package's own
  * examples, which declare in the generic layout, are replayed by tests/modelica):
- *   - construction of each component's ExternalObject: dl_client_create
+ *   - construction of each component's ExternalObject: dl_client_create and
+ *     dl_set_exchange_order(DL_ORDER_SEND_FIRST_SPLIT), as dlm_client_connect does
  *   - initial algorithm of each component: dl_connect_to_host, dl_declare_<kind>
  *   - each sample(0, tc) event: the due components' dl_<kind>_exchange / _read, in
- *     declaration order (receive the interval that ended, send the next package)
+ *     declaration order, twice: the first pass sends the inputs at t, the second (the
+ *     event iteration after it) returns the outputs of [t, t + tc]
  *   - terminal(): dl_finish for every component; then the destructors dl_client_destroy.
  * One client (connection) per component, all driven from this one thread, as a Modelica
  * tool does. Usage: modelica_sequence HOST PORT [SAMPLES] [fake]
@@ -58,6 +60,9 @@ int main(int argc, char** argv) {
       fprintf(stderr, "modelica_sequence: out of memory\n");
       return 1;
     }
+    if (!check(dl_set_exchange_order(clients[i], DL_ORDER_SEND_FIRST_SPLIT), clients[i], "dl_set_exchange_order")) {
+      return 1;
+    }
   }
 
   /* initial algorithm of every component: connect and declare (no waiting for Compiled).
@@ -106,8 +111,10 @@ int main(int argc, char** argv) {
     double wrench[12];
     int counts[3];
     double masses[3];
+    int pass;
     pose[0] = 0.1 * t; /* the bucket moves along x at 0.1 m/s */
 
+    for (pass = 0; pass < 2 && ok; ++pass) {
     ok = check(dl_simulation_box_exchange(clients[kBox], handles[kBox], NULL, boxOut, &particleCount), clients[kBox],
                "dl_simulation_box_exchange");
     ok = ok && check(dl_rigid_body_exchange(clients[kBody], handles[kBody], pose, twist, wrench), clients[kBody],
@@ -117,7 +124,9 @@ int main(int argc, char** argv) {
       double sensorOut[7];
       ok = check(dl_region_sensor_read(clients[kSensor], handles[kSensor], &count, sensorOut), clients[kSensor],
                  "dl_region_sensor_read");
-      /* fake server: count = step * 10 + id (id < 10); the sensor's step is 2 k */
+      /* fake server: count = step * 10 + id (id < 10). The sensor's interval is two
+       * samples: its answer arrives while the others step on, and the first call of its
+       * next sample receives it, so at sample k it holds [k - 2, k] (step 2 k) */
       if (ok && fake && count / 10 != 2 * k) {
         fprintf(stderr, "modelica_sequence: sensor count %d at sample %d\n", count, k);
         ok = 0;
@@ -125,8 +134,9 @@ int main(int argc, char** argv) {
     }
     ok = ok && check(dl_particle_source_read(clients[kSource], handles[kSource], counts, masses), clients[kSource],
                      "dl_particle_source_read");
-    /* fake server: the outputs of the interval that ended now (step 2 k) */
-    if (ok && fake && (fabs(wrench[0] - 2.0 * k) > 0.0 || counts[1] != 3 * 2 * k)) {
+    }
+    /* fake server: the outputs of the interval that begins now (ending at step 2 k + 2) */
+    if (ok && fake && (fabs(wrench[0] - 2.0 * (k + 1)) > 0.0 || counts[1] != 3 * 2 * (k + 1))) {
       fprintf(stderr, "modelica_sequence: sample %d got mean force x %g, inserted total %d\n", k, wrench[0],
               counts[1]);
       ok = 0;

@@ -150,14 +150,16 @@ TEST(ClientCAbi, GenericPackagesFollowTheDocumentedLayout) {
   EXPECT_TRUE(contains(lines, "0:bucket", ""));
 }
 
-// Typed helpers: each exchange returns the interval that just ended (initial outputs at
-// the first call) and then sends; two components with intervals 1 and 2 steps.
+// Typed helpers in the receive-first order: each exchange returns the interval that just
+// ended (initial outputs at the first call) and then sends; two components with intervals 1
+// and 2 steps.
 TEST(ClientCAbi, TypedHelpersReceiveThenSend) {
   const std::string logPath = logFile("typed");
   FakeServerProcess server(1, 2, logPath);
   ASSERT_NE(server.port(), 0);
 
   ClientGuard c;
+  ASSERT_EQ(dl_set_exchange_order(c.client, DL_ORDER_RECEIVE_FIRST), DL_OK);
   ASSERT_EQ(dl_connect_to_host(c.client, "127.0.0.1", server.port(), "typed", ""), DL_OK) << dl_last_error(c.client);
   int body = -1;
   int sensor = -1;
@@ -193,6 +195,100 @@ TEST(ClientCAbi, TypedHelpersReceiveThenSend) {
   const std::vector<std::string> expectedLog{"0:body", "0:sensor", "1:body", "2:body", "2:sensor", "3:body",
                                              "4:body", "4:sensor", "5:body"};
   EXPECT_EQ(log, expectedLog);
+}
+
+// The split send-first order (two calls per sample): the first call sends the inputs at
+// t_k and leaves the outputs as they were, the second returns the interval [t_k, t_k+1];
+// the fake server's outputs encode the step the answered interval ended at. The sensor's
+// interval is two steps: its answer arrives while the body steps on, so its second call
+// keeps the outputs and its next sample's first call receives the interval that ended then.
+TEST(ClientCAbi, TypedHelpersSendFirstSplitReturnTheIntervalThatBegins) {
+  const std::string logPath = logFile("split");
+  FakeServerProcess server(1, 2, logPath);
+  ASSERT_NE(server.port(), 0);
+  ClientGuard c;
+  ASSERT_EQ(dl_set_exchange_order(c.client, DL_ORDER_SEND_FIRST_SPLIT), DL_OK);
+  ASSERT_EQ(dl_connect_to_host(c.client, "127.0.0.1", server.port(), "split", ""), DL_OK) << dl_last_error(c.client);
+  int body = -1;
+  int sensor = -1;
+  const double size[3] = {1.0, 1.0, 1.0};
+  const double pose[7] = {0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 0.0};
+  ASSERT_EQ(dl_declare_rigid_body_box(c.client, "body", 0.001, size, "steel", pose, 0, &body), DL_OK);
+  const double centre[3] = {0.0, 0.0, 0.0};
+  ASSERT_EQ(dl_declare_region_sensor_box(c.client, "sensor", 0.002, centre, size, "body", &sensor), DL_OK);
+  for (int k = 0; k < 6; ++k) {
+    const double p[7] = {0.1 * k, 0.0, 1.0, 1.0, 0.0, 0.0, 0.0};
+    const double twist[6] = {0.1, 0.0, 0.0, 0.0, 0.0, 0.0};
+    double wrench[12] = {};
+    int count = -1;
+    double out[7] = {};
+    ASSERT_EQ(dl_rigid_body_exchange(c.client, body, p, twist, wrench), DL_OK) << dl_last_error(c.client);
+    if (k > 0) {
+      EXPECT_EQ(wrench[0], static_cast<double>(k));  // unchanged: the previous sample's [k-1, k]
+    }
+    if (k % 2 == 0) {
+      ASSERT_EQ(dl_region_sensor_read(c.client, sensor, &count, out), DL_OK) << dl_last_error(c.client);
+      EXPECT_EQ(count, k * 10 + 2);  // [k - 2, k], received before sending (k = 0: the initial outputs)
+    }
+    ASSERT_EQ(dl_rigid_body_exchange(c.client, body, p, twist, wrench), DL_OK) << dl_last_error(c.client);
+    EXPECT_EQ(wrench[0], static_cast<double>(k + 1));  // [k, k + 1]
+    if (k % 2 == 0) {
+      ASSERT_EQ(dl_region_sensor_read(c.client, sensor, &count, out), DL_OK) << dl_last_error(c.client);
+      EXPECT_EQ(count, k * 10 + 2);  // [k, k + 2] ends after the world's next step: not yet
+    }
+  }
+  EXPECT_EQ(dl_finish(c.client, nullptr), DL_OK);
+  ASSERT_EQ(server.wait(), 0);
+}
+
+// The default one-call send-first order returns [t_k, t_k+1] from the same call.
+TEST(ClientCAbi, TypedHelpersSendFirstByDefault) {
+  const std::string logPath = logFile("send_first");
+  FakeServerProcess server(1, 1, logPath);
+  ASSERT_NE(server.port(), 0);
+  ClientGuard c;
+  ASSERT_EQ(dl_connect_to_host(c.client, "127.0.0.1", server.port(), "send_first", ""), DL_OK)
+      << dl_last_error(c.client);
+  int body = -1;
+  const double size[3] = {1.0, 1.0, 1.0};
+  const double pose[7] = {0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 0.0};
+  ASSERT_EQ(dl_declare_rigid_body_box(c.client, "body", 0.001, size, "steel", pose, 0, &body), DL_OK);
+  const double twist[6] = {0.1, 0.0, 0.0, 0.0, 0.0, 0.0};
+  for (int k = 0; k < 4; ++k) {
+    double wrench[12] = {};
+    ASSERT_EQ(dl_rigid_body_exchange(c.client, body, pose, twist, wrench), DL_OK) << dl_last_error(c.client);
+    EXPECT_EQ(wrench[0], static_cast<double>(k + 1));  // [k, k + 1]
+  }
+  EXPECT_EQ(dl_set_exchange_order(c.client, 7), DL_ERR_ARGUMENT);
+  EXPECT_EQ(dl_finish(c.client, nullptr), DL_OK);
+  ASSERT_EQ(server.wait(), 0);
+}
+
+// A one-call send-first exchange would wait for its own answer, which needs the client's
+// other component due at the same step: refused, naming the orders that handle it.
+TEST(ClientCAbi, SendFirstRefusesASecondComponentDueAtTheSameStep) {
+  const std::string logPath = logFile("send_first_two");
+  FakeServerProcess server(1, 2, logPath);
+  ASSERT_NE(server.port(), 0);
+  ClientGuard c;
+  ASSERT_EQ(dl_connect_to_host(c.client, "127.0.0.1", server.port(), "two", ""), DL_OK) << dl_last_error(c.client);
+  int body = -1;
+  int sensor = -1;
+  const double size[3] = {1.0, 1.0, 1.0};
+  const double pose[7] = {0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 0.0};
+  ASSERT_EQ(dl_declare_rigid_body_box(c.client, "body", 0.001, size, "steel", pose, 0, &body), DL_OK);
+  const double centre[3] = {0.0, 0.0, 0.0};
+  ASSERT_EQ(dl_declare_region_sensor_box(c.client, "sensor", 0.002, centre, size, "body", &sensor), DL_OK);
+  const double twist[6] = {0.1, 0.0, 0.0, 0.0, 0.0, 0.0};
+  double wrench[12] = {};
+  EXPECT_EQ(dl_rigid_body_exchange(c.client, body, pose, twist, wrench), DL_ERR_STATE);
+  EXPECT_NE(std::string(dl_last_error(c.client)).find("DL_ORDER_SEND_FIRST_SPLIT"), std::string::npos)
+      << dl_last_error(c.client);
+  int count = -1;
+  double out[7] = {};
+  EXPECT_EQ(dl_region_sensor_read(c.client, sensor, &count, out), DL_ERR_STATE);
+  EXPECT_EQ(dl_finish(c.client, nullptr), DL_OK);
+  (void)server.wait();
 }
 
 TEST(ClientCAbi, StatusCodesAndMessages) {

@@ -1,12 +1,14 @@
 /// A small FMI 2.0 Co-Simulation master for the DEMLink FMU test: unpacks the .fmu, reads
-/// modelDescription.xml for the model identifier, GUID and value references, dlopens the
-/// library and runs the plate-into-bed scenario of plate_in_bed.cfg against a server.
+/// modelDescription.xml for the model identifier, GUID and value references, loads the
+/// library of its platform (linux64, or win64 in the win64 build) and runs the
+/// plate-into-bed scenario of plate_in_bed.cfg against a server.
 /// Usage: fmu_master FMU HOST PORT WORKDIR [end]. Prints one summary line; exit 0 when
-/// every physical check holds, 1 otherwise (the reason on stderr). With "end" it steps
-/// short_run.cfg until the server ends the run and checks fmi2Discard and fmi2Terminated.
-#include <dlfcn.h>
-#include <sys/stat.h>
-
+/// every physical and timing check holds, 1 otherwise (the reason on stderr). With "end" it
+/// steps short_run.cfg until the server ends the run and checks fmi2Discard and
+/// fmi2Terminated. Timing: after fmi2DoStep(t, h) the box's time must be t + h in the
+/// send-first order (FMI 2.0: outputs at the step's end) and t in the receive-first one
+/// (the interval [t - h, t], one interval behind).
+#include <algorithm>
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
@@ -19,6 +21,7 @@
 
 #include "fmi2.h"
 #include "fmu_config.hpp"
+#include "shared_library.hpp"
 #include "zip_writer.hpp"
 
 namespace {
@@ -39,8 +42,8 @@ int failWith(const std::string& why) {
 }
 
 template <class F>
-F symbol(void* library, const char* name) {
-  void* s = dlsym(library, name);
+F symbol(const demlink::fmu::SharedLibrary& library, const char* name) {
+  const F s = library.function<F>(name);
   if (s == nullptr) {
     std::fprintf(stderr, "fmu_master: %s is not exported\n", name);
     std::exit(1);
@@ -85,9 +88,9 @@ int main(int argc, char** argv) {
     return vr[name];
   };
 
-  const std::string libraryPath = (work / "binaries" / "linux64" / (model + ".so")).string();
-  void* library = dlopen(libraryPath.c_str(), RTLD_NOW | RTLD_LOCAL);
-  if (library == nullptr) return failWith(std::string("dlopen: ") + dlerror());
+  const demlink::fmu::SharedLibrary library(
+      (work / "binaries" / demlink::fmu::kFmiPlatform / (model + demlink::fmu::kLibrarySuffix)).string());
+  if (!library.loaded()) return failWith(library.error());
   const auto instantiate = symbol<decltype(&fmi2Instantiate)>(library, "fmi2Instantiate");
   const auto setupExperiment = symbol<decltype(&fmi2SetupExperiment)>(library, "fmi2SetupExperiment");
   const auto enterInit = symbol<decltype(&fmi2EnterInitializationMode)>(library, "fmi2EnterInitializationMode");
@@ -102,11 +105,25 @@ int main(int argc, char** argv) {
   const auto freeInstance = symbol<decltype(&fmi2FreeInstance)>(library, "fmi2FreeInstance");
   if (std::string(symbol<decltype(&fmi2GetVersion)>(library, "fmi2GetVersion")()) != "2.0") return failWith("version");
 
+  demlink::fmu::ExchangeOrder order = demlink::fmu::ExchangeOrder::kSendFirst;
+  try {
+    order = demlink::fmu::readConfigFile((work / "resources" / "demlink_fmu.cfg").string()).exchange_order;
+  } catch (const std::exception& e) {
+    return failWith(e.what());
+  }
+  const bool sendFirst = order == demlink::fmu::ExchangeOrder::kSendFirst;
+  // The DEM time the outputs after fmi2DoStep(t, h) must describe (the end of their interval).
+  const auto expectedOutputTime = [&](double t, double h) { return sendFirst ? t + h : t; };
+  double maxTimeError = 0.0;
   const fmi2CallbackFunctions callbacks{logger, nullptr, nullptr, nullptr, nullptr};
-  const std::string resources = "file://" + std::filesystem::absolute(work / "resources").string();
+  // file:///dir, or file:///C:/dir on Windows.
+  std::string resourcePath = std::filesystem::absolute(work / "resources").generic_string();
+  if (!resourcePath.starts_with("/")) resourcePath.insert(0, "/");
+  const std::string resources = "file://" + resourcePath;
   if (argc == 6) {
-    // The box's end time is 10 ms: steps 0..5 (the answers up to the end step) succeed, the
-    // next one finds the run finished.
+    // The box's end time is 10 ms: the steps whose answers end by then succeed (send first:
+    // 0..4, ending at 2..10 ms; receive first: 0..5, ending at 0..10 ms), the next one finds
+    // the run finished.
     const auto getBooleanStatus = symbol<decltype(&fmi2GetBooleanStatus)>(library, "fmi2GetBooleanStatus");
     fmi2Component fmu = instantiate("short", fmi2CoSimulation, guid.c_str(), resources.c_str(), &callbacks,
                                     fmi2False, fmi2False);
@@ -118,14 +135,22 @@ int main(int argc, char** argv) {
     }
     int k = 0;
     fmi2Status status = fmi2OK;
-    while (k < 100 && (status = doStep(fmu, k * 0.002, 0.002, fmi2True)) == fmi2OK) ++k;
+    const fmi2ValueReference timeRef = ref("box.time");
+    while (k < 100 && (status = doStep(fmu, k * 0.002, 0.002, fmi2True)) == fmi2OK) {
+      fmi2Real demTime = 0.0;
+      if (getReal(fmu, &timeRef, 1, &demTime) != fmi2OK) return failWith("fmi2GetReal failed");
+      maxTimeError = std::max(maxTimeError, std::fabs(demTime - expectedOutputTime(k * 0.002, 0.002)));
+      ++k;
+    }
     fmi2Boolean terminated = fmi2False;
     getBooleanStatus(fmu, fmi2Terminated, &terminated);
-    std::printf("fmu_master: end after %d steps, status %d, terminated %d\n", k, static_cast<int>(status),
-                static_cast<int>(terminated));
+    std::printf("fmu_master: end after %d steps, status %d, terminated %d, %s, output time error %g s\n", k,
+                static_cast<int>(status), static_cast<int>(terminated), sendFirst ? "send_first" : "receive_first",
+                maxTimeError);
     std::fflush(stdout);
     const bool ok = status == fmi2Discard && terminated == fmi2True && terminate(fmu) == fmi2OK;
     freeInstance(fmu);
+    if (maxTimeError > 1e-9) return failWith("box.time is not the end of the interval the step's order reports");
     return ok ? 0 : failWith("the server's end of the run is not fmi2Discard with fmi2Terminated");
   }
   // Refusals (logged, no server involved): another GUID, Model Exchange, a step before
@@ -197,10 +222,13 @@ int main(int argc, char** argv) {
     if (setReal(fmu, poseRefs, 13, pose) != fmi2OK) return failWith("fmi2SetReal failed");
     if (doStep(fmu, t, h, fmi2True) != fmi2OK) return failWith("fmi2DoStep failed at t = " + std::to_string(t));
     if (getReal(fmu, outRefs, 6, out) != fmi2OK) return failWith("fmi2GetReal failed");
-    // One-interval lag: the step from t_k returns the interval that ended at t_k, during
-    // which the body moved (PREDICTED) from the pose sent at t_k-1 with the sent velocity.
-    const double expectedZ = k == 0 ? startZ : previousZ - speed * h;
+    // The body moves (PREDICTED) over each interval from the pose sent at its start with the
+    // sent velocity. Send first: the step from t reports [t, t + h], so the body ends at the
+    // pose sent now moved by one interval. Receive first: it reports [t - h, t], which began
+    // at the pose sent one step before.
+    const double expectedZ = sendFirst ? pose[2] - speed * h : (k == 0 ? startZ : previousZ - speed * h);
     maxLagError = std::max(maxLagError, std::fabs(out[3] - expectedZ));
+    maxTimeError = std::max(maxTimeError, std::fabs(out[5] - expectedOutputTime(t, h)));
     if (k == 0) initialMass = out[4];
     if (out[3] - 0.005 > clearZ) maxClearForce = std::max(maxClearForce, std::fabs(out[2]));
     if (!halfway && out[3] <= 0.5 * (clearZ + 0.005 + finalZ)) {
@@ -217,14 +245,15 @@ int main(int argc, char** argv) {
   // (bulk density = solid density 2650 kg/m^3 x solid fraction >= 0.35, docs/sources.md).
   const double columnWeight = 2650.0 * 0.35 * 9.81 * 0.06 * 0.06 * std::max(depth, 0.0);
   std::printf("fmu_master: %d steps, t = %g s, particles %d, mass %g kg, plate z %g m, mean force (%g, %g, %g) N, "
-              "clear force %g N, halfway force %g N, lag error %g m, column weight %g N\n",
+              "clear force %g N, halfway force %g N, body position error %g m, output time error %g s, column weight %g N\n",
               steps + 1, out[5], particles, out[4], out[3], out[0], out[1], out[2], maxClearForce, halfwayForceZ, maxLagError,
-              columnWeight);
+              maxTimeError, columnWeight);
   std::fflush(stdout);
   int status = 0;
   if (terminate(fmu) != fmi2OK) status = failWith("fmi2Terminate failed");
   freeInstance(fmu);
-  if (maxLagError > 1e-9) status = failWith("body position does not lag the inputs by one interval");
+  if (maxLagError > 1e-9) status = failWith("body position is not the end of the interval the step reports");
+  if (maxTimeError > 1e-9) status = failWith("box.time is not the end of the interval the step reports");
   if (maxClearForce != 0.0) status = failWith("force on the plate while it is clear of the bed");
   if (!(finalForceZ > columnWeight && columnWeight > 0.0)) status = failWith("no upward force in the bed");
   if (!(halfway && finalForceZ > halfwayForceZ)) status = failWith("the bed's resistance does not grow with depth");

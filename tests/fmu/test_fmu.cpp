@@ -14,6 +14,7 @@
 
 #include "child_process.hpp"
 #include "fmu_config.hpp"
+#include "fmu_master_summaries.hpp"
 #include "zip_writer.hpp"
 
 namespace demlink::fmu {
@@ -24,7 +25,12 @@ TEST(FmuConfig, PlateConfigurationGivesTheBodyAndBoxVariables) {
   EXPECT_EQ(config.model_identifier, "DEMLinkPlateInBed");
   EXPECT_DOUBLE_EQ(config.interval_s, 0.002);
   ASSERT_EQ(config.components.size(), 5u);
-  EXPECT_EQ(config.components[4].strings, (std::vector<std::string>{"gravel", ""}));
+  EXPECT_EQ(config.components[4].strings, (std::vector<std::string>{"gravel"}));
+  EXPECT_EQ(config.components[4].ints, (std::vector<long long>{1, 1}));  // box, PREDICTED
+  // reference point, initial position, orientation, box size: layout reals[1..13]
+  EXPECT_EQ(config.components[4].reals,
+            (std::vector<double>{0, 0, 0, 0, 0, 0.11, 1, 0, 0, 0, 0.06, 0.06, 0.01}));
+  EXPECT_EQ(config.components[3].ints, (std::vector<long long>{3}));  // the pit's seed
   const std::vector<Variable> variables = variablesOf(config);
   // 4 parameters; box: 3 inputs + 1 + 4 outputs; rigid body: 13 inputs + 19 outputs.
   ASSERT_EQ(variables.size(), 4u + 8u + 32u);
@@ -56,23 +62,79 @@ TEST(FmuConfig, ValueReferencesAreUniqueWithinEachType) {
   }
 }
 
-TEST(FmuConfig, BadInputIsNamedWithLineFieldAndValue) {
-  const auto message = [](const std::string& text) {
-    try {
-      (void)parseConfig(text);
-    } catch (const std::invalid_argument& e) {
-      return std::string(e.what());
-    }
-    return std::string("accepted");
-  };
-  const std::string head = "model M\ninterval 0.01\n";
-  EXPECT_NE(message("model 1bad\n").find("model = '1bad'"), std::string::npos);
-  EXPECT_NE(message(head + "component particle_view v\n").find("line 3"), std::string::npos);
-  EXPECT_NE(message(head + "component rigid_body b reals=1,x\n").find("b.reals = 'x'"), std::string::npos);
-  EXPECT_NE(message(head + "component material a\ncomponent material a\n").find("declared twice"), std::string::npos);
-  EXPECT_NE(message("model M\ncomponent material a\n").find("interval"), std::string::npos);
-  EXPECT_NE(message(head + "port 70000\n").find("port = '70000'"), std::string::npos);
-  EXPECT_NE(message(head).find("no component"), std::string::npos);
+/// The message of a configuration's rejection ("accepted" when it parses).
+std::string rejection(const std::string& text) {
+  try {
+    (void)parseConfig(text);
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "accepted";
+}
+
+TEST(FmuConfig, BadStatementsAreNamedWithLineFieldAndValue) {
+  const std::string head = "model = M\ninterval = 0.01\n";
+  EXPECT_NE(rejection("model = 1bad\n").find("model = '1bad'"), std::string::npos);
+  EXPECT_NE(rejection(head + "[particle_view v]\n").find("line 3"), std::string::npos);
+  EXPECT_NE(rejection(head + "[material a]\n[material a]\n").find("declared twice"), std::string::npos);
+  EXPECT_NE(rejection("model = M\n[material a]\n").find("interval"), std::string::npos);
+  EXPECT_NE(rejection(head + "port = 70000\n").find("port = '70000'"), std::string::npos);
+  EXPECT_NE(rejection(head).find("no component"), std::string::npos);
+  EXPECT_NE(rejection(head + "exchange_order = later\n").find("exchange_order = 'later'"), std::string::npos);
+  EXPECT_NE(rejection(head + "speed = 3\n").find("line 3: speed = '3': unknown statement"), std::string::npos);
+  // The positional form is refused with a pointer to the named one.
+  EXPECT_NE(rejection(head + "component material gravel strings=gravel\n").find("positional form"), std::string::npos);
+}
+
+TEST(FmuConfig, MisplacedUnknownAndMalformedFieldsAreNamed) {
+  const std::string head = "model = M\ninterval = 0.01\n[rigid_body plate]\nmaterial = gravel\ngeometry = box\n";
+  // Unknown field: named with the kind's fields.
+  const std::string unknown = rejection(head + "sise = 0.1 0.1 0.1\n");
+  EXPECT_NE(unknown.find("line 6: plate.sise = '0.1 0.1 0.1': unknown field of rigid_body"), std::string::npos) << unknown;
+  EXPECT_NE(unknown.find("reference_point"), std::string::npos) << unknown;
+  // Malformed: a vector with a missing number, a word for a number, a choice out of its list.
+  const std::string shortVector = rejection(head + "size = 0.1 0.1\n");
+  EXPECT_NE(shortVector.find("plate.size = '0.1 0.1': needs 3 numbers separated by spaces [m], got 2"),
+            std::string::npos) << shortVector;
+  EXPECT_NE(rejection(head + "position = 0 0 x\n").find("plate.position = 'x': not a number"), std::string::npos);
+  EXPECT_NE(rejection(head + "position = 0 0 inf\n").find("must be finite"), std::string::npos);
+  EXPECT_NE(rejection(head + "motion = fast\n").find("plate.motion = 'fast': must be one of predicted, lagged"),
+            std::string::npos);
+  EXPECT_NE(rejection(head + "size = 1 1 1\nsize = 1 1 1\n").find("line 7: plate.size = '1 1 1': given twice"),
+            std::string::npos);
+  // Misplaced: a statement inside a section, a field of another shape, a field before any
+  // section, a field of another kind.
+  EXPECT_NE(rejection(head + "interval = 0.02\n").find("is a statement of the whole FMU"), std::string::npos);
+  const std::string otherShape =
+      rejection("model = M\ninterval = 0.01\n[region_sensor s]\ncentre = 0 0 0\nradius = 0.1\n");
+  EXPECT_NE(otherShape.find("line 5: s.radius = '0.1': is a field of shape = sphere"), std::string::npos) << otherShape;
+  EXPECT_NE(rejection("model = M\ninterval = 0.01\ngravity = 0 0 -9.81\n").find("unknown statement"), std::string::npos);
+  EXPECT_NE(rejection(head + "target_height = 0.08\n").find("unknown field of rigid_body"), std::string::npos);
+  // Missing required field, named with the section's line.
+  EXPECT_NE(rejection("model = M\ninterval = 0.01\n[plane floor]\nmaterial = m\npoint = 0 0 0\n")
+                .find("line 3: floor.normal = '': missing"),
+            std::string::npos);
+  // Bounds come in pairs.
+  EXPECT_NE(rejection("model = M\ninterval = 0.01\n[simulation_box b]\nbounds_lower = 0 0 0\n")
+                .find("b.bounds_upper"),
+            std::string::npos);
+}
+
+TEST(FmuConfig, NamedFieldsFillTheGenericLayout) {
+  const FmuConfig config = parseConfig(
+      "model = M\ninterval = 0.01\n[simulation_box box]\ntime_step = 2e-5\ngravity = 0 0 -9.81\nthreads = 2\n"
+      "[region_sensor probe]\nshape = sphere\ncentre = 1 2 3\nradius = 0.5\nattached_to = plate\n");
+  ASSERT_EQ(config.components.size(), 2u);
+  const ComponentSpec& box = config.components[0];
+  ASSERT_EQ(box.reals.size(), 5u);  // time step, end time, gravity: reals[1..5]
+  EXPECT_EQ(box.reals[0], 2e-5);
+  EXPECT_EQ(box.reals[1], 0.0);     // no end time: the run ends with the FMU's Bye
+  EXPECT_EQ(box.reals[4], -9.81);
+  EXPECT_EQ(box.ints, (std::vector<long long>{2, 2}));  // expected count = the FMU's components, threads
+  const ComponentSpec& probe = config.components[1];
+  EXPECT_EQ(probe.ints, (std::vector<long long>{1}));
+  EXPECT_EQ(probe.reals, (std::vector<double>{1, 2, 3, 0.5}));
+  EXPECT_EQ(probe.strings, (std::vector<std::string>{"plate"}));
 }
 
 TEST(FmuConfig, GuidChangesWithTheText) {
@@ -90,6 +152,17 @@ TEST(FmuConfig, ModelDescriptionListsEveryOutputOnce) {
   std::size_t unknowns = 0;
   for (std::size_t at = xml.find("<Unknown "); at != std::string::npos; at = xml.find("<Unknown ", at + 1)) ++unknowns;
   EXPECT_EQ(unknowns, 2u * 24u);  // Outputs and InitialUnknowns
+  // Every Real carries an SI unit and every variable says what it is; the wrench's units.
+  for (const Variable& v : variablesOf(config)) {
+    EXPECT_FALSE(v.description.empty()) << v.name;
+    if (v.type == VariableType::kReal) {
+      EXPECT_FALSE(v.unit.empty()) << v.name;
+    }
+  }
+  EXPECT_NE(xml.find("name=\"plate.meanForce[3]\" valueReference="), std::string::npos);
+  EXPECT_NE(xml.find("<Unit name=\"N.m\"><BaseUnit kg=\"1\" m=\"2\" s=\"-2\"/></Unit>"), std::string::npos);
+  EXPECT_NE(xml.find("<Real unit=\"N.m\"/>"), std::string::npos);
+  EXPECT_NE(xml.find("<Real unit=\"rad/s\" start=\"0\"/>"), std::string::npos);
 }
 
 TEST(FmuZip, RoundTripAndCrc) {
@@ -108,10 +181,14 @@ TEST(FmuArchive, PackagedFmuHasTheStandardLayout) {
   const std::vector<ZipEntry> entries = readStoredZip(readFile(DEMLINK_TEST_FMU));
   std::vector<std::string> names;
   for (const ZipEntry& e : entries) names.push_back(e.name);
-  EXPECT_EQ(names, (std::vector<std::string>{"modelDescription.xml", "binaries/linux64/DEMLinkPlateInBed.so",
-                                             "binaries/linux64/libdemlink_c.so", "resources/demlink_fmu.cfg"}));
-  EXPECT_EQ(entries[3].data, readFile(DEMLINK_FMU_TEST_CONFIG));
-  EXPECT_NE(entries[0].data.find(guidOf(entries[3].data)), std::string::npos);
+  std::vector<std::string> expected = {"modelDescription.xml", "binaries/linux64/DEMLinkPlateInBed.so"};
+#if defined(DEMLINK_WIN64)
+  expected.push_back("binaries/win64/DEMLinkPlateInBed.dll");  // the cross-built library (cmake/Win64.cmake)
+#endif
+  expected.push_back("resources/demlink_fmu.cfg");
+  EXPECT_EQ(names, expected);
+  EXPECT_EQ(entries.back().data, readFile(DEMLINK_FMU_TEST_CONFIG));
+  EXPECT_NE(entries[0].data.find(guidOf(entries.back().data)), std::string::npos);
 }
 
 /// Runs fmu_master on `fmu` (with `extra` arguments) against a fresh demlink-server and
@@ -136,18 +213,27 @@ std::string runMaster(const std::string& fmu, const std::string& tag, const std:
 
 /// The FMU stepped by fmu_master against demlink-server: a plate lowered into a gravel bed
 /// feels no force while clear of it and an upward force above the displaced column's weight
-/// once 15-35 mm deep; its reported position lags the inputs by exactly one interval; the run
-/// ends with fmi2Terminate's Bye (the box has no end time) and the server exits.
+/// once 15-35 mm deep; after each fmi2DoStep(t, h) the outputs are those at t + h (box.time,
+/// and the body's position the pose sent at t moved over h); the run ends with
+/// fmi2Terminate's Bye (the box has no end time) and the server exits.
 TEST(FmuRealServer, PlateLoweredIntoBedFeelsUpwardForce) {
   const std::string summary = runMaster(DEMLINK_TEST_FMU, "plate", {});
-  EXPECT_NE(summary.find("121 steps"), std::string::npos) << summary;
+  EXPECT_NE(summary.find(kPlateSummary), std::string::npos) << summary;
 }
 
 /// A box with its own end time: the steps up to it succeed, then fmi2DoStep answers
-/// fmi2Discard and fmi2Terminated is set (not fmi2Error).
+/// fmi2Discard and fmi2Terminated is set (not fmi2Error). Send first, the fifth step's
+/// outputs already end at the end time (box.time == t + h after every step).
 TEST(FmuRealServer, ServerEndOfRunIsDiscardWithTerminated) {
   const std::string summary = runMaster(DEMLINK_SHORT_FMU, "end", {"end"});
-  EXPECT_NE(summary.find("end after 6 steps, status 2, terminated 1"), std::string::npos) << summary;
+  EXPECT_NE(summary.find(kEndSummary), std::string::npos) << summary;
+}
+
+/// The receive-first option: after fmi2DoStep(t, h) box.time == t, the end of [t - h, t]
+/// (one interval behind the step's end), so one more step succeeds before the end.
+TEST(FmuRealServer, ReceiveFirstOrderLagsOneInterval) {
+  const std::string summary = runMaster(DEMLINK_SHORT_RECEIVE_FIRST_FMU, "receive_first", {"end"});
+  EXPECT_NE(summary.find(kReceiveFirstEndSummary), std::string::npos) << summary;
 }
 
 }  // namespace

@@ -27,7 +27,10 @@ constexpr double kG = 9.81;               // [m/s^2]
 
 double sphereMass(double radius) { return kDensity * 4.0 / 3.0 * std::numbers::pi * radius * radius * radius; }
 
+/// One client with every component, stepped in the explicit receive-first order (one call
+/// per component and sample; the send-first orders are tested against the fake server).
 struct ClientGuard {
+  ClientGuard() { (void)dl_set_exchange_order(client, DL_ORDER_RECEIVE_FIRST); }
   dl_client* client = dl_client_create();
   ~ClientGuard() { dl_client_destroy(client); }
 };

@@ -23,7 +23,6 @@ int main(int argc, char** argv) {
   const int samples = (int)lround(kStopTime / kTc) + 1; /* sample(0, tc) fires at 0, tc, ..., StopTime */
   double initialMass = 0.0, mass = 0.0, maxDrag = 0.0, maxClearForce = 0.0, fillMass = 0.0;
   int particles = 0, fillCount = 0, listed = 0, badRadius = 0;
-  double previousZ = kZ0, previousVz = 0.0;
   static double positions[3 * kMaxCount], velocities[3 * kMaxCount], radii[kMaxCount];
   static double lastPositions[3 * kMaxCount], lastVelocities[3 * kMaxCount];
   static int ids[kMaxCount], firstIds[kMaxCount];
@@ -63,7 +62,8 @@ int main(int argc, char** argv) {
     const double pose[7] = {kX0 + kStroke * t / kT, 0.0, z, 1.0, 0.0, 0.0, 0.0};
     const double twist[6] = {kStroke / kT, 0.0, vz, 0.0, 0.0, 0.0};
     double boxOut[4], wrench[12], fillOut[7];
-    int i;
+    int i, pass;
+    for (pass = 0; pass < kSequenceCallsPerSample && ok; ++pass) {
     ok = sequence_check_exchange(dl_simulation_box_exchange(clients[kBox], 0, gravity, boxOut, &particles),
                                  clients[kBox], "dl_simulation_box_exchange") &&
          sequence_check_exchange(dl_rigid_body_exchange(clients[kBucket], 0, pose, twist, wrench), clients[kBucket],
@@ -73,14 +73,15 @@ int main(int argc, char** argv) {
          sequence_check_exchange(
              dlm_particle_view_read(clients[kPoints], 0, kMaxCount, positions, velocities, radii, ids, &listed),
              clients[kPoints], "dlm_particle_view_read");
+    }
     if (!ok) break;
     if (k == 0) initialMass = boxOut[1];
     mass = boxOut[1];
     fillMass = fillOut[0];
-    /* The wrench received now is the interval that ended now: the bucket moved (PREDICTED)
-     * from the previous sample's pose with its velocity. Descending, clear of the bed: no
-     * force (on the way up it carries its fill). */
-    if (k > 0 && previousVz < 0.0 && previousZ + previousVz * kTc > kTargetHeight + 1e-3) {
+    /* The wrench received now is the interval that begins now: the bucket moves (PREDICTED)
+     * from this sample's pose with its velocity. Descending, clear of the bed: no force (on
+     * the way up it carries its fill). */
+    if (vz < 0.0 && z + vz * kTc > kTargetHeight + 1e-3) {
       maxClearForce = fmax(maxClearForce, fabs(wrench[0]) + fabs(wrench[1]) + fabs(wrench[2]));
     }
     maxDrag = fmax(maxDrag, -wrench[0]);
@@ -107,8 +108,6 @@ int main(int argc, char** argv) {
       lastPositions[i] = positions[i];
       lastVelocities[i] = velocities[i];
     }
-    previousZ = z;
-    previousVz = vz;
   }
   ok = sequence_finish(clients, kCount) && ok;
   printf("bucket_digging_sequence: %d samples, particles %d, mass %g kg, max drag %g N, clear force %g N, "

@@ -23,6 +23,12 @@ static int sequence_check_exchange(int status, dl_client* client, const char* wh
   return status == DL_ERR_FINISHED || sequence_check(status, client, what);
 }
 
+/* Calls of each component's exchange per sample (DL_ORDER_SEND_FIRST_SPLIT, set by
+ * dlm_client_connect): the .mo files call it at sample(0, tc), which sends the inputs at t,
+ * and again in the event iteration after every component's first call, which returns
+ * [t, t + tc]. A replay runs its sample's calls once per pass, in the model's order. */
+enum { kSequenceCallsPerSample = 2 };
+
 /* Where the constructors connected (Functions.connectClient repeats it in each initial algorithm). */
 static const char* sequence_host = NULL;
 static int sequence_port = 0;

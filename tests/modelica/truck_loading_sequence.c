@@ -55,7 +55,8 @@ int main(int argc, char** argv) {
     const double twist[6] = {0.0, 0.0, v, 0.0, 0.0, 0.0};
     double boxOut[4], wrench[12], loadOut[7], masses[3];
     int particles = 0, counts[3];
-    int i;
+    int i, pass;
+    for (pass = 0; pass < kSequenceCallsPerSample && ok; ++pass) {
     ok = sequence_check_exchange(dl_simulation_box_exchange(clients[kBox], 0, gravity, boxOut, &particles),
                                  clients[kBox], "dl_simulation_box_exchange") &&
          sequence_check_exchange(dl_particle_source_read(clients[kSource], 0, counts, masses), clients[kSource],
@@ -64,6 +65,7 @@ int main(int argc, char** argv) {
                                  "dl_rigid_body_exchange") &&
          sequence_check_exchange(dl_region_sensor_read(clients[kLoad], 0, &loadCount, loadOut), clients[kLoad],
                                  "dl_region_sensor_read");
+    }
     if (!ok) break;
     inserted = counts[1];
     delivered = masses[1];

@@ -20,16 +20,30 @@
  * Components are addressed by a client-local handle: 0 for the first component declared
  * on this client, 1 for the second, ... (not the server's id).
  *
- * Blocking and the exchange order. The server advances the world once EVERY component due
- * at a step (of every connection) has sent its package, and answers each component at the
- * END of its interval. A Modelica model with one client per component runs all of them in
- * one thread, one after the other. So the typed exchange calls RECEIVE FIRST, THEN SEND:
- * a call at sample k returns the outputs of the interval that ended at sample k (at the
- * first call: the initial outputs of Compiled) and then sends the inputs for sample k.
- * The receive needs only packages sent at sample k-1, which every component sent during
- * the previous sample event, so no call waits for a component that has not run yet.
- * (Send-then-receive in one call would deadlock with two clients in one thread.)
- * For the same reason the initial algorithm only connects and declares: waiting for
+ * Exchange orders (dl_set_exchange_order). The server advances the world once EVERY
+ * component due at a step (of every connection) has sent its package, and answers each
+ * component at the END of its interval. A typed exchange call at sample t_k with interval h:
+ *  - DL_ORDER_SEND_FIRST (default): sends the inputs at t_k, then receives and returns the
+ *    outputs of [t_k, t_k + h] (the outputs at t_k + h, as the C++ client's exchange() and
+ *    FMI 2.0 Co-Simulation define them). The call waits for its own answer, so it suits a
+ *    thread whose only exchanged component due at t_k is this one; with another component
+ *    of the same client due at t_k the call is refused (DL_ERR_STATE), and with another
+ *    client's component in the same thread it would wait for the timeout.
+ *  - DL_ORDER_SEND_FIRST_SPLIT: the same timing in two calls per sample, for several
+ *    components (and clients) stepped by one thread, e.g. a Modelica model: the sample's
+ *    first call sends the inputs at t_k (its outputs stay those of the previous sample);
+ *    once EVERY component of the thread has made its first call, each one's second call
+ *    receives and returns [t_k, t_k + h] (its inputs are not used). A component whose
+ *    interval is longer than the simulation's shortest gets its answer only while the
+ *    faster ones step on: its second call keeps the outputs, and the first call of its
+ *    next sample receives the interval that ended there before sending.
+ *  - DL_ORDER_RECEIVE_FIRST: one call that receives the interval that ENDED at t_k (at the
+ *    first call: the initial outputs of Compiled), then sends the inputs at t_k. Never
+ *    waits for a component that has not run yet, in any call order, but the outputs lag
+ *    one interval: a body integrated with them feels the force of the interval before,
+ *    which needs about a 10x shorter interval for the same error (docs/accuracy.md,
+ *    "Choosing a communication interval").
+ * The initial algorithm of a Modelica model only connects and declares: waiting for
  * Compiled there would block before the other components have declared. The first
  * exchange waits for Compiled (or call dl_wait_compiled explicitly).
  *
@@ -115,7 +129,9 @@
 #ifndef DEMLINK_DEMLINK_C_H
 #define DEMLINK_DEMLINK_C_H
 
-#if defined(DEMLINK_C_BUILDING)
+#if defined(DEMLINK_C_BUILDING) && defined(_WIN32)
+#define DL_API __declspec(dllexport)
+#elif defined(DEMLINK_C_BUILDING)
 #define DL_API __attribute__((visibility("default")))
 #else
 #define DL_API
@@ -319,7 +335,18 @@ DL_API int dl_declare_fem_mesh(dl_client* client, const char* name, double inter
                                const double* drivenRegions, const double drivenReference[3],
                                const char* attachedTo, int* component);
 
-/* --- Typed exchange (receive the interval that ended, then send; see the top) -------------
+/* Orders of the typed exchange calls (see the top, "Exchange orders"). */
+enum dl_exchange_order {
+  DL_ORDER_SEND_FIRST = 0,       /* one call: send the inputs at t_k, return [t_k, t_k + h] (default) */
+  DL_ORDER_SEND_FIRST_SPLIT = 1, /* two calls per sample: the first sends, the second returns [t_k, t_k + h] */
+  DL_ORDER_RECEIVE_FIRST = 2     /* one call: return [t_k - h, t_k], then send: one interval of lag */
+};
+/* Sets the order of this client's typed exchange and read calls; between samples only (no
+ * answer in flight: DL_ERR_STATE). The generic dl_send_package / dl_recv_package are not
+ * affected: their caller orders them. */
+DL_API int dl_set_exchange_order(dl_client* client, int order);
+
+/* --- Typed exchange (in the client's order; see the top) --------------------------------
  * Counts are saturated at INT_MAX. Each returns DL_ERR_FINISHED once the simulation ended. */
 /* gravity may be NULL (unchanged); out = time [s], total mass [kg], kinetic energy [J],
  * step rate [1/s]. */

@@ -8,8 +8,8 @@ Integrating Discrete Element Method into Modelica</i>) on the DEMLink server.</p
 every component refers to it with <code>outer</code> (address, port, communication
 interval). Each component owns one connection (an ExternalObject
 <code>Functions.Client</code>): its <code>initial algorithm</code> connects and declares,
-<code>when sample(0, tc)</code> exchanges (receiving the outputs of the interval that just
-ended, then sending its inputs for the next one: outputs lag one interval) and
+<code>when sample(0, tc)</code> sends its inputs and, in the event iteration after every
+component has sent, receives the interval [t, t + tc] (no lag, docs/modelica.md) and
 <code>when terminal()</code> says Bye; the DEM run ends with the model's run.</p>
 <ul>
 <li>Basics: SimulationBox</li>

@@ -1,7 +1,7 @@
 /// demlink-run: headless mode from the command line.
 ///
 ///   demlink-run <scene.json> [--output DIR] [--end-time T] [--restore FILE] [--overwrite] [--quiet]
-///               [--backend native|liggghts]
+///               [--backend native|liggghts] [--view ADDR:PORT [--view-linger S] [--pace X]] [--token T]
 ///   mpirun -np N demlink-run <scene.json> --backend liggghts ...   (docs/scale-out.md)
 ///   demlink-run --check <scene.json>
 ///   demlink-run --help | --version
@@ -12,10 +12,14 @@
 /// so they are validated exactly like values from the scene file.
 #include <spdlog/spdlog.h>
 
+#include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
+#include <thread>
 
 #include "command_line_main.hpp"
 #include "demlink/cli/command_line.hpp"
@@ -28,6 +32,8 @@
 #endif
 #include "demlink/server/scene/scene_loader.hpp"
 #include "demlink/server/scene/scene_translator.hpp"
+#include "demlink/server/view/live_view_hub.hpp"
+#include "demlink/server/view/view_server.hpp"
 
 namespace {
 
@@ -42,6 +48,10 @@ struct CommandLine {
   bool quiet = false;
   bool check = false;
   std::string backend = "native";
+  std::optional<std::string> view;
+  double view_linger = 0.0;  ///< [s]
+  double pace = 0.0;         ///< most simulated seconds per wall second; 0: as fast as it goes
+  std::optional<std::string> token;
 };
 
 int run(int argc, char** argv) {
@@ -63,6 +73,17 @@ int run(int argc, char** argv) {
   app.add_flag("--check", line.check,
                "validate the scene (translate it, check the time step and output intervals) without running; "
                "exit 0 if valid, 2 naming the field if not");
+  cli::addText(app, "--view", line.view,
+               "serve a live 3D view of the run in a browser at ADDR:PORT (or PORT on 127.0.0.1; docs/view.md)")
+      ->type_name("ADDR:PORT");
+  cli::addNumber(app, "--view-linger", line.view_linger, {0.0, false, 86400.0},
+                 "keep the view serving the final state this long after the run ends [s]")
+      ->type_name("S");
+  cli::addNumber(app, "--pace", line.pace, {0.0, false, 1.0e6},
+                 "with --view: run at most this many simulated seconds per wall second, to watch a fast scene")
+      ->type_name("X");
+  cli::addText(app, "--token", line.token, "access token the view's WebSocket requires (default: env DEMLINK_TOKEN)")
+      ->type_name("T");
   if (const std::optional<int> exitCode = cli::parse(app, argc, argv)) return *exitCode;
 
   spdlog::set_pattern("[%H:%M:%S] %^%l%$: %v");
@@ -116,7 +137,37 @@ int run(int argc, char** argv) {
     return 0;
   }
 #endif
-  demlink::server::runHeadless(translated);
+  if (!line.view) {
+    demlink::server::runHeadless(translated);
+    return 0;
+  }
+  demlink::server::ViewServerOptions viewOptions;
+  demlink::server::parseViewAddress(*line.view, "--view", viewOptions);
+  if (!line.token) {
+    if (const char* fromEnvironment = std::getenv("DEMLINK_TOKEN")) line.token = fromEnvironment;
+  }
+  viewOptions.access_token = line.token.value_or("");
+  demlink::server::LiveViewHub hub;
+  demlink::server::ViewServer view(hub, viewOptions);
+  view.start();
+  spdlog::info("view: {}{}", view.url(), viewOptions.access_token.empty() ? "" : "?token=<the access token>");
+  const auto wallStart = std::chrono::steady_clock::now();
+  std::optional<double> simulatedStart;
+  const double pace = line.pace;
+  demlink::server::runHeadless(translated, [&](const demlink::core::World& world) {
+    hub.offer(world);
+    if (pace <= 0.0) return;
+    if (!simulatedStart) simulatedStart = world.time();
+    // Sleep off whatever the run is ahead of the pace by more than a millisecond of wall time.
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
+    const double ahead = (world.time() - *simulatedStart) / pace - wall;
+    if (ahead > 1.0e-3) std::this_thread::sleep_for(std::chrono::duration<double>(ahead));
+  });
+  hub.offerNow(translated.world);
+  if (line.view_linger > 0.0) {
+    spdlog::info("view: serving the final state for {} s", line.view_linger);
+    std::this_thread::sleep_for(std::chrono::duration<double>(line.view_linger));
+  }
   return 0;
 }
 

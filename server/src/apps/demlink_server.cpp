@@ -5,7 +5,7 @@
 ///                  [--max-frame-bytes N] [--max-queued-bytes N] [--max-unwelcomed N]
 ///                  [--progress S] [--spin-wait-us US] [--record FILE] [--replay FILE] [--data-root DIR] [--overwrite]
 ///                  [--restore FILE]
-///                  [--once | --max-simulations N] [--backend native|liggghts] [--help] [--version]
+///                  [--once | --max-simulations N] [--backend native|liggghts] [--view ADDR:PORT] [--help] [--version]
 ///   mpirun -np N demlink-server --backend liggghts ...   (docs/scale-out.md)
 ///
 /// Prints "demlink-server listening on ADDR:PORT" once it accepts connections (scripts and
@@ -44,6 +44,8 @@
 #include "demlink/server/net/tcp_server.hpp"
 #include "demlink/server/scene/scene_loader.hpp"
 #include "demlink/server/scene/scene_translator.hpp"
+#include "demlink/server/view/live_view_hub.hpp"
+#include "demlink/server/view/view_server.hpp"
 
 namespace {
 
@@ -76,6 +78,7 @@ struct CommandLine {
   bool overwrite = false;
   bool once = false;
   std::string backend = "native";
+  std::optional<std::string> view;
 };
 
 /// Registers the options on `app`, writing into `line`.
@@ -151,6 +154,10 @@ void addOptions(CLI::App& app, CommandLine& line) {
                   line.restore = text;
                 })
       ->type_name("FILE");
+  cli::addText(app, "--view", line.view,
+               "serve a live 3D view of the running simulation in a browser at ADDR:PORT (or PORT on 127.0.0.1; "
+               "docs/view.md); its WebSocket takes the --token")
+      ->type_name("ADDR:PORT");
   app.add_flag("--overwrite", line.overwrite, "a simulation may write into an output folder that holds a run's outputs");
   CLI::Option* once = app.add_flag("--once", line.once, "exit after the first simulation ends (= --max-simulations 1)");
   cli::addWholeNumber<std::size_t>(app, "--max-open-simulations", line.max_open, 1, 4096,
@@ -276,6 +283,20 @@ int run(int argc, char** argv) {
     return 0;
   }
 
+  // The view runs on its own thread; the simulations offer it their worlds after each step.
+  std::unique_ptr<demlink::server::LiveViewHub> viewHub;
+  std::unique_ptr<demlink::server::ViewServer> view;
+  if (line.view) {
+    demlink::server::ViewServerOptions viewOptions;
+    demlink::server::parseViewAddress(*line.view, "--view", viewOptions);
+    viewOptions.access_token = line.token.value_or("");
+    viewHub = std::make_unique<demlink::server::LiveViewHub>();
+    view = std::make_unique<demlink::server::ViewServer>(*viewHub, viewOptions);
+    options.step_observer = [hub = viewHub.get()](const demlink::core::World& world) { hub->offer(world); };
+    view->start();
+    std::printf("demlink-server view at %s%s\n", view->url().c_str(),
+                viewOptions.access_token.empty() ? "" : "?token=<the access token>");
+  }
   // Natively every simulation steps on its own thread (SimulationHub), so the network loop
   // answers whatever a simulation does. LIGGGHTS steps under MPI, whose calls stay on the
   // thread that started it: one host on the network thread, one simulation at a time.

@@ -40,7 +40,8 @@ CosimSimulation::CosimSimulation(CompiledSimulation compiled, const std::filesys
       outputs_(compiled_.components.size()),
       before_engine_(options.before_engine),
       stop_stepping_(options.stop_stepping),
-      turns_(options.turns) {
+      turns_(options.turns),
+      step_observer_(options.step_observer) {
   core::World& w = world();
   for (std::size_t i = 0; i < compiled_.components.size(); ++i) {
     const CosimComponent& c = compiled_.components[i];
@@ -73,6 +74,7 @@ CosimSimulation::CosimSimulation(CompiledSimulation compiled, const std::filesys
   }
   w.setStageTiming(true);  // the run log's per-stage rows
   if (driver_) driver_->start(w);
+  if (step_observer_) step_observer_(w);
 }
 
 CosimSimulation::~CosimSimulation() {
@@ -216,6 +218,7 @@ void CosimSimulation::stepWorld() {
   }
   backend_->advanceTo(w.stepCount() + 1);  // couplings and outputs see every step
   for (auto& [index, coupling] : couplings_) coupling.afterStep(w);
+  if (step_observer_) step_observer_(w);
 }
 
 CosimSimulation::Advance CosimSimulation::advance() {

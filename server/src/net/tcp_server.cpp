@@ -12,20 +12,10 @@
 #include "demlink/core/input_error.hpp"
 #include "demlink/core/log_text.hpp"
 #include "demlink/core/step/spin_history.hpp"
+#include "demlink/server/net/same_token.hpp"
 
 namespace demlink::server {
 namespace {
-
-/// Compares tokens in time independent of where they differ, so the answer time does not
-/// reveal how much of a guessed token was right.
-bool sameToken(const std::string& expected, const std::string& given) {
-  unsigned difference = expected.size() == given.size() ? 0u : 1u;
-  for (std::size_t k = 0; k < given.size(); ++k) {
-    const char e = expected.empty() ? '\0' : expected[k % expected.size()];
-    difference |= static_cast<unsigned>(static_cast<unsigned char>(e) ^ static_cast<unsigned char>(given[k]));
-  }
-  return difference == 0u;
-}
 
 /// Messages of one connection the handler may hold unanswered before its input waits [-]:
 /// enough for a client that sends every component's package of a step at once, few

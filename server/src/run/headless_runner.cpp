@@ -120,7 +120,7 @@ void checkHeadless(TranslatedScene& scene) {
   for (const std::string& warning : core::sampleScheduleWarnings(scene.world)) spdlog::warn("{}", warning);
 }
 
-RunSummary runHeadless(TranslatedScene& scene) {
+RunSummary runHeadless(TranslatedScene& scene, const StepObserver& observer) {
   core::World& world = scene.world;
   const RunOptions& run = scene.run;
   const std::string& box = run.field_prefix;
@@ -161,11 +161,13 @@ RunSummary runHeadless(TranslatedScene& scene) {
   try {
     world.setStageTiming(true);  // the run log's per-stage rows
     driver.start(world);
+    if (observer) observer(world);
     ProgressMeter progress(run.progress_interval, endStep, world.stepCount());
     NativeBackend backend(world);
     while (backend.stepCount() < endStep) {
       backend.advanceTo(backend.stepCount() + 1);  // the driver's outputs see every step
       driver.afterStep(world);
+      if (observer) observer(world);
       progress.update(world);
     }
     driver.finish(world);

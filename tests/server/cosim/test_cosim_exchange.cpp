@@ -1,6 +1,7 @@
 // Co-simulation exchange: the scheduler rule (multi-rate components exchange exactly at
 // their own sample steps), scene-file components mixed with remote ones, a sensor riding
-// on a client's rigid body, and the mass balance of a source and a sink.
+// on a client's rigid body, the mass balance of a source and a sink, and the live view's
+// hook (CosimOptions::step_observer) seeing every step with the same balance.
 #include <gtest/gtest.h>
 
 #include <set>
@@ -10,6 +11,7 @@
 #include "demlink/core/components/region_sensor.hpp"
 #include "demlink/server/cosim/cosim_simulation.hpp"
 #include "demlink/server/cosim/exchange_scheduler.hpp"
+#include "demlink/server/view/live_view_hub.hpp"
 
 namespace demlink::server::test {
 namespace {
@@ -183,6 +185,54 @@ TEST(CosimExchange, SourceAndSinkCountsBalanceTheWorldsMass) {
   EXPECT_EQ(box.particle_count(), 4 + source.total().count() - sink.total().count());
   const double balance = initialMass + source.total().mass() - sink.total().mass();
   EXPECT_NEAR(box.total_mass(), balance, 1e-9 * balance);
+}
+
+TEST(CosimExchange, StepObserverSeesEveryStepAndTheViewsMassBalanceHolds) {
+  ScratchDir dir;
+  LiveViewHub hub;
+  hub.setDemand(1.0e9, {true, false});  // a capture at every offer
+  std::uint64_t calls = 0;
+  std::uint64_t lastStep = 0;
+  CosimOptions options = CosimHarness::options(dir.path(), {}, {});
+  options.step_observer = [&](const core::World& world) {
+    ++calls;
+    lastStep = world.stepCount();
+    hub.offer(world);
+  };
+  CosimHarness h(options);
+  h.hello(1);
+  h.declare(1, boxJson(2e-5, 0.04, R"("coupling": {"expected_count": 6})", 0.002));
+  for (const std::string& c : smallBedJson(2)) h.declare(1, c);
+  h.declare(1, R"({"name": "pour", "communication_interval": 0.002, "particle_source": {"material": "glass",
+      "sizes": {"uniform": {"r_min": 0.0015, "r_max": 0.002}}, "box": {"lower": {"x": 0.03, "y": -0.01, "z": 0.01},
+      "upper": {"x": 0.05, "y": 0.01, "z": 0.02}}, "rate_particles_per_s": 3000, "velocity": {"z": -0.5}, "seed": 7}})");
+  h.declare(1, R"({"name": "drain", "communication_interval": 0.004, "particle_sink": {"region": {"box":
+      {"centre": {"x": 0.04, "z": 0.003}, "size": {"x": 0.03, "y": 0.03, "z": 0.006}}}}})");
+  ASSERT_TRUE(h.compiled(1));
+  std::size_t read = h.inbox(1).size();
+  for (const char* name : {"box", "pour", "drain"}) h.sample(1, h.idOf(1, name), 0);
+  while (read < h.inbox(1).size()) {
+    const v1::ServerMessage m = h.inbox(1)[read++];
+    if (m.has_data() && !h.finished(1)) h.sample(1, m.data().component_id(), m.data().step());
+  }
+  ASSERT_TRUE(h.finished(1));
+  // Once at the start, then after every step.
+  EXPECT_EQ(lastStep, 2000u);
+  EXPECT_EQ(calls, lastStep + 1);
+  std::uint64_t version = 0;
+  const ViewSnapshot* snapshot = hub.snapshot(0, version);
+  ASSERT_NE(snapshot, nullptr);
+  EXPECT_EQ(version, calls);
+  const ViewStatus& status = snapshot->status;
+  EXPECT_EQ(status.step, lastStep);
+  const v1::SimulationBoxOutput box = h.lastData(1, h.idOf(1, "box"))->simulation_box();
+  EXPECT_EQ(snapshot->particleCount(), box.particle_count());
+  EXPECT_NEAR(status.particle_mass, box.total_mass(), 1e-12 * box.total_mass());
+  EXPECT_GT(status.inserted_mass, 0.0);
+  EXPECT_GT(status.removed_mass, 0.0);
+  EXPECT_NEAR(status.initial_mass + status.inserted_mass - status.removed_mass, status.particle_mass,
+              1e-9 * status.particle_mass);
+  EXPECT_EQ(snapshot->regions.size(), 1u);  // the sink's box
 }
 
 }  // namespace

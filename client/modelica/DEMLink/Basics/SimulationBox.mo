@@ -23,12 +23,12 @@ model SimulationBox "Server address, communication interval and the DEM run's se
     annotation (Dialog(group = "Speed and accuracy"));
   parameter DEMLink.Types.Integrator integrator = DEMLink.Types.Integrator.Default "Time integrator"
     annotation (Dialog(group = "Speed and accuracy"));
-  parameter Real restitutionTolerance = -1
+  parameter Real restitutionTolerance(unit = "1") = -1
     "Largest restitution error the server's time-step limit allows (negative: 0.01 or the preset's); larger accepts a larger timeStep (trades accuracy for speed)"
     annotation (Dialog(group = "Speed and accuracy"));
   parameter Modelica.Units.SI.Velocity maxImpactVelocity = -1
     "Largest expected impact speed, for the time-step limit (negative: 2 m/s)" annotation (Dialog(group = "Speed and accuracy"));
-  parameter Real coarseGraining = -1
+  parameter Real coarseGraining(unit = "1") = -1
     "Parcels of this factor times the grains' size from lattices and sources, same mass flow (negative: 1, none)"
     annotation (Dialog(group = "Speed and accuracy"));
   parameter String expectedNames[:] = fill("", 0)
@@ -61,6 +61,8 @@ protected
   Modelica.Blocks.Interfaces.RealInput frameNow[9] "The frame inputs, or zeros";
   DEMLink.Functions.Client client = DEMLink.Functions.Client(address, port, "simBox", token, timeout);
   Integer status(start = 0, fixed = true);
+  Integer samplesSent(start = 0, fixed = true) "Samples whose inputs were sent (each sample's first call)";
+  Integer samplesReceived(start = 0, fixed = true) "Samples whose outputs were received (the second call)";
   Real out[4](each start = 0, each fixed = true);
 initial algorithm
   DEMLink.Functions.connectClient(client, address, port, "simBox", token, timeout);
@@ -88,8 +90,16 @@ algorithm
         frameNow[7:9], frameOrigin);
       DEMLink.Functions.checkExchange(client, status);
     end if;
+    // The sample's first call sends the inputs at t (send first; docs/modelica.md, "How a component runs").
     (status, out, particleCount) := DEMLink.Functions.External.simulationBoxExchange(client, 0, gravityNow);
     DEMLink.Functions.checkExchange(client, status);
+    samplesSent := pre(samplesSent) + 1;
+  end when;
+  when pre(samplesSent) > pre(samplesReceived) then
+    // The event iteration after every component's first call: this one returns [t, t + tc].
+    (status, out, particleCount) := DEMLink.Functions.External.simulationBoxExchange(client, 0, gravityNow);
+    DEMLink.Functions.checkExchange(client, status);
+    samplesReceived := pre(samplesSent);
     demTime := out[1];
     totalMass := out[2];
     kineticEnergy := out[3];

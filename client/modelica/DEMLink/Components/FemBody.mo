@@ -3,7 +3,7 @@ model FemBody "A linear finite-element body from a Gmsh mesh on the server"
   extends DEMLink.Interfaces.PartialDeformableBody(name = "fem");
   parameter String mshFile = "beam.msh" "Gmsh .msh file on the SERVER (below its data root)";
   parameter Modelica.Units.SI.ModulusOfElasticity youngsModulus = 1e7 "Young's modulus";
-  parameter Real poissonRatio = 0.3 "Poisson ratio";
+  parameter Real poissonRatio(unit = "1") = 0.3 "Poisson ratio";
   parameter Modelica.Units.SI.Density density = 1000 "Density";
   parameter Real rayleighAlpha(unit = "s") = 0 "Rayleigh damping C = alpha K + beta M: alpha";
   parameter Real rayleighBeta(unit = "1/s") = 0 "Rayleigh damping: beta";

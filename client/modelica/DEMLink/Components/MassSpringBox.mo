@@ -8,7 +8,7 @@ model MassSpringBox "A box-shaped mass-spring body (node lattice joined by sprin
   parameter Modelica.Units.SI.TranslationalSpringConstant stiffness = 1e4 "Spring stiffness";
   parameter Modelica.Units.SI.TranslationalDampingConstant damping = 1 "Spring damping";
   parameter Modelica.Units.SI.Force breakForce = -1 "A spring breaks above this force (negative: never)";
-  parameter Real breakStrain = -1 "A spring breaks above this strain (negative: never)";
+  parameter Real breakStrain(unit = "1") = -1 "A spring breaks above this strain (negative: never)";
 initial algorithm
   DEMLink.Functions.connectClient(client, simBox.address, simBox.port, name, simBox.token, simBox.timeout);
   (declareStatus, handle) := DEMLink.Functions.External.declareMassSpringBox(client, name, tc, material, lo, hi, nodeSpacing,

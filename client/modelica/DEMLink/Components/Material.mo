@@ -9,10 +9,10 @@ model Material "A bulk material: a database entry, optionally with some values r
     "Database material: sand, gravel, hard_coal, brown_coal, iron_ore, potash, corn, wheat (data/materials.csv); empty: custom";
   parameter Modelica.Units.SI.Density density = -1 "Particle (solid) density; negative: the database's";
   parameter Modelica.Units.SI.ModulusOfElasticity youngsModulus = -1 "DEM Young's modulus; negative: the database's";
-  parameter Real poissonRatio = -1 "Poisson ratio [1]; negative: the database's";
-  parameter Real restitution = -1 "Coefficient of restitution [1]; negative: the database's";
-  parameter Real slidingFriction = -1 "Coulomb friction coefficient [1]; negative: the database's";
-  parameter Real rollingFriction = -1 "Rolling friction coefficient [1]; negative: the database's";
+  parameter Real poissonRatio(unit = "1") = -1 "Poisson ratio [1]; negative: the database's";
+  parameter Real restitution(unit = "1") = -1 "Coefficient of restitution [1]; negative: the database's";
+  parameter Real slidingFriction(unit = "1") = -1 "Coulomb friction coefficient [1]; negative: the database's";
+  parameter Real rollingFriction(unit = "1") = -1 "Rolling friction coefficient [1]; negative: the database's";
   annotation (Documentation(info = "<html><p>Other components name a material by this component's
 <code>name</code>. The database (the materials of the coupling paper, section 4.2) holds
 starting values, not calibrations; see docs/materials.md.</p></html>"));

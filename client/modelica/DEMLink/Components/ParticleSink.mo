@@ -6,7 +6,7 @@ model ParticleSink "Removes the particles that enter a box or sphere"
   parameter DEMLink.Types.RegionShape shape = DEMLink.Types.RegionShape.Box "Region shape";
   parameter Modelica.Units.SI.Position centre[3] = {0, 0, 0} "Centre (body frame when attached)";
   parameter Modelica.Units.SI.Length size[3] = {1, 1, 1} "Box edge lengths" annotation (Dialog(enable = shape == DEMLink.Types.RegionShape.Box));
-  parameter Real orientation[4] = {1, 0, 0, 0} "Box orientation, quaternion w x y z" annotation (Dialog(enable = shape == DEMLink.Types.RegionShape.Box));
+  parameter Real orientation[4](each unit = "1") = {1, 0, 0, 0} "Box orientation, quaternion w x y z" annotation (Dialog(enable = shape == DEMLink.Types.RegionShape.Box));
   parameter Modelica.Units.SI.Radius radius = 0.5 "Sphere radius" annotation (Dialog(enable = shape == DEMLink.Types.RegionShape.Sphere));
   parameter String attachedTo = "" "Rigid body the region follows (empty: fixed)";
   parameter Boolean use_on_in = false "Removal switched on and off by the input on_in"
@@ -23,6 +23,8 @@ protected
   Modelica.Blocks.Interfaces.BooleanInput onNow "on_in, or true";
   Boolean sentOn(start = true, fixed = true) "Whether the server removes";
   Integer status(start = 0, fixed = true);
+  Integer samplesSent(start = 0, fixed = true) "Samples whose inputs were sent (each sample's first call)";
+  Integer samplesReceived(start = 0, fixed = true) "Samples whose outputs were received (the second call)";
   Integer counts[2](each start = 0, each fixed = true);
   Real masses[2](each start = 0, each fixed = true);
 equation
@@ -38,8 +40,16 @@ algorithm
         if onNow then 1 else 0));
       sentOn := onNow;
     end if;
+    // The sample's first call sends the inputs at t (send first; docs/modelica.md, "How a component runs").
     (status, counts, masses) := DEMLink.Functions.External.particleSinkRead(client, 0);
     DEMLink.Functions.checkExchange(client, status);
+    samplesSent := pre(samplesSent) + 1;
+  end when;
+  when pre(samplesSent) > pre(samplesReceived) then
+    // The event iteration after every component's first call: this one returns [t, t + tc].
+    (status, counts, masses) := DEMLink.Functions.External.particleSinkRead(client, 0);
+    DEMLink.Functions.checkExchange(client, status);
+    samplesReceived := pre(samplesSent);
     countTotal := counts[2];
     massTotal := masses[2];
     massInterval := masses[1];

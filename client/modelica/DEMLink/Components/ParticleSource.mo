@@ -13,7 +13,7 @@ model ParticleSource "Inserts particles into a box or disc at a steady rate (par
   parameter Modelica.Units.SI.Position centre[3] = {0, 0, 1} "Region centre (body frame when attached)";
   parameter Modelica.Units.SI.Length halfExtents[3] = {0.2, 0.2, 0.1} "Half edge lengths of the box"
     annotation (Dialog(enable = region == DEMLink.Types.SourceRegion.Box));
-  parameter Real normal[3] = {0, 0, 1} "Disc axis"
+  parameter Real normal[3](each unit = "1") = {0, 0, 1} "Disc axis"
     annotation (Dialog(enable = region == DEMLink.Types.SourceRegion.Disc));
   parameter Modelica.Units.SI.Radius discRadius = 0.2 "Disc radius (>= the largest particle radius)"
     annotation (Dialog(enable = region == DEMLink.Types.SourceRegion.Disc));
@@ -22,9 +22,9 @@ model ParticleSource "Inserts particles into a box or disc at a steady rate (par
   parameter DEMLink.Types.SizeDistribution sizes = DEMLink.Types.SizeDistribution.Uniform "Radius distribution";
   parameter Modelica.Units.SI.Radius rMin = 0.01 "Smallest radius (Constant: every radius)";
   parameter Modelica.Units.SI.Radius rMax = 0.01 "Largest radius";
-  parameter Real weightAtMin = 1 "Relative pdf at rMin (Linear)"
+  parameter Real weightAtMin(unit = "1") = 1 "Relative pdf at rMin (Linear)"
     annotation (Dialog(enable = sizes == DEMLink.Types.SizeDistribution.Linear));
-  parameter Real weightAtMax = 1 "Relative pdf at rMax (Linear)"
+  parameter Real weightAtMax(unit = "1") = 1 "Relative pdf at rMax (Linear)"
     annotation (Dialog(enable = sizes == DEMLink.Types.SizeDistribution.Linear));
   parameter Modelica.Units.SI.Radius mean = 0.01 "Mean radius (Normal)"
     annotation (Dialog(enable = sizes == DEMLink.Types.SizeDistribution.Normal));
@@ -32,10 +32,10 @@ model ParticleSource "Inserts particles into a box or disc at a steady rate (par
     annotation (Dialog(enable = sizes == DEMLink.Types.SizeDistribution.Normal));
   parameter Modelica.Units.SI.Radius discreteRadii[:] = fill(0.01, 0) "Radii (Discrete)"
     annotation (Dialog(enable = sizes == DEMLink.Types.SizeDistribution.Discrete));
-  parameter Real discreteWeights[size(discreteRadii, 1)] = fill(1, size(discreteRadii, 1)) "Relative probabilities (Discrete)"
+  parameter Real discreteWeights[size(discreteRadii, 1)](each unit = "1") = fill(1, size(discreteRadii, 1)) "Relative probabilities (Discrete)"
     annotation (Dialog(enable = sizes == DEMLink.Types.SizeDistribution.Discrete));
-  parameter Real ratePerSecond = 1000 "Particles per second [1/s] (negative: use rateKgPerSecond)";
-  parameter Real rateKgPerSecond = -1 "Mass per second [kg/s] (negative: use ratePerSecond)";
+  parameter Real ratePerSecond(unit = "1/s") = 1000 "Particles per second [1/s] (negative: use rateKgPerSecond)";
+  parameter Real rateKgPerSecond(unit = "kg/s") = -1 "Mass per second [kg/s] (negative: use ratePerSecond)";
   parameter Modelica.Units.SI.Velocity velocity[3] = {0, 0, 0} "Initial particle velocity";
   parameter Modelica.Units.SI.Time startTime = 0 "Insertion starts";
   parameter Modelica.Units.SI.Time stopTime = -1 "Insertion stops (negative: never)";
@@ -60,12 +60,14 @@ model ParticleSource "Inserts particles into a box or disc at a steady rate (par
     annotation (Placement(transformation(extent = {{100, -70}, {120, -50}})));
 protected
   parameter Real declaredRate = if rateKgPerSecond >= 0 then rateKgPerSecond else ratePerSecond
-    "The declared rate in its unit";
+    "The declared rate in its unit (1/s or kg/s)" annotation (__DEMLink(mixedUnits = true));
   Modelica.Blocks.Interfaces.RealInput rateNow "rate_in, or the declared rate";
   Modelica.Blocks.Interfaces.BooleanInput onNow "on_in, or true";
   Real sentRate(start = declaredRate, fixed = true) "The rate the server inserts at";
   Boolean sentOn(start = true, fixed = true) "Whether the server inserts";
   Integer status(start = 0, fixed = true);
+  Integer samplesSent(start = 0, fixed = true) "Samples whose inputs were sent (each sample's first call)";
+  Integer samplesReceived(start = 0, fixed = true) "Samples whose outputs were received (the second call)";
   Integer counts[3](each start = 0, each fixed = true);
   Real masses[3](each start = 0, each fixed = true);
 equation
@@ -90,8 +92,16 @@ algorithm
       DEMLink.Functions.check(client, DEMLink.Functions.External.particleSourceSetRate(client, 0, rateNow));
       sentRate := rateNow;
     end if;
+    // The sample's first call sends the inputs at t (send first; docs/modelica.md, "How a component runs").
     (status, counts, masses) := DEMLink.Functions.External.particleSourceRead(client, 0);
     DEMLink.Functions.checkExchange(client, status);
+    samplesSent := pre(samplesSent) + 1;
+  end when;
+  when pre(samplesSent) > pre(samplesReceived) then
+    // The event iteration after every component's first call: this one returns [t, t + tc].
+    (status, counts, masses) := DEMLink.Functions.External.particleSourceRead(client, 0);
+    DEMLink.Functions.checkExchange(client, status);
+    samplesReceived := pre(samplesSent);
     countTotal := counts[2];
     massTotal := masses[2];
     shortfallTotal := counts[3];

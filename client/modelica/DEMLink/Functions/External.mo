@@ -211,9 +211,9 @@ package External "The C functions of libdemlink_c (demlink/demlink_c.h) and of R
     input Real springs[3];
     input Real breakLimits[2];
     input Integer fixedCount;
-    input Real fixedRegions[:];
+    input Real fixedRegions[6 * fixedCount] "lo x y z, hi x y z per box";
     input Integer drivenCount;
-    input Real drivenRegions[:];
+    input Real drivenRegions[6 * drivenCount] "lo x y z, hi x y z per box";
     input Real drivenReference[3];
     input String attachedTo;
     output Integer status;
@@ -233,9 +233,9 @@ package External "The C functions of libdemlink_c (demlink/demlink_c.h) and of R
     input Real elastic[3];
     input Real rayleigh[2];
     input Integer fixedCount;
-    input Real fixedRegions[:];
+    input Real fixedRegions[6 * fixedCount] "lo x y z, hi x y z per box";
     input Integer drivenCount;
-    input Real drivenRegions[:];
+    input Real drivenRegions[6 * drivenCount] "lo x y z, hi x y z per box";
     input Real drivenReference[3];
     input String attachedTo;
     output Integer status;

@@ -8,7 +8,8 @@ partial model PartialComponent "Connection, declaration and Bye of one DEMLink c
   parameter Boolean exchanged "True: exchanged every tc; false: declared only"
     annotation (Dialog(tab = "Declaration", enable = false));
   parameter Integer declInts[:] "Declare package ints" annotation (Dialog(tab = "Declaration", enable = false));
-  parameter Real declReals[:] "Declare package reals from index 1" annotation (Dialog(tab = "Declaration", enable = false));
+  parameter Real declReals[:] "Declare package reals from index 1"
+    annotation (__DEMLink(mixedUnits = true), Dialog(tab = "Declaration", enable = false));
   parameter String declStrings[:] "Declare package strings from index 2"
     annotation (Dialog(tab = "Declaration", enable = false));
 protected
@@ -30,8 +31,9 @@ algorithm
 <p>Every component's own client connects when the tool constructs it (before any initial
 algorithm runs); the initial algorithm declares the component in the generic layout of the
 C ABI and ends with DeclarationsDone, so the server compiles when the last component's
-initialisation ends; exchanged components read (and send) at
-<code>sample(0, tc)</code>, receiving the interval that just ended first, so their outputs
-lag one communication interval; <code>terminal()</code> says Bye. The DEM run ends when
+initialisation ends; exchanged components send their inputs at
+<code>sample(0, tc)</code> and, in the event iteration after every component has sent,
+receive the interval that starts at that sample: the outputs at t are those of
+[t, t + tc], as the C++ client's exchange() gives them; <code>terminal()</code> says Bye. The DEM run ends when
 every component said Bye.</p></html>"));
 end PartialComponent;

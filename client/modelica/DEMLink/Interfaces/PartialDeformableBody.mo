@@ -4,9 +4,9 @@ partial model PartialDeformableBody "Connection, driven pose, reactions and Bye 
   parameter String name "Unique component name on the server";
   parameter Modelica.Units.SI.Time tc = simBox.tc "Communication interval";
   parameter String material = "steel" "Contact material of the body's surface";
-  parameter Real fixedRegions[:] = fill(0.0, 0)
+  parameter Real fixedRegions[:](each unit = "m") = fill(0.0, 0)
     "Boxes whose nodes are fixed: lo x y z, hi x y z per box [m] (6 values each)";
-  parameter Real drivenRegions[:] = fill(0.0, 0)
+  parameter Real drivenRegions[:](each unit = "m") = fill(0.0, 0)
     "Boxes whose nodes follow the driven pose: lo x y z, hi x y z per box [m] (6 values each)";
   parameter Modelica.Units.SI.Position drivenReference[3] = {0, 0, 0} "Point the driven pose refers to, at t = 0";
   parameter String attachedTo = "" "Rigid body whose pose drives the driven nodes (empty: the inputs do)";
@@ -34,6 +34,8 @@ protected
   parameter Integer handle(fixed = false) "The body's handle on its connection (set by the declaration)";
   parameter Integer declareStatus(fixed = false) "dl_status of the declaration";
   Integer status(start = 0, fixed = true);
+  Integer samplesSent(start = 0, fixed = true) "Samples whose inputs were sent (each sample's first call)";
+  Integer samplesReceived(start = 0, fixed = true) "Samples whose outputs were received (the second call)";
   Real reactions[12](each start = 0, each fixed = true);
   Modelica.Blocks.Interfaces.RealInput poseNow[13] "The driven pose and twist inputs, or the initial pose";
 equation
@@ -46,9 +48,18 @@ equation
   end if;
 algorithm
   when sample(0, tc) then
+    // The sample's first call sends the inputs at t (send first; docs/modelica.md, "How a component runs").
     (status, reactions, brokenSprings) := DEMLink.Functions.External.deformableBodyExchange(client, handle,
       if useDrivenPose then 1 else 0, poseNow[1:7], poseNow[8:13]);
     DEMLink.Functions.checkExchange(client, status);
+    samplesSent := pre(samplesSent) + 1;
+  end when;
+  when pre(samplesSent) > pre(samplesReceived) then
+    // The event iteration after every component's first call: this one returns [t, t + tc].
+    (status, reactions, brokenSprings) := DEMLink.Functions.External.deformableBodyExchange(client, handle,
+      if useDrivenPose then 1 else 0, poseNow[1:7], poseNow[8:13]);
+    DEMLink.Functions.checkExchange(client, status);
+    samplesReceived := pre(samplesSent);
     drivenForce := reactions[1:3];
     drivenTorque := reactions[4:6];
     fixedForce := reactions[7:9];
@@ -62,6 +73,6 @@ algorithm
     textString = "%name", textColor = {0, 0, 255})}), Documentation(info = "<html>
 <p>A deformable body (docs/deformable.md) on its own connection: the subclass declares it
 with the C ABI's typed call in its initial algorithm; at every <code>sample(0, tc)</code> the
-body sends the driven pose (with <code>useDrivenPose</code>) and reads the reactions of the
-interval that ended.</p></html>"));
+body sends the driven pose (with <code>useDrivenPose</code>) and, in the event iteration
+after every component has sent, reads the reactions of the interval that begins there.</p></html>"));
 end PartialDeformableBody;

@@ -6,7 +6,7 @@ model RegionSensor "Count, mass, centre of mass and mean velocity of the particl
   parameter DEMLink.Types.RegionShape shape = DEMLink.Types.RegionShape.Box "Region shape";
   parameter Modelica.Units.SI.Position centre[3] = {0, 0, 0} "Centre (body frame when attached)";
   parameter Modelica.Units.SI.Length size[3] = {1, 1, 1} "Box edge lengths" annotation (Dialog(enable = shape == DEMLink.Types.RegionShape.Box));
-  parameter Real orientation[4] = {1, 0, 0, 0} "Box orientation, quaternion w x y z" annotation (Dialog(enable = shape == DEMLink.Types.RegionShape.Box));
+  parameter Real orientation[4](each unit = "1") = {1, 0, 0, 0} "Box orientation, quaternion w x y z" annotation (Dialog(enable = shape == DEMLink.Types.RegionShape.Box));
   parameter Modelica.Units.SI.Radius radius = 0.5 "Sphere radius" annotation (Dialog(enable = shape == DEMLink.Types.RegionShape.Sphere));
   parameter String attachedTo = "" "Rigid body the region follows, e.g. a bucket (empty: fixed)";
   parameter Boolean use_pose_in = false "Centre and orientation from the inputs centre_in, orientation_in"
@@ -37,6 +37,8 @@ protected
   Real sentPose[7](start = cat(1, centre, orientation), each fixed = true) "The pose the server uses";
   Real sentSize[4](start = cat(1, size, {radius}), each fixed = true) "The size and radius the server uses";
   Integer status(start = 0, fixed = true);
+  Integer samplesSent(start = 0, fixed = true) "Samples whose inputs were sent (each sample's first call)";
+  Integer samplesReceived(start = 0, fixed = true) "Samples whose outputs were received (the second call)";
   Real out[7](each start = 0, each fixed = true);
 equation
   connect(centre_in, centreNow);
@@ -65,8 +67,16 @@ algorithm
       sentPose := cat(1, centreNow, orientationNow);
       sentSize := cat(1, sizeNow, {radiusNow});
     end if;
+    // The sample's first call sends the inputs at t (send first; docs/modelica.md, "How a component runs").
     (status, count, out) := DEMLink.Functions.External.regionSensorRead(client, 0);
     DEMLink.Functions.checkExchange(client, status);
+    samplesSent := pre(samplesSent) + 1;
+  end when;
+  when pre(samplesSent) > pre(samplesReceived) then
+    // The event iteration after every component's first call: this one returns [t, t + tc].
+    (status, count, out) := DEMLink.Functions.External.regionSensorRead(client, 0);
+    DEMLink.Functions.checkExchange(client, status);
+    samplesReceived := pre(samplesSent);
     mass := out[1];
     centreOfMass := out[2:4];
     meanVelocity := out[5:7];

@@ -14,6 +14,8 @@ model DEMPoints "Decimated particle view: positions and radii of at most maxCoun
   Integer ids[maxCount](each start = 0, each fixed = true) "The listed particles' ids, increasing (-1: above 2^31 - 1; rows beyond count: 0)";
 protected
   Integer status(start = 0, fixed = true);
+  Integer samplesSent(start = 0, fixed = true) "Samples whose inputs were sent (each sample's first call)";
+  Integer samplesReceived(start = 0, fixed = true) "Samples whose outputs were received (the second call)";
   Real flat[3 * maxCount](each start = 0, each fixed = true);
   Real flatVelocities[3 * maxCount](each start = 0, each fixed = true);
   Integer listedIds[maxCount](each start = 0, each fixed = true);
@@ -24,9 +26,18 @@ protected
     each color = color, each R = Modelica.Mechanics.MultiBody.Frames.nullRotation()) if animation;
 algorithm
   when sample(0, tc) then
+    // The sample's first call sends the inputs at t (send first; docs/modelica.md, "How a component runs").
     (status, flat, flatVelocities, listed, listedIds, count) := DEMLink.Functions.External.particleViewRead(client, 0,
       maxCount);
     DEMLink.Functions.checkExchange(client, status);
+    samplesSent := pre(samplesSent) + 1;
+  end when;
+  when pre(samplesSent) > pre(samplesReceived) then
+    // The event iteration after every component's first call: this one returns [t, t + tc].
+    (status, flat, flatVelocities, listed, listedIds, count) := DEMLink.Functions.External.particleViewRead(client, 0,
+      maxCount);
+    DEMLink.Functions.checkExchange(client, status);
+    samplesReceived := pre(samplesSent);
     for i in 1:maxCount loop
       positions[i, :] := if i <= count then flat[3 * i - 2:3 * i] else zeros(3);
       velocities[i, :] := if i <= count then flatVelocities[3 * i - 2:3 * i] else zeros(3);

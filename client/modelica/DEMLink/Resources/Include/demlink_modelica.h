@@ -40,7 +40,10 @@ static int dlm_declare(dl_client* client, const int* ints, int nInts, const doub
   return status;
 }
 
-/* The ExternalObject constructor: a client with the timeout set, connected to the server.
+/* The ExternalObject constructor: a client with the timeout set and the split send-first
+ * order (DL_ORDER_SEND_FIRST_SPLIT: each component calls its exchange twice per sample,
+ * at the sample and in the event iteration after it, so the outputs at t are those of
+ * [t, t + tc] while every component of the model runs in one thread), connected to the server.
  * Tools construct every ExternalObject before the initial algorithms run, so all of a
  * model's connections are open before the first component declares and says its
  * declarations are done (docs/modelica.md). A failed connect leaves the client
@@ -50,7 +53,9 @@ static dl_client* dlm_client_connect(const char* host, int port, const char* cli
                                      double timeout) {
   dl_client* client = dl_client_create();
   if (client == NULL) return NULL;
-  if (dl_set_timeout(client, timeout) == DL_OK) (void)dl_connect_to_host(client, host, port, clientName, token);
+  if (dl_set_timeout(client, timeout) == DL_OK && dl_set_exchange_order(client, DL_ORDER_SEND_FIRST_SPLIT) == DL_OK) {
+    (void)dl_connect_to_host(client, host, port, clientName, token);
+  }
   return client;
 }
 

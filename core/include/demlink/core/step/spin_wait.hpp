@@ -35,14 +35,20 @@
 /// A partner in another process that spins counts as busy there, so across processes
 /// the rule errs towards blocking.
 ///
-/// Header-only (std and POSIX only), so the client library uses the same rule without
+/// Header-only (std and POSIX, or the Win32 API in the client's win64 build, where
+/// GetSystemTimes stands for /proc/stat), so the client library uses the same rule without
 /// linking the DEM core; the gate and the statistics are one per process.
+#if defined(_WIN32)
+#include <windows.h>
+#else
 #include <sched.h>
 #include <time.h>
 #include <unistd.h>
+#endif
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -73,9 +79,15 @@ inline void cpuRelax() {
 /// when unknown), at least 1.
 inline std::uint32_t usableCpus() {
   std::uint32_t cpus = 0;
+#if defined(_WIN32)
+  DWORD_PTR process = 0;
+  DWORD_PTR system = 0;
+  if (GetProcessAffinityMask(GetCurrentProcess(), &process, &system)) cpus = static_cast<std::uint32_t>(std::popcount(process));
+#else
   cpu_set_t set;
   CPU_ZERO(&set);
   if (sched_getaffinity(0, sizeof set, &set) == 0) cpus = static_cast<std::uint32_t>(CPU_COUNT(&set));
+#endif
   if (cpus == 0) cpus = std::thread::hardware_concurrency();
   return std::max<std::uint32_t>(cpus, 1);
 }
@@ -213,6 +225,23 @@ class SpinGate {
     return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
         .count();
   }
+#if defined(_WIN32)
+  /// A FILETIME duration (100 ns units) [s].
+  static double seconds(const FILETIME& time) {
+    return 1e-7 * static_cast<double>((static_cast<std::uint64_t>(time.dwHighDateTime) << 32) | time.dwLowDateTime);
+  }
+  static double processCpuSeconds() {
+    FILETIME created{}, exited{}, kernel{}, user{};
+    if (!GetProcessTimes(GetCurrentProcess(), &created, &exited, &kernel, &user)) return 0.0;
+    return seconds(kernel) + seconds(user);
+  }
+  /// All CPUs' busy time [s] (kernel time includes idle time); negative when unknown.
+  static double systemBusySeconds() {
+    FILETIME idle{}, kernel{}, user{};
+    if (!GetSystemTimes(&idle, &kernel, &user)) return -1.0;
+    return seconds(kernel) + seconds(user) - seconds(idle);
+  }
+#else
   static double processCpuSeconds() {
     timespec ts{};
     clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
@@ -231,6 +260,7 @@ class SpinGate {
     static const long ticks = sysconf(_SC_CLK_TCK);
     return busy / static_cast<double>(ticks > 0 ? ticks : 100);
   }
+#endif
 
   void refresh(std::int64_t now) {
     std::unique_lock lock(mutex_, std::try_to_lock);

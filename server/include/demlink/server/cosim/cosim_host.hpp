@@ -84,6 +84,9 @@ struct CosimOptions {
   /// Called before the running simulation calls its engine, which every MPI rank must
   /// do together: rank 0 broadcasts the events collected since the last call.
   std::function<void()> before_engine;
+  /// Sees the running simulation's world after every step and at its start (the live view,
+  /// LiveViewHub::offer); it must not change the world.
+  std::function<void(const core::World&)> step_observer;
   /// This host mirrors rank 0's on another MPI rank: it drives the engine in lockstep but
   /// writes no output files.
   bool mirror = false;

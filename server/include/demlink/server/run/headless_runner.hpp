@@ -18,6 +18,7 @@
 /// and the run goes on to end_time.
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 
 #include "demlink/server/scene/scene_translator.hpp"
 
@@ -35,11 +36,15 @@ struct RunSummary {
   std::filesystem::path output_directory;
 };
 
+/// Sees the world after its initial state and after every step (the live view's hook,
+/// LiveViewHub::offer); it must not change the world.
+using StepObserver = std::function<void(const core::World&)>;
+
 /// Runs the scene to scene.run.end_time. Throws core::InputError for problems
 /// of the scene found at start-up (time step above the critical limit, missing
 /// or unwritable output directory, end time shorter than a step) and
-/// std::runtime_error if output cannot be written.
-RunSummary runHeadless(TranslatedScene& scene);
+/// std::runtime_error if output cannot be written. `observer`, if set, sees every step.
+RunSummary runHeadless(TranslatedScene& scene, const StepObserver& observer = {});
 
 /// What runHeadless checks before its first step, without stepping or writing anything
 /// (demlink-run --check): the world initialises (time step against the critical one) and

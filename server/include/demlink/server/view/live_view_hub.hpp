@@ -1,0 +1,75 @@
+#pragma once
+/// The live view's hook into a running simulation. The stepping thread calls offer()
+/// after each step; it returns after one clock read unless a page wants a frame now,
+/// and then copies a snapshot (captureSnapshot) into a buffer no reader touches.
+///
+/// Three buffers, each owned by one side at a time: the simulation writes `back`, the view
+/// thread reads `front`, and `ready` holds the newest complete capture. Publishing swaps
+/// back and ready, taking one swaps ready and front: two pointer swaps under a mutex that
+/// is never held for longer, so neither thread ever waits on the other's copying or
+/// encoding, and a view that falls behind just skips captures. Memory: three snapshots
+/// of the largest particle count seen.
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+
+#include "demlink/server/view/view_feed.hpp"
+
+namespace demlink::server {
+
+class LiveViewHub final : public ViewFeed {
+ public:
+  LiveViewHub();
+
+  /// Simulation thread, after a step (and once before the first): captures a snapshot
+  /// when a frame is due (at the highest rate a page asked for), else returns at once.
+  /// Another world than the last one (or a clock that went back) is a new simulation:
+  /// its scene is described again and the pages are sent it.
+  void offer(const core::World& world);
+  /// Captures now whether or not a frame is due (a run's final state).
+  void offerNow(const core::World& world);
+  /// Snapshots captured so far [-].
+  [[nodiscard]] std::uint64_t captures() const { return captures_.load(std::memory_order_relaxed); }
+
+  std::string sceneJson() override;
+  std::uint64_t sceneVersion() override;
+  [[nodiscard]] std::uint32_t frameCount() const override { return 0; }
+  [[nodiscard]] double frameTime(std::uint32_t /*index*/) const override { return 0.0; }
+  const ViewSnapshot* snapshot(std::uint32_t index, std::uint64_t& version) override;
+  void setDemand(double framesPerSecond, CaptureFields fields) override;
+  void setNotify(std::function<void()> notify) override { notify_ = std::move(notify); }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  void capture(const core::World& world, Clock::time_point now);
+
+  std::atomic<std::int64_t> next_due_ns_;      ///< steady-clock time of the next capture; max: none wanted
+  std::atomic<std::int64_t> period_ns_;        ///< 1 / the highest wanted rate; 0: none wanted
+  std::atomic<bool> want_speed_{true};
+  std::atomic<bool> want_force_{false};
+  std::atomic<std::uint64_t> captures_{0};
+  std::function<void()> notify_;
+
+  std::mutex mutex_;  ///< guards ready_, ready_version_ and scene_
+  std::unique_ptr<ViewSnapshot> back_;
+  std::unique_ptr<ViewSnapshot> ready_;
+  std::unique_ptr<ViewSnapshot> front_;
+  std::uint64_t ready_version_ = 0;
+  std::uint64_t front_version_ = 0;
+  std::string scene_;
+  std::uint64_t scene_version_ = 0;
+
+  // Simulation thread only: the previous capture, for the rate figures.
+  bool captured_before_ = false;
+  const core::World* last_world_ = nullptr;
+  Clock::time_point last_wall_{};
+  double last_time_ = 0.0;
+  std::uint64_t last_step_ = 0;
+  double initial_mass_ = 0.0;
+};
+
+}  // namespace demlink::server

@@ -1,0 +1,172 @@
+// The view's binary frames: header fields, the quantisation error bound, and the stable
+// subset by particle id.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstring>
+#include <numeric>
+#include <random>
+#include <set>
+
+#include "demlink/server/view/frame_encoder.hpp"
+#include "view_requests.hpp"
+
+namespace demlink::server {
+namespace {
+
+template <class T>
+T read(const std::vector<std::uint8_t>& bytes, std::size_t offset) {
+  T value{};
+  std::memcpy(&value, bytes.data() + offset, sizeof(T));
+  return value;
+}
+
+std::size_t aligned(std::size_t offset) { return (offset + 3) & ~std::size_t{3}; }
+
+/// n particles with ids shuffled over the slots, uniformly in [-1, 9] x [0, 2] x [0.5, 1.5] m.
+ViewSnapshot randomSnapshot(std::size_t n, unsigned seed) {
+  std::mt19937_64 random(seed);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  ViewSnapshot snapshot;
+  snapshot.box_lower = {-1.0f, 0.0f, 0.5f};
+  snapshot.box_upper = {9.0f, 2.0f, 1.5f};
+  snapshot.id.resize(n);
+  std::iota(snapshot.id.begin(), snapshot.id.end(), 1);
+  std::shuffle(snapshot.id.begin(), snapshot.id.end(), random);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t axis = 0; axis < 3; ++axis) {
+      const float lower = snapshot.box_lower[axis], upper = snapshot.box_upper[axis];
+      snapshot.position.push_back(lower + (upper - lower) * unit(random));
+    }
+    snapshot.radius.push_back(0.002f + 0.003f * unit(random));
+    snapshot.speed.push_back(5.0f * unit(random));
+    snapshot.material.push_back(static_cast<std::uint32_t>(i % 3));
+  }
+  snapshot.status.time = 1.25;
+  snapshot.status.step = 125000;
+  snapshot.status.particle_mass = 3.5;
+  snapshot.meshes.push_back({{1.0f, 2.0f, 3.0f}, {0.0f, 0.0f, 0.6f, 0.8f}});
+  return snapshot;
+}
+
+TEST(FrameEncoder, HeaderAndQuantisationBound) {
+  const ViewSnapshot snapshot = randomSnapshot(5000, 1);
+  FrameScratch scratch;
+  std::vector<std::uint8_t> frame;
+  encodeFrame(snapshot, FrameRequest{}, scratch, frame);
+  ASSERT_GE(frame.size(), kFrameHeaderBytes);
+  EXPECT_EQ(read<std::uint32_t>(frame, 0), kFrameMagic);
+  EXPECT_EQ(read<double>(frame, 8), 1.25);
+  EXPECT_EQ(read<double>(frame, 16), 125000.0);
+  EXPECT_EQ(read<double>(frame, 40), 3.5);
+  EXPECT_EQ(read<std::uint32_t>(frame, 72), 5000u);
+  const std::uint32_t m = read<std::uint32_t>(frame, 76);
+  ASSERT_EQ(m, 5000u);
+  const float radiusMax = read<float>(frame, 104);
+  const float colourMin = read<float>(frame, 108), colourMax = read<float>(frame, 112);
+  EXPECT_EQ(radiusMax, *std::max_element(snapshot.radius.begin(), snapshot.radius.end()));
+  EXPECT_EQ(colourMin, *std::min_element(snapshot.speed.begin(), snapshot.speed.end()));
+  EXPECT_EQ(colourMax, *std::max_element(snapshot.speed.begin(), snapshot.speed.end()));
+
+  const std::size_t positions = kFrameHeaderBytes;
+  const std::size_t radii = aligned(positions + 6 * m);
+  const std::size_t colours = aligned(radii + 2 * m);
+  const std::size_t meshes = aligned(colours + 2 * m);
+  double worstPosition = 0.0, worstRadius = 0.0, worstColour = 0.0;
+  for (std::size_t i = 0; i < m; ++i) {  // every particle is sent, in slot order
+    for (std::size_t axis = 0; axis < 3; ++axis) {
+      const double lower = snapshot.box_lower[axis], upper = snapshot.box_upper[axis];
+      const double decoded = lower + read<std::uint16_t>(frame, positions + 2 * (3 * i + axis)) / 65535.0 * (upper - lower);
+      // Rounding to the nearest of 65536 levels: at most half a level off.
+      worstPosition = std::max(worstPosition, std::abs(decoded - snapshot.position[3 * i + axis]) / ((upper - lower) / 131070.0));
+    }
+    const double radius = read<std::uint16_t>(frame, radii + 2 * i) / 65535.0 * radiusMax;
+    worstRadius = std::max(worstRadius, std::abs(radius - snapshot.radius[i]) / (radiusMax / 131070.0));
+    const double speed = colourMin + read<std::uint16_t>(frame, colours + 2 * i) / 65535.0 * (colourMax - colourMin);
+    worstColour = std::max(worstColour, std::abs(speed - snapshot.speed[i]) / ((colourMax - colourMin) / 131070.0));
+  }
+  // 1 is the bound; the margin is the float spacing of the values decoded and compared
+  // (at most 2 % of half a level for these ranges).
+  EXPECT_LE(worstPosition, 1.02);
+  EXPECT_LE(worstRadius, 1.02);
+  EXPECT_LE(worstColour, 1.02);
+  EXPECT_GT(worstPosition, 0.5);  // the error is really near the bound (the test can see it)
+  EXPECT_EQ(read<float>(frame, meshes), 1.0f);
+  EXPECT_EQ(read<float>(frame, meshes + 20), 0.6f);
+  EXPECT_EQ(frame.size(), meshes + 28);
+}
+
+std::set<std::uint64_t> idsSent(const ViewSnapshot& snapshot, std::size_t maxParticles) {
+  std::vector<std::uint32_t> slots;
+  std::vector<std::uint64_t> ranks;
+  chooseSubset(snapshot.id, maxParticles, slots, ranks);
+  EXPECT_TRUE(std::is_sorted(slots.begin(), slots.end()));
+  std::set<std::uint64_t> ids;
+  for (const std::uint32_t slot : slots) ids.insert(snapshot.id[slot]);
+  EXPECT_EQ(ids.size(), slots.size());
+  return ids;
+}
+
+TEST(FrameEncoder, SubsetIsStableById) {
+  const ViewSnapshot a = randomSnapshot(20000, 2);
+  const ViewSnapshot b = randomSnapshot(20000, 3);  // same ids, other slots and places
+  const std::set<std::uint64_t> fromA = idsSent(a, 1000);
+  EXPECT_EQ(fromA.size(), 1000u);
+  EXPECT_EQ(fromA, idsSent(b, 1000));
+  const std::set<std::uint64_t> smaller = idsSent(a, 300);
+  EXPECT_EQ(smaller.size(), 300u);
+  EXPECT_TRUE(std::includes(fromA.begin(), fromA.end(), smaller.begin(), smaller.end()));
+  // Spread over the ids, not a block of them: each tenth of the id range holds ~100.
+  std::array<int, 10> perTenth{};
+  for (const std::uint64_t id : fromA) ++perTenth[(id - 1) * 10 / 20000];
+  for (const int count : perTenth) EXPECT_NEAR(count, 100, 40);
+  // No more asked than there is: everything.
+  EXPECT_EQ(idsSent(a, 50000).size(), 20000u);
+  EXPECT_TRUE(idsSent(a, 0).empty());
+}
+
+TEST(FrameEncoder, SubsetFrameCarriesTheCount) {
+  const ViewSnapshot snapshot = randomSnapshot(3000, 4);
+  FrameScratch scratch;
+  std::vector<std::uint8_t> frame;
+  FrameRequest request;
+  request.max_particles = 700;
+  request.colour = ColourField::kMaterial;
+  encodeFrame(snapshot, request, scratch, frame);
+  EXPECT_EQ(read<std::uint32_t>(frame, 72), 3000u);
+  EXPECT_EQ(read<std::uint32_t>(frame, 76), 700u);
+  EXPECT_EQ(read<std::uint32_t>(frame, 116), static_cast<std::uint32_t>(ColourField::kMaterial));
+  EXPECT_EQ(read<float>(frame, 108), 0.0f);
+  EXPECT_EQ(read<float>(frame, 112), 2.0f);
+  const std::size_t capacity = frame.capacity();
+  encodeFrame(snapshot, request, scratch, frame);  // the next frame reuses the buffer
+  EXPECT_EQ(frame.capacity(), capacity);
+}
+
+TEST(FrameEncoder, Quantise) {
+  EXPECT_EQ(quantise(-5.0, 0.0, 1.0), 0);
+  EXPECT_EQ(quantise(5.0, 0.0, 1.0), 65535);
+  EXPECT_EQ(quantise(0.5, 0.0, 1.0), 32768);
+  EXPECT_EQ(quantise(1.0, 1.0, 1.0), 0);  // degenerate range
+  EXPECT_EQ(quantise(std::nan(""), 0.0, 1.0), 0);
+}
+
+TEST(ViewRequests, ParsesAndRefuses) {
+  std::string error;
+  const std::optional<ViewRequest> request = parseViewRequest("rate=12.5 max=2000;colour=force frame=7", 30.0, error);
+  ASSERT_TRUE(request.has_value()) << error;
+  EXPECT_EQ(request->rate.value(), 12.5);
+  EXPECT_EQ(request->max_particles.value(), 2000u);
+  EXPECT_EQ(request->colour.value(), ColourField::kForce);
+  EXPECT_EQ(request->frame.value(), 7u);
+  for (const char* bad : {"rate=0", "rate=31", "rate=nan", "max=-1", "max=20000000", "colour=blue", "frame=x",
+                          "volume=3", "rate"}) {
+    EXPECT_FALSE(parseViewRequest(bad, 30.0, error).has_value()) << bad;
+    EXPECT_FALSE(error.empty());
+  }
+  EXPECT_FALSE(parseViewRequest("colour=blue", 30.0, error).has_value());
+  EXPECT_NE(error.find("colour = \"blue\": one of speed, force, material, id"), std::string::npos) << error;
+}
+
+}  // namespace
+}  // namespace demlink::server
