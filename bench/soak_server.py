@@ -4,14 +4,19 @@ For --seconds S (default 600) several client threads connect to one demlink-serv
 time picking a behaviour at random: run a short simulation to its end, leave with Bye,
 stop reading while packages stream, send garbage bytes, announce a huge frame before
 Hello, connect and say nothing, hang in the middle of an assembly, disconnect in the
-middle of a run. Once a second the server's resident memory (VmRSS) and open file
+middle of a run; and the attacks: an interval of the 1e8-step cap over 1,000 spheres left
+after a few seconds (which must cut it short), a particle-source rate of 1e30 declared or
+sent at run time, gravity -1e10 sent at run time, 100,000 expected names, a 60,000-byte
+Hello.simulation, a component name with '/'. Beside them a probe times Hello -> Welcome. Once a second the server's resident memory (VmRSS) and open file
 descriptors (/proc/<pid>/fd) are sampled. At the end the clients stop, the server gets
 time to close what they left (timeouts, grace), a last client must still run a
 simulation, and the figures are printed: start (after a warm-up), end, max.
 
 The bar is "flat": exit 1 when the end figures exceed the start by more than
---rss-slack-mb (default 64) or --fd-slack (default 8), when the server died, or when the
-last client could not run its simulation; 0 otherwise.
+--rss-slack-mb (default 64) or --fd-slack (default 8), when the server died, when the
+last client could not run its simulation, when any client got INTERNAL, when an attack
+was not refused as documented or an Error was longer than 4,096 bytes, or when a Hello
+waited longer than --hello-bound-s (default 1) for its Welcome; 0 otherwise.
 
     PYTHONPATH=<build>/client/python/generated:client/python \\
         python3 bench/soak_server.py --server build/release/server/demlink-server --seconds 600
@@ -36,10 +41,10 @@ from demlink_client import Client, ServerError, SimulationEnded, encode_frame
 from google.protobuf import json_format
 
 
-def scene(expected_count=4, end_time=2e-3, view=False, n=3):
-    """A small scene: the box (exchanged every 1e-4 s), glass, a floor, n^3 spheres."""
+def scene(expected_count=4, end_time=2e-3, view=False, n=3, interval=1e-4, extra=()):
+    """A small scene: the box (exchanged every `interval` s), glass, a floor, n^3 spheres."""
     components = [
-        {"name": "box", "communication_interval": 1e-4,
+        {"name": "box", "communication_interval": interval,
          "simulation_box": {"time_step": 1e-5, "end_time": end_time,
                             "coupling": {"expected_count": expected_count}}},
         {"name": "glass", "material": {"density": 2500, "youngs_modulus": 5e6}},
@@ -50,6 +55,7 @@ def scene(expected_count=4, end_time=2e-3, view=False, n=3):
     ]
     if view:
         components.append({"name": "view", "communication_interval": 1e-4, "particle_view": {}})
+    components.extend(extra)
     out = []
     for c in components:
         declaration = scene_pb2.ComponentDeclaration()
@@ -182,9 +188,142 @@ def hang_mid_assembly(port, rng, group):
     return "hung"
 
 
+def refused_as(expected_code, run):
+    """Runs `run`; the outcome says whether the server refused it with `expected_code`
+    (and a bounded message) or answered otherwise."""
+    try:
+        run()
+    except ServerError as error:
+        code = protocol_pb2.Error.Code.Name(error.error.code)
+        size = len(error.error.message.encode())
+        if size > 4096:
+            return f"UNBOUNDED error of {size} bytes"
+        return "refused as documented" if code == expected_code else "WRONG code " + code
+    except SimulationEnded as ended:
+        return "WRONG: ended " + ended.finished.reason
+    return "WRONG: accepted"
+
+
+SOURCE = {"name": "pour", "communication_interval": 1e-4,
+          "particle_source": {"material": "glass", "sizes": {"uniform": {"r_min": 0.0015, "r_max": 0.002}},
+                              "box": {"lower": {"x": 0.03, "y": -0.01, "z": 0.01},
+                                      "upper": {"x": 0.05, "y": 0.01, "z": 0.02}},
+                              "rate_particles_per_s": 100, "seed": 3}}
+
+
+def huge_interval(port, rng, group):
+    """One interval of the 1e8-step cap over 1,000 spheres; the client leaves after a few
+    seconds, which cuts the interval short (else it would step for hours)."""
+    with Client("127.0.0.1", port, timeout=30.0) as c:
+        c.hello("soak-huge", simulation=group)
+        for d in scene(end_time=0, n=10, interval=1000.0):
+            c.declare(d)
+        c.wait_compiled()
+        package = protocol_pb2.ClientMessage()
+        package.data.component_id = c.component("box").id
+        package.data.step = 0
+        c.send(package)
+        time.sleep(rng.uniform(1.0, 4.0))
+    return "left a 1e8-step interval"
+
+
+def source_rate_declared(port, rng, group):
+    """A particle source declared with a rate of 1e30 particles/s."""
+    def run():
+        with Client("127.0.0.1", port, timeout=15.0) as c:
+            c.hello("soak-rate", simulation=group)
+            for d in scene(expected_count=5, extra=[dict(SOURCE, particle_source=dict(
+                    SOURCE["particle_source"], rate_particles_per_s=1e30))]):
+                c.declare(d)
+            c.wait_compiled()
+    return refused_as("INVALID_DECLARATION", run)
+
+
+def runtime_input_past_limit(port, rng, group):
+    """A valid simulation whose client sends a source rate of 1e30 or gravity -1e10 at run time."""
+    def run():
+        with Client("127.0.0.1", port, timeout=15.0) as c:
+            c.hello("soak-runtime", simulation=group)
+            for d in scene(expected_count=5, end_time=0.01, extra=[SOURCE]):
+                c.declare(d)
+            c.wait_compiled()
+            c.exchange()
+            gravity = rng.random() < 0.5
+            for name in c.due():
+                m = protocol_pb2.ClientMessage()
+                m.data.component_id = c.component(name).id
+                m.data.step = c.step
+                if name == "box" and gravity:
+                    m.data.simulation_box_input.gravity.z = -1e10
+                if name == "pour" and not gravity:
+                    m.data.particle_source_input.rate_particles_per_s = 1e30
+                c.send(m)
+            c.receive()
+    return refused_as("INVALID_INPUT", run)
+
+
+def many_expected_names(port, rng, group):
+    """A box that expects 100,000 names: the assembly timeout's Error names a few and the count."""
+    def run():
+        with Client("127.0.0.1", port, timeout=15.0) as c:
+            c.hello("soak-names", simulation=group)
+            box = scene()[0]
+            box.simulation_box.coupling.expected_count = 0
+            box.simulation_box.coupling.expected_names.extend(f"part-{k:06d}" for k in range(100000))
+            c.declare(box)
+            c.receive(timeout=15.0)
+    return refused_as("TIMEOUT", run)
+
+
+def long_simulation_name(port, rng, group):
+    """A 60,000-byte Hello.simulation: welcomed (logged cut), then the client leaves."""
+    with Client("127.0.0.1", port, timeout=10.0) as c:
+        c.hello("soak-long", simulation=group + "x" * 60000)
+    return "long simulation name welcomed"
+
+
+def slash_in_name(port, rng, group):
+    def run():
+        with Client("127.0.0.1", port, timeout=10.0) as c:
+            c.hello("soak-slash", simulation=group)
+            declaration = scene()[1]
+            declaration.name = "../glass/x"
+            c.declare(declaration)
+            c.receive(timeout=10.0)
+    return refused_as("INVALID_DECLARATION", run)
+
+
+class HelloProbe:
+    """Times Hello -> Welcome on fresh connections, whatever the simulations do."""
+
+    def __init__(self):
+        self.lock = threading.Lock()
+        self.waits = []
+
+    def run(self, port, stop):
+        k = 0
+        while not stop.is_set():
+            k += 1
+            try:
+                with Client("127.0.0.1", port, timeout=10.0) as c:
+                    started = time.monotonic()
+                    c.hello("soak-probe", simulation=f"probe-{k}")
+                    waited = time.monotonic() - started
+                with self.lock:
+                    self.waits.append(waited)
+            except ServerError:
+                pass  # every simulation slot taken: not a wait
+            except Exception:  # noqa: BLE001 - a probe that fails is counted as the bound
+                with self.lock:
+                    self.waits.append(float("inf"))
+            stop.wait(0.5)
+
+
 BEHAVIOURS = [
     (good, 4), (bye_early, 1), (drop_mid_run, 1), (stop_reading, 1), (garbage, 1),
     (huge_frame_before_hello, 1), (silent, 1), (hang_mid_assembly, 1),
+    (huge_interval, 1), (source_rate_declared, 1), (runtime_input_past_limit, 1), (many_expected_names, 1),
+    (long_simulation_name, 1), (slash_in_name, 1),
 ]
 
 
@@ -217,6 +356,7 @@ def main():
     parser.add_argument("--rss-slack-mb", type=float, default=64.0)
     parser.add_argument("--fd-slack", type=int, default=8)
     parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--hello-bound-s", type=float, default=1.0)
     args = parser.parse_args()
 
     work = tempfile.mkdtemp(prefix="demlink_soak_")
@@ -246,6 +386,8 @@ def main():
                    for k in range(args.clients)]
         samples = []
         started = time.monotonic()
+        probe = HelloProbe()
+        threads.append(threading.Thread(target=probe.run, args=(port, stop), daemon=True))
         for t in threads:
             t.start()
         while time.monotonic() - started < args.seconds and server.poll() is None:
@@ -283,6 +425,10 @@ def main():
               f"max {max_rss * mb:.1f}")
         print(f"open fds:  start {start_fds}, end {end_fds}, max {max_fds}")
         print(f"last client after the soak: {last}")
+        waits = sorted(probe.waits)
+        if waits:
+            print(f"Hello -> Welcome [ms]: {len(waits)} probes, median {1e3 * waits[len(waits) // 2]:.1f}, "
+                  f"max {1e3 * waits[-1]:.1f}")
         with open(log_path) as f:
             server_log = f.read()
         for what, marker in (("output held back", "not taken by the client"),
@@ -301,6 +447,11 @@ def main():
             failed.append("the last client could not run its simulation")
         if sum(v for k, v in tally.counts.items() if k.startswith("good: completed")) == 0:
             failed.append("no good client completed a simulation")
+        wrong = [k for k in tally.counts if "INTERNAL" in k or "WRONG" in k or "UNBOUNDED" in k]
+        if wrong:
+            failed.append("attacks answered wrongly: " + ", ".join(wrong))
+        if waits and waits[-1] > args.hello_bound_s:
+            failed.append(f"a Hello waited {waits[-1]:.3f} s for its Welcome")
         print("PASS" if not failed else "FAIL: " + "; ".join(failed))
         return 0 if not failed else 1
     finally:

@@ -41,4 +41,28 @@ std::string quotedLogText(std::string_view text, std::size_t maxBytes) {
   return out;
 }
 
+std::string quotedLogList(const std::vector<std::string>& names, std::size_t shown) {
+  std::string out;
+  for (std::size_t k = 0; k < names.size() && k < shown; ++k) {
+    if (k > 0) out += ", ";
+    out += quotedLogText(names[k]);
+  }
+  if (names.size() > shown) {
+    out += " and " + std::to_string(names.size() - shown) + " more (" + std::to_string(names.size()) + " in all)";
+  }
+  return out;
+}
+
+std::string cutText(std::string_view text, std::size_t maxBytes) {
+  if (text.size() <= maxBytes) return std::string(text);
+  std::size_t end = maxBytes;
+  // Never inside a multi-byte character: protobuf strings must be valid UTF-8.
+  while (end > 0 && (static_cast<unsigned char>(text[end]) & 0xC0u) == 0x80u) --end;
+  std::string out(text.substr(0, end));
+  out.append("...(");
+  out.append(std::to_string(text.size()));
+  out.append(" bytes)");
+  return out;
+}
+
 }  // namespace demlink::core

@@ -13,11 +13,12 @@ std::string nameProblem(std::string_view name) {
            std::to_string(name.size()) + ")";
   }
   for (const char c : name) {
-    if (c < ' ' || c > '~' || c == '"' || c == '\\') {
-      return "a name holds only printable ASCII characters other than '\"' and '\\'";
+    if (c < ' ' || c > '~' || c == '"' || c == '\\' || c == '/') {
+      return "a name holds only printable ASCII characters other than '\"', '\\' and '/'";
     }
   }
   if (name.front() == ' ' || name.back() == ' ') return "a name neither starts nor ends with a space";
+  if (name == "." || name == "..") return "a name is not \".\" or \"..\" (names become file names)";
   return {};
 }
 

@@ -2,8 +2,11 @@
 /// schedule of SampledComponent: a sample reads the bodies, which restore their own state.
 #include "demlink/core/components/node_tracker.hpp"
 
+#include <cmath>
+
 #include "demlink/core/deformable/deformable_body.hpp"
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/step/watchdog.hpp"
 #include "demlink/core/world.hpp"
 
 namespace demlink::core {
@@ -70,6 +73,18 @@ void NodeTracker::sample(const World& world) {
     appendVector(row, body.nodePosition(tracked.node));
     appendVector(row, body.nodeDisplacement(tracked.node));
     appendVector(row, body.nodeVelocity(tracked.node));
+  }
+  // The watchdog reads the world only every few steps: a row between two readings is
+  // checked here, so a NaN never reaches the file (every value of a node row is defined).
+  for (std::size_t column = 1; column < row.size(); ++column) {
+    if (!std::isfinite(row[column])) {
+      const TrackedNode& tracked = nodes_[(column - 1) / 9];
+      throw SimulationFault("non_finite",
+                            "node_tracker " + name() + ": node " + std::to_string(tracked.node) + " of body " +
+                                world.deformableBodies()[tracked.body]->name() +
+                                " (position, displacement or velocity); the row is not written",
+                            world.stepCount());
+    }
   }
   publish(std::move(row));
 }

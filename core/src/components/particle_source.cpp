@@ -93,14 +93,23 @@ Vec3 SourceRegion::samplePoint(Random& rng, double r) const {
 
 // ---------------------------------------------------------------- spec
 
+void requireSourceRate(const std::string& field, double rate, bool perParticle) {
+  requireNonNegative(field, rate);
+  const double bound = perParticle ? kMaxSourceParticleRate : kMaxSourceMassRate;
+  if (!(rate <= bound)) {
+    throw InputError(field, formatValue(rate),
+                     "must be at most " + formatValue(bound) + (perParticle ? " particles/s" : " kg/s"));
+  }
+}
+
 void ParticleSourceSpec::validate(const std::string& prefix, double clumpBoundingRadius) const {
   if (rate_particles_per_s.has_value() == rate_kg_per_s.has_value()) {
     throw InputError(prefix + ".rate_particles_per_s",
                      rate_particles_per_s ? "both rates given" : "neither rate given",
                      "give exactly one of rate_particles_per_s and rate_kg_per_s");
   }
-  if (rate_particles_per_s) requireNonNegative(prefix + ".rate_particles_per_s", *rate_particles_per_s);
-  if (rate_kg_per_s) requireNonNegative(prefix + ".rate_kg_per_s", *rate_kg_per_s);
+  if (rate_particles_per_s) requireSourceRate(prefix + ".rate_particles_per_s", *rate_particles_per_s, true);
+  if (rate_kg_per_s) requireSourceRate(prefix + ".rate_kg_per_s", *rate_kg_per_s, false);
   requireNonNegative(prefix + ".start_time", start_time);
   if (!(stop_time > start_time)) {
     throw InputError(prefix + ".stop_time", formatValue(stop_time),
@@ -270,13 +279,27 @@ void ParticleSource::insertAndRemove(World& world) {
     report_.requested_count = requested;
     report_.requested_mass = report_.requested_count * mean_mass_;
     const double target = std::floor(report_.requested_count);
-    while (static_cast<double>(report_.inserted_count + report_.shortfall_count) < target) placeOrCount(draw());
+    std::uint64_t tries = 0;
+    while (static_cast<double>(report_.inserted_count + report_.shortfall_count) < target) {
+      if (++tries > kMaxSourcePlacementsPerStep) {
+        noteBulkShortfall(target - static_cast<double>(report_.inserted_count + report_.shortfall_count), world.time());
+        break;
+      }
+      placeOrCount(draw());
+    }
   } else {
     report_.requested_mass = requested;
     report_.requested_count = report_.requested_mass / mean_mass_;
-    for (;;) {
+    for (std::uint64_t tries = 0;; ++tries) {
       if (!next_) next_ = draw();
       if (consumed_mass_ + next_->mass > report_.requested_mass) break;
+      if (tries == kMaxSourcePlacementsPerStep) {
+        const double owedMass = report_.requested_mass - consumed_mass_;
+        consumed_mass_ = report_.requested_mass;
+        noteBulkShortfall(std::floor(owedMass / mean_mass_), world.time());
+        report_.shortfall_mass += owedMass - std::floor(owedMass / mean_mass_) * mean_mass_;
+        break;
+      }
       consumed_mass_ += next_->mass;
       const Drawn shape = *next_;
       next_.reset();
@@ -313,8 +336,7 @@ void ParticleSource::setEnabled(const World& world, bool enabled) {
 }
 
 void ParticleSource::setRate(const World& world, double rate, const std::string& field) {
-  requireFinite(field, rate);
-  if (rate < 0.0) throw InputError(field, formatValue(rate), "must be >= 0");
+  requireSourceRate(field, rate, spec_.rate_particles_per_s.has_value());
   closeSegment(world.time());
   if (spec_.rate_particles_per_s) {
     spec_.rate_particles_per_s = rate;
@@ -398,6 +420,14 @@ void ParticleSource::insertClump(World& world, const Vec3& position, const Vec3&
   world.addClump(clump, field_prefix_);
   ++report_.inserted_count;
   report_.inserted_mass += world.clumps().back().mass;
+}
+
+void ParticleSource::noteBulkShortfall(double count, double time) {
+  report_.shortfall_count += static_cast<std::uint64_t>(count);
+  report_.shortfall_mass += count * mean_mass_;
+  spdlog::warn("particle_source {}: at t = {:.6g} s the rate asks for more than {} particles in one step; {:.6g} "
+               "particles are counted as shortfall without being tried",
+               name(), time, kMaxSourcePlacementsPerStep, count);
 }
 
 void ParticleSource::noteShortfall(const Drawn& shape, double time) {

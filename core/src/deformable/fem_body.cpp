@@ -221,7 +221,7 @@ void FemBody::Impl::buildFromMesh(const FemSpec& spec) {
   try {
     mesh = readGmsh(spec.msh_path);
   } catch (const InputError& e) {
-    throw e.as(prefix + ".msh_path");
+    throw e.as(prefix + ".mesh.msh_file");
   }
   material = {spec.youngs_modulus, spec.poisson_ratio, spec.density};
   for (Vec3& x : mesh.nodes) x += spec.offset;
@@ -244,24 +244,24 @@ void FemBody::Impl::buildFromMesh(const FemSpec& spec) {
 }
 
 void FemBody::Impl::buildFromMatrices(const FemSpec& spec) {
+  std::vector<Vec3> nodes;
   const auto readMatrix = [&](const std::string& path, const std::string& field) {
     try {
-      return readMatrixMarket(path);
+      return readMatrixMarket(path, 3 * nodes.size());
     } catch (const InputError& e) {
       throw e.as(prefix + "." + field);
     }
   };
-  std::vector<Vec3> nodes;
   std::vector<std::array<std::uint32_t, 3>> triangles;
   try {
     nodes = readNodeFile(spec.nodes_path);
   } catch (const InputError& e) {
-    throw e.as(prefix + ".nodes_path");
+    throw e.as(prefix + ".matrices.nodes_file");
   }
   try {
     triangles = readTriangleFile(spec.triangles_path, nodes.size());
   } catch (const InputError& e) {
-    throw e.as(prefix + ".triangles_path");
+    throw e.as(prefix + ".matrices.triangles_file");
   }
   const auto dofs = static_cast<Eigen::Index>(3 * nodes.size());
   const auto check = [&](const SparseMatrix& a, const std::string& field) {
@@ -277,19 +277,19 @@ void FemBody::Impl::buildFromMatrices(const FemSpec& spec) {
                        "must be symmetric");
     }
   };
-  k = readMatrix(spec.stiffness_matrix_path, "stiffness_matrix_path");
-  check(k, "stiffness_matrix_path");
-  m = readMatrix(spec.mass_matrix_path, "mass_matrix_path");
-  check(m, "mass_matrix_path");
+  k = readMatrix(spec.stiffness_matrix_path, "matrices.stiffness_matrix_file");
+  check(k, "matrices.stiffness_matrix_file");
+  m = readMatrix(spec.mass_matrix_path, "matrices.mass_matrix_file");
+  check(m, "matrices.mass_matrix_file");
   for (Eigen::Index i = 0; i < dofs; ++i) {
     if (!(m.coeff(i, i) > 0.0)) {
-      throw InputError(prefix + ".mass_matrix_path", "DOF " + std::to_string(i + 1),
+      throw InputError(prefix + ".matrices.mass_matrix_file", "DOF " + std::to_string(i + 1),
                        "diagonal entry must be > 0");
     }
   }
   if (!spec.damping_matrix_path.empty()) {
-    c = readMatrix(spec.damping_matrix_path, "damping_matrix_path");
-    check(c, "damping_matrix_path");
+    c = readMatrix(spec.damping_matrix_path, "matrices.damping_matrix_file");
+    check(c, "matrices.damping_matrix_file");
     explicitDamping = true;
   }
   for (Vec3& x : nodes) x += spec.offset;
@@ -396,16 +396,17 @@ FemBody::FemBody(const FemSpec& spec, double timeStep, const std::string& fieldP
   const bool fromMatrices = !spec.mass_matrix_path.empty() || !spec.stiffness_matrix_path.empty();
   if (fromMesh == fromMatrices) {
     throw InputError(
-        fieldPrefix + ".msh_path", fromMesh ? spec.msh_path : "(empty)",
+        fieldPrefix + ".mesh.msh_file", fromMesh ? spec.msh_path : "(empty)",
         "give either a .msh mesh or the mass and stiffness matrices with node and triangle files");
   }
   if (fromMesh) {
     b.buildFromMesh(spec);
   } else {
     for (const auto& [path, field] :
-         {std::pair{&spec.mass_matrix_path, "mass_matrix_path"},
-          std::pair{&spec.stiffness_matrix_path, "stiffness_matrix_path"},
-          std::pair{&spec.nodes_path, "nodes_path"}, std::pair{&spec.triangles_path, "triangles_path"}}) {
+         {std::pair{&spec.mass_matrix_path, "matrices.mass_matrix_file"},
+          std::pair{&spec.stiffness_matrix_path, "matrices.stiffness_matrix_file"},
+          std::pair{&spec.nodes_path, "matrices.nodes_file"},
+          std::pair{&spec.triangles_path, "matrices.triangles_file"}}) {
       if (path->empty())
         throw InputError(fieldPrefix + "." + field, "(empty)", "needed for imported matrices");
     }

@@ -24,7 +24,8 @@ bool isSkipped(std::string_view line, char comment) {
 
 }  // namespace
 
-Eigen::SparseMatrix<double> parseMatrixMarket(std::string_view text, const std::string& source) {
+Eigen::SparseMatrix<double> parseMatrixMarket(std::string_view text, const std::string& source,
+                                              std::uint64_t dimension) {
   TextLines in(text, "mtx", source);
   const auto banner = in.tokens(in.expectLine("the %%MatrixMarket banner"));
   if (banner.size() != 5 || banner[0] != "%%MatrixMarket" || lower(banner[1]) != "matrix") {
@@ -48,6 +49,10 @@ Eigen::SparseMatrix<double> parseMatrixMarket(std::string_view text, const std::
   const std::uint64_t entries = in.toCount(size[2], "entries");
   if (rows > kMaxMatrixDimension || cols > kMaxMatrixDimension) {
     in.fail("matrix dimension above the limit of " + std::to_string(kMaxMatrixDimension));
+  }
+  if (dimension > 0 && (rows != dimension || cols != dimension)) {
+    in.fail("the size line says " + std::to_string(rows) + " x " + std::to_string(cols) + "; must be " +
+            std::to_string(dimension) + " x " + std::to_string(dimension) + " (3 DOF per node of the node file)");
   }
   if (symmetric && rows != cols) in.fail("a symmetric matrix must be square");
   in.requireFits(entries, 6, "the size line");
@@ -81,8 +86,8 @@ Eigen::SparseMatrix<double> parseMatrixMarket(std::string_view text, const std::
   return matrix;
 }
 
-Eigen::SparseMatrix<double> readMatrixMarket(const std::string& path) {
-  return parseMatrixMarket(loadTextFile(path, "mtx"), path);
+Eigen::SparseMatrix<double> readMatrixMarket(const std::string& path, std::uint64_t dimension) {
+  return parseMatrixMarket(loadTextFile(path, "mtx"), path, dimension);
 }
 
 void writeMatrixMarket(const std::string& path, const Eigen::SparseMatrix<double>& matrix, bool symmetric) {

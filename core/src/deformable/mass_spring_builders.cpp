@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <utility>
 
@@ -244,6 +245,18 @@ MassSpringTopology buildMassSpringTopology(const MassSpringSpec& spec, const std
                                                     : buildExplicit(spec, fieldPrefix);
   resolveSprings(out.springs, out.nodes, fieldPrefix);
   return out;
+}
+
+double MassSpringSpec::Box::nodeCount() const {
+  double count = 1.0;
+  for (int a = 0; a < 3; ++a) {
+    const double extent = hi[a] - lo[a];
+    if (!(node_spacing > 0.0) || !std::isfinite(extent / node_spacing)) return std::numeric_limits<double>::infinity();
+    // buildLattice's rule: a thin axis is one layer, else round(extent / spacing) cells
+    // (a box it refuses for other reasons counts as one layer there).
+    count *= !(extent >= node_spacing) ? 1.0 : std::max(1.0, std::round(extent / node_spacing)) + 1.0;
+  }
+  return count;
 }
 
 }  // namespace demlink::core

@@ -34,14 +34,14 @@ NodeConstraints::NodeConstraints(const NodeConstraintSpec& spec, const std::vect
   const auto markAll = [&](const std::vector<std::uint32_t>& ids, const std::vector<NodeRegion>& regions,
                            NodeRole target, const std::string& what) {
     for (std::size_t k = 0; k < ids.size(); ++k) {
-      const std::string field = fieldPrefix + "." + what + "_nodes[" + std::to_string(k) + "]";
+      const std::string field = fieldPrefix + "." + what + ".nodes[" + std::to_string(k) + "]";
       const std::optional<std::uint32_t> node = lookup(ids[k]);
       if (!node || *node >= nodes.size()) throw InputError(field, std::to_string(ids[k]), unknownIdReason);
       mark(*node, target, field);
     }
     for (std::size_t k = 0; k < regions.size(); ++k) {
       const NodeRegion& region = regions[k];
-      const std::string field = fieldPrefix + "." + what + "_regions[" + std::to_string(k) + "]";
+      const std::string field = fieldPrefix + "." + what + ".regions[" + std::to_string(k) + "]";
       if (!region.lo.allFinite() || !region.hi.allFinite()) {
         throw InputError(field, vecText(region.lo) + " .. " + vecText(region.hi), "must be finite");
       }

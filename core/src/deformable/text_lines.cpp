@@ -7,23 +7,13 @@
 #include <fstream>
 
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/input_file.hpp"
 
 namespace demlink::core {
 
 std::string loadTextFile(const std::string& path, const std::string& kind) {
   const std::string field = kind + ":" + path;
-  std::error_code ec;
-  const auto status = std::filesystem::status(path, ec);
-  if (status.type() == std::filesystem::file_type::not_found)
-    throw InputError(field, path, "file does not exist");
-  if (ec) throw InputError(field, path, "cannot be accessed: " + ec.message());
-  if (!std::filesystem::is_regular_file(status)) throw InputError(field, path, "is not a regular file");
-  const auto size = std::filesystem::file_size(path, ec);
-  if (ec) throw InputError(field, path, "cannot be accessed: " + ec.message());
-  if (size > kMaxTextFileBytes) {
-    throw InputError(field, std::to_string(size) + " bytes",
-                     "larger than the " + std::to_string(kMaxTextFileBytes) + "-byte limit for input files");
-  }
+  const std::uintmax_t size = requireInputFile(field, path, kMaxTextFileBytes);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(field, path, "cannot be opened for reading");
   std::string text(static_cast<std::size_t>(size), '\0');

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/input_file.hpp"
 
 namespace demlink::core {
 
@@ -194,11 +195,7 @@ MaterialDatabase MaterialDatabase::parse(std::string_view text, const std::strin
 }
 
 MaterialDatabase MaterialDatabase::fromFile(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path.string(), "(unreadable)", "cannot open the materials database");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse(text.str(), path.string());
+  return parse(readInputFile("materials database", path), path.string());
 }
 
 const MaterialDatabase& MaterialDatabase::builtIn() {

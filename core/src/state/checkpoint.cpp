@@ -11,6 +11,7 @@
 #include <system_error>
 
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/input_file.hpp"
 #include "demlink/core/state/state_stream.hpp"
 
 namespace demlink::core {
@@ -103,12 +104,7 @@ std::string checkpointFileName(std::uint64_t number) {
 }
 
 std::string readCheckpointBytes(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path.string(), "(unreadable)", "cannot open the checkpoint file");
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  if (in.bad()) throw InputError(path.string(), "(unreadable)", "cannot read the checkpoint file");
-  return bytes.str();
+  return readInputFile("checkpoint file", path);
 }
 
 void writeCheckpointBytes(const std::filesystem::path& path, const std::string& bytes) {

@@ -22,6 +22,7 @@
 #include <sstream>
 
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/input_file.hpp"
 
 namespace demlink::core {
 namespace {
@@ -352,17 +353,7 @@ StlMesh parseStl(std::string_view data, const std::string& sourceName) {
 
 StlMesh readStl(const std::string& path) {
   const std::string field = "stl:" + path;
-  std::error_code ec;
-  const auto status = std::filesystem::status(path, ec);
-  if (status.type() == std::filesystem::file_type::not_found) {
-    throw InputError(field, path, "file does not exist");
-  }
-  if (ec) throw InputError(field, path, "cannot be accessed: " + ec.message());
-  if (!std::filesystem::is_regular_file(status)) {
-    throw InputError(field, path, "is not a regular file");
-  }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(field, path, "cannot be opened for reading");
+  std::ifstream in = openInputFile(field, path, true);
   std::ostringstream buffer;
   buffer << in.rdbuf();
   if (in.bad()) throw InputError(field, path, "read error");

@@ -27,8 +27,10 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <thread>
 
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/input_file.hpp"
 #include "demlink/server/backend/simulation_backend.hpp"
 #ifdef DEMLINK_HAS_LIGGGHTS
 #include "demlink/server/cosim/cosim_lockstep.hpp"
@@ -36,6 +38,7 @@
 #endif
 #include "demlink/server/cosim/cosim_host.hpp"
 #include "demlink/server/cosim/session_replay.hpp"
+#include "demlink/server/cosim/simulation_hub.hpp"
 #include "command_line_main.hpp"
 #include "demlink/cli/command_line.hpp"
 #include "demlink/server/net/tcp_server.hpp"
@@ -66,6 +69,8 @@ struct CommandLine {
   std::size_t max_queued_bytes = demlink::server::TcpServerOptions{}.max_queued_bytes;
   std::size_t max_unwelcomed = demlink::server::TcpServerOptions{}.max_unwelcomed;
   std::uint64_t max_simulations = 0;  ///< 0: no limit
+  std::size_t max_open = demlink::server::SimulationHubOptions{}.max_open;
+  std::size_t max_stepping = std::max(1u, std::thread::hardware_concurrency());
   std::optional<std::string> record;
   std::optional<std::string> replay;
   std::optional<std::string> data_root;
@@ -141,8 +146,11 @@ void addOptions(CLI::App& app, CommandLine& line) {
                 "the first simulation continues from this checkpoint of a co-simulation with the same declarations "
                 "(docs/cosim.md)",
                 [&line](const std::string& text) {
-                  std::error_code error;
-                  if (!std::filesystem::is_regular_file(text, error)) cli::refuse("--restore", text, "no such file");
+                  try {
+                    demlink::core::requireInputFile("--restore", text);
+                  } catch (const InputError& error) {
+                    cli::refuse("--restore", text, error.reason());
+                  }
                   line.restore = text;
                 })
       ->type_name("FILE");
@@ -152,6 +160,12 @@ void addOptions(CLI::App& app, CommandLine& line) {
       ->type_name("ADDR:PORT");
   app.add_flag("--overwrite", line.overwrite, "a simulation may write into an output folder that holds a run's outputs");
   CLI::Option* once = app.add_flag("--once", line.once, "exit after the first simulation ends (= --max-simulations 1)");
+  cli::addWholeNumber<std::size_t>(app, "--max-open-simulations", line.max_open, 1, 4096,
+                                   "simulations pending or running at once; a client that would open one more gets "
+                                   "SERVER_BUSY (default 8; 1 with --record)");
+  cli::addWholeNumber<std::size_t>(app, "--max-stepping", line.max_stepping, 1, 4096,
+                                   "simulations stepping at once; the others wait for a turn (default: the "
+                                   "machine's hardware threads)");
   cli::addWholeNumber<std::uint64_t>(app, "--max-simulations", line.max_simulations, 1,
                                      std::numeric_limits<std::uint64_t>::max(),
                                      "exit after N simulations ended (default: serve until stopped)")
@@ -283,7 +297,25 @@ int run(int argc, char** argv) {
     std::printf("demlink-server view at %s%s\n", view->url().c_str(),
                 viewOptions.access_token.empty() ? "" : "?token=<the access token>");
   }
-  demlink::server::CosimHost host(options);
+  // Natively every simulation steps on its own thread (SimulationHub), so the network loop
+  // answers whatever a simulation does. LIGGGHTS steps under MPI, whose calls stay on the
+  // thread that started it: one host on the network thread, one simulation at a time.
+  const std::uint64_t maxSimulations = line.once ? 1 : line.max_simulations;
+  std::unique_ptr<demlink::server::SessionHandler> handler;
+  std::function<std::uint64_t()> finished;
+  if (backend == demlink::server::BackendKind::Native) {
+    demlink::server::SimulationHubOptions hubOptions;
+    hubOptions.max_open = line.max_open;
+    hubOptions.max_stepping = line.max_stepping;
+    hubOptions.max_total = maxSimulations;
+    auto hub = std::make_unique<demlink::server::SimulationHub>(options, hubOptions);
+    finished = [hub = hub.get()] { return hub->simulationsFinished(); };
+    handler = std::move(hub);
+  } else {
+    auto host = std::make_unique<demlink::server::CosimHost>(options);
+    finished = [host = host.get()] { return host->simulationsFinished(); };
+    handler = std::move(host);
+  }
   demlink::server::TcpServerOptions net;
   net.listen_address = line.listen;
   net.port = line.port;
@@ -298,11 +330,10 @@ int run(int argc, char** argv) {
     demlink::core::setDefaultSpinBudget(budget);  // the worlds' thread pools
     net.spin_wait = budget;
   }
-  const std::uint64_t maxSimulations = line.once ? 1 : line.max_simulations;
   if (maxSimulations > 0) {
-    net.stop_when = [&host, maxSimulations] { return host.simulationsFinished() >= maxSimulations; };
+    net.stop_when = [&finished, maxSimulations] { return finished() >= maxSimulations; };
   }
-  demlink::server::TcpServer server(host, net);
+  demlink::server::TcpServer server(*handler, net);
 
   const asio::ip::address bound = asio::ip::make_address(server.address());
   if (!bound.is_loopback() && net.access_token.empty()) {

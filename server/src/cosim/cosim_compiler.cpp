@@ -198,9 +198,10 @@ v1::Error makeError(v1::Error::Code code, const std::string& message, const std:
                     const std::string& field, bool fatal) {
   v1::Error error;
   error.set_code(code);
-  error.set_message(message);
-  error.set_component(component);
-  error.set_field(field);
+  // The last guard on size: the parts from outside are cut where they are quoted.
+  error.set_message(core::cutText(message));
+  error.set_component(core::cutText(component, core::kLogTextMaxBytes));
+  error.set_field(core::cutText(field, core::kLogTextMaxBytes));
   error.set_fatal(fatal);
   return error;
 }
@@ -303,13 +304,13 @@ CosimCompiler::Missing CosimCompiler::missing() const {
                                                       b->coupling().expected_count())};
   }
   if (!b->coupling().expected_names().empty()) {
-    std::string names;
+    std::vector<std::string> names;
     for (const std::string& name : b->coupling().expected_names()) {
       const bool declared = std::any_of(declared_.begin(), declared_.end(),
                                         [&](const DeclaredComponent& d) { return d.declaration.name() == name; });
-      if (!declared) names += (names.empty() ? "\"" : ", \"") + name + "\"";
+      if (!declared) names.push_back(name);
     }
-    return {coupling + ".expected_names", "not declared yet: " + names};
+    return {coupling + ".expected_names", "not declared yet: " + core::quotedLogList(names)};
   }
   return {"declare", fmt::format("{} components declared and declarations still arriving", declared_.size())};
 }

@@ -112,7 +112,22 @@ struct CosimHost::Impl {
     return fmt::format("{} (connection {})", name, id);
   }
 
-  [[nodiscard]] std::uint64_t number() const { return finished + 1; }
+  /// The components `missing` and their clients, the first few of them (a list of any
+  /// length stays a short line).
+  [[nodiscard]] std::string waitedFor(const std::vector<std::size_t>& missing) const {
+    constexpr std::size_t kShown = 5;
+    std::string names;
+    for (std::size_t k = 0; k < missing.size() && k < kShown; ++k) {
+      const CosimComponent& c = sim->components()[missing[k]];
+      names += (k == 0 ? "" : ", ") + core::quotedLogText(c.name) + " of client " + clientName(*c.owner);
+    }
+    if (missing.size() > kShown) {
+      names += fmt::format(" and {} more ({} in all)", missing.size() - kShown, missing.size());
+    }
+    return names;
+  }
+
+  [[nodiscard]] std::uint64_t number() const { return options.first_simulation_number + finished; }
 
   [[nodiscard]] v1::Finished finishedMessage(const std::string& reason) const {
     v1::Finished f;
@@ -307,6 +322,7 @@ struct CosimHost::Impl {
         *o.message.mutable_data() = std::move(package);
         out.push_back(std::move(o));
       }
+      if (advance.interrupted) return;  // the server stops: shutdown() ends the simulation
       if (advance.end_reached) {
         endSimulation(out, "end time reached");
         return;
@@ -477,11 +493,7 @@ struct CosimHost::Impl {
     const std::vector<std::size_t> missing = sim->scheduler().missing();
     if (missing.empty()) return;
     const std::uint64_t step = sim->scheduler().currentStep();
-    std::string names;
-    for (const std::size_t index : missing) {
-      const CosimComponent& c = sim->components()[index];
-      names += (names.empty() ? "" : ", ") + ("\"" + c.name + "\" of client " + clientName(*c.owner));
-    }
+    const std::string names = waitedFor(missing);
     const std::string cause = fmt::format("no package for step {} within {} s from {}", step, timeout(), names);
     spdlog::warn("simulation {}: timeout: {}", number(), cause);
     std::map<ConnectionId, std::string> offenders;
@@ -514,6 +526,14 @@ struct CosimHost::Impl {
     endSimulation(out, "assembly timeout: " + missing.what);
   }
 
+  /// ", whose assembly times out in S s" (nothing without an assembly timeout).
+  [[nodiscard]] std::string assemblyTimeLeft(SteadyClock::time_point now) const {
+    const std::optional<SteadyClock::time_point> deadline = assemblyDeadline();
+    if (!deadline) return {};
+    return fmt::format(", whose assembly times out in {:.1f} s",
+                       std::max(0.0, std::chrono::duration<double>(*deadline - now).count()));
+  }
+
   [[nodiscard]] std::optional<SteadyClock::time_point> assemblyDeadline() const {
     if (sim || !assembling_since || options.assembly_timeout_s <= 0.0) return std::nullopt;
     return *assembling_since + seconds(options.assembly_timeout_s);
@@ -535,11 +555,7 @@ struct CosimHost::Impl {
     std::string waiting = "nothing";
     const std::vector<std::size_t> missing = sim->scheduler().missing();
     if (!missing.empty()) {
-      waiting.clear();
-      for (const std::size_t index : missing) {
-        const CosimComponent& c = sim->components()[index];
-        waiting += (waiting.empty() ? "\"" : ", \"") + c.name + "\" of client " + clientName(*c.owner);
-      }
+      waiting = waitedFor(missing);
       if (waiting_since) {
         waiting += fmt::format(" for {:.1f} s", std::chrono::duration<double>(now - *waiting_since).count());
       }
@@ -561,11 +577,19 @@ struct CosimHost::Impl {
     } catch (const std::exception& error) {
       // A watchdog stop is the world refusing to go on, not a bug: its own code, the check as the field.
       const auto* fault = dynamic_cast<const core::SimulationFault*>(&error);
-      spdlog::error("simulation {}: {}: {}", number(), fault != nullptr ? "stopped" : "internal error", error.what());
-      const v1::Error e =
-          fault != nullptr
-              ? makeError(v1::Error::SIMULATION_FAULT, error.what(), "", "watchdog." + fault->check(), true)
-              : makeError(v1::Error::INTERNAL, std::string("internal error: ") + error.what(), "", "", true);
+      // An input refused by the engine as it is applied, where it depends on the world (the
+      // room's centrifugal acceleration at the farthest particle): the client's, not ours.
+      const auto* input = dynamic_cast<const core::InputError*>(&error);
+      const char* what = fault != nullptr ? "stopped" : input != nullptr ? "input refused" : "internal error";
+      spdlog::error("simulation {}: {}: {}", number(), what, core::logText(error.what(), kLogMessageMaxBytes));
+      v1::Error e;
+      if (fault != nullptr) {
+        e = makeError(v1::Error::SIMULATION_FAULT, error.what(), "", "watchdog." + fault->check(), true);
+      } else if (input != nullptr) {
+        e = makeError(v1::Error::INVALID_INPUT, error.what(), "", input->field(), true);
+      } else {
+        e = makeError(v1::Error::INTERNAL, std::string("internal error: ") + error.what(), "", "", true);
+      }
       for (const auto& [id, connection] : connections) {
         if (!connection.said_bye) send(out, id, e);
       }
@@ -618,9 +642,11 @@ std::vector<Outgoing> CosimHost::connected(ConnectionId id, const v1::Hello& hel
     if (!s.connections.empty() && hello.simulation() != s.group) {
       s.send(out, id,
              makeError(v1::Error::OUT_OF_ORDER,
-                       fmt::format("simulation {} of \"{}\" is being assembled; this client asked for \"{}\": "
-                                   "connect again when it has finished",
-                                   s.number(), s.group, hello.simulation()),
+                       fmt::format("simulation {} of {} is being assembled, held by client {}{}; this client "
+                                   "asked for {}: connect again when it has finished",
+                                   s.number(), core::quotedLogText(s.group),
+                                   s.clientName(s.connections.begin()->first), s.assemblyTimeLeft(now),
+                                   core::quotedLogText(hello.simulation())),
                        "", "hello.simulation", true),
              true);
       return;
@@ -631,7 +657,7 @@ std::vector<Outgoing> CosimHost::connected(ConnectionId id, const v1::Hello& hel
     }
     s.connections[id].name = hello.client_name();
     if (!s.quiet_since) s.quiet_since = now;
-    spdlog::info("client {} joined simulation {} (\"{}\")", s.clientName(id), s.number(), s.group);
+    spdlog::info("client {} joined simulation {} ({})", s.clientName(id), s.number(), core::quotedLogText(s.group));
     Outgoing o;
     o.to = id;
     v1::Welcome& welcome = *o.message.mutable_welcome();
@@ -751,6 +777,17 @@ std::vector<Outgoing> CosimHost::shutdown(const std::string& reason, SteadyClock
 }
 
 bool CosimHost::simulationRunning() const { return impl_->sim != nullptr; }
+
+CosimHost::Status CosimHost::status() const {
+  const Impl& s = *impl_;
+  Status status;
+  status.number = s.number();
+  status.running = s.sim != nullptr;
+  status.group = s.group;
+  for (const auto& [id, connection] : s.connections) status.clients.emplace_back(id, connection.name);
+  status.assembly_deadline = s.assemblyDeadline();
+  return status;
+}
 
 std::uint64_t CosimHost::simulationsFinished() const { return impl_->finished; }
 

@@ -1,13 +1,15 @@
 /// Input checks (contract in cosim_inputs.hpp).
 #include "demlink/server/cosim/cosim_inputs.hpp"
 
+#include <spdlog/fmt/fmt.h>
+
 #include <cmath>
 #include <string>
-#include <tuple>
 
 #include "demlink/core/components/particle_sink.hpp"
 #include "demlink/core/components/particle_source.hpp"
 #include "demlink/core/components/region_sensor.hpp"
+#include "demlink/core/input_bounds.hpp"
 #include "demlink/core/input_error.hpp"
 #include "demlink/core/world.hpp"
 #include "demlink/core/unit_quaternion.hpp"
@@ -113,9 +115,26 @@ std::optional<v1::Error> kindAndFinite(const CosimComponent& component, Kind::Ki
   return std::nullopt;
 }
 
+/// The bounds a declaration's pose and twist obey (core/input_bounds.hpp), on a body's
+/// run-time pose and twist.
+template <class BodyInput>
+std::optional<v1::Error> boundedMotion(const CosimComponent& component, const BodyInput& input,
+                                       const std::string& field) {
+  try {
+    core::requireBoundedVector(field + ".position", toVec3(input.position()), core::kMaxCoordinate, "m");
+    core::requireBoundedVector(field + ".linear_velocity", toVec3(input.linear_velocity()), core::kMaxSpeed, "m/s");
+    core::requireBoundedVector(field + ".angular_velocity", toVec3(input.angular_velocity()),
+                               core::kMaxAngularVelocity, "rad/s");
+  } catch (const core::InputError& error) {
+    return invalid(component, error.field(), error.value(), error.reason());
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
-std::optional<v1::Error> checkInput(const CosimComponent& component, const v1::DataPackage& package) {
+std::optional<v1::Error> checkInput(const CosimComponent& component, const v1::DataPackage& package,
+                                    double timeStep) {
   const bool isBody = component.kind_case == v1::ComponentDeclaration::kRigidBody;
   const bool isBox = component.kind_case == v1::ComponentDeclaration::kSimulationBox;
   const bool isDeformable = component.kind_case == v1::ComponentDeclaration::kMassSpringBody ||
@@ -130,7 +149,7 @@ std::optional<v1::Error> checkInput(const CosimComponent& component, const v1::D
       if (!input.has_position()) return invalid(component, "rigid_body_input.position", "(missing)", "required");
       if (!input.has_orientation()) return invalid(component, "rigid_body_input.orientation", "(missing)", "required");
       if (auto bad = notUnit(component, input.orientation(), "rigid_body_input.orientation")) return bad;
-      return std::nullopt;
+      return boundedMotion(component, input, "rigid_body_input");
     }
     case v1::DataPackage::kDeformableBodyInput: {
       if (!isDeformable) {
@@ -150,7 +169,7 @@ std::optional<v1::Error> checkInput(const CosimComponent& component, const v1::D
         return invalid(component, "deformable_body_input.orientation", "(missing)", "required");
       }
       if (auto bad = notUnit(component, input.orientation(), "deformable_body_input.orientation")) return bad;
-      return std::nullopt;
+      return boundedMotion(component, input, "deformable_body_input");
     }
     case v1::DataPackage::kSimulationBoxInput: {
       if (!isBox) {
@@ -159,12 +178,23 @@ std::optional<v1::Error> checkInput(const CosimComponent& component, const v1::D
       if (auto bad = firstNonFinite(package.simulation_box_input(), "simulation_box_input")) {
         return invalid(component, bad->first, core::formatValue(bad->second), "must be finite");
       }
-      if (package.simulation_box_input().has_frame()) {
-        try {
-          frameOf(package.simulation_box_input().frame()).validate("simulation_box_input.frame");
-        } catch (const core::InputError& error) {
-          return invalid(component, error.field(), error.value(), error.reason());
+      const v1::SimulationBoxInput& input = package.simulation_box_input();
+      try {
+        if (input.has_gravity()) {
+          // The declaration's rule (core::SimulationSettings::validate): bounded, and g dt a sane speed.
+          const core::Vec3 gravity = toVec3(input.gravity());
+          core::requireBoundedVector("simulation_box_input.gravity", gravity, core::kMaxAcceleration, "m/s^2");
+          if (!(gravity.norm() * timeStep <= core::kMaxSpeed)) {
+            return invalid(component, "simulation_box_input.gravity",
+                           fmt::format("({}, {}, {})", core::formatValue(gravity.x()),
+                                       core::formatValue(gravity.y()), core::formatValue(gravity.z())),
+                           "|gravity| x time_step = " + core::formatValue(gravity.norm() * timeStep) +
+                               " m/s exceeds " + core::formatValue(core::kMaxSpeed) + " m/s per step");
+          }
         }
+        if (input.has_frame()) frameOf(input.frame()).validate("simulation_box_input.frame");
+      } catch (const core::InputError& error) {
+        return invalid(component, error.field(), error.value(), error.reason());
       }
       return std::nullopt;
     }
@@ -196,12 +226,13 @@ std::optional<v1::Error> checkInput(const CosimComponent& component, const v1::D
         return invalid(component, field + ".rate_kg_per_s", core::formatValue(input.rate_kg_per_s()),
                        "the source was declared with a count rate; give rate_particles_per_s");
       }
-      for (const auto& [name, given, value] :
-           {std::tuple{"rate_particles_per_s", input.has_rate_particles_per_s(), input.rate_particles_per_s()},
-            std::tuple{"rate_kg_per_s", input.has_rate_kg_per_s(), input.rate_kg_per_s()}}) {
-        if (given && value < 0.0) {
-          return invalid(component, field + "." + name, core::formatValue(value), "must be >= 0");
+      try {
+        if (input.has_rate_particles_per_s()) {
+          core::requireSourceRate(field + ".rate_particles_per_s", input.rate_particles_per_s(), true);
         }
+        if (input.has_rate_kg_per_s()) core::requireSourceRate(field + ".rate_kg_per_s", input.rate_kg_per_s(), false);
+      } catch (const core::InputError& error) {
+        return invalid(component, error.field(), error.value(), error.reason());
       }
       return std::nullopt;
     }

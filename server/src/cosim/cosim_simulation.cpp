@@ -39,6 +39,8 @@ CosimSimulation::CosimSimulation(CompiledSimulation compiled, const std::filesys
       directory_(outputDirectory),
       outputs_(compiled_.components.size()),
       before_engine_(options.before_engine),
+      stop_stepping_(options.stop_stepping),
+      turns_(options.turns),
       step_observer_(options.step_observer) {
   core::World& w = world();
   for (std::size_t i = 0; i < compiled_.components.size(); ++i) {
@@ -160,7 +162,7 @@ std::optional<v1::Error> CosimSimulation::accept(ConnectionId from, const v1::Da
     }
     return makeError(v1::Error::OUT_OF_ORDER, "component \"" + c.name + "\": " + why, c.name, "data.step", true);
   }
-  if (auto bad = checkInput(c, package)) return bad;
+  if (auto bad = checkInput(c, package, compiled_.time_step)) return bad;
   if (auto bad = refusedByEngine(c, package)) return bad;
   if (scheduler_.offer(index, package.step()) != ExchangeScheduler::Offer::Accepted) {
     return makeError(v1::Error::OUT_OF_ORDER, "component \"" + c.name + "\": package not accepted", c.name,
@@ -246,10 +248,21 @@ CosimSimulation::Advance CosimSimulation::advance() {
   const Clock::time_point begin = Clock::now();
   const std::uint64_t first = w.stepCount();
   beforeEngine();
+  std::optional<SteppingTurns::Turn> turn;
+  if (turns_) turn.emplace(*turns_, stop_stepping_.get());
   while (w.stepCount() < *stop) {
+    // Between two steps, the one place an interval of any length can end early.
+    if (turn ? !turn->mayStep() : stop_stepping_ && stop_stepping_->load(std::memory_order_relaxed)) {
+      backend_->syncParticles();
+      outputs_.addStepping(w.stepCount() - first, secondsSince(begin));
+      out.stepped = w.stepCount() > first;
+      out.interrupted = true;
+      return out;
+    }
     stepWorld();
     if (driver_ && w.stepCount() < *stop) driver_->afterStep(w);
   }
+  turn.reset();
   // The outputs at the stop read the particles from the compiled world (no-op natively).
   backend_->syncParticles();
   outputs_.addStepping(w.stepCount() - first, secondsSince(begin));

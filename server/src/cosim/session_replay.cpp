@@ -7,10 +7,21 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "demlink/core/input_error.hpp"
+#include "demlink/core/input_file.hpp"
+#include "demlink/core/log_text.hpp"
 #include "demlink/v1/recording.pb.h"
 #include "demlink/wire/frame_codec.hpp"
 
 namespace demlink::server {
+namespace {
+
+/// A record that does not read as one is bad input (the tool exits 2), not a failure.
+core::InputError corrupt(const std::filesystem::path& file, const std::string& reason) {
+  return core::InputError("session record", core::logText(file.string()), reason);
+}
+
+}  // namespace
 
 std::optional<std::vector<Outgoing>> replayEvent(CosimHost& host, const v1::SessionEvent& event,
                                                  SteadyClock::time_point now) {
@@ -27,12 +38,8 @@ std::optional<std::vector<Outgoing>> replayEvent(CosimHost& host, const v1::Sess
 }
 
 ReplayResult replaySession(const std::filesystem::path& file, CosimOptions options) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw std::runtime_error("cannot read the session record " + file.string());
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
   wire::FrameDecoder decoder(std::numeric_limits<std::size_t>::max() / 2);
-  decoder.feed(bytes.str());
+  decoder.feed(core::readInputFile("session record", file));
 
   options.record_file.clear();
   std::unique_ptr<CosimHost> host;
@@ -53,13 +60,13 @@ ReplayResult replaySession(const std::filesystem::path& file, CosimOptions optio
   while (std::optional<std::string> payload = decoder.next()) {
     v1::SessionEvent event;
     if (!wire::parsePayload(*payload, event)) {
-      throw std::runtime_error(file.string() + ": event " + std::to_string(index) + " is not a SessionEvent");
+      throw corrupt(file, "event " + std::to_string(index) + " is not a SessionEvent");
     }
     const auto now = origin + std::chrono::duration_cast<SteadyClock::duration>(
                                   std::chrono::duration<double>(event.elapsed_s()));
     if (index == 0) {
       if (event.kind() != v1::SessionEvent::HEADER) {
-        throw std::runtime_error(file.string() + ": the first event is not a HEADER");
+        throw corrupt(file, "the first event is not a HEADER");
       }
       options.base_scene = event.base_scene();
       options.scene_directory = event.scene_directory();
@@ -70,7 +77,7 @@ ReplayResult replaySession(const std::filesystem::path& file, CosimOptions optio
     }
     const std::optional<std::vector<Outgoing>> answers = replayEvent(*host, event, now);
     if (!answers) {
-      throw std::runtime_error(file.string() + ": event " + std::to_string(index) + " has unknown kind " +
+      throw corrupt(file, "event " + std::to_string(index) + " has unknown kind " +
                                std::to_string(static_cast<int>(event.kind())));
     }
     collect(*answers);
@@ -78,10 +85,10 @@ ReplayResult replaySession(const std::filesystem::path& file, CosimOptions optio
     ++result.events;
   }
   if (decoder.error() != wire::FrameError::None || decoder.pendingBytes() > 0) {
-    throw std::runtime_error(file.string() + ": bad or truncated frame after event " + std::to_string(index) +
+    throw corrupt(file, "bad or truncated frame after event " + std::to_string(index) +
                              (decoder.errorMessage().empty() ? "" : ": " + decoder.errorMessage()));
   }
-  if (!host) throw std::runtime_error(file.string() + ": empty session record");
+  if (!host) throw corrupt(file, "empty session record");
   result.simulations = host->simulationsFinished();
   spdlog::info("replayed {} events of {}: {} simulations", result.events, file.string(), result.simulations);
   return result;

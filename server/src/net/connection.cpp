@@ -57,6 +57,14 @@ void Connection::setWelcomed() {
   decoder_.setMaxFrameBytes(limits_.max_frame_bytes);
 }
 
+bool Connection::heldBack() const { return open_ && (outputBehind() || server_.handlerBusyWith(id_)); }
+
+void Connection::resume() {
+  if (!open_ || heldBack()) return;
+  deliverFrames();
+  readMore();
+}
+
 void Connection::readMore() {
   if (reading_ || read_done_ || socket_closed_ || heldBack()) return;
   reading_ = true;
@@ -103,7 +111,7 @@ void Connection::deliverFrames() {
   while (open_) {
     if (heldBack()) {
       // The rest waits in the decoder until the client takes its output (writeMore).
-      if (!warned_behind_) {
+      if (!warned_behind_ && outputBehind()) {
         warned_behind_ = true;
         spdlog::warn("connection {}: {} bytes of output not taken by the client; its input waits until they are",
                      id_, queuedBytes());

@@ -54,6 +54,8 @@ class Connection : public std::enable_shared_from_this<Connection> {
   /// Passed Hello: the full frame cap applies and the Hello timeout stops.
   void setWelcomed();
   [[nodiscard]] bool open() const { return open_; }
+  /// Input held back goes on if nothing holds it any more (the handler has answered).
+  void resume();
 
  private:
   void readMore();
@@ -62,8 +64,11 @@ class Connection : public std::enable_shared_from_this<Connection> {
   void writeMore();
   /// Output queued and in flight [bytes].
   [[nodiscard]] std::size_t queuedBytes() const { return pending_.size() + inflight_.size(); }
-  /// Input is held back while the client does not take its output (back-pressure).
-  [[nodiscard]] bool heldBack() const { return open_ && queuedBytes() > limits_.max_queued_bytes; }
+  /// The client does not take its output (back-pressure).
+  [[nodiscard]] bool outputBehind() const { return queuedBytes() > limits_.max_queued_bytes; }
+  /// Input is held back while the client does not take its output, or while the handler
+  /// still works on this connection's earlier messages (TcpServer::handlerBusyWith).
+  [[nodiscard]] bool heldBack() const;
   /// Closing: FIN once the queue is empty, the socket once the client hung up too.
   void continueClosing();
   void closeSocket();

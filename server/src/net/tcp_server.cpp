@@ -17,6 +17,11 @@
 namespace demlink::server {
 namespace {
 
+/// Messages of one connection the handler may hold unanswered before its input waits [-]:
+/// enough for a client that sends every component's package of a step at once, few
+/// enough that what they cost stays bounded.
+constexpr std::size_t kMaxPendingCalls = 64;
+
 std::string messageName(const v1::ClientMessage& message) {
   const google::protobuf::FieldDescriptor* field =
       v1::ClientMessage::descriptor()->FindFieldByNumber(static_cast<int>(message.message_case()));
@@ -48,9 +53,21 @@ TcpServer::TcpServer(SessionHandler& handler, TcpServerOptions options)
   }
   accept();
   rearmTimer();
+  handler_.attachLoop([this](std::function<std::vector<Outgoing>()> work) {
+    asio::post(io_, [this, work = std::move(work)] {
+      if (finishing_) return;
+      callHandler(0, "posted work", work);
+      // The handler has answered something: input it held back may go on. Copied: a
+      // resumed connection may close and leave the map.
+      std::vector<std::shared_ptr<Connection>> open;
+      open.reserve(connections_.size());
+      for (const auto& entry : connections_) open.push_back(entry.second);
+      for (const std::shared_ptr<Connection>& connection : open) connection->resume();
+    });
+  });
 }
 
-TcpServer::~TcpServer() = default;
+TcpServer::~TcpServer() { handler_.attachLoop({}); }
 
 std::string TcpServer::address() const {
   asio::error_code error;
@@ -130,6 +147,10 @@ void TcpServer::accept() {
     connection->start();
     accept();
   });
+}
+
+bool TcpServer::handlerBusyWith(ConnectionId id) const {
+  return handler_.pendingCalls(id) >= kMaxPendingCalls;
 }
 
 void TcpServer::onMessage(Connection& connection, const v1::ClientMessage& message) {

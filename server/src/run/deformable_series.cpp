@@ -6,11 +6,14 @@
 
 #include <spdlog/fmt/fmt.h>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <stdexcept>
 
 #include "demlink/core/deformable/fem_body.hpp"
 #include "demlink/core/deformable/mass_spring_body.hpp"
+#include "demlink/core/step/watchdog.hpp"
 
 namespace demlink::server {
 namespace {
@@ -27,6 +30,26 @@ void nodeStates(const core::DeformableBody& body, std::size_t count, std::vector
     positions[i] = body.nodePosition(i);
     displacements[i] = body.nodeDisplacement(i);
     velocities[i] = body.nodeVelocity(i);
+  }
+}
+
+/// A frame is checked before it is written (the watchdog reads the world only every few
+/// steps): a non-finite node or stress stops the run as the watchdog would, and no file
+/// gets a NaN.
+void requireFiniteFrame(const core::DeformableBody& body, std::uint64_t step, const std::vector<core::Vec3>& positions,
+                        const std::vector<core::Vec3>& velocities, const std::vector<double>& stress) {
+  const auto finite = [](const core::Vec3& v) { return v.allFinite(); };
+  std::string what;
+  if (!std::all_of(positions.begin(), positions.end(), finite)) what = "node positions";
+  if (what.empty() && !std::all_of(velocities.begin(), velocities.end(), finite)) what = "node velocities";
+  if (what.empty() && !std::all_of(stress.begin(), stress.end(), [](double s) { return std::isfinite(s); })) {
+    what = "von Mises stress";
+  }
+  if (!what.empty()) {
+    throw core::SimulationFault("non_finite",
+                                std::string(body.kind()) + " body " + body.name() + " (" + what +
+                                    "); its frame is not written",
+                                step);
   }
 }
 
@@ -94,9 +117,11 @@ void DeformableSeries::writeFrame(const core::World& world) {
     if (volume) {
       nodeStates(body, body.nodeCount(), positions, displacements, velocities);
       const std::vector<double> stress = fem->vonMisesStress();
+      requireFiniteFrame(body, world.stepCount(), positions, velocities, stress);
       core::writeTetrahedraVtu(path, positions, displacements, velocities, fem->elements(), stress);
     } else {
       nodeStates(body, surface.positions().size(), positions, displacements, velocities);
+      requireFiniteFrame(body, world.stepCount(), positions, velocities, {});
       std::vector<std::array<std::uint32_t, 2>> springs;
       std::vector<char> intact;
       if (const auto* ms = dynamic_cast<const core::MassSpringBody*>(&body)) {

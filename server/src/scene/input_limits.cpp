@@ -9,7 +9,10 @@
 
 #include <spdlog/fmt/fmt.h>
 
+#include "demlink/core/components/sampled_component.hpp"
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/log_text.hpp"
+#include "demlink/core/world.hpp"
 
 namespace demlink::server {
 
@@ -35,6 +38,18 @@ void requireParticleMemory(const std::string& field, const std::string& value, s
                     "({:.3g} GB: half of its memory or address-space limit)",
                     particles, static_cast<double>(particles) * kBytesPerParticle * 1e-9, kBytesPerParticle, most,
                     static_cast<double>(budget) * 1e-9));
+  }
+}
+
+void requireOutputFileCount(const core::World& world) {
+  std::size_t files = 0;
+  for (const auto& component : world.components()) {
+    const auto* sampled = dynamic_cast<const core::SampledComponent*>(component.get());
+    if (sampled == nullptr || ++files <= kMaxFileComponents) continue;
+    throw core::InputError(sampled->fieldPrefix(), core::quotedLogText(sampled->name()),
+                           fmt::format("more than {} sensors, sinks and trackers in one scene (each keeps a CSV file "
+                                       "open while the simulation runs)",
+                                       kMaxFileComponents));
   }
 }
 

@@ -20,6 +20,7 @@
 #include <unordered_map>
 
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/input_file.hpp"
 
 namespace demlink::server {
 namespace {
@@ -119,15 +120,7 @@ std::vector<ParticleCsvRecord> parseParticleCsv(std::string_view text, const std
 }
 
 std::vector<ParticleCsvRecord> readParticleCsv(const std::filesystem::path& path) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) {
-    throw core::InputError(path.string(), "(particle CSV)", "file not found or not a regular file");
-  }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw core::InputError(path.string(), "(particle CSV)", "cannot open");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parseParticleCsv(text.str(), path.string());
+  return parseParticleCsv(core::readInputFile("particle CSV", path), path.string());
 }
 
 void writeParticleCsv(const core::World& world, const std::filesystem::path& path) {

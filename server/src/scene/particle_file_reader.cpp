@@ -14,6 +14,7 @@
 #include <unordered_map>
 
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/input_file.hpp"
 
 namespace demlink::server {
 namespace {
@@ -95,16 +96,7 @@ std::vector<ParticleRecord> parseParticleText(std::string_view text, const std::
 }
 
 std::vector<ParticleRecord> readParticleFile(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) {
-    throw core::InputError(path, "(particle file)", std::filesystem::exists(path, ec) ? "not a regular file"
-                                                                                       : "file not found");
-  }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw core::InputError(path, "(particle file)", "cannot open");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parseParticleText(text.str(), path);
+  return parseParticleText(core::readInputFile("particle file", path), path);
 }
 
 }  // namespace demlink::server

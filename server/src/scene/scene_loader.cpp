@@ -13,6 +13,7 @@
 #include <system_error>
 
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/input_file.hpp"
 
 namespace demlink::server {
 
@@ -68,17 +69,7 @@ v1::Scene parseSceneJson(const std::string& json, const std::string& sourceName)
 }
 
 v1::Scene loadSceneFile(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) throw core::InputError(path, "(scene file)", "file not found");
-  if (!std::filesystem::is_regular_file(path, ec)) {
-    throw core::InputError(path, "(scene file)", "not a regular file");
-  }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw core::InputError(path, "(scene file)", std::string("cannot open: ") + std::strerror(errno));
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw core::InputError(path, "(scene file)", "read error");
-  return parseSceneJson(text.str(), path);
+  return parseSceneJson(core::readInputFile("scene file", path), path);
 }
 
 std::string sceneToJson(const v1::Scene& scene) {

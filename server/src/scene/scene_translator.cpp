@@ -376,6 +376,7 @@ TranslatedScene translateScene(const v1::Scene& scene, const FileScope& files, S
   }
   addDeformableBodies(scene, resolve, files, out.world);
   addSensorComponents(scene, out.world);
+  requireOutputFileCount(out.world);
   if (out.run.mesh_loads && out.world.meshes().empty()) {
     throw core::InputError(out.run.field_prefix + ".output.mesh_loads", "true",
                            "the scene has no mesh bodies to put loads on");

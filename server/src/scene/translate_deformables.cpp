@@ -11,6 +11,7 @@
 
 #include "demlink/core/components/deformable_attachment.hpp"
 #include "demlink/core/input_error.hpp"
+#include "demlink/server/scene/input_limits.hpp"
 #include "demlink/server/scene/proto_convert.hpp"
 
 namespace demlink::server {
@@ -19,6 +20,13 @@ namespace {
 using core::InputError;
 
 std::string indexed(const std::string& field, int k) { return field + "[" + std::to_string(k) + "]"; }
+
+/// Nodes of the deformable bodies the world holds already [-].
+std::uint64_t deformableNodes(const core::World& world) {
+  std::uint64_t nodes = 0;
+  for (const auto& body : world.deformableBodies()) nodes += body->nodeCount();
+  return nodes;
+}
 
 /// lo and hi of a box declaration (`Given`: NodeRegion, MassSpringBox), finite, hi >= lo.
 template <class Given, class Box>
@@ -254,6 +262,16 @@ void addDeformableBodies(const v1::Scene& scene, const MaterialResolver& resolve
       core::MassSpringSpec spec = translateMassSpringBody(component.mass_spring_body(), component.name(),
                                                           resolveMaterial, files, prefix);
       attach(component.mass_spring_body().attached_to(), prefix, spec.driven_reference);
+      if (spec.box) {
+        // Refused before the lattice is built: a node with its springs costs about a sphere.
+        const double nodes = spec.box->nodeCount();
+        if (nodes > 1e15) {
+          throw InputError(prefix + ".box.node_spacing", core::formatValue(spec.box->node_spacing),
+                           "gives more than 1e15 nodes");
+        }
+        requireParticleMemory(prefix + ".box.node_spacing", core::formatValue(spec.box->node_spacing),
+                              world.particles().size() + deformableNodes(world) + static_cast<std::uint64_t>(nodes));
+      }
       body = std::make_unique<core::MassSpringBody>(spec, prefix);
     } else if (component.has_fem_body()) {
       prefix = path + ".fem_body";

@@ -148,7 +148,7 @@ TEST(FemReaders, GmshErrorsNameFileAndLine) {
   EXPECT_EQ(none.field(), "msh:a.msh");
   const InputError missing = errorOf([&] { (void)readGmsh("/nonexistent/x.msh"); });
   EXPECT_EQ(missing.field(), "msh:/nonexistent/x.msh");
-  EXPECT_EQ(missing.reason(), "file does not exist");
+  EXPECT_EQ(missing.reason(), "no such file");
   // The good file parses.
   EXPECT_EQ(parseGmsh(head + nodes + "$Elements\n1\n1 4 2 0 1 1 2 3 4\n$EndElements\n", "a.msh").tetCount(),
             1u);
@@ -212,7 +212,7 @@ TEST(FemReaders, BodyErrorsNameTheField) {
   const fem_test::Beam beam = fem_test::Beam::coarse(4);
   FemSpec spec = beam.spec(dir.file("bad.msh"));
   const InputError e = errorOf([&] { FemBody(spec, 1e-4, "bodies[1]"); });
-  EXPECT_EQ(e.field(), "bodies[1].msh_path");
+  EXPECT_EQ(e.field(), "bodies[1].mesh.msh_file");
   EXPECT_NE(e.reason().find(dir.file("bad.msh") + ":line 6"), std::string::npos) << e.what();
   EXPECT_EQ(std::string(e.what()).find("SECRET"), std::string::npos);
 
@@ -222,13 +222,13 @@ TEST(FemReaders, BodyErrorsNameTheField) {
   EXPECT_EQ(errorOf([&] { FemBody(spec, 1e-4, "b"); }).field(), "b.poisson_ratio");
   spec = beam.spec(dir.file("beam.msh"));
   spec.fixed_regions.push_back({Vec3(5, 5, 5), Vec3(6, 6, 6)});
-  EXPECT_EQ(errorOf([&] { FemBody(spec, 1e-4, "b"); }).field(), "b.fixed_regions[1]");
+  EXPECT_EQ(errorOf([&] { FemBody(spec, 1e-4, "b"); }).field(), "b.fixed.regions[1]");
   spec = beam.spec(dir.file("beam.msh"));
   spec.fixed_nodes = {1, 99999};
-  EXPECT_EQ(errorOf([&] { FemBody(spec, 1e-4, "b"); }).field(), "b.fixed_nodes[1]");
+  EXPECT_EQ(errorOf([&] { FemBody(spec, 1e-4, "b"); }).field(), "b.fixed.nodes[1]");
   spec = beam.spec(dir.file("beam.msh"));
   spec.mass_matrix_path = "m.mtx";
-  EXPECT_EQ(errorOf([&] { FemBody(spec, 1e-4, "b"); }).field(), "b.msh_path");
+  EXPECT_EQ(errorOf([&] { FemBody(spec, 1e-4, "b"); }).field(), "b.mesh.msh_file");
   spec = beam.spec(dir.file("beam.msh"));
   spec.integrator = FemIntegrator::kCentralDifference;
   spec.mass = FemMass::kConsistent;

@@ -338,14 +338,14 @@ TEST(MassSpringBody, BadSpecsNameTheField) {
   expectInputError(s, "ms.springs[0]");
   s = good;
   s.fixed_nodes = {2};
-  expectInputError(s, "ms.fixed_nodes[0]");
+  expectInputError(s, "ms.fixed.nodes[0]");
   s = good;
   s.fixed_nodes = {0};
   s.driven_nodes = {0};
-  expectInputError(s, "ms.driven_nodes[0]");
+  expectInputError(s, "ms.driven.nodes[0]");
   s = good;
   s.fixed_regions = {{Vec3(5, 5, 5), Vec3(6, 6, 6)}};
-  expectInputError(s, "ms.fixed_regions[0]");
+  expectInputError(s, "ms.fixed.regions[0]");
   s = good;
   s.triangles = {{0, 1, 4}};
   expectInputError(s, "ms.triangles[0]");

@@ -105,6 +105,43 @@ TEST(CosimLimits, ComponentNamesAreCheckedAtDeclare) {
   freshClientRunsToTheEnd(h, 2);
 }
 
+/// A list from a client (100,000 expected names) and a 60,000-byte Hello.simulation: the
+/// Errors name the first few and the count, the log stays small, and a name that would be
+/// a path ('/', "..") is refused at Declare.
+TEST(CosimLimits, ListsAndLongTextFromClientsAreCutInErrorsAndLogs) {
+  ScratchDir dir;
+  CosimHarness h(dir.path());
+  LogCapture log;
+  h.hello(1, "alice", "group");
+  v1::ComponentDeclaration box = declarationOf(boxJson(1e-5, 0.0, "", 1e-4));
+  for (int k = 0; k < 100000; ++k) box.mutable_simulation_box()->mutable_coupling()->add_expected_names("part-" + std::to_string(k));
+  v1::ClientMessage declare;
+  *declare.mutable_declare()->mutable_component() = box;
+  h.take(h.host().received(1, declare, h.now()));
+  ASSERT_TRUE(h.errors(1).empty()) << h.errors(1).front().message();
+  h.hello(2, "bob", std::string(60000, 'g'));
+  const v1::Error other = lastError(h, 2);
+  EXPECT_EQ(other.code(), v1::Error::OUT_OF_ORDER);
+  EXPECT_LT(other.message().size(), 1000u) << other.message().size();
+  EXPECT_NE(other.message().find("held by client \"alice\" (connection 1)"), std::string::npos) << other.message();
+  EXPECT_NE(other.message().find("assembly times out in"), std::string::npos) << other.message();
+  h.take(h.host().expireAssemblyNow(h.now()));
+  const v1::Error timeout = lastError(h, 1);
+  EXPECT_EQ(timeout.code(), v1::Error::TIMEOUT);
+  EXPECT_LT(timeout.message().size(), 1000u) << timeout.message().size();
+  EXPECT_NE(timeout.message().find("\"part-4\" and 99995 more (100000 in all)"), std::string::npos)
+      << timeout.message();
+  EXPECT_LT(log.text().size(), 8192u) << "the log holds every name";
+
+  for (const char* name : {"a/b", "..", "."}) {
+    h.hello(3, "carol");
+    h.declare(3, std::string(R"({"name": ")") + name + R"(", "material": {}})");
+    EXPECT_EQ(lastError(h, 3).code(), v1::Error::INVALID_DECLARATION) << name;
+    EXPECT_EQ(lastError(h, 3).field(), "component.name") << name;
+    h.bye(3);
+  }
+}
+
 TEST(CosimLimits, ClientFilePathsNeedADataRoot) {
   ScratchDir dir;
   const std::string body = R"({"name": "bucket", "communication_interval": 5e-5, "rigid_body": {"material": "glass",

@@ -12,8 +12,9 @@ namespace demlink::core {
 inline constexpr std::size_t kMaxNameLength = 128;
 
 /// Why `name` breaks the rule (empty: it does not). The rule: 1 to kMaxNameLength
-/// printable ASCII characters (space to '~') other than '"' and '\\', neither starting
-/// nor ending with a space.
+/// printable ASCII characters (space to '~') other than '"', '\\' and '/', neither starting
+/// nor ending with a space, and not "." or "..": a name is then also a safe file name
+/// (sensor CSVs and output files are named after components).
 [[nodiscard]] std::string nameProblem(std::string_view name);
 
 /// Throws InputError naming `field` (the value escaped and truncated, log_text.hpp) when

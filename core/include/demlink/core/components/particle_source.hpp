@@ -63,6 +63,11 @@ struct SourceRegion {
 /// (`sizes` is then unused).
 enum class SourceShape : std::uint8_t { Sphere, ClumpTemplate };
 
+/// Throws InputError naming `field` unless `rate` is finite, >= 0 and at most
+/// kMaxSourceParticleRate (`perParticle`) or kMaxSourceMassRate: one rule for a declared
+/// rate and one sent at run time.
+void requireSourceRate(const std::string& field, double rate, bool perParticle);
+
 struct ParticleSourceSpec {
   SourceRegion region;
   /// Name of the mesh body the region is attached to (empty: fixed in the world frame).
@@ -155,6 +160,8 @@ class ParticleSource final : public WorldComponent {
   /// Adds one clump of the template, COM at `position`, random orientation.
   void insertClump(World& world, const Vec3& position, const Vec3& velocity);
   void noteShortfall(const Drawn& shape, double time);
+  /// `count` particles owed beyond kMaxSourcePlacementsPerStep in one step, not tried.
+  void noteBulkShortfall(double count, double time);
   /// The request (count or kg) accumulated up to time `t` [s] at the current rate.
   [[nodiscard]] double requestedUntil(double t) const;
   /// Ends the current rate segment at time `t` [s] (before a change of rate or state).

@@ -24,8 +24,12 @@ namespace demlink::core {
 inline constexpr std::uint64_t kMaxMatrixDimension = 100'000'000;
 
 /// Reads a Matrix Market file; InputError naming "mtx:<path>:line <n>" and the reason.
-[[nodiscard]] Eigen::SparseMatrix<double> readMatrixMarket(const std::string& path);
-[[nodiscard]] Eigen::SparseMatrix<double> parseMatrixMarket(std::string_view text, const std::string& source);
+/// `dimension` > 0: the matrix must be dimension x dimension (3 per node of the node
+/// file), checked on the size line before anything is allocated, so a few bytes claiming
+/// a huge matrix cost nothing.
+[[nodiscard]] Eigen::SparseMatrix<double> readMatrixMarket(const std::string& path, std::uint64_t dimension = 0);
+[[nodiscard]] Eigen::SparseMatrix<double> parseMatrixMarket(std::string_view text, const std::string& source,
+                                                            std::uint64_t dimension = 0);
 /// Writes `matrix` (all entries, "general"; only the lower triangle, "symmetric") with 17 digits.
 void writeMatrixMarket(const std::string& path, const Eigen::SparseMatrix<double>& matrix, bool symmetric);
 

@@ -55,6 +55,9 @@ struct MassSpringSpec : NodeConstraintSpec {
     Vec3 lo = Vec3::Zero();
     Vec3 hi = Vec3::Zero();
     double node_spacing = 0.0;
+    /// The nodes the lattice gets (before it is built, for a memory check); +inf when an
+    /// axis is not positive or finite [-].
+    [[nodiscard]] double nodeCount() const;
   };
   std::optional<Box> box;
   /// (b) an STL surface: nodes = distinct vertices, springs = distinct edges.

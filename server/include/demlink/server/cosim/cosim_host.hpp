@@ -18,6 +18,7 @@
 /// and answers each component whose interval ended there. It ends when every connection
 /// said Bye, the end step is reached, a fault happens, or shutdown(); then outputs are
 /// flushed and the host is ready for the next simulation (new connections).
+#include <atomic>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -38,6 +39,8 @@ class World;
 }
 
 namespace demlink::server {
+
+class SteppingTurns;
 
 struct CosimOptions {
   v1::Scene base_scene;                         ///< components from a scene file (may be empty)
@@ -87,6 +90,16 @@ struct CosimOptions {
   /// This host mirrors rank 0's on another MPI rank: it drives the engine in lockstep but
   /// writes no output files.
   bool mirror = false;
+  /// The number of this host's first simulation (Welcome.simulation_number, the output
+  /// folder sim_NNN); the SimulationHub gives each simulation its own host and number.
+  std::uint64_t first_simulation_number = 1;
+  /// Set: stepping stops at the next step boundary once it is true (server shutdown), so
+  /// an interval of any length is cut short; the host then ends on shutdown(). Another
+  /// thread sets it while this host steps.
+  std::shared_ptr<const std::atomic<bool>> stop_stepping;
+  /// Set: the simulation steps only while it holds a turn (stepping_turns.hpp), shared by
+  /// every simulation of the server.
+  std::shared_ptr<SteppingTurns> turns;
 };
 
 class CosimHost final : public SessionHandler {
@@ -127,6 +140,16 @@ class CosimHost final : public SessionHandler {
   [[nodiscard]] bool simulationRunning() const;
   /// Simulations ended so far [-].
   [[nodiscard]] std::uint64_t simulationsFinished() const;
+
+  /// Who holds the pending or running simulation, for a client that cannot join it.
+  struct Status {
+    std::uint64_t number = 0;  ///< the pending or running simulation's number
+    bool running = false;      ///< compiled (else pending, or none when `clients` is empty)
+    std::string group;         ///< its clients' Hello.simulation
+    std::vector<std::pair<ConnectionId, std::string>> clients;  ///< connection and client name
+    std::optional<SteadyClock::time_point> assembly_deadline;   ///< pending: when it times out
+  };
+  [[nodiscard]] Status status() const;
 
  private:
   struct Impl;

@@ -16,8 +16,11 @@ namespace demlink::server {
 
 /// The input of `package` for `component`: present when the kind needs it (rigid_body),
 /// absent or of the component's own kind otherwise, finite everywhere, a unit quaternion
-/// (within 1e-6), a valid frame. Returns Error{INVALID_INPUT, fatal} naming the field.
-[[nodiscard]] std::optional<v1::Error> checkInput(const CosimComponent& component, const v1::DataPackage& package);
+/// (within 1e-6), a valid frame, and inside every bound the same field obeys in a
+/// declaration (core/input_bounds.hpp: positions, speeds, spins, accelerations, gravity
+/// times `timeStep`, source rates). Returns Error{INVALID_INPUT, fatal} naming the field.
+[[nodiscard]] std::optional<v1::Error> checkInput(const CosimComponent& component, const v1::DataPackage& package,
+                                                  double timeStep);
 
 /// Pose and twist of a checked RigidBodyInput (omitted velocities zero; the quaternion as
 /// sent, core::targetPose normalises it).

@@ -21,6 +21,7 @@
 #include "demlink/server/backend/simulation_backend.hpp"
 #include "demlink/server/cosim/cosim_compiler.hpp"
 #include "demlink/server/cosim/cosim_outputs.hpp"
+#include "demlink/server/cosim/stepping_turns.hpp"
 #include "demlink/server/cosim/exchange_scheduler.hpp"
 #include "demlink/server/run/run_driver.hpp"
 
@@ -66,10 +67,15 @@ class CosimSimulation {
     std::vector<std::pair<ConnectionId, v1::DataPackage>> answers;  ///< to each owner
     bool stepped = false;      ///< the world moved
     bool end_reached = false;  ///< the end step is reached
+    /// Cut short between two steps (CosimOptions::stop_stepping): no answers, the
+    /// scheduler stays at its step; the simulation can only finish.
+    bool interrupted = false;
   };
   /// Once every due component has reported: applies the inputs, advances the world to the
   /// next stop and builds the answers of the components whose interval ends there. Does
-  /// not step when nothing is exchanged any more and there is no end step.
+  /// not step when nothing is exchanged any more and there is no end step. With
+  /// CosimOptions::turns it steps only while it holds a turn, and it stops between two
+  /// steps once CosimOptions::stop_stepping is set (Advance::interrupted).
   Advance advance();
 
   /// Final frame, checkpoint_final.bin, particles_final.csv and the run log's timing with
@@ -103,6 +109,8 @@ class CosimSimulation {
   std::map<std::size_t, v1::DataPackage> inputs_;  ///< stored inputs of the current step
   std::unique_ptr<RunDriver> driver_;  ///< null on a mirror
   std::function<void()> before_engine_;
+  std::shared_ptr<const std::atomic<bool>> stop_stepping_;  ///< CosimOptions::stop_stepping
+  std::shared_ptr<SteppingTurns> turns_;                    ///< CosimOptions::turns
   std::function<void(const core::World&)> step_observer_;  ///< options.step_observer
   std::unique_ptr<SimulationBackend> backend_;  ///< steps the compiled world (native or LIGGGHTS)
   /// The backend writes the checkpoints, at the stops (LIGGGHTS: the compiled world holds

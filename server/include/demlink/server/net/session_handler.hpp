@@ -14,9 +14,14 @@
 ///   whatever the reason (EOF, reset, bad frame, close_after, stop); the handler must
 ///   tolerate it for ids it already forgot.
 /// - all calls come from one thread (the server's io_context), never concurrently.
+/// - a handler whose work finishes on threads of its own (SimulationHub: each simulation
+///   steps on its own thread) hands the results back through the LoopPoster it was given
+///   (attachLoop): the work runs on the network thread and what it returns is sent there.
 /// - an Outgoing for an id that is already closed is dropped.
 #include <chrono>
+#include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -37,15 +42,28 @@ struct Outgoing {
   bool close_after = false;  ///< close the connection once this message is sent
 };
 
+/// Runs a piece of work on the network thread and sends the messages it returns; callable
+/// from any thread (it only queues the work).
+using LoopPoster = std::function<void(std::function<std::vector<Outgoing>()>)>;
+
 class SessionHandler {
  public:
   virtual ~SessionHandler() = default;
+
+  /// The transport's poster, given once it can serve, and an empty function before it goes
+  /// away (work posted after that is dropped). Handlers that answer only from their calls
+  /// ignore it.
+  virtual void attachLoop(LoopPoster /*poster*/) {}
 
   /// A connection passed Hello: normally Welcome, or an Error with close_after.
   virtual std::vector<Outgoing> connected(ConnectionId id, const v1::Hello& hello, SteadyClock::time_point now) = 0;
   /// Any later message of a connected connection.
   virtual std::vector<Outgoing> received(ConnectionId from, const v1::ClientMessage& message,
                                          SteadyClock::time_point now) = 0;
+  /// Messages of this connection taken and not yet answered (work on other threads); the
+  /// transport reads no more from it while there are too many. Handlers that answer in
+  /// their calls have none.
+  [[nodiscard]] virtual std::size_t pendingCalls(ConnectionId /*id*/) const { return 0; }
   /// The connection is gone; `why` is for logs and for the other clients.
   virtual std::vector<Outgoing> disconnected(ConnectionId id, const std::string& why,
                                              SteadyClock::time_point now) = 0;

@@ -87,6 +87,9 @@ class TcpServer {
   friend class Connection;  // reports messages and closes through the two calls below
 
   void onMessage(Connection& connection, const v1::ClientMessage& message);
+  /// The handler holds this many of the connection's messages unanswered (a handler that
+  /// works on other threads): its input waits, so a client cannot queue unbounded work.
+  [[nodiscard]] bool handlerBusyWith(ConnectionId id) const;
   void onGone(Connection& connection, const std::string& why);
 
   void accept();

@@ -5,6 +5,10 @@
 #include <cstdint>
 #include <string>
 
+namespace demlink::core {
+class World;
+}
+
 namespace demlink::server {
 
 /// Longest wall-clock wait the server accepts or schedules (client timeout, quiet
@@ -27,5 +31,13 @@ inline constexpr std::uint64_t kBytesPerParticle = 1280;
 /// need more than particleMemoryBudget() at kBytesPerParticle: refused before anything
 /// is allocated.
 void requireParticleMemory(const std::string& field, const std::string& value, std::uint64_t particles);
+
+/// Components that each keep an output file open while a world runs (sensors, sinks,
+/// trackers: their CSVs) [-]: far above any scene's need, far below the process's file
+/// limit (1,024 by default) shared by every simulation of a server.
+inline constexpr std::size_t kMaxFileComponents = 256;
+
+/// Throws core::InputError naming the first component past kMaxFileComponents.
+void requireOutputFileCount(const core::World& world);
 
 }  // namespace demlink::server

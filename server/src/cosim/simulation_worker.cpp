@@ -1,0 +1,93 @@
+/// One simulation's thread (contract in simulation_worker.hpp).
+#include "demlink/server/cosim/simulation_worker.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <exception>
+#include <optional>
+#include <utility>
+
+namespace demlink::server {
+
+SimulationWorker::SimulationWorker(std::unique_ptr<CosimHost> host, Report report)
+    : host_(std::move(host)), report_(std::move(report)) {
+  thread_ = std::thread([this] { loop(); });
+}
+
+SimulationWorker::~SimulationWorker() {
+  {
+    const std::lock_guard lock(mutex_);
+    quit_ = true;
+    queue_.clear();
+  }
+  wake_.notify_all();
+  if (thread_.joinable()) thread_.join();
+}
+
+void SimulationWorker::post(Work work) {
+  {
+    const std::lock_guard lock(mutex_);
+    if (quit_ || ended_) return;
+    queue_.push_back(std::move(work));
+  }
+  wake_.notify_all();
+}
+
+std::vector<Outgoing> SimulationWorker::finish(const Work& last) {
+  {
+    const std::lock_guard lock(mutex_);
+    quit_ = true;
+    queue_.clear();
+  }
+  wake_.notify_all();
+  if (thread_.joinable()) thread_.join();
+  // The thread has returned: the host is this thread's now.
+  if (ended_) return {};
+  try {
+    return last(*host_);
+  } catch (const std::exception& error) {
+    spdlog::error("simulation {}: ending it failed: {}", host_->status().number, error.what());
+    return {};
+  }
+}
+
+void SimulationWorker::loop() {
+  for (;;) {
+    std::optional<Work> work;
+    bool timer = false;
+    {
+      std::unique_lock lock(mutex_);
+      const std::optional<SteadyClock::time_point> deadline = host_->nextDeadline();
+      const auto ready = [this] { return quit_ || !queue_.empty(); };
+      if (deadline) {
+        timer = !wake_.wait_until(lock, *deadline, ready);
+      } else {
+        wake_.wait(lock, ready);
+      }
+      if (quit_) return;
+      if (!timer) {
+        work = std::move(queue_.front());
+        queue_.pop_front();
+      }
+    }
+    // The host turns its own failures into Errors (CosimHost::guarded); anything else is
+    // a bug of this thread's, which must not take the process down with it.
+    std::vector<Outgoing> out;
+    try {
+      out = work ? (*work)(*host_) : host_->poll(SteadyClock::now());
+    } catch (const std::exception& error) {
+      spdlog::error("simulation {}: internal error: {}", host_->status().number, error.what());
+    }
+    if (work) ++calls_done_;
+    const bool ended = host_->simulationsFinished() > 0;
+    report_(std::move(out), host_->status(), ended, calls_done_);
+    if (ended) {
+      const std::lock_guard lock(mutex_);
+      ended_ = true;
+      queue_.clear();
+      return;
+    }
+  }
+}
+
+}  // namespace demlink::server
