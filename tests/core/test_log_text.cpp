@@ -21,13 +21,13 @@ TEST(LogText, EscapesControlBytesAndTruncates) {
 }
 
 TEST(Names, OneRule) {
-  for (const char* good : {"a", "bucket_1", "low/drain", "Pit A (left)", "x.y-z:w+v#u"}) {
+  for (const char* good : {"a", "bucket_1", "Pit A (left)", "x.y-z:w+v#u", "..a"}) {
     EXPECT_EQ(nameProblem(good), "") << good;
   }
   EXPECT_NE(nameProblem(""), "");
   EXPECT_NE(nameProblem(std::string(kMaxNameLength + 1, 'n')), "");
   EXPECT_EQ(nameProblem(std::string(kMaxNameLength, 'n')), "");
-  for (const std::string bad : {"new\nline", "esc\x1bname", "quote\"", "back\\slash", " lead", "trail ", "\xc3\xa9"}) {
+  for (const std::string bad : {"new\nline", "esc\x1bname", "quote\"", "back\\slash", " lead", "trail ", "\xc3\xa9", "low/drain", ".", ".."}) {
     EXPECT_NE(nameProblem(bad), "") << logText(bad);
     try {
       requireValidName("components[3].name", bad);

@@ -162,7 +162,7 @@ TEST(TranslateSensors, HeadlessRunWritesOneCsvPerComponent) {
       sceneOf({kBox, kGlass, kLattice,
                R"({"name": "all", "region_sensor": {"sample_interval": 5e-4, "region": {"box": {
                    "size": {"x": 1, "y": 1, "z": 1}}}}})",
-               R"({"name": "low/drain", "particle_sink": {"sample_interval": 5e-4, "region": {"box": {
+               R"({"name": "low_drain", "particle_sink": {"sample_interval": 5e-4, "region": {"box": {
                    "centre": {"z": -1}, "size": {"x": 1, "y": 1, "z": 1}}}}})",
                R"({"name": "floor", "flow_sensor": {"sample_interval": 1e-3, "surface": {"disc": {
                    "normal": {"z": 1}, "radius": 1}}}})"}),
