@@ -15,6 +15,7 @@
 
 #include "demlink/server/scene/scene_loader.hpp"
 #include "child_process.hpp"
+#include "scene_messages.hpp"
 #include "test_client.hpp"
 
 namespace demlink::server::test {
@@ -104,22 +105,6 @@ TEST(DemlinkServerCli, ListensOnAnEphemeralPortAndExitsZeroOnSigint) {
   EXPECT_EQ(server.waitForExit(), 0) << "SIGINT must end the server cleanly within 3 s";
 }
 
-/// Sends each component of the scene `json` as a Declare.
-void declareAll(TestClient& client, const std::string& json) {
-  const v1::Scene scene = parseSceneJson(json, "cli test scene");
-  for (const v1::ComponentDeclaration& component : scene.components()) {
-    v1::ClientMessage declare;
-    *declare.mutable_declare()->mutable_component() = component;
-    client.send(declare);
-  }
-}
-
-v1::ClientMessage package(std::uint32_t component, std::uint64_t step) {
-  v1::ClientMessage message;
-  message.mutable_data()->set_component_id(component);
-  message.mutable_data()->set_step(step);
-  return message;
-}
 
 /// The id and interval of `name` in `compiled` (every component of the simulation).
 std::pair<std::uint32_t, std::uint64_t> componentOf(const v1::Compiled& compiled, const std::string& name) {

@@ -16,6 +16,7 @@
 
 #include "child_process.hpp"
 #include "demlink/server/scene/scene_loader.hpp"
+#include "scene_messages.hpp"
 #include "test_client.hpp"
 
 namespace demlink::server::test {
@@ -39,21 +40,6 @@ std::optional<v1::ServerMessage> hello(TestClient& client, const std::string& na
   return client.receive(10s);
 }
 
-void declareAll(TestClient& client, const std::string& json) {
-  const v1::Scene scene = parseSceneJson(json, "responsiveness test scene");
-  for (const v1::ComponentDeclaration& component : scene.components()) {
-    v1::ClientMessage declare;
-    *declare.mutable_declare()->mutable_component() = component;
-    client.send(declare);
-  }
-}
-
-v1::ClientMessage package(std::uint32_t component, std::uint64_t step) {
-  v1::ClientMessage message;
-  message.mutable_data()->set_component_id(component);
-  message.mutable_data()->set_step(step);
-  return message;
-}
 
 std::uint32_t boxId(const v1::Compiled& compiled) {
   for (const v1::CompiledComponent& c : compiled.all_components()) {
