@@ -10,6 +10,19 @@ namespace {
 using A = FieldArray;
 using T = FieldType;
 
+/// A box or sphere region that may ride on a body: the sink's and the region sensor's
+/// fields share one generic layout.
+std::vector<FieldSpec> regionFields() {
+  return {
+      {"shape", T::kChoice, A::kInts, 0, 1, "", {{"box", 0}, {"sphere", 1}}},
+      {"centre", T::kReal, A::kReals, 1, 3, "m", {}, {}, {}, true},
+      {"size", T::kReal, A::kReals, 4, 3, "m", {}, {"shape", "box"}},
+      {"orientation", T::kReal, A::kReals, 7, 4, "", {}, {"shape", "box"}},
+      {"radius", T::kReal, A::kReals, 4, 1, "m", {}, {"shape", "sphere"}},
+      {"attached_to", T::kText, A::kStrings, 2},
+  };
+}
+
 const std::map<std::string, std::vector<FieldSpec>>& table() {
   static const std::map<std::string, std::vector<FieldSpec>> fields = {
       {"simulation_box",
@@ -90,24 +103,8 @@ const std::map<std::string, std::vector<FieldSpec>>& table() {
            {"disc_thickness", T::kReal, A::kReals, 17, 1, "m", {}, {"region", "disc"}},
            {"seed", T::kInteger, A::kInts, 0},
        }},
-      {"particle_sink",
-       {
-           {"shape", T::kChoice, A::kInts, 0, 1, "", {{"box", 0}, {"sphere", 1}}},
-           {"centre", T::kReal, A::kReals, 1, 3, "m", {}, {}, {}, true},
-           {"size", T::kReal, A::kReals, 4, 3, "m", {}, {"shape", "box"}},
-           {"orientation", T::kReal, A::kReals, 7, 4, "", {}, {"shape", "box"}},
-           {"radius", T::kReal, A::kReals, 4, 1, "m", {}, {"shape", "sphere"}},
-           {"attached_to", T::kText, A::kStrings, 2},
-       }},
-      {"region_sensor",
-       {
-           {"shape", T::kChoice, A::kInts, 0, 1, "", {{"box", 0}, {"sphere", 1}}},
-           {"centre", T::kReal, A::kReals, 1, 3, "m", {}, {}, {}, true},
-           {"size", T::kReal, A::kReals, 4, 3, "m", {}, {"shape", "box"}},
-           {"orientation", T::kReal, A::kReals, 7, 4, "", {}, {"shape", "box"}},
-           {"radius", T::kReal, A::kReals, 4, 1, "m", {}, {"shape", "sphere"}},
-           {"attached_to", T::kText, A::kStrings, 2},
-       }},
+      {"particle_sink", regionFields()},
+      {"region_sensor", regionFields()},
       {"flow_sensor",
        {
            {"shape", T::kChoice, A::kInts, 0, 1, "", {{"rectangle", 0}, {"disc", 1}}},
