@@ -130,8 +130,16 @@ int run(int argc, char** argv) {
                "demlink-calibrate");
   app.add_option("TARGETS", line.targets, "the targets file (JSON, proto/demlink/v1/calibration.proto)")->required();
   demlink::cli::addText(app, "--out", line.out, "materials file to write (default: <name>.csv)");
-  demlink::cli::addNumber(app, "--dt-fraction", line.dt_fraction, {0.0, true, 1.0 + 1e-12},
-                          "time step / critical limit of every scene (default 0.5: the ENGINEERING preset)");
+  demlink::cli::addValue(app, "--dt-fraction",
+                         "time step / critical limit of every scene, in (0, 1] (default 0.5: the ENGINEERING preset)",
+                         [&line](const std::string& value) {
+                           line.dt_fraction = demlink::cli::number("--dt-fraction", value);
+                           if (!(line.dt_fraction > 0.0 && line.dt_fraction <= 1.0)) {
+                             demlink::cli::refuse("--dt-fraction", value,
+                                                  "must be in (0, 1]: 1 is the largest step a scene accepts");
+                           }
+                         })
+      ->type_name("X");
   demlink::cli::addText(app, "--synthetic", line.synthetic,
                         "replace the measured values by the engine's own at these parameters (name=value,...)");
   app.add_flag("--check", line.check, "with --synthetic: exit 1 unless every parameter is recovered (within max(2 sigma, tolerance), 2 sigma below half the bounds)");
