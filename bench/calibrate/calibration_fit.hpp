@@ -12,7 +12,7 @@
 ///      around that minimum are run, the quadratics refitted with the points outside the
 ///      box down-weighted by (half-size / distance)^2, and the minimum found again.
 /// Pure numerics: the scenes come in through `Evaluate`, so the method is tested on known
-/// functions (tests/bench/test_calibration_fit.cpp).
+/// functions (tests/calibrate/test_calibration_fit.cpp).
 #include <functional>
 #include <string>
 #include <vector>

@@ -1,6 +1,7 @@
 #include "calibration_targets.hpp"
 
 #include <cmath>
+#include <limits>
 
 #include "calibration_scenes.hpp"
 #include "demlink/core/input_error.hpp"
@@ -19,7 +20,7 @@ constexpr std::uint32_t kMaxSeeds = 20;
 /// A required number of a TARGETS file: present, finite, within [low, high] (or above low
 /// when `strictly`).
 double required(bool present, double value, const std::string& field, double low, bool strictly,
-                double high = INFINITY) {
+                double high = std::numeric_limits<double>::infinity()) {
   if (!present) throw InputError(field, "(missing)", "required");
   if (!std::isfinite(value)) throw InputError(field, core::formatValue(value), "must be a finite number");
   if (strictly ? !(value > low) : !(value >= low)) {

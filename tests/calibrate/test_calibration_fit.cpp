@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <numbers>
 
 #include "calibration_fit.hpp"
 
@@ -25,7 +26,7 @@ double scatter(const std::vector<double>& p, int salt) {
 
 TEST(CalibrationFit, RecoversOneParameterOfASaturatingResponseWithScatter) {
   // An angle that grows with friction and saturates, with 2 % scatter.
-  auto angle = [](double mu) { return 40.0 * std::atan(2.0 * mu) * 180.0 / M_PI / 90.0; };
+  auto angle = [](double mu) { return 40.0 * std::atan(2.0 * mu) * 180.0 / std::numbers::pi / 90.0; };
   const double truth = 0.55;
   const Evaluate evaluate = [&](const std::vector<double>& p) {
     return std::vector<double>{angle(p[0]) * (1.0 + 0.02 * scatter(p, 1))};
@@ -34,7 +35,7 @@ TEST(CalibrationFit, RecoversOneParameterOfASaturatingResponseWithScatter) {
   EXPECT_NEAR(fit.parameters[0], truth, 0.04);
   EXPECT_FALSE(fit.at_bound[0]);
   EXPECT_EQ(fit.evaluations.size(), 5u + 3u + 3u) << "5 design points and two rounds of centre and axial points";
-  const double slope = 40.0 * 2.0 / (1.0 + 4.0 * truth * truth) * 180.0 / M_PI / 90.0;
+  const double slope = 40.0 * 2.0 / (1.0 + 4.0 * truth * truth) * 180.0 / std::numbers::pi / 90.0;
   EXPECT_NEAR(fit.slopes[0][0], slope, 0.2 * slope);
 }
 
