@@ -3,7 +3,8 @@
 /// bulk quantity each one measures. Every scene is built from one Knobs value, so a sweep
 /// changes one knob and keeps the others at the finest setting.
 ///
-/// Scenes (all with one material, spheres with radii uniform in [r, 1.2 r]):
+/// Scenes (all with one material, Knobs::grains: spheres with radii uniform in
+/// [radius_min, radius_max], by default the reference grains' [r, 1.2 r]):
 ///   impact  two spheres head-on at 1 m/s, no gravity: delivered / requested restitution;
 ///   bed     spheres rain into a long box around a still blade and settle: packing
 ///           fraction of the bed's core; then the blade moves through the bed at a

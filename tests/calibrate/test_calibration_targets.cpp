@@ -103,6 +103,13 @@ INSTANTIATE_TEST_SUITE_P(
         BadTargets{"not_an_object", "[1, 2]", "t.json", "(calibration targets JSON)"}),
     [](const ::testing::TestParamInfo<BadTargets>& param) { return std::string(param.param.what); });
 
+TEST(CalibrationTargets, TheExampleFilesAreValid) {
+  for (const char* name : {"wheat_targets.json", "synthetic_heap.json", "synthetic_heap_hopper.json"}) {
+    const Targets t = readTargets(std::string(DEMLINK_SOURCE_DIR) + "/examples/calibration/" + name);
+    EXPECT_GE(t.measurements.size(), t.fit.size()) << name;
+  }
+}
+
 TEST(CalibrationTargets, AMaterialsFileBesideTheTargetsGivesTheBase) {
   const server::test::ScratchDir scratch;
   server::test::writeText(scratch.path() / "mine.csv",
