@@ -31,6 +31,20 @@ World::World(SimulationSettings settings, std::string settingsField)
   settings_.validate(settings_field_);
 }
 
+std::size_t World::addBondRule(BondRule rule, const std::string& fieldPrefix) {
+  if (initialized_) throw InputError(fieldPrefix, rule.name, "parallel bonds must be declared before initialize()");
+  rule.properties.validate(fieldPrefix);
+  requireHalfOpenRange(fieldPrefix + ".fraction", rule.fraction, 0.0, 1.0);
+  for (std::size_t k = 0; k < rule.materials.size(); ++k) {
+    if (rule.materials[k] >= materials_.size()) {
+      throw InputError(fieldPrefix + ".materials[" + std::to_string(k) + "]", std::to_string(rule.materials[k]),
+                       "no such material");
+    }
+  }
+  if (rule.region) rule.placement.resolve(*this, fieldPrefix + ".region");
+  return bonds_.addRule(std::move(rule));
+}
+
 void World::setFrameMotion(const FrameMotion& motion) {
   motion.validate("frame");
   requireNoClumpsInRotatingFrame(motion, "frame");
@@ -319,6 +333,7 @@ void World::initialize() {
                                          "; softer springs or heavier nodes relax it",
                                      limit});
   }
+  bonds_.addTimeStepLimits(time_step_.report, materials_, minRadius);
   if (settings_.time_step > time_step_.report.limit && !settings_.allow_unsafe_time_step) {
     const TimeStepConstraint& limiting = *std::find_if(
         time_step_.report.constraints.begin(), time_step_.report.constraints.end(),
@@ -468,6 +483,7 @@ SceneFeatures World::sceneFeatures() const {
   f.watchdog = settings_.watchdog.every_steps > 0;
   f.cohesion = contacts_.cohesion;
   f.contact_recording = recorder_.settings.active();
+  f.parallel_bonds = bonds_.hasRules();
   return f;
 }
 
@@ -491,6 +507,7 @@ void World::runStage(Stage stage, StepContext& context) {
     case Stage::kDeformableForces: return finishDeformables(context);
     case Stage::kNeighbourList: return updateNeighbours(context);
     case Stage::kForces: return (this->*compute_forces_)(context);
+    case Stage::kParallelBonds: return bonds_.step(*this, particles_, context.dt, context.force_step);
     case Stage::kClumpForceSum: return gatherClumpForces();
     case Stage::kSecondHalfKick: return secondHalfKick(context);
     case Stage::kClumpHalfKick: return integrateClumps(0.5 * context.dt, 0.0, false);
@@ -820,6 +837,7 @@ void World::applySlotMapping(const std::vector<std::uint32_t>& oldSlotOfNew) {
   for (ClumpBody& body : clumps_.bodies) {
     for (std::uint32_t& slot : body.member_slots) slot = newOfCurrent[slot];
   }
+  bonds_.remapSlots(newOfCurrent);
   if (neighbours_.pending_new_slot_of_old.empty()) {
     neighbours_.pending_new_slot_of_old = std::move(newOfCurrent);
   } else {
@@ -1145,6 +1163,7 @@ WatchdogReading World::watch() {
     }
   }
   visitContactLaw(settings_.contact_model, [&]<class Law>() { measureContacts<Law>(r); });
+  r.elastic_energy += bonds_.strainEnergy(particles_);
   r.kinetic_energy = kineticEnergy();
   r.total_energy = r.kinetic_energy + motion.potential + r.elastic_energy + r.cohesion_energy;
   // Sources, moving meshes and a moving frame feed energy in: no energy check then.
