@@ -8,7 +8,8 @@
 ///   3. planes, particle sets and meshes, in declaration order;
 ///   4. deformable bodies (translate_deformables), which may ride on meshes;
 ///   5. sinks, sensors and trackers (translate_sensors), which refer to meshes and
-///      deformable bodies by name.
+///      deformable bodies by name;
+///   6. parallel bonds (translate_bonds), whose rules see every particle set.
 /// Every field is checked here or by the core validators with a field path
 /// "components[i].<kind>.<field>", so a user can find it in the scene file.
 #include "demlink/server/scene/scene_translator.hpp"
@@ -34,6 +35,7 @@
 #include "demlink/server/scene/particle_lattice.hpp"
 #include "demlink/server/scene/proto_convert.hpp"
 #include "demlink/server/scene/translate_materials.hpp"
+#include "demlink/server/scene/translate_bonds.hpp"
 #include "demlink/server/scene/translate_sensors.hpp"
 #include "demlink/server/scene/translate_sources.hpp"
 #include "demlink/server/scene/translate_state.hpp"
@@ -79,7 +81,7 @@ int checkStructure(const v1::Scene& scene) {
                        "declares no kind (one of simulation_box, material, plane, mesh_body, particle_lattice, "
                        "particle_file, particle_system, single_particle, particle_source, pit_generator, "
                        "particle_sink, region_sensor, flow_sensor, tracker, clump_template, facet_body, material_pair, "
-                       "rigid_body, particle_view, mass_spring_body, fem_body)");
+                       "rigid_body, particle_view, mass_spring_body, fem_body, parallel_bonds)");
     }
     if (component.has_simulation_box()) boxes.push_back(i);
   }
@@ -349,12 +351,14 @@ TranslatedScene translateScene(const v1::Scene& scene, const FileScope& files, S
       case v1::ComponentDeclaration::kParticleView:  // served by the co-simulation host, no engine object
       case v1::ComponentDeclaration::kMassSpringBody:  // after all mesh bodies: addDeformableBodies
       case v1::ComponentDeclaration::kFemBody:
+      case v1::ComponentDeclaration::kParallelBonds:  // after every particle set: addParallelBonds
       case v1::ComponentDeclaration::KIND_NOT_SET:
         break;
     }
   }
   addDeformableBodies(scene, resolve, files, out.world);
   addSensorComponents(scene, out.world);
+  addParallelBonds(scene, resolve, out.world);
   requireOutputFileCount(out.world);
   if (out.run.mesh_loads && out.world.meshes().empty()) {
     throw core::InputError(out.run.field_prefix + ".output.mesh_loads", "true",
