@@ -1110,16 +1110,41 @@ void World::measureContacts(WatchdogReading& reading) const {
   }
 }
 
+std::string World::nonFiniteState() const {
+  const ParticleArrays& p = particles_;
+  const WatchShare scan = watchChunks(pool_.get(), p.size(), [&](WatchShare& share, std::size_t begin,
+                                                                std::size_t end) {
+    for (std::size_t i = begin; i < end && share.non_finite == WatchShare::kNone; ++i) {
+      const double sum = p.position[i].sum() + p.velocity[i].sum() + p.angular_velocity[i].sum() + p.force[i].sum();
+      if (!std::isfinite(sum)) share.non_finite = i;
+    }
+  });
+  if (scan.non_finite != WatchShare::kNone) {
+    return "particle " + std::to_string(p.id[scan.non_finite]) + " (position, velocity, spin or force)";
+  }
+  for (const MeshBody& mesh : walls_.meshes) {
+    if (!std::isfinite(mesh.position().sum() + mesh.orientation().coeffs().sum() + mesh.linearVelocity().sum() +
+                       mesh.angularVelocity().sum())) {
+      return "mesh " + mesh.name() + " (pose or velocity)";
+    }
+  }
+  for (const auto& body : deformables_.bodies) {
+    for (const Vec3& x : body->surface().positions()) {
+      if (!std::isfinite(x.sum())) return std::string(body->kind()) + " body " + body->name() + " (node positions)";
+    }
+  }
+  return {};
+}
+
 WatchdogReading World::watch() {
   WatchdogReading r;
+  r.non_finite = nonFiniteState();
+  if (!r.non_finite.empty()) return r;
   const ParticleArrays& p = particles_;
   const Vec3 gravity = state_.gravity;
   const WatchShare motion = watchChunks(pool_.get(), p.size(), [&](WatchShare& share, std::size_t begin,
                                                                   std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
-      const double check =
-          p.position[i].sum() + p.velocity[i].sum() + p.angular_velocity[i].sum() + p.force[i].sum();
-      if (!std::isfinite(check) && share.non_finite == WatchShare::kNone) share.non_finite = i;
       const double speed = p.velocity[i].norm();
       if (speed > share.max_speed) {
         share.max_speed = speed;
@@ -1128,9 +1153,6 @@ WatchdogReading World::watch() {
       share.potential -= p.mass[i] * gravity.dot(p.position[i]);
     }
   });
-  if (motion.non_finite != WatchShare::kNone) {
-    r.non_finite = "particle " + std::to_string(p.id[motion.non_finite]) + " (position, velocity, spin or force)";
-  }
   r.max_speed = motion.max_speed;
   if (motion.fastest != WatchShare::kNone) r.fastest = "particle " + std::to_string(p.id[motion.fastest]);
   for (const MeshBody& mesh : walls_.meshes) {
@@ -1140,14 +1162,6 @@ WatchdogReading World::watch() {
       r.fastest = "mesh " + mesh.name();
     }
   }
-  for (const auto& body : deformables_.bodies) {
-    for (const Vec3& x : body->surface().positions()) {
-      if (!std::isfinite(x.sum()) && r.non_finite.empty()) {
-        r.non_finite = std::string(body->kind()) + " body " + body->name() + " (node positions)";
-      }
-    }
-  }
-  if (!r.non_finite.empty()) return r;
   visitContactLaw(settings_.contact_model, [&]<class Law>() { measureContacts<Law>(r); });
   r.elastic_energy += bonds_.strainEnergy(particles_);
   r.kinetic_energy = kineticEnergy();

@@ -196,27 +196,6 @@ RunOptions toRunOptions(const v1::SimulationBox& box, const std::string& prefix,
   return run;
 }
 
-/// Pass 2: registers every material (its cohesion through the coarse-graining law);
-/// returns name -> world index.
-MaterialNames addMaterials(const v1::Scene& scene, const core::CoarseGraining& coarse, core::World& world) {
-  MaterialNames names;
-  std::map<std::string, int> declaredBy;
-  for (int i = 0; i < scene.components_size(); ++i) {
-    const v1::ComponentDeclaration& component = scene.components(i);
-    if (!component.has_material()) continue;
-    const std::string prefix = componentPath(i) + ".material";
-    core::Material material = translateMaterial(component.material(), component.name(), prefix);
-    material.cohesion_energy_density = coarse.cohesionEnergyDensity(material.cohesion_energy_density);
-    const auto [it, inserted] = declaredBy.emplace(material.name, i);
-    if (!inserted) {
-      throw InputError(prefix + ".name", quoted(std::as_const(material.name)),
-                       "material name already used by " + componentPath(it->second));
-    }
-    names.emplace(material.name, world.addMaterial(material));
-  }
-  return names;
-}
-
 void addPlane(const v1::Plane& plane, const std::string& name, const MaterialNames& materials,
               const std::string& prefix, core::World& world) {
   core::PlaneSpec spec;
@@ -298,7 +277,7 @@ TranslatedScene translateScene(const v1::Scene& scene, const FileScope& files, S
   TranslatedScene out{core::World(std::move(settings), boxPrefix), toRunOptions(box, boxPrefix, use),
                       std::move(fidelity), coarse};
 
-  const MaterialNames materials = addMaterials(scene, coarse, out.world);
+  const MaterialNames materials = addMaterials(scene, box, boxPrefix, files, coarse, out.world);
   addMaterialPairs(scene, materials, coarse, out.world);
   addClumpTemplates(scene, out.world);
   const MaterialResolver resolve = [&](const std::string& name, const std::string& field) {

@@ -208,6 +208,10 @@ class World {
   /// Measures what the watchdog checks, now (stage watchdog calls it every
   /// every_steps steps; tests call it directly).
   [[nodiscard]] WatchdogReading watch();
+  /// What in the state is NaN or infinite (a particle's position, velocity, spin or force,
+  /// a mesh's pose or velocity, a deformable body's node positions), named; empty when all
+  /// is finite. The watchdog stops on it, and the run's writers refuse to write such a state.
+  [[nodiscard]] std::string nonFiniteState() const;
   [[nodiscard]] const ContactPairTable& pairTable() const { return contacts_.table; }
   [[nodiscard]] const RemovalTally& removedAtBounds() const { return state_.removed_at_bounds; }
   [[nodiscard]] const NeighbourList& neighbourList() const { return neighbours_.list; }
