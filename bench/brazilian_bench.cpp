@@ -1,7 +1,8 @@
 /// demlink-bench-brazilian: the Brazilian (indirect tensile) test of a bonded disc.
 ///
 /// A disc of diameter D, one sphere layer thick (t = 2 r: a 2D-ish slab in the x-y plane),
-/// is built from spheres of radius r (+-10 %) on a jittered hexagonal lattice, cemented
+/// is built from spheres of radius 0.90 .. 0.97 r on a hexagonal lattice of pitch 2 r jittered by
+/// +-0.02 r (no sphere overlaps another), cemented
 /// with parallel bonds (Potyondy and Cundall, "A bonded-particle model for rock", Int. J.
 /// Rock Mech. Min. Sci. 41 (2004) 1329-1364, doi:10.1016/j.ijrmms.2004.09.011) and
 /// squeezed across a diameter between two flat platens closing at a constant speed. The
@@ -67,7 +68,9 @@ Result squeeze(std::uint64_t seed, double diameterRadii, double speed) {
   World world(settings);
   const std::uint32_t material = world.addMaterial(rock());
   const double diameter = diameterRadii * kRadius;
-  // Hexagonal lattice of pitch 2r, jittered by 0.05 r, radii 0.9 .. 1.1 r shrunk to fit.
+  // Hexagonal lattice of pitch 2r jittered by +-0.02 r, radii 0.90 .. 0.97 r: centres at least
+  // 1.943 r apart, so no two spheres overlap (an overlap would push the pair apart and break
+  // its bond at once); gaps up to 0.26 r.
   Random random(seed);
   const double pitch = 2.0 * kRadius;
   const int rows = static_cast<int>(std::ceil(diameter / (std::sqrt(3.0) * kRadius))) + 1;
@@ -75,12 +78,12 @@ Result squeeze(std::uint64_t seed, double diameterRadii, double speed) {
   for (int j = -rows; j <= rows; ++j) {
     for (int i = -rows; i <= rows; ++i) {
       Vec3 x((i + 0.5 * (j & 1)) * pitch, j * std::sqrt(3.0) * kRadius, 0.0);
-      x += Vec3(random.uniform(-0.05, 0.05), random.uniform(-0.05, 0.05), 0.0) * kRadius;
+      x += Vec3(random.uniform(-0.02, 0.02), random.uniform(-0.02, 0.02), 0.0) * kRadius;
       if (x.norm() + kRadius > 0.5 * diameter) continue;
       ParticleSpec s;
       s.material = material;
       s.position = x;
-      s.radius = kRadius * random.uniform(0.9, 1.0);
+      s.radius = kRadius * random.uniform(0.90, 0.97);
       world.addParticle(s);
       top = std::max(top, std::abs(x.y()) + s.radius);
     }
@@ -92,7 +95,7 @@ Result squeeze(std::uint64_t seed, double diameterRadii, double speed) {
   rule.properties.shear_stiffness_per_area = kShearStiffness;
   rule.properties.tensile_strength = kTensileStrength;
   rule.properties.shear_strength = kShearStrength;
-  rule.properties.gap_tolerance = 0.3 * kRadius;  // the jitter and the radii open gaps up to ~0.3 r
+  rule.properties.gap_tolerance = 0.3 * kRadius;  // every lattice neighbour
   world.addBondRule(rule, "cement");
   MeshBody upper = platen("upper", diameter, material);
   upper.setPose(Vec3(0.0, top, 0.0), Quat::Identity());

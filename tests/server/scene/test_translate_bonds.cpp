@@ -91,7 +91,7 @@ TEST(TranslateBonds, EveryBadFieldIsNamedWithItsValue) {
       {R"("fraction": 1.5)", "fraction"},
       {R"("create_time": -1)", "create_time"},
       {R"("materials": ["rock", "clay"])", "materials[1]"},
-      {R"("region": {"box": {"size": {"x": 0, "y": 1, "z": 1}}})", "region.box.size"},
+      {R"("region": {"box": {"size": {"x": 0, "y": 1, "z": 1}}})", "region.box.size.x"},
       {R"("region": {"sphere": {"radius": -1}})", "region.sphere.radius"},
       {R"("region": {"attached_to": "bucket", "sphere": {"radius": 1}})", "region.attached_to"},
   };
