@@ -15,15 +15,11 @@
 #include <cmath>
 #include <numbers>
 
-#include <Eigen/Eigenvalues>
-
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/principal_axes.hpp"
 
 namespace demlink::core {
 namespace {
-
-/// Most member spheres in one template (the quadrature is O(n^2) per direction).
-constexpr std::size_t kMaxClumpSpheres = 256;
 
 /// Gauss-Legendre nodes and weights on [-1, 1] (Newton on the three-term recurrence).
 void gaussLegendre(int n, std::vector<double>& nodes, std::vector<double>& weights) {
@@ -156,9 +152,9 @@ UnionMoments unionMoments(const std::vector<ClumpSphere>& spheres, int direction
 ClumpTemplate::ClumpTemplate(std::string name, std::vector<ClumpSphere> spheres, const std::string& fieldPrefix)
     : name_(std::move(name)), spheres_(std::move(spheres)) {
   if (spheres_.empty()) throw InputError(fieldPrefix + ".spheres", "[]", "a clump template needs at least one sphere");
-  if (spheres_.size() > kMaxClumpSpheres) {
+  if (spheres_.size() > kMaxClumpTemplateSpheres) {
     throw InputError(fieldPrefix + ".spheres", std::to_string(spheres_.size()) + " spheres",
-                     "at most " + std::to_string(kMaxClumpSpheres) + " spheres in one clump template");
+                     "at most " + std::to_string(kMaxClumpTemplateSpheres) + " spheres in one clump template");
   }
   for (std::size_t k = 0; k < spheres_.size(); ++k) {
     const std::string path = fieldPrefix + ".spheres[" + std::to_string(k) + "]";
@@ -175,17 +171,9 @@ ClumpTemplate::ClumpTemplate(std::string name, std::vector<ClumpSphere> spheres,
   volume_ = moments.volume;
   com_ = moments.centroid;
   inertia_ = moments.second.trace() * Mat3::Identity() - moments.second;
-  const Eigen::SelfAdjointEigenSolver<Mat3> solver(inertia_);
-  moments_ = solver.eigenvalues();
-  Mat3 axes = solver.eigenvectors();
-  // A fixed sign convention (largest component positive) and a right-handed frame.
-  for (int col = 0; col < 3; ++col) {
-    Eigen::Index largest = 0;
-    axes.col(col).cwiseAbs().maxCoeff(&largest);
-    if (axes(largest, col) < 0.0) axes.col(col) *= -1.0;
-  }
-  if (axes.determinant() < 0.0) axes.col(2) *= -1.0;
-  principal_ = Quat(axes).normalized();
+  const PrincipalAxes principal = principalAxes(inertia_);
+  moments_ = principal.moments;
+  principal_ = Quat(principal.axes).normalized();
   const Mat3 toBody = principal_.toRotationMatrix().transpose();
   min_radius_ = spheres_.front().radius;
   for (const ClumpSphere& sphere : spheres_) {

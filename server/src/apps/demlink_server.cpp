@@ -293,6 +293,7 @@ int run(int argc, char** argv) {
     viewHub = std::make_unique<demlink::server::LiveViewHub>();
     view = std::make_unique<demlink::server::ViewServer>(*viewHub, viewOptions);
     options.step_observer = [hub = viewHub.get()](const demlink::core::World& world) { hub->offer(world); };
+    options.close_observer = [hub = viewHub.get()](const demlink::core::World& world) { hub->release(world); };
     view->start();
     std::printf("demlink-server view at %s%s\n", view->url().c_str(),
                 viewOptions.access_token.empty() ? "" : "?token=<the access token>");

@@ -13,12 +13,16 @@
 /// as (directions)^-2: at the default 256 the relative errors of volume, centre of
 /// mass and inertia of overlapping pairs are <= 1e-5 (typically 1e-7, see
 /// docs/clumps.md and the tests).
+#include <cstddef>
 #include <string>
 #include <vector>
 
 #include "demlink/core/math_types.hpp"
 
 namespace demlink::core {
+
+/// Most member spheres in one template (the mass-property quadrature is O(n^2) per direction).
+inline constexpr std::size_t kMaxClumpTemplateSpheres = 256;
 
 /// One member sphere of a template.
 struct ClumpSphere {
