@@ -723,9 +723,14 @@ void World::computeForces(StepContext& context) {
   for (std::size_t m = 0; m < walls_.meshes.size(); ++m) {
     walls_.meshes[m].clearWrench();
     if (walls_.mesh_colliding[m] == 0) continue;
-    std::vector<TriangleLoad>* loads = kPasses.recording && recorder_.settings.mesh_loads ? &recorder_.mesh_loads[m] : nullptr;
-    meshContactForces<Law, kPasses>(p, walls_.meshes[m], walls_.mesh_near[m], contacts_.table, dt, walls_.contact_scratch,
-                                    recording(ContactKind::kMesh, m, loads));
+    if constexpr (kPasses.recording) {
+      std::vector<TriangleLoad>* loads = recorder_.settings.mesh_loads ? &recorder_.mesh_loads[m] : nullptr;
+      meshContactForces<Law, kPasses>(p, walls_.meshes[m], walls_.mesh_near[m], contacts_.table, dt,
+                                      walls_.contact_scratch, recording(ContactKind::kMesh, m, loads));
+    } else {
+      meshContactForcesThreaded<Law, kPasses>(pool, p, walls_.meshes[m], walls_.mesh_near[m], contacts_.table, dt,
+                                              walls_.contact_chunks);
+    }
   }
   for (std::size_t d = 0; d < deformables_.bodies.size(); ++d) {
     DeformableSurface& surface = deformables_.bodies[d]->surface();

@@ -22,6 +22,7 @@
 #include "demlink/core/particles/neighbour_list.hpp"
 #include "demlink/core/particles/particle_arrays.hpp"
 #include "demlink/core/step/pair_loop_partition.hpp"
+#include "demlink/core/step/parallel.hpp"
 #include "demlink/core/walls/plane_wall.hpp"
 
 namespace demlink::core {
@@ -363,22 +364,26 @@ PlaneLoad planeContactSlots(ParticleArrays& p, PlaneWall& wall, const ContactPai
   return load;
 }
 
-/// Particle-surface contacts: a mesh (MeshBody) or a deformable body's surface
-/// (DeformableSurface); both give worldVertices(), triangles(), materialIndex(),
-/// velocityAt(triangle, point) and addContactForce(triangle, point, force). Per
-/// particle, the de-duplicated contacts with its candidate triangles
-/// (mesh_contact.hpp) each get the wall contact law with the surface's velocity at
-/// the contact point. Each candidate keeps its own tangential spring; when a
-/// particle rolls from one triangle onto the next, the spring of the triangle it
-/// left is handed to the new contact instead of being dropped, so a finely meshed
-/// flat floor behaves like a plane.
-template <class Law, ForcePasses kPasses, class Surface>
-void meshContactForces(ParticleArrays& p, Surface& mesh, MeshNearList& near, const ContactPairTable& table,
-                       double dt, std::vector<MeshContactPoint>& contacts, const ContactRecording& recording = {}) {
+/// Particle-surface contacts of the near-list entries [entryBegin, entryEnd) of a mesh
+/// (MeshBody) or a deformable body's surface (DeformableSurface); both give
+/// worldVertices(), triangles(), materialIndex(), velocityAt(triangle, point) and
+/// addContactForce(triangle, point, force). Per particle, the de-duplicated contacts with
+/// its candidate triangles (mesh_contact.hpp) each get the wall contact law with the
+/// surface's velocity at the contact point; the force on the surface goes to
+/// onSurface(triangle, point, force), in entry order. Each candidate keeps its own
+/// tangential spring; when a particle rolls from one triangle onto the next, the spring of
+/// the triangle it left is handed to the new contact instead of being dropped, so a finely
+/// meshed flat floor behaves like a plane. Entries are distinct particles, so disjoint
+/// stretches of entries may run at once (they read the surface, never write it).
+template <class Law, ForcePasses kPasses, class Surface, class OnSurface>
+void meshContactEntries(ParticleArrays& p, const Surface& mesh, MeshNearList& near, const ContactPairTable& table,
+                        double dt, std::size_t entryBegin, std::size_t entryEnd,
+                        std::vector<MeshContactPoint>& contacts, const ContactRecording& recording,
+                        OnSurface&& onSurface) {
   static_assert(kHistoryStorageFits<Law, decltype(near.history)>, "mesh near history is not Law::History");
   const std::span<const Vec3> vertices = mesh.worldVertices();
   const std::span<const std::array<std::uint32_t, 3>> triangles = mesh.triangles();
-  for (std::size_t k = 0; k < near.slots.size(); ++k) {
+  for (std::size_t k = entryBegin; k < entryEnd; ++k) {
     const std::uint32_t slot = near.slots[k];
     const std::uint32_t rowBegin = near.offsets[k];
     const std::uint32_t rowEnd = near.offsets[k + 1];
@@ -412,12 +417,52 @@ void meshContactForces(ParticleArrays& p, Surface& mesh, MeshNearList& near, con
       }
       const Vec3 vRel = wallContactVelocity(p, slot, c.normal, c.overlap, mesh.velocityAt(c.triangle, c.point));
       const Vec3 f = particleWallContact<Law, kPasses>(p, slot, params, c.normal, c.overlap, vRel, dt, history);
-      mesh.addContactForce(c.triangle, c.point, -f);
+      onSurface(c.triangle, c.point, Vec3(-f));
       if constexpr (kPasses.recording) {
         recordWallContact(p, slot, recording, c.triangle, c.point, c.normal, c.overlap, f, vRel);
       }
     }
     for (std::uint32_t r = 0; r < releasedCount; ++r) near.history[released[r]].setZero();
+  }
+}
+
+/// All the contacts of a surface's near list, in entry order, on the calling thread.
+template <class Law, ForcePasses kPasses, class Surface>
+void meshContactForces(ParticleArrays& p, Surface& mesh, MeshNearList& near, const ContactPairTable& table,
+                       double dt, std::vector<MeshContactPoint>& contacts, const ContactRecording& recording = {}) {
+  meshContactEntries<Law, kPasses>(
+      p, mesh, near, table, dt, 0, near.slots.size(), contacts, recording,
+      [&mesh](std::uint32_t triangle, const Vec3& point, const Vec3& force) { mesh.addContactForce(triangle, point, force); });
+}
+
+/// Near-list entries per chunk of the threaded mesh pass: a few tens of microseconds of
+/// contacts, far more than claiming a chunk costs [-].
+inline constexpr std::size_t kMeshChunkEntries = 64;
+
+/// meshContactForces with the entries in chunks over the pool (chunks fixed by the list's
+/// length alone), then the surface's loads added chunk by chunk: the same sums in the same
+/// order as on one thread, so the same bits for any thread count. Without recording (its
+/// records keep list order in one vector).
+template <class Law, ForcePasses kPasses, class Surface>
+void meshContactForcesThreaded(ThreadPool* pool, ParticleArrays& p, Surface& mesh, MeshNearList& near,
+                               const ContactPairTable& table, double dt, std::vector<MeshContactChunk>& chunkScratch) {
+  static_assert(!kPasses.recording, "recorded contacts keep list order: run meshContactForces");
+  const std::size_t entries = near.slots.size();
+  const std::uint32_t chunks = chunkCount(entries, kMeshChunkEntries);
+  if (chunkScratch.size() < chunks) chunkScratch.resize(chunks);
+  parallelParts(pool, chunks, [&](std::uint32_t c) {
+    MeshContactChunk& chunk = chunkScratch[c];
+    chunk.loads.clear();
+    meshContactEntries<Law, kPasses>(p, mesh, near, table, dt, chunkBegin(entries, chunks, c),
+                                     chunkBegin(entries, chunks, c + 1), chunk.contacts, {},
+                                     [&chunk](std::uint32_t triangle, const Vec3& point, const Vec3& force) {
+                                       chunk.loads.push_back({triangle, point, force});
+                                     });
+  });
+  for (std::uint32_t c = 0; c < chunks; ++c) {
+    for (const MeshContactChunk::SurfaceLoad& load : chunkScratch[c].loads) {
+      mesh.addContactForce(load.triangle, load.point, load.force);
+    }
   }
 }
 

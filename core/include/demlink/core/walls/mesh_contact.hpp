@@ -81,4 +81,17 @@ void collectSphereMeshContacts(const Vec3& centre, double radius,
                                std::span<const std::array<std::uint32_t, 3>> triangles,
                                std::vector<MeshContactPoint>& out);
 
+/// A chunk's part of the threaded mesh contact pass (contact_stage.hpp,
+/// meshContactForcesThreaded): its contacts' scratch and the forces on the surface it
+/// leaves, in near-list order.
+struct MeshContactChunk {
+  struct SurfaceLoad {
+    std::uint32_t triangle;
+    Vec3 point;   ///< contact point [m]
+    Vec3 force;   ///< force on the surface [N]
+  };
+  std::vector<MeshContactPoint> contacts;
+  std::vector<SurfaceLoad> loads;
+};
+
 }  // namespace demlink::core
