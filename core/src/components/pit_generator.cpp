@@ -19,7 +19,6 @@ namespace {
 constexpr double kSpacingPerRadius = 2.3;  ///< lattice spacing / r_max [-]
 constexpr double kJitterPerRadius = 0.05;  ///< jitter amplitude / r_max [-]
 constexpr double kMaxRainedParticles = 2.0e6;
-constexpr double kRainRestitutionTolerance = 0.1;  ///< see generatePit [-]
 
 /// What is rained: sphere sizes or one clump template [m, m^3].
 struct Grain {
@@ -206,11 +205,6 @@ PitReport generatePit(World& world, const PitSpec& spec, const std::string& name
   settings.linear_normal_stiffness = world.settings().linear_normal_stiffness;
   settings.threads = world.settings().threads;
   settings.max_impact_velocity = std::max(world.settings().max_impact_velocity, g * fallTime);
-  // Only the resting bed is kept: how exactly each impact of the rain restores its
-  // restitution changes how the energy drains, not where the grains come to rest, so the
-  // rain is held to the 10 % tolerance of the DRAFT and ENGINEERING presets, not the
-  // default 1 %. At the rain's impact speed that is a several times larger step.
-  settings.restitution_tolerance = std::max(world.settings().restitution_tolerance, kRainRestitutionTolerance);
   settings.time_step = 0.5 * criticalLimit(settings, material, grain.r_min, prefix);
   World pit(settings);
   pit.addMaterial(material);
