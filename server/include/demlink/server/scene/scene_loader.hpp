@@ -28,7 +28,8 @@ inline constexpr std::size_t kMaxSceneJsonDepth = 64;
 /// InputError naming the source (and the line where the nesting got too deep).
 [[nodiscard]] v1::Scene parseSceneJson(const std::string& json, const std::string& sourceName);
 
-/// The scene as indented JSON with proto field names (what a scene file looks like).
-[[nodiscard]] std::string sceneToJson(const v1::Scene& scene);
+/// A scene, or one of its parts (e.g. a ComponentDeclaration), as indented JSON with proto
+/// field names: what a scene file looks like.
+[[nodiscard]] std::string sceneToJson(const google::protobuf::Message& message);
 
 }  // namespace demlink::server
