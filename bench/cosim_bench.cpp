@@ -2,12 +2,14 @@
 /// bench/cosim_bench.md, how to run it in docs/benchmarks.md "Co-simulation").
 ///
 ///   demlink-bench-cosim roundtrip [--clients N] [--exchanges M] [--warmup W] [--kind body|sensor]
-///                                 [--spin off,on,forced] [--runs K] [--pace-us P]
+///                                 [--spin off,on,forced] [--runs K] [--pace-us P] [--server hub|host]
 ///   demlink-bench-cosim overhead [--particles P] [--interval S] [--duration S] [--pairs K]
 ///   demlink-bench-cosim            (both, with the defaults: well under two minutes)
 ///
 /// roundtrip: the server runs in this process exactly as demlink-server wires it
-/// (CosimHost + TcpServer on 127.0.0.1, port 0, its own thread); the world is empty
+/// (SimulationHub, whose simulation steps on its own thread, + TcpServer on 127.0.0.1,
+/// port 0, its own thread; --server host: the CosimHost on the network thread, without
+/// the hand-off between the two threads); the world is empty
 /// (a SimulationBox and one material, no particles), every client is a thread with its
 /// own connection and one component exchanged every step.
 /// Each client times every Session::exchange() (package out -> answer in) with
@@ -67,6 +69,7 @@
 #include "demlink/core/walls/coupled_motion.hpp"
 #include "demlink/core/world.hpp"
 #include "demlink/server/cosim/cosim_host.hpp"
+#include "demlink/server/cosim/simulation_hub.hpp"
 #include "demlink/server/net/asio.hpp"
 #include "demlink/server/net/tcp_server.hpp"
 #include "demlink/server/scene/particle_csv.hpp"
@@ -205,12 +208,22 @@ class TimedHandler final : public server::SessionHandler {
   double last_cpu_ = 0.0;
 };
 
+/// Who answers the network loop: the host itself on the loop's thread (the overhead's
+/// timed handler), or the SimulationHub with the simulation on its own thread, as
+/// demlink-server wires the native backend.
+enum class ServerWiring { kHost, kHub };
+
 /// demlink-server's wiring in a thread: serves one simulation, then run() returns.
 class InProcessServer {
  public:
   InProcessServer(const v1::Scene& baseScene, const fs::path& outputRoot,
-                  std::chrono::nanoseconds spinWait = core::defaultSpinBudget())
-      : host_(hostOptions(baseScene, outputRoot)), handler_(host_), server_(handler_, netOptions(host_, spinWait)) {
+                  std::chrono::nanoseconds spinWait = core::defaultSpinBudget(),
+                  ServerWiring wiring = ServerWiring::kHost)
+      : host_(wiring == ServerWiring::kHost ? std::make_unique<server::CosimHost>(hostOptions(baseScene, outputRoot))
+                                            : nullptr),
+        timed_(host_ ? std::make_unique<TimedHandler>(*host_) : nullptr),
+        hub_(host_ ? nullptr : std::make_unique<server::SimulationHub>(hostOptions(baseScene, outputRoot), hubOptions(spinWait))),
+        server_(timed_ ? static_cast<server::SessionHandler&>(*timed_) : *hub_, netOptions(spinWait)) {
     thread_ = std::thread([this] {
       server_.run();
       done_ = true;
@@ -224,9 +237,10 @@ class InProcessServer {
   InProcessServer& operator=(const InProcessServer&) = delete;
 
   [[nodiscard]] std::uint16_t port() const { return server_.port(); }
-  [[nodiscard]] const TimedHandler& handler() const { return handler_; }
+  /// The host wiring only.
+  [[nodiscard]] const TimedHandler& handler() const { return *timed_; }
   /// Before any client connects (the server thread only touches the handler for packages).
-  [[nodiscard]] TimedHandler& handler() { return handler_; }
+  [[nodiscard]] TimedHandler& handler() { return *timed_; }
   /// Waits for run() to return (the simulation ended); false after `seconds`.
   bool waitDone(double seconds) {
     const Clock::time_point end = Clock::now() + std::chrono::duration_cast<Clock::duration>(
@@ -247,17 +261,24 @@ class InProcessServer {
     options.client_timeout_s = 30.0;
     return options;
   }
-  static server::TcpServerOptions netOptions(server::CosimHost& host, std::chrono::nanoseconds spinWait) {
+  static server::SimulationHubOptions hubOptions(std::chrono::nanoseconds spinWait) {
+    server::SimulationHubOptions options;
+    options.max_total = 1;
+    options.spin_wait = spinWait;
+    return options;
+  }
+  server::TcpServerOptions netOptions(std::chrono::nanoseconds spinWait) {
     server::TcpServerOptions options;
     options.spin_wait = spinWait;
     options.listen_address = "127.0.0.1";
     options.port = 0;
-    options.stop_when = [&host] { return host.simulationsFinished() >= 1; };
+    options.stop_when = [this] { return (host_ ? host_->simulationsFinished() : hub_->simulationsFinished()) >= 1; };
     return options;
   }
 
-  server::CosimHost host_;
-  TimedHandler handler_;
+  std::unique_ptr<server::CosimHost> host_;
+  std::unique_ptr<TimedHandler> timed_;
+  std::unique_ptr<server::SimulationHub> hub_;
   server::TcpServer server_;
   std::atomic<bool> done_{false};
   std::thread thread_;
@@ -348,6 +369,7 @@ struct RoundtripOptions {
   std::vector<std::string> spin = {"off", "on"};
   std::size_t runs = 1;  ///< repetitions of the alternation
   std::size_t pace_us = 0;  ///< one exchange per client every pace_us [us]; 0: back to back
+  ServerWiring wiring = ServerWiring::kHub;  ///< as demlink-server runs the native backend
 };
 
 /// How one roundtrip configuration ran.
@@ -372,7 +394,7 @@ v1::Scene emptyWorld(std::size_t clients, double timeStep) {
 
 /// Runs one configuration; returns the per-exchange times of all clients (after warm-up).
 RoundtripRun runRoundtrip(std::size_t clients, std::size_t exchanges, std::size_t warmup, bool sensor,
-                          const std::string& spin, std::chrono::microseconds pace) {
+                          const std::string& spin, std::chrono::microseconds pace, ServerWiring wiring) {
   constexpr double kTimeStep = 1.0e-4;  // [s]; one exchange = one (empty) step
   const fs::path out = scratchDirectory("roundtrip");
   std::vector<std::vector<std::int64_t>> perClient(clients);
@@ -385,7 +407,7 @@ RoundtripRun runRoundtrip(std::size_t clients, std::size_t exchanges, std::size_
   const double cpuBefore = processCpuSeconds();
   const Clock::time_point begin = Clock::now();
   {
-    InProcessServer srv(emptyWorld(clients, kTimeStep), out, budget);
+    InProcessServer srv(emptyWorld(clients, kTimeStep), out, budget, wiring);
     std::vector<std::thread> threads;
     for (std::size_t c = 0; c < clients; ++c) {
       threads.emplace_back([&, c] {
@@ -460,8 +482,10 @@ void printDistribution(const char* label, const Distribution& d) {
 }
 
 void roundtrip(const RoundtripOptions& o, bool withFloor) {
-  std::printf("== roundtrip: empty world, %s per client, exchanged every step, loopback TCP ==\n",
-              o.sensor ? "one region_sensor" : "one rigid_body (12-triangle box)");
+  std::printf("== roundtrip: empty world, %s per client, exchanged every step, loopback TCP, %s ==\n",
+              o.sensor ? "one region_sensor" : "one rigid_body (12-triangle box)",
+              o.wiring == ServerWiring::kHub ? "the simulation on its own thread (SimulationHub)"
+                                             : "the host on the network thread");
   if (withFloor) {
     const std::size_t n = o.exchanges > 0 ? o.exchanges : 20000;
     printDistribution("raw loopback ping-pong (50 B)", loopbackFloor(n, o.warmup, false));
@@ -489,7 +513,7 @@ void roundtrip(const RoundtripOptions& o, bool withFloor) {
     for (std::size_t r = 0; r < o.runs; ++r) {
       for (std::size_t v = 0; v < o.spin.size(); ++v) {
         RoundtripRun run = runRoundtrip(clients, exchanges, o.warmup, o.sensor, o.spin[v],
-                                        std::chrono::microseconds(o.pace_us));
+                                        std::chrono::microseconds(o.pace_us), o.wiring);
         samples[v].insert(samples[v].end(), run.ns.begin(), run.ns.end());
         cpu[v] += run.cpu;
         wall[v] += run.wall;
@@ -807,6 +831,11 @@ std::optional<int> parse(int argc, char** argv, std::string& mode, RoundtripOpti
       rt.spin.push_back(item);
       begin = end + 1;
     }
+  });
+  cli::addValue(app, "--server", "roundtrip: hub (the simulation on its own thread, as demlink-server runs it; "
+                "default) or host (the host on the network thread)", [&rt](const std::string& text) {
+    if (text != "hub" && text != "host") cli::refuse("--server", text, "expected hub or host");
+    rt.wiring = text == "hub" ? ServerWiring::kHub : ServerWiring::kHost;
   });
   cli::addWholeNumber<std::size_t>(app, "--runs", rt.runs, 1, 1000, "roundtrip: repetitions of the alternation (default 1)");
   cli::addWholeNumber<std::size_t>(app, "--pace-us", rt.pace_us, 0, 1'000'000,

@@ -3,7 +3,7 @@
 /// compared side by side with LIGGGHTS (bench/run_deposition_compare.sh).
 ///
 ///   demlink-bench-deposition init_N.txt [--steps S] [--thermo K] [--threads T] [--dt DT]
-///                            [--skin M] [--vmax V] [--window W] [--window-from S]
+///                            [--skin M] [--vmax V] [--rolling MU] [--window W] [--window-from S]
 ///   demlink-bench-deposition --generate N [--sizes mono|ratio10|cont5] [...]
 ///
 /// --generate N builds the bed in memory instead (for the size-distribution and
@@ -26,7 +26,7 @@
 ///
 /// Scene (identical to in.deposition): spheres read from init_N.txt (id x y z r,
 /// written by bench/deposition/make_particles.py), one material (rho 2500, E 5e6, nu 0.3, e 0.5,
-/// mu 0.5, no rolling friction), Hertz-Mindlin, velocity Verlet, dt 1e-5 s,
+/// mu 0.5, no rolling friction unless --rolling), Hertz-Mindlin, velocity Verlet, dt 1e-5 s,
 /// gravity -9.81 z, skin 1 mm (LIGGGHTS `neighbor 0.001 bin`), planes z = 0,
 /// x = 0, x = 0.1, y = 0, y = 0.1 of the same material.
 ///
@@ -78,6 +78,7 @@ struct Options {
   double time_step = 1.0e-5;
   double skin = 1.0e-3;
   double max_impact_velocity = 6.0;
+  double rolling_friction = 0.0;  ///< --rolling: the pair loop's rolling-resistance pass (not in in.deposition)
   std::uint32_t threads = 1;
   std::uint64_t window = 250;
   std::uint64_t window_from = 25000;
@@ -112,6 +113,9 @@ std::optional<int> parseOptions(int argc, char** argv, Options& o) {
   auto* skin = cli::addNumber(app, "--skin", o.skin, {0.0}, "neighbour skin [m] (default 1e-3, as `neighbor 0.001`)");
   cli::addNumber(app, "--vmax", o.max_impact_velocity, {0.0, true},
                  "max_impact_velocity for the time-step check [m/s] (default 6)");
+  cli::addNumber(app, "--rolling", o.rolling_friction, {0.0},
+                 "rolling friction coefficient of the material (default 0, as in.deposition; the excavator "
+                 "site's gravel has 0.25)");
   cli::addWholeNumber<std::uint64_t>(app, "--window", o.window, 1, std::numeric_limits<std::uint64_t>::max(),
                                      "steps per window of the windowed CPU time (default 250)");
   cli::addWholeNumber<std::uint64_t>(app, "--window-from", o.window_from, 0,
@@ -320,7 +324,7 @@ int run(const Options& o) {
   material.poisson_ratio = 0.3;
   material.restitution = 0.5;
   material.sliding_friction = 0.5;
-  material.rolling_friction = 0.0;
+  material.rolling_friction = o.rolling_friction;
   const std::uint32_t mat = world.addMaterial(material);
 
   for (std::size_t k = 0; k < init.size(); ++k) {

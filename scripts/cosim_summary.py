@@ -116,6 +116,9 @@ def summarize(args):
         if forces:
             name = max(forces, key=forces.get)
             print(f"peak cylinder force:      {forces[name] / 1e3:10.1f} kN ({name})")
+        if "real_time_factor" in ex and "simulated_s" in ex and "wall_s" in ex:
+            print(f"real-time factor:         {ex['real_time_factor']:10.3f}    ({ex['simulated_s']:.2f} s simulated in "
+                  f"{ex['wall_s']:.1f} s wall after the compile; the pit's settling is before it)")
         cycle = 1
         while f"cycle_{cycle}_carried_kg" in ex:
             print(f"cycle {cycle}: carried {ex[f'cycle_{cycle}_carried_kg']:.1f} kg to the truck, "

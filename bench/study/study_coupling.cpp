@@ -35,7 +35,7 @@ World bedWorld(const Knobs& knobs, std::size_t grains) {
                                                       Vec3(kPlateHalf, kPlateHalf, kPlateHalfThickness));
   world.addMesh(core::MeshBody("plate", std::move(plate.vertices), std::move(plate.triangles), 0));
   world.mesh(0).setPose(Vec3(0.5 * kSide, 0.5 * kSide, kParkingHeight), core::Quat::Identity());
-  addLattice(world, grains, kGrainRadius * knobs.coarse, Vec3::Zero(), Vec3(kSide, kSide, 0.0), knobs.seed);
+  addLattice(world, grains, parcelRadius(knobs), parcelRadiusMax(knobs), Vec3::Zero(), Vec3(kSide, kSide, 0.0), knobs.seed);
   return world;
 }
 

@@ -22,13 +22,17 @@ using core::World;
 using Clock = std::chrono::steady_clock;
 
 constexpr double kReferenceModulus = 1.0e8;  ///< [Pa]
-constexpr double kRadiusSpread = 1.2;        ///< largest / smallest radius [-]
-/// Mean of r^3 for r uniform in [1, 1.2] [-]: (1.2^4 - 1) / (4 * 0.2).
-constexpr double kMeanCube = (1.2 * 1.2 * 1.2 * 1.2 - 1.0) / 0.8;
+constexpr double kReferenceOrifice = 0.025;  ///< the hopper's orifice hopper_grains is counted for [m]
 
-double grainVolume() { return 4.0 / 3.0 * std::numbers::pi * kMeanCube * std::pow(kGrainRadius, 3); }
+/// Grains' lengths / the reference grains' [-]: every scene length scales by it.
+double lengthScale(const Knobs& knobs) { return knobs.grains.radius_min / kGrainRadius; }
 
-double parcelRadius(const Knobs& knobs) { return core::CoarseGraining{knobs.coarse}.radius(kGrainRadius); }
+/// Mean grain volume: r uniform in [a, b] has mean r^3 = (b^4 - a^4) / (4 (b - a)) [m^3].
+double grainVolume(const Knobs& knobs) {
+  const double a = knobs.grains.radius_min, b = knobs.grains.radius_max;
+  const double meanCube = b > a ? (std::pow(b, 4) - std::pow(a, 4)) / (4.0 * (b - a)) : a * a * a;
+  return 4.0 / 3.0 * std::numbers::pi * meanCube;
+}
 
 std::size_t parcels(const Knobs& knobs, std::size_t grains) { return core::CoarseGraining{knobs.coarse}.count(grains); }
 
@@ -127,16 +131,28 @@ void finish(SceneResult& result, const World& world, Clock::time_point start) {
 
 }  // namespace
 
+Grains referenceGrains() {
+  Grains g;
+  g.material.name = "grains";
+  g.material.density = 2500.0;
+  g.material.youngs_modulus = kReferenceModulus;
+  g.material.poisson_ratio = 0.3;
+  g.material.restitution = 0.5;
+  g.material.sliding_friction = 0.5;
+  g.material.rolling_friction = 0.1;
+  return g;
+}
+
 core::Material studyMaterial(const Knobs& knobs) {
-  core::Material m;
-  m.name = "grains";
-  m.density = 2500.0;
-  m.youngs_modulus = kReferenceModulus * knobs.modulus_scale;
-  m.poisson_ratio = 0.3;
-  m.restitution = 0.5;
-  m.sliding_friction = 0.5;
-  m.rolling_friction = 0.1;
+  core::Material m = knobs.grains.material;
+  m.youngs_modulus *= knobs.modulus_scale;
   return m;
+}
+
+double parcelRadius(const Knobs& knobs) { return core::CoarseGraining{knobs.coarse}.radius(knobs.grains.radius_min); }
+
+double parcelRadiusMax(const Knobs& knobs) {
+  return core::CoarseGraining{knobs.coarse}.radius(knobs.grains.radius_max);
 }
 
 double criticalLimit(const Knobs& knobs) {
@@ -194,11 +210,11 @@ void advance(World& world, double until, SceneResult& result, double cpuLimit,
   }
 }
 
-double addLattice(World& world, std::size_t count, double radius, const Vec3& lo, const Vec3& hi,
+double addLattice(World& world, std::size_t count, double radius, double radiusMax, const Vec3& lo, const Vec3& hi,
                   std::uint64_t seed, const std::function<bool(const Vec3&)>& free) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  const double rMax = kRadiusSpread * radius;
+  const double rMax = radiusMax;
   const double spacing = 2.2 * rMax;
   const double jitter = 0.08 * radius;
   const auto nx = static_cast<std::size_t>(std::max(1.0, std::floor((hi.x() - lo.x()) / spacing)));
@@ -210,7 +226,7 @@ double addLattice(World& world, std::size_t count, double radius, const Vec3& lo
     const auto layer = static_cast<double>(k / (nx * ny));
     const Vec3 point(lo.x() + (i + 0.5) * spacing + jitter * (2.0 * u(rng) - 1.0),
                      lo.y() + (j + 0.5) * spacing + jitter * (2.0 * u(rng) - 1.0), lo.z() + (layer + 0.5) * spacing);
-    const double r = radius * (1.0 + (kRadiusSpread - 1.0) * u(rng));
+    const double r = radius + (radiusMax - radius) * u(rng);
     if (free && !free(point)) continue;
     core::ParticleSpec p;
     p.radius = r;
@@ -259,21 +275,21 @@ SceneResult runBed(const Knobs& knobs, const Budget& budget, bool cohesive, Sett
   // A box twice as long as wide; the blade starts 3 diameters from the near wall and
   // travels 6 (0.1 m/s for 0.3 s), so its front stops 10 diameters short of the far wall,
   // where the heap it pushes ahead stays clear of the wall.
-  const double footprint = std::sqrt(budget.scale * budget.bed_area);
+  const double footprint = std::sqrt(budget.scale * budget.bed_area) * lengthScale(knobs);
   const double length = 0.1 * footprint, width = 0.05 * footprint;  // [m]
   constexpr double kBladeSpeed = 0.1;  // [m/s]
-  constexpr double kBladeHalfThickness = 0.0015;  // [m]
+  const double bladeHalfThickness = 0.0015 * lengthScale(knobs);  // [m]
   // The blade spans the box but for gaps no grain fits through (grains wedged between a
   // blade's edge and a wall jam it); it cuts the upper half of the bed, leaving three
   // diameters below it for the grains that pass under it.
-  constexpr double kSideGap = 0.0005;  // [m]
+  const double sideGap = 0.0005 * lengthScale(knobs);  // [m]
   // Its size follows the bed the grains make (the same for every knob).
   const std::size_t grains = scaledCount(budget.bed_grains, budget.scale);
-  const double height = static_cast<double>(grains) * grainVolume() / (0.6 * length * width);
+  const double height = static_cast<double>(grains) * grainVolume(knobs) / (0.6 * length * width);
   const double bladeBottom = 0.5 * height;
-  const double bladeX = 0.015;
+  const double bladeX = 0.015 * lengthScale(knobs);
   const double r = parcelRadius(knobs);
-  const double clearance = kBladeHalfThickness + 1.1 * kRadiusSpread * r;
+  const double clearance = bladeHalfThickness + 1.1 * parcelRadiusMax(knobs);
   // The blade stands in the box while the bed forms around it, so it never appears inside
   // particles.
   auto bedWorld = [&](double cohesionEnergyDensity) {
@@ -283,10 +299,10 @@ SceneResult runBed(const Knobs& knobs, const Budget& budget, bool cohesive, Sett
     world.addMaterial(material);
     world.addPlane({"floor", Vec3::Zero(), Vec3::UnitZ(), 0});
     addWalls(world, Vec3(length, width, 0.0));
-    world.addMesh(boxBody("blade", Vec3(-kBladeHalfThickness, -0.5 * width + kSideGap, bladeBottom),
-                          Vec3(kBladeHalfThickness, 0.5 * width - kSideGap, 3.0 * height), 0));
+    world.addMesh(boxBody("blade", Vec3(-bladeHalfThickness, -0.5 * width + sideGap, bladeBottom),
+                          Vec3(bladeHalfThickness, 0.5 * width - sideGap, 3.0 * height), 0));
     world.mesh(0).setPose(Vec3(bladeX, 0.5 * width, 0.0), core::Quat::Identity());
-    addLattice(world, parcels(knobs, grains), r, Vec3(0.0, 0.0, 0.0), Vec3(length, width, 0.0), knobs.seed,
+    addLattice(world, parcels(knobs, grains), r, parcelRadiusMax(knobs), Vec3(0.0, 0.0, 0.0), Vec3(length, width, 0.0), knobs.seed,
                [&](const Vec3& x) { return std::abs(x.x() - bladeX) > clearance || x.z() < bladeBottom - clearance; });
     return world;
   };
@@ -339,12 +355,12 @@ SceneResult runBed(const Knobs& knobs, const Budget& budget, bool cohesive, Sett
 SceneResult runHeap(const Knobs& knobs, const Budget& budget) {
   SceneResult result("heap");
   const auto start = Clock::now();
-  const double footprint = 0.04 * std::sqrt(budget.scale);  // [m]
+  const double footprint = 0.04 * std::sqrt(budget.scale) * lengthScale(knobs);  // [m]
   World world(studySettings(knobs));
   world.addMaterial(studyMaterial(knobs));
   world.addPlane({"floor", Vec3::Zero(), Vec3::UnitZ(), 0});
   const double r = parcelRadius(knobs);
-  addLattice(world, parcels(knobs, scaledCount(budget.heap_grains, budget.scale)), r,
+  addLattice(world, parcels(knobs, scaledCount(budget.heap_grains, budget.scale)), r, parcelRadiusMax(knobs),
              Vec3(-0.5 * footprint, -0.5 * footprint, 0.0), Vec3(0.5 * footprint, 0.5 * footprint, 0.0), knobs.seed);
   world.initialize();
   advance(world, budget.heap_time, result, budget.cpu_limit);
@@ -376,24 +392,33 @@ SceneResult runHeap(const Knobs& knobs, const Budget& budget) {
   return result;
 }
 
+std::size_t hopperGrains(const Knobs& knobs, const Budget& budget) {
+  const double grains = static_cast<double>(scaledCount(budget.hopper_grains, budget.scale)) *
+                        std::pow(budget.hopper_orifice / kReferenceOrifice / lengthScale(knobs), 3);
+  return static_cast<std::size_t>(std::lround(grains));
+}
+
 SceneResult runHopper(const Knobs& knobs, const Budget& budget) {
   SceneResult result("hopper");
   const auto start = Clock::now();
-  const double side = 0.06 * std::sqrt(budget.scale);  // [m]
-  constexpr double kOrifice = 0.025; // [m], 4.5 mean grain diameters
+  // The orifice is 10 reference grain radii (4.5 mean diameters) unless the budget gives
+  // another; the box is 2.4 orifices wide and its lattice keeps its depth in orifices.
+  const double orifice = budget.hopper_orifice;  // [m]
+  const double side = 2.4 * orifice * std::sqrt(budget.scale);  // [m]
   core::SimulationSettings s = studySettings(knobs);
-  s.bounds = core::DomainBounds{Vec3(-0.01, -0.01, -0.05), Vec3(side + 0.01, side + 0.01, 2.0)};
+  s.bounds = core::DomainBounds{Vec3(-0.4 * orifice, -0.4 * orifice, -2.0 * orifice),
+                                Vec3(side + 0.4 * orifice, side + 0.4 * orifice, 2.0)};
   World world(s);
   world.addMaterial(studyMaterial(knobs));
   addWalls(world, Vec3::Constant(side));
-  world.addMesh(orificePlate(side, kOrifice, 0));
-  core::TriangleMesh gateShape = core::rectangleMesh(Vec3(0.5 * side, 0.5 * side, 0.0), 0.5 * kOrifice + 0.002,
-                                                     0.5 * kOrifice + 0.002, 1, 1);
+  world.addMesh(orificePlate(side, orifice, 0));
+  core::TriangleMesh gateShape =
+      core::rectangleMesh(Vec3(0.5 * side, 0.5 * side, 0.0), 0.58 * orifice, 0.58 * orifice, 1, 1);
   core::MeshBody gate("gate", std::move(gateShape.vertices), std::move(gateShape.triangles), 0);
   gate.setCollisionWindow(0.0, budget.hopper_fill);
   world.addMesh(std::move(gate));
-  addLattice(world, parcels(knobs, scaledCount(budget.hopper_grains, budget.scale)), parcelRadius(knobs), Vec3(0.0, 0.0, 0.002),
-             Vec3(side, side, 0.0), knobs.seed);
+  addLattice(world, parcels(knobs, hopperGrains(knobs, budget)), parcelRadius(knobs),
+             parcelRadiusMax(knobs), Vec3(0.0, 0.0, 0.08 * orifice), Vec3(side, side, 0.0), knobs.seed);
   world.initialize();
   advance(world, budget.hopper_fill, result, budget.cpu_limit);
   const auto& p = world.particles();

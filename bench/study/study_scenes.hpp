@@ -27,7 +27,24 @@ namespace demlink::study {
 using demlink::core::ContactModel;
 using demlink::core::IntegratorKind;
 
-/// One point of a sweep: the engine's speed/accuracy knobs.
+/// Grain radius of the atlas's reference grains (before coarse graining) [m].
+inline constexpr double kGrainRadius = 0.0025;
+
+/// What a scene is made of: one material and radii uniform in [radius_min, radius_max]
+/// (before coarse graining). Every scene's geometry (footprints, the bed's box and blade,
+/// the hopper's lattice height) scales with radius_min / kGrainRadius, so a scene of other
+/// grains is the atlas's scene at another size.
+struct Grains {
+  demlink::core::Material material;  ///< Young's modulus before Knobs::modulus_scale
+  double radius_min = kGrainRadius;  ///< [m]
+  double radius_max = 1.2 * kGrainRadius;  ///< [m]
+};
+/// The atlas's grains: glass-like, radius uniform in [2.5, 3.0] mm, density 2500 kg/m^3,
+/// a "real" modulus of 1e8 Pa, e = 0.5, mu = 0.5, rolling friction 0.1 (it keeps a heap of
+/// spheres standing).
+[[nodiscard]] Grains referenceGrains();
+
+/// One point of a sweep: the engine's speed/accuracy knobs, and the grains they run.
 struct Knobs {
   double dt_fraction = 0.1;  ///< time step / critical limit [-]
   ContactModel law = ContactModel::HertzMindlin;
@@ -36,6 +53,7 @@ struct Knobs {
   double modulus_scale = 1.0;  ///< Young's modulus / the reference modulus [-]
   double coarse = 1.0;         ///< coarse-graining factor alpha (core::CoarseGraining) [-]
   std::uint64_t seed = 1;      ///< jitter of the initial lattices [-]
+  Grains grains = referenceGrains();  ///< the atlas's; a calibration gives its material's
 };
 
 /// Sizes and durations: the full atlas or the CI smoke run.
@@ -55,16 +73,20 @@ struct Budget {
   double heap_time = 0.4;            ///< [s]
   double hopper_fill = 0.25;         ///< [s]
   double hopper_flow = 0.2;          ///< [s]
+  /// Side of the hopper's square orifice [m]; the box's side is 2.4 times it and the grain
+  /// count grows with (orifice / grain size)^3 from hopper_grains at 25 mm and the
+  /// reference grains, so the bed keeps its depth in orifice sizes.
+  double hopper_orifice = 0.025;
   /// A scene whose thread used more CPU seconds is abandoned [s]: CPU, not wall, so a
   /// loaded machine does not break scenes that an idle one runs.
   double cpu_limit = 600.0;
 };
 
-/// The reference material: glass-like grains with a "real" modulus of 1e8 Pa (scaled by
-/// Knobs::modulus_scale). Rolling friction keeps a heap of spheres standing.
+/// The grains' material with Knobs::modulus_scale applied.
 [[nodiscard]] demlink::core::Material studyMaterial(const Knobs& knobs);
-/// Grain radius before coarse graining [m].
-inline constexpr double kGrainRadius = 0.0025;
+/// The smallest and the largest radius of the grains after coarse graining [m].
+[[nodiscard]] double parcelRadius(const Knobs& knobs);
+[[nodiscard]] double parcelRadiusMax(const Knobs& knobs);
 /// Largest impact speed the time-step limit is validated for [m/s].
 inline constexpr double kImpactSpeed = 2.0;
 /// Restitution tolerance of the limit: a scene file's default (docs/physics.md), so
@@ -102,6 +124,9 @@ struct SettledBed {
                                  SettledBed settled = {});
 [[nodiscard]] SceneResult runHeap(const Knobs& knobs, const Budget& budget);
 [[nodiscard]] SceneResult runHopper(const Knobs& knobs, const Budget& budget);
+/// Grains of the hopper scene for `knobs`' grains and `budget`'s orifice and scale
+/// (before coarse graining) [-].
+[[nodiscard]] std::size_t hopperGrains(const Knobs& knobs, const Budget& budget);
 
 /// CPU seconds this thread has used (a scene runs on one thread) [s].
 [[nodiscard]] double threadCpuSeconds();
@@ -111,10 +136,10 @@ void advance(demlink::core::World& world, double until, SceneResult& result, dou
              const std::function<void()>& afterStep = {});
 
 /// A cubic lattice of `count` spheres of material 0 over the footprint of [lo, hi] (x
-/// fastest, filling upward from lo.z), radii uniform in [r, 1.2 r], jittered; lattice
-/// points where `free` is false are skipped. Returns the highest centre [m].
-double addLattice(demlink::core::World& world, std::size_t count, double radius, const demlink::core::Vec3& lo,
-                  const demlink::core::Vec3& hi, std::uint64_t seed,
+/// fastest, filling upward from lo.z), radii uniform in [radius, radiusMax], jittered;
+/// lattice points where `free` is false are skipped. Returns the highest centre [m].
+double addLattice(demlink::core::World& world, std::size_t count, double radius, double radiusMax,
+                  const demlink::core::Vec3& lo, const demlink::core::Vec3& hi, std::uint64_t seed,
                   const std::function<bool(const demlink::core::Vec3&)>& free = {});
 
 }  // namespace demlink::study

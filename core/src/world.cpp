@@ -31,6 +31,20 @@ World::World(SimulationSettings settings, std::string settingsField)
   settings_.validate(settings_field_);
 }
 
+std::size_t World::addBondRule(BondRule rule, const std::string& fieldPrefix) {
+  if (initialized_) throw InputError(fieldPrefix, rule.name, "parallel bonds must be declared before initialize()");
+  rule.properties.validate(fieldPrefix);
+  requireHalfOpenRange(fieldPrefix + ".fraction", rule.fraction, 0.0, 1.0);
+  for (std::size_t k = 0; k < rule.materials.size(); ++k) {
+    if (rule.materials[k] >= materials_.size()) {
+      throw InputError(fieldPrefix + ".materials[" + std::to_string(k) + "]", std::to_string(rule.materials[k]),
+                       "no such material");
+    }
+  }
+  if (rule.region) rule.placement.resolve(*this, fieldPrefix + ".region");
+  return bonds_.addRule(std::move(rule));
+}
+
 void World::setFrameMotion(const FrameMotion& motion) {
   motion.validate("frame");
   requireNoClumpsInRotatingFrame(motion, "frame");
@@ -319,6 +333,7 @@ void World::initialize() {
                                          "; softer springs or heavier nodes relax it",
                                      limit});
   }
+  bonds_.addTimeStepLimits(time_step_.report, materials_, minRadius);
   if (settings_.time_step > time_step_.report.limit && !settings_.allow_unsafe_time_step) {
     const TimeStepConstraint& limiting = *std::find_if(
         time_step_.report.constraints.begin(), time_step_.report.constraints.end(),
@@ -468,6 +483,7 @@ SceneFeatures World::sceneFeatures() const {
   f.watchdog = settings_.watchdog.every_steps > 0;
   f.cohesion = contacts_.cohesion;
   f.contact_recording = recorder_.settings.active();
+  f.parallel_bonds = bonds_.hasRules();
   return f;
 }
 
@@ -491,6 +507,7 @@ void World::runStage(Stage stage, StepContext& context) {
     case Stage::kDeformableForces: return finishDeformables(context);
     case Stage::kNeighbourList: return updateNeighbours(context);
     case Stage::kForces: return (this->*compute_forces_)(context);
+    case Stage::kParallelBonds: return bonds_.step(*this, particles_, context.dt, context.force_step);
     case Stage::kClumpForceSum: return gatherClumpForces();
     case Stage::kSecondHalfKick: return secondHalfKick(context);
     case Stage::kClumpHalfKick: return integrateClumps(0.5 * context.dt, 0.0, false);
@@ -820,6 +837,7 @@ void World::applySlotMapping(const std::vector<std::uint32_t>& oldSlotOfNew) {
   for (ClumpBody& body : clumps_.bodies) {
     for (std::uint32_t& slot : body.member_slots) slot = newOfCurrent[slot];
   }
+  bonds_.remapSlots(newOfCurrent);
   if (neighbours_.pending_new_slot_of_old.empty()) {
     neighbours_.pending_new_slot_of_old = std::move(newOfCurrent);
   } else {
@@ -1092,16 +1110,41 @@ void World::measureContacts(WatchdogReading& reading) const {
   }
 }
 
+std::string World::nonFiniteState() const {
+  const ParticleArrays& p = particles_;
+  const WatchShare scan = watchChunks(pool_.get(), p.size(), [&](WatchShare& share, std::size_t begin,
+                                                                std::size_t end) {
+    for (std::size_t i = begin; i < end && share.non_finite == WatchShare::kNone; ++i) {
+      const double sum = p.position[i].sum() + p.velocity[i].sum() + p.angular_velocity[i].sum() + p.force[i].sum();
+      if (!std::isfinite(sum)) share.non_finite = i;
+    }
+  });
+  if (scan.non_finite != WatchShare::kNone) {
+    return "particle " + std::to_string(p.id[scan.non_finite]) + " (position, velocity, spin or force)";
+  }
+  for (const MeshBody& mesh : walls_.meshes) {
+    if (!std::isfinite(mesh.position().sum() + mesh.orientation().coeffs().sum() + mesh.linearVelocity().sum() +
+                       mesh.angularVelocity().sum())) {
+      return "mesh " + mesh.name() + " (pose or velocity)";
+    }
+  }
+  for (const auto& body : deformables_.bodies) {
+    for (const Vec3& x : body->surface().positions()) {
+      if (!std::isfinite(x.sum())) return std::string(body->kind()) + " body " + body->name() + " (node positions)";
+    }
+  }
+  return {};
+}
+
 WatchdogReading World::watch() {
   WatchdogReading r;
+  r.non_finite = nonFiniteState();
+  if (!r.non_finite.empty()) return r;
   const ParticleArrays& p = particles_;
   const Vec3 gravity = state_.gravity;
   const WatchShare motion = watchChunks(pool_.get(), p.size(), [&](WatchShare& share, std::size_t begin,
                                                                   std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
-      const double check =
-          p.position[i].sum() + p.velocity[i].sum() + p.angular_velocity[i].sum() + p.force[i].sum();
-      if (!std::isfinite(check) && share.non_finite == WatchShare::kNone) share.non_finite = i;
       const double speed = p.velocity[i].norm();
       if (speed > share.max_speed) {
         share.max_speed = speed;
@@ -1110,9 +1153,6 @@ WatchdogReading World::watch() {
       share.potential -= p.mass[i] * gravity.dot(p.position[i]);
     }
   });
-  if (motion.non_finite != WatchShare::kNone) {
-    r.non_finite = "particle " + std::to_string(p.id[motion.non_finite]) + " (position, velocity, spin or force)";
-  }
   r.max_speed = motion.max_speed;
   if (motion.fastest != WatchShare::kNone) r.fastest = "particle " + std::to_string(p.id[motion.fastest]);
   for (const MeshBody& mesh : walls_.meshes) {
@@ -1122,15 +1162,8 @@ WatchdogReading World::watch() {
       r.fastest = "mesh " + mesh.name();
     }
   }
-  for (const auto& body : deformables_.bodies) {
-    for (const Vec3& x : body->surface().positions()) {
-      if (!std::isfinite(x.sum()) && r.non_finite.empty()) {
-        r.non_finite = std::string(body->kind()) + " body " + body->name() + " (node positions)";
-      }
-    }
-  }
-  if (!r.non_finite.empty()) return r;
   visitContactLaw(settings_.contact_model, [&]<class Law>() { measureContacts<Law>(r); });
+  r.elastic_energy += bonds_.strainEnergy(particles_);
   r.kinetic_energy = kineticEnergy();
   r.total_energy = r.kinetic_energy + motion.potential + r.elastic_energy + r.cohesion_energy;
   // Sources, moving meshes and a moving frame feed energy in: no energy check then.

@@ -27,6 +27,11 @@
 /// mesh frames continue the uninterrupted run's integrals. A world without mesh loads
 /// skips the section; a file without it starts the integrals at zero.
 ///
+/// Parallel bonds (section BOND, after MLOD, written only when the scene declares bond
+/// rules, so files of scenes without them are unchanged): BondSet::save, every bond by
+/// its particles' ids with its force, moments and state; restored bonds find their slots
+/// from the restored particles' ids.
+///
 /// Reading is in two phases: read and check the whole file into staging objects,
 /// then replace the world's state, so a bad file leaves the world as it was.
 /// Deformable bodies restore themselves; each is saved first, so a failure of a
@@ -226,6 +231,7 @@ void World::saveCheckpoint(std::ostream& out) const {
   }
   if (anyInputsChanged(components_.all)) w.section("INPT", [&] { saveComponentInputs(w, components_.all); });
   if (recorder_.settings.mesh_loads && !recorder_.mesh_loads.empty()) w.section("MLOD", [&] { writeMeshLoads(w, recorder_.mesh_loads); });
+  if (bonds_.hasRules()) w.section("BOND", [&] { bonds_.save(w); });
   w.section("END ", [] {});
   out.write(w.bytes().data(), static_cast<std::streamsize>(w.bytes().size()));
   if (!out) throw std::runtime_error("checkpoint: writing failed");
@@ -312,6 +318,11 @@ void World::restoreCheckpoint(std::string_view bytes, const std::string& source)
     StateReader mlod = file.section("MLOD", "mesh_loads");
     meshLoads = readMeshLoads(mlod, walls_.meshes);
   }
+  BondSet bonds = bonds_;
+  if (bonds_.hasRules() || (!file.atEnd() && file.peekTag() == "BOND")) {
+    StateReader bond = file.section("BOND", "parallel_bonds");
+    bonds.restore(bond, particles);
+  }
   (void)file.section("END ", "end");
   file.requireEnd();
   std::vector<MeshNearList> deformableNear(deformables_.bodies.size());
@@ -365,6 +376,7 @@ void World::restoreCheckpoint(std::string_view bytes, const std::string& source)
   selectStepStages();  // the restored frame may move where the scene's did not
   walls_.mesh_colliding = std::move(colliding);
   clumps_.bodies = std::move(clumps);
+  bonds_ = std::move(bonds);
   state_.next_clump_id = nextClumpId;
   state_.step_count = clock.step_count;
   state_.next_particle_id = clock.next_id;

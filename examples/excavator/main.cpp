@@ -203,12 +203,14 @@ int run(const Options& opt) {
         << torque.z() << "\n";
     if (t + 1e-9 >= nextLog) {
       nextLog += opt.log_interval_s;
+      // Simulated seconds per wall second since the compile (the pit's settling is before it).
+      const double wallSoFar = std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
       std::printf(
           "excavator t %6.2f s  cycle %d %-14s fill %7.1f kg  force [kN] swing %6.1f boom %7.1f stick %7.1f bucket "
-          "%7.1f  angles [deg] %6.1f %6.1f %7.1f %7.1f  |F_dem| %6.2f kN\n",
+          "%7.1f  angles [deg] %6.1f %6.1f %7.1f %7.1f  |F_dem| %6.2f kN  real time x%.3f\n",
           t, cycle + 1, ex::phaseName(op.phase()), fillMass, act[0].force / 1e3, act[1].force / 1e3,
           act[2].force / 1e3, act[3].force / 1e3, q[0] * kRadToDeg, q[1] * kRadToDeg, q[2] * kRadToDeg,
-          q[3] * kRadToDeg, force.norm() / 1e3);
+          q[3] * kRadToDeg, force.norm() / 1e3, wallSoFar > 0.0 ? t / wallSoFar : 0.0);
       std::fflush(stdout);
     }
   }
@@ -232,12 +234,13 @@ int run(const Options& opt) {
   for (std::size_t i = 0; i < 4; ++i) {
     summary << "peak_force_" << model.spec().actuators[i].name << "_N = " << peakForce[i] << "\n";
   }
+  const double realTimeFactor = wall > 0.0 ? simulated / wall : 0.0;
   summary << "phase_timeouts = " << op.timeouts() << "\nsimulated_s = " << simulated << "\nwall_s = " << wall
-          << "\nfinished_early = " << (finishedEarly ? 1 : 0) << "\n";
+          << "\nreal_time_factor = " << realTimeFactor << "\nfinished_early = " << (finishedEarly ? 1 : 0) << "\n";
   std::printf("excavator: mass dumped %.1f kg; peak cylinder force boom %.1f kN, stick %.1f kN, bucket %.1f kN, "
-              "swing torque %.1f kN m; %.2f s simulated in %.1f s wall (%.1f s wall per simulated s)\n",
+              "swing torque %.1f kN m; %.2f s simulated in %.1f s wall after the compile (real-time factor %.3f)\n",
               dug, peakForce[1] / 1e3, peakForce[2] / 1e3, peakForce[3] / 1e3, peakForce[0] / 1e3, simulated, wall,
-              simulated > 0.0 ? wall / simulated : 0.0);
+              realTimeFactor);
   std::printf("excavator: outputs in %s (excavator.csv, excavator_summary.txt, bucket.stl)\n", opt.output.c_str());
   if (finishedEarly) {
     std::fprintf(stderr, "excavator: the server ended the simulation early: %s\n",

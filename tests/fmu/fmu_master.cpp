@@ -2,10 +2,12 @@
 /// modelDescription.xml for the model identifier, GUID and value references, loads the
 /// library of its platform (linux64, or win64 in the win64 build) and runs the
 /// plate-into-bed scenario of plate_in_bed.cfg against a server.
-/// Usage: fmu_master FMU HOST PORT WORKDIR [end]. Prints one summary line; exit 0 when
-/// every physical and timing check holds, 1 otherwise (the reason on stderr). With "end" it
-/// steps short_run.cfg until the server ends the run and checks fmi2Discard and
-/// fmi2Terminated. Timing: after fmi2DoStep(t, h) the box's time must be t + h in the
+/// Usage: fmu_master FMU HOST PORT WORKDIR [end | coupled MASS DURATION]. Prints one
+/// summary line; exit 0 when every physical and timing check holds, 1 otherwise (the reason
+/// on stderr). With "end" it steps short_run.cfg until the server ends the run and checks
+/// fmi2Discard and fmi2Terminated. With "coupled" it drops a plate of MASS kg onto the bed
+/// for DURATION s, integrating its fall from the force each step returns
+/// (tests/coupling/coupled_plate.hpp), and prints that summary instead. Timing: after fmi2DoStep(t, h) the box's time must be t + h in the
 /// send-first order (FMI 2.0: outputs at the step's end) and t in the receive-first one
 /// (the interval [t - h, t], one interval behind).
 #include <algorithm>
@@ -19,6 +21,7 @@
 #include <regex>
 #include <string>
 
+#include "../coupling/coupled_plate.hpp"
 #include "fmi2.h"
 #include "fmu_config.hpp"
 #include "shared_library.hpp"
@@ -54,8 +57,9 @@ F symbol(const demlink::fmu::SharedLibrary& library, const char* name) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 5 && argc != 6) {
-    std::fprintf(stderr, "usage: %s FMU HOST PORT WORKDIR [end]\n", argv[0]);
+  const bool coupled = argc == 8 && std::string(argv[5]) == "coupled";
+  if (argc != 5 && !(argc == 6 && std::string(argv[5]) == "end") && !coupled) {
+    std::fprintf(stderr, "usage: %s FMU HOST PORT WORKDIR [end | coupled MASS DURATION]\n", argv[0]);
     return 2;
   }
   const std::filesystem::path work = argv[4];
@@ -120,6 +124,38 @@ int main(int argc, char** argv) {
   std::string resourcePath = std::filesystem::absolute(work / "resources").generic_string();
   if (!resourcePath.starts_with("/")) resourcePath.insert(0, "/");
   const std::string resources = "file://" + resourcePath;
+  if (coupled) {
+    fmi2Component fmu = instantiate("coupled", fmi2CoSimulation, guid.c_str(), resources.c_str(), &callbacks,
+                                    fmi2False, fmi2False);
+    const fmi2ValueReference settings[2] = {ref("port"), ref("timeout")};
+    const fmi2Integer port = std::atoi(argv[3]);
+    const fmi2Real timeout = 300.0;  // the bed settles before Compiled [s]
+    const fmi2ValueReference hostRef = ref("host");
+    const fmi2String host = argv[2];
+    if (fmu == nullptr || setString(fmu, &hostRef, 1, &host) != fmi2OK || setInteger(fmu, &settings[0], 1, &port) != fmi2OK ||
+        setReal(fmu, &settings[1], 1, &timeout) != fmi2OK || enterInit(fmu) != fmi2OK || exitInit(fmu) != fmi2OK) {
+      return failWith("initialization failed");
+    }
+    const fmi2ValueReference z = ref("plate.position[3]");
+    const fmi2ValueReference vz = ref("plate.velocity[3]");
+    const fmi2ValueReference force = ref("plate.meanForce[3]");
+    const double h = demlink::fmu::readConfigFile((work / "resources" / "demlink_fmu.cfg").string()).interval_s;
+    const double duration = std::atof(argv[7]);
+    demlink::coupling::CoupledPlate dynamics(std::atof(argv[6]));
+    for (int k = 0; k * h < duration - 0.5 * h; ++k) {
+      const fmi2Real state[2] = {dynamics.height(), dynamics.velocity()};
+      fmi2Real fz = 0.0;
+      if (setReal(fmu, &z, 1, &state[0]) != fmi2OK || setReal(fmu, &vz, 1, &state[1]) != fmi2OK ||
+          doStep(fmu, k * h, h, fmi2True) != fmi2OK || getReal(fmu, &force, 1, &fz) != fmi2OK) {
+        return failWith("step " + std::to_string(k) + " failed");
+      }
+      dynamics.advance(fz, h);
+    }
+    dynamics.printSummary(sendFirst ? "fmu" : "fmu_receive_first", h, std::nan(""));
+    const bool ok = terminate(fmu) == fmi2OK;
+    freeInstance(fmu);
+    return ok ? 0 : failWith("fmi2Terminate failed");
+  }
   if (argc == 6) {
     // The box's end time is 10 ms: the steps whose answers end by then succeed (send first:
     // 0..4, ending at 2..10 ms; receive first: 0..5, ending at 0..10 ms), the next one finds

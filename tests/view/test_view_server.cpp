@@ -1,8 +1,9 @@
 // The view server with a live hub over loopback sockets: page files, the token, frames at the
 // rate and particle budget a page asks for, the connection cap, and a stalled page that must
-// not slow the simulation.
+// not slow the simulation, and several simulations stepping at once.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <chrono>
 #include <cstring>
 #include <string>
@@ -228,6 +229,48 @@ TEST(ViewServer, StalledPageNeverSlowsTheSimulation) {
   // ...and once the socket's buffers are full no further frame goes out (one in flight).
   EXPECT_LE(server.framesSent() - sentAtHalf, 1u);
   EXPECT_LT(server.framesSent(), hub.captures());
+}
+
+TEST(LiveViewHub, FollowsOneOfSeveralSimulationsSteppingAtOnce) {
+  core::World first = rowOfSpheres(30);
+  core::World second = rowOfSpheres(50);
+  LiveViewHub hub;
+  hub.setDemand(1000.0, {});
+  // Both step on their own threads and offer every step; only one is ever captured.
+  std::atomic<bool> go{false};
+  auto stepAndOffer = [&](core::World& world) {
+    while (!go.load()) std::this_thread::yield();
+    for (int k = 0; k < 300; ++k) {
+      world.step();
+      hub.offer(world);
+    }
+  };
+  std::thread a(stepAndOffer, std::ref(first)), b(stepAndOffer, std::ref(second));
+  go = true;
+  a.join();
+  b.join();
+  std::uint64_t version = 0;
+  const ViewSnapshot* shown = hub.snapshot(0, version);
+  ASSERT_NE(shown, nullptr);
+  const core::World& followed = shown->particleCount() == 30 ? first : second;
+  const core::World& other = &followed == &first ? second : first;
+  const std::uint64_t sceneVersion = hub.sceneVersion();
+  EXPECT_EQ(sceneVersion, 1u);  // described once: the view never switched back and forth
+  // The other's offers change nothing while the followed one is open...
+  const std::uint64_t captures = hub.captures();
+  hub.offerNow(other);
+  EXPECT_EQ(hub.captures(), captures);
+  // ...releasing the other is no release; releasing the followed one hands the view over.
+  hub.release(other);
+  hub.offerNow(other);
+  EXPECT_EQ(hub.captures(), captures);
+  hub.release(followed);
+  hub.offerNow(other);
+  EXPECT_EQ(hub.captures(), captures + 1);
+  EXPECT_EQ(hub.sceneVersion(), sceneVersion + 1);
+  shown = hub.snapshot(0, version);
+  ASSERT_NE(shown, nullptr);
+  EXPECT_EQ(shown->particleCount(), &other == &first ? 30u : 50u);
 }
 
 }  // namespace

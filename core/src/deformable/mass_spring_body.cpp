@@ -19,6 +19,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 
 #include "demlink/core/input_error.hpp"
@@ -112,6 +113,8 @@ void MassSpringBody::beginStep(double dt, const Vec3& gravity) {
 void MassSpringBody::addSpringForces(bool tear, double time) {
   const std::vector<Vec3>& x = surface_.positions();
   const std::vector<Vec3>& v = surface_.velocities();
+  // Without a strain limit no strain exceeds it: the division is left out of the loop.
+  const bool strainLimited = break_strain_ < std::numeric_limits<double>::infinity();
   for (std::uint32_t s = 0; s < springs_.size(); ++s) {
     if (intact_[s] == 0) continue;
     const SpringSpec& spring = springs_[s];
@@ -120,8 +123,9 @@ void MassSpringBody::addSpringForces(bool tear, double time) {
     const Vec3 e = length > 0.0 ? Vec3(d / length) : Vec3::Zero();
     const double stretch = length - spring.rest_length;
     const double magnitude = spring.stiffness * stretch + spring.damping * (v[spring.b] - v[spring.a]).dot(e);
-    const double strain = std::abs(stretch) / spring.rest_length;
-    if (tear && (std::abs(magnitude) > break_force_ || strain > break_strain_)) {
+    if (tear && (std::abs(magnitude) > break_force_ ||
+                 (strainLimited && std::abs(stretch) / spring.rest_length > break_strain_))) {
+      const double strain = std::abs(stretch) / spring.rest_length;
       intact_[s] = 0;
       broken_.push_back({s, time, 0.5 * (x[spring.a] + x[spring.b]), std::abs(magnitude), strain});
       deactivateTrianglesOf(s);

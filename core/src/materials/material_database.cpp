@@ -84,10 +84,10 @@ double parseNumber(const std::string& text, const std::string& field) {
   return value;
 }
 
-SizeDistribution::Kind parseSizeKind(const std::string& text, const std::string& field) {
+MaterialSizeRange::Kind parseSizeKind(const std::string& text, const std::string& field) {
   const std::string key = MaterialDatabase::normalisedName(text);
-  if (key == "uniform") return SizeDistribution::Kind::Uniform;
-  if (key == "constant") return SizeDistribution::Kind::Constant;
+  if (key == "uniform") return MaterialSizeRange::Kind::Uniform;
+  if (key == "constant") return MaterialSizeRange::Kind::Constant;
   throw InputError(field, quotedText(text), "unknown size kind (known: uniform, constant)");
 }
 
@@ -175,7 +175,7 @@ MaterialDatabase MaterialDatabase::parse(std::string_view text, const std::strin
       throw InputError(where + ".radius_max", formatValue(record.size.radius_max),
                        "must be >= radius_min (" + formatValue(record.size.radius_min) + ")");
     }
-    if (record.size.kind == SizeDistribution::Kind::Constant && record.size.radius_max != record.size.radius_min) {
+    if (record.size.kind == MaterialSizeRange::Kind::Constant && record.size.radius_max != record.size.radius_min) {
       throw InputError(where + ".radius_max", formatValue(record.size.radius_max),
                        "size kind constant needs radius_max = radius_min (" + formatValue(record.size.radius_min) +
                            ")");
@@ -217,6 +217,65 @@ const MaterialRecord& MaterialDatabase::at(std::string_view name, const std::str
   for (const MaterialRecord& record : records_) known += (known.empty() ? "" : ", ") + record.material.name;
   throw InputError(field, quotedText(name),
                    "not in the materials database " + origin_ + " (known: " + (known.empty() ? "none" : known) + ")");
+}
+
+MaterialDatabase MaterialDatabase::builtInWith(const MaterialDatabase& user) {
+  MaterialDatabase db = builtIn();
+  db.origin_ += " and " + user.origin_;
+  for (const MaterialRecord& record : user.records_) {
+    if (const MaterialRecord* clash = db.find(record.material.name)) {
+      throw InputError(user.origin_ + ":" + std::to_string(record.line) + ".name", quotedText(record.material.name),
+                       "the built-in database already has " + clash->material.name +
+                           "; a materials file may only add materials, so give it another name");
+    }
+    db.records_.push_back(record);
+  }
+  return db;
+}
+
+std::string MaterialDatabase::toCsv(const std::vector<MaterialRecord>& records) {
+  std::string out;
+  auto number = [&out](double value) {
+    std::array<char, 32> buffer{};
+    const auto [end, ec] = std::to_chars(buffer.data(), buffer.data() + buffer.size(), value);
+    out.append(buffer.data(), ec == std::errc() ? end : buffer.data());
+  };
+  auto text = [&out](const std::string& value) {
+    if (value.find_first_of(",\"") == std::string::npos) {
+      out.append(value);
+      return;
+    }
+    out.push_back('"');
+    for (char c : value) {
+      if (c == '"') out.push_back('"');
+      out.push_back(c);
+    }
+    out.push_back('"');
+  };
+  for (std::size_t c = 0; c < kColumns.size(); ++c) {
+    if (c > 0) out.push_back(',');
+    out.append(kColumns[c]);
+  }
+  out.push_back('\n');
+  for (const MaterialRecord& record : records) {
+    const Material& m = record.material;
+    text(m.name);
+    for (double value : {m.density, m.youngs_modulus, m.poisson_ratio, m.restitution, m.sliding_friction,
+                         m.rolling_friction}) {
+      out.push_back(',');
+      number(value);
+    }
+    out.append(record.size.kind == MaterialSizeRange::Kind::Uniform ? ",uniform," : ",constant,");
+    number(record.size.radius_min);
+    out.push_back(',');
+    number(record.size.radius_max);
+    out.push_back(',');
+    text(record.source);
+    out.push_back(',');
+    number(m.cohesion_energy_density);
+    out.push_back('\n');
+  }
+  return out;
 }
 
 std::vector<std::string> MaterialDatabase::names() const {

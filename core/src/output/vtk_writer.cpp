@@ -298,6 +298,50 @@ void writeContactsVtp(const std::string& path, std::span<const ContactRecord> co
   writePolyData(path, piece, encoding);
 }
 
+void writeBondsVtp(const std::string& path, const BondSet& bonds, const ParticleArrays& particles,
+                   VtkEncoding encoding) {
+  const std::vector<ParallelBond>& list = bonds.bonds();
+  const std::size_t n = list.size();
+  std::vector<Vec3> points;
+  points.reserve(2 * n);
+  std::vector<std::array<std::uint32_t, 2>> lines(n);
+  std::vector<double> normalForce(n), twisting(n), tensile(n), shear(n);
+  std::vector<Vec3> shearForce(n), bending(n);
+  std::vector<std::uint8_t> intact(n);
+  std::vector<std::uint64_t> a(n), b(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const ParallelBond& bond = list[k];
+    lines[k] = {static_cast<std::uint32_t>(points.size()), static_cast<std::uint32_t>(points.size() + 1)};
+    points.push_back(particles.position[bond.slot_a]);
+    points.push_back(particles.position[bond.slot_b]);
+    normalForce[k] = bond.normal_force;
+    shearForce[k] = bond.shear_force;
+    twisting[k] = bond.twisting_moment;
+    bending[k] = bond.bending_moment;
+    const BondStress stress = bondStress(bond, bonds.section(bond, particles));
+    tensile[k] = stress.tensile;
+    shear[k] = stress.shear;
+    intact[k] = bond.broken ? 0 : 1;
+    a[k] = bond.id_a;
+    b[k] = bond.id_b;
+  }
+  PolyDataPiece piece;
+  piece.point_count = points.size();
+  piece.points = vectorColumn("position", points);
+  piece.cell_data.push_back(scalarColumn<double>("normal_force", normalForce));
+  piece.cell_data.push_back(vectorColumn("shear_force", shearForce));
+  piece.cell_data.push_back(scalarColumn<double>("twisting_moment", twisting));
+  piece.cell_data.push_back(vectorColumn("bending_moment", bending));
+  piece.cell_data.push_back(scalarColumn<double>("tensile_stress", tensile));
+  piece.cell_data.push_back(scalarColumn<double>("shear_stress", shear));
+  piece.cell_data.push_back(scalarColumn<std::uint8_t>("intact", intact));
+  piece.cell_data.push_back(scalarColumn<std::uint64_t>("particle_a", a));
+  piece.cell_data.push_back(scalarColumn<std::uint64_t>("particle_b", b));
+  piece.sections.push_back(
+      cellsOf<2>("Lines", std::span<const std::array<std::uint32_t, 2>>(lines), points.size(), "writeBondsVtp"));
+  writePolyData(path, piece, encoding);
+}
+
 void writeMeshLoadsVtp(const std::string& path, std::span<const Vec3> vertices,
                        std::span<const std::array<std::uint32_t, 3>> triangles, std::span<const TriangleLoad> loads,
                        VtkEncoding encoding) {

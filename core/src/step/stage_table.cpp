@@ -80,6 +80,11 @@ constexpr std::array<StageInfo, kStageCount> kTable{{
      "per-triangle loads and their time integrals every step",
      "contact forces, slip velocities", "contact records, triangle loads", "contact output is requested",
      [](const F& f) { return f.contact_recording; }},
+    {Stage::kParallelBonds, "parallel_bonds", false, false,
+     "intact bonds advance by the step's relative motion, add their force and moments, and break at their "
+     "strength; then the rules whose creation time has come bond their pairs",
+     "positions, velocities, spins, bond states", "forces, torques, bond states", "scene declares parallel bonds",
+     [](const F& f) { return f.parallel_bonds; }},
     {Stage::kDeformableForces, "deformable_forces", false, false,
      "deformable bodies' second half: internal forces with this step's contact forces (mass-spring: springs, "
      "tearing, second half kick; FEM: the load of the next solve), reactions (reported as `<kind>:<name>`)",

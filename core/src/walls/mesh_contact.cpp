@@ -33,6 +33,14 @@ double distanceToTriangle(const Vec3& p, const Triangle& tri, std::span<const Ve
   return (cp.point - p).norm();
 }
 
+/// Squared distance from p to the bounding box of triangle (a, b, c): a cheap lower bound of
+/// its distance to the triangle, whose closest point lies in that box. Each component is one
+/// subtraction (relative error eps/2), so a bound above a reach that includes the rounding
+/// of computed distances (distSlack) never rejects what the exact test would accept.
+double squaredDistanceToBox(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  return (a.cwiseMin(b).cwiseMin(c) - p).cwiseMax(p - a.cwiseMax(b).cwiseMax(c)).cwiseMax(0.0).squaredNorm();
+}
+
 }  // namespace
 
 void collectSphereMeshContacts(const Vec3& centre, double radius,
@@ -53,6 +61,8 @@ void collectSphereMeshContacts(const Vec3& centre, double radius,
   const double tolDiff = 0.25 * tol;
   const double reject = (radius + distSlack) * (1.0 + 1e-12);
   const double reject2 = reject * reject;
+  const double rejectPoint = (tol + distSlack) * (1.0 + 1e-12);
+  const double rejectPoint2 = rejectPoint * rejectPoint;
 
   // Stage 0: raw contacts, one per distinct candidate triangle within reach.
   for (const std::uint32_t index : candidateTriangles) {
@@ -63,14 +73,9 @@ void collectSphereMeshContacts(const Vec3& centre, double radius,
     const Vec3& a = worldVertices[tri[0]];
     const Vec3& b = worldVertices[tri[1]];
     const Vec3& c = worldVertices[tri[2]];
-    // Cheap rejection before the exact test: the closest point lies in the triangle's
-    // bounding box, so a box farther than the radius (plus the rounding of computed
-    // distances, distSlack) from the centre cannot give a contact. Each component of
-    // `outside` is one subtraction (relative error eps/2), so no contact the exact test
-    // would find is lost and the results are unchanged.
-    const Vec3 outside =
-        (a.cwiseMin(b).cwiseMin(c) - centre).cwiseMax(centre - a.cwiseMax(b).cwiseMax(c)).cwiseMax(0.0);
-    if (outside.squaredNorm() > reject2) continue;
+    // Cheap rejection before the exact test: a bounding box farther than the radius (plus
+    // the rounding of computed distances, distSlack) from the centre cannot give a contact.
+    if (squaredDistanceToBox(centre, a, b, c) > reject2) continue;
     const ClosestPoint cp = closestPointOnTriangle(centre, a, b, c);
     const Vec3 toCentre = centre - cp.point;
     const double dist2 = toCentre.squaredNorm();
@@ -123,7 +128,15 @@ void collectSphereMeshContacts(const Vec3& centre, double radius,
       const double distJ = (centre - cj.point).norm();
       const bool closer = cj.feature == TriangleFeature::Face || distJ < distI ||
                           (distJ <= distI + distSlack && (cj.point - ci.point).norm() > tolDiff);
-      drop = closer && distanceToTriangle(ci.point, triangles[cj.triangle], worldVertices) < tol;
+      if (!closer) continue;
+      // Only triangles that reach ci's point within tol can hold it; the box test rejects
+      // the others (most of a sphere's contacts on a fine mesh) without the exact one.
+      const Triangle& tj = triangles[cj.triangle];
+      if (squaredDistanceToBox(ci.point, worldVertices[tj[0]], worldVertices[tj[1]], worldVertices[tj[2]]) >
+          rejectPoint2) {
+        continue;
+      }
+      drop = distanceToTriangle(ci.point, tj, worldVertices) < tol;
     }
     if (drop) {
       ci.overlap = -ci.overlap;  // mark; later decisions still see the full geometry

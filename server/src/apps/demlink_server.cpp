@@ -293,6 +293,7 @@ int run(int argc, char** argv) {
     viewHub = std::make_unique<demlink::server::LiveViewHub>();
     view = std::make_unique<demlink::server::ViewServer>(*viewHub, viewOptions);
     options.step_observer = [hub = viewHub.get()](const demlink::core::World& world) { hub->offer(world); };
+    options.close_observer = [hub = viewHub.get()](const demlink::core::World& world) { hub->release(world); };
     view->start();
     std::printf("demlink-server view at %s%s\n", view->url().c_str(),
                 viewOptions.access_token.empty() ? "" : "?token=<the access token>");
@@ -301,10 +302,16 @@ int run(int argc, char** argv) {
   // answers whatever a simulation does. LIGGGHTS steps under MPI, whose calls stay on the
   // thread that started it: one host on the network thread, one simulation at a time.
   const std::uint64_t maxSimulations = line.once ? 1 : line.max_simulations;
+  std::optional<std::chrono::nanoseconds> spinBudget;
+  if (line.spin_wait_us) {
+    spinBudget = std::chrono::nanoseconds(static_cast<std::int64_t>(*line.spin_wait_us * 1e3));
+    demlink::core::setDefaultSpinBudget(*spinBudget);  // the worlds' thread pools
+  }
   std::unique_ptr<demlink::server::SessionHandler> handler;
   std::function<std::uint64_t()> finished;
   if (backend == demlink::server::BackendKind::Native) {
     demlink::server::SimulationHubOptions hubOptions;
+    hubOptions.spin_wait = demlink::core::defaultSpinBudget();  // the network loop's
     hubOptions.max_open = line.max_open;
     hubOptions.max_stepping = line.max_stepping;
     hubOptions.max_total = maxSimulations;
@@ -325,11 +332,7 @@ int run(int argc, char** argv) {
   net.max_unwelcomed = line.max_unwelcomed;
   net.hello_timeout = std::chrono::milliseconds(static_cast<std::int64_t>(line.hello_timeout * 1000.0));
   net.stop_on_signals = true;
-  if (line.spin_wait_us) {
-    const auto budget = std::chrono::nanoseconds(static_cast<std::int64_t>(*line.spin_wait_us * 1e3));
-    demlink::core::setDefaultSpinBudget(budget);  // the worlds' thread pools
-    net.spin_wait = budget;
-  }
+  if (line.spin_wait_us) net.spin_wait = *spinBudget;
   if (maxSimulations > 0) {
     net.stop_when = [&finished, maxSimulations] { return finished() >= maxSimulations; };
   }

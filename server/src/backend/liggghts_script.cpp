@@ -26,6 +26,8 @@ std::string refusalReason(Kind kind) {
     case Kind::kMassSpringBody:
     case Kind::kFemBody:
       return "LIGGGHTS has no deformable bodies";
+    case Kind::kParallelBonds:
+      return "LIGGGHTS-PUBLIC has no parallel bonds";
     default:
       return {};
   }

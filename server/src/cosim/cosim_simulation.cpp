@@ -41,7 +41,8 @@ CosimSimulation::CosimSimulation(CompiledSimulation compiled, const std::filesys
       before_engine_(options.before_engine),
       stop_stepping_(options.stop_stepping),
       turns_(options.turns),
-      step_observer_(options.step_observer) {
+      step_observer_(options.step_observer),
+      close_observer_(options.close_observer) {
   core::World& w = world();
   for (std::size_t i = 0; i < compiled_.components.size(); ++i) {
     const CosimComponent& c = compiled_.components[i];
@@ -78,6 +79,7 @@ CosimSimulation::CosimSimulation(CompiledSimulation compiled, const std::filesys
 }
 
 CosimSimulation::~CosimSimulation() {
+  if (close_observer_) close_observer_(world());
   // Closing LIGGGHTS is a collective of every rank.
   if (backend_ && backend_->name() != "native") beforeEngine();
 }

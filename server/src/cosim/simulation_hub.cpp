@@ -112,7 +112,8 @@ SimulationHub::Slot& SimulationHub::open() {
     });
   };
   slot->status.number = number;
-  slot->worker = std::make_unique<SimulationWorker>(std::make_unique<CosimHost>(std::move(options)), report);
+  slot->worker =
+      std::make_unique<SimulationWorker>(std::make_unique<CosimHost>(std::move(options)), report, options_.spin_wait);
   Slot& opened = *slot;
   slots_.emplace(number, std::move(slot));
   return opened;

@@ -104,12 +104,20 @@ FrameStats FrameSeries::writeFrame(const core::World& world, double wallSeconds)
   entries_.push_back({stats.time, file});
   core::writePvd((directory_ / "particles.pvd").string(), entries_);
   if (!world.meshes().empty()) writeMeshes(world, stats.time);
+  if (world.bonds().hasRules()) writeBonds(world, stats.time);
   summary_ << fmt::format("{:.9g},{},{:.9g},{:.9g},{:.9g},{},{:.3f}\n", stats.time, stats.particles,
                           stats.kinetic_energy, stats.mean_z, stats.max_z, stats.neighbour_builds,
                           stats.wall_seconds);
   summary_.flush();
   if (!summary_) throw std::runtime_error("cannot write " + (directory_ / "summary.csv").string());
   return stats;
+}
+
+void FrameSeries::writeBonds(const core::World& world, double time) {
+  const std::string file = fmt::format("bonds_{:06}.vtp", bond_entries_.size());
+  core::writeBondsVtp((directory_ / file).string(), world.bonds(), world.particles());
+  bond_entries_.push_back({time, file});
+  core::writePvd((directory_ / "bonds.pvd").string(), bond_entries_);
 }
 
 void FrameSeries::writeMeshes(const core::World& world, double time) {

@@ -92,11 +92,17 @@ class ProgressMeter {
     const double particleSteps = stepsPerSecond * static_cast<double>(world.particles().size());
     const double left = stepsPerSecond > 0.0 ? static_cast<double>(end_step_ - step) / stepsPerSecond
                                             : std::numeric_limits<double>::quiet_NaN();
-    spdlog::info("t = {:.4f} / {:.4f} s ({:.1f} %) | {:.0f} steps/s | {:.3g} M particle-steps/s | {} particles | "
+    // Scenes with parallel bonds also show how many hold and how many broke.
+    std::string bonds;
+    if (world.bonds().hasRules()) {
+      bonds = fmt::format(" | bonds {} intact, {} broken", world.bonds().counts().intact,
+                          world.bonds().counts().broken);
+    }
+    spdlog::info("t = {:.4f} / {:.4f} s ({:.1f} %) | {:.0f} steps/s | {:.3g} M particle-steps/s | {} particles{} | "
                  "{} left",
                  world.time(), static_cast<double>(end_step_) * world.settings().time_step,
                  100.0 * static_cast<double>(step) / static_cast<double>(end_step_), stepsPerSecond,
-                 particleSteps * 1.0e-6, world.particles().size(), formatDuration(left));
+                 particleSteps * 1.0e-6, world.particles().size(), bonds, formatDuration(left));
     last_time_ = now;
     last_step_ = step;
   }

@@ -18,6 +18,16 @@
 namespace demlink::server {
 namespace {
 
+/// A state holding a NaN or an infinity is never written: the run stops on it as the
+/// watchdog would, and the files already written keep the last finite state.
+void requireFiniteState(const core::World& world, const std::string& output) {
+  const std::string what = world.nonFiniteState();
+  if (!what.empty()) {
+    throw core::SimulationFault("non_finite", what + " is not finite; " + output + " not written",
+                                world.stepCount());
+  }
+}
+
 using Clock = std::chrono::steady_clock;
 
 double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
@@ -107,6 +117,7 @@ void RunDriver::start(const core::World& world) {
 
 
 void RunDriver::writeFrame(const core::World& world) {
+  requireFiniteState(world, "VTK frame " + std::to_string(frames_.frameCount()));
   timed(timing_.output_seconds, [&] {
     frames_.writeFrame(world, secondsSince(start_));
     deformables_.writeFrame(world);
@@ -115,6 +126,7 @@ void RunDriver::writeFrame(const core::World& world) {
 }
 
 void RunDriver::writeCheckpoint(const core::World& world, const std::string& name) {
+  requireFiniteState(world, name);
   timed(timing_.output_seconds, [&] {
     if (checkpoint_writer_) {
       checkpoint_writer_(directory() / name);
@@ -150,6 +162,10 @@ void RunDriver::afterStep(const core::World& world) {
 
 void RunDriver::finish(const core::World& world, const std::string& reason) {
   if (ended_) return;
+  if (const std::string what = world.nonFiniteState(); !what.empty()) {
+    fail(world, what + " is not finite at the end (" + reason + ")");
+    return;
+  }
   try {
     if (last_frame_step_ != world.stepCount()) writeFrame(world);
     if (run_.final_checkpoint) writeCheckpoint(world, core::kFinalCheckpointFileName);
@@ -174,6 +190,8 @@ void RunDriver::fail(const core::World& world, const std::string& why) {
   try {
     writeCheckpoint(world, core::kFinalCheckpointFileName);
   } catch (const std::exception& error) {
+    // A non-finite state is not written: the last checkpoint and frame on disk are the
+    // last finite state.
     spdlog::error("final checkpoint not written: {}", error.what());
   }
   ended_ = true;

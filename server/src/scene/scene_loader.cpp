@@ -22,12 +22,13 @@ namespace {
 /// Refuses JSON protobuf's parser would misread: a document that is not an object, and
 /// nesting deeper than kMaxSceneJsonDepth (a 200,000-deep array came back as an empty
 /// scene). Strings are skipped, with their escapes, so brackets inside them do not count.
-void checkJsonShape(const std::string& json, const std::string& sourceName) {
+void checkJsonShape(const std::string& json, const std::string& sourceName, const std::string& kind,
+                    const std::string& example) {
   std::size_t k = json.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0;
   while (k < json.size() && std::isspace(static_cast<unsigned char>(json[k])) != 0) ++k;
   if (k == json.size() || json[k] != '{') {
-    throw core::InputError(sourceName, "(scene JSON)",
-                           "invalid scene: a scene is a JSON object ({\"components\": [...]})");
+    throw core::InputError(sourceName, "(" + kind + " JSON)",
+                           "invalid " + kind + ": a " + kind + " is a JSON object (" + example + ")");
   }
   std::size_t depth = 0;
   std::size_t line = 1;
@@ -45,8 +46,8 @@ void checkJsonShape(const std::string& json, const std::string& sourceName) {
       inString = true;
     } else if (c == '{' || c == '[') {
       if (++depth > kMaxSceneJsonDepth) {
-        throw core::InputError(sourceName + ":line " + std::to_string(line), "(scene JSON)",
-                               "invalid scene: nested deeper than " + std::to_string(kMaxSceneJsonDepth) + " levels");
+        throw core::InputError(sourceName + ":line " + std::to_string(line), "(" + kind + " JSON)",
+                               "invalid " + kind + ": nested deeper than " + std::to_string(kMaxSceneJsonDepth) + " levels");
       }
     } else if ((c == '}' || c == ']') && depth > 0) {
       --depth;
@@ -56,15 +57,20 @@ void checkJsonShape(const std::string& json, const std::string& sourceName) {
 
 }  // namespace
 
-v1::Scene parseSceneJson(const std::string& json, const std::string& sourceName) {
-  checkJsonShape(json, sourceName);
-  v1::Scene scene;
+void parseJsonMessage(const std::string& json, const std::string& sourceName, const std::string& kind,
+                      const std::string& example, google::protobuf::Message& message) {
+  checkJsonShape(json, sourceName, kind, example);
   google::protobuf::util::JsonParseOptions options;
   options.ignore_unknown_fields = false;
-  const auto status = google::protobuf::util::JsonStringToMessage(json, &scene, options);
+  const auto status = google::protobuf::util::JsonStringToMessage(json, &message, options);
   if (!status.ok()) {
-    throw core::InputError(sourceName, "(scene JSON)", "invalid scene: " + std::string(status.message()));
+    throw core::InputError(sourceName, "(" + kind + " JSON)", "invalid " + kind + ": " + std::string(status.message()));
   }
+}
+
+v1::Scene parseSceneJson(const std::string& json, const std::string& sourceName) {
+  v1::Scene scene;
+  parseJsonMessage(json, sourceName, "scene", "{\"components\": [...]}", scene);
   return scene;
 }
 

@@ -8,7 +8,8 @@
 ///   3. planes, particle sets and meshes, in declaration order;
 ///   4. deformable bodies (translate_deformables), which may ride on meshes;
 ///   5. sinks, sensors and trackers (translate_sensors), which refer to meshes and
-///      deformable bodies by name.
+///      deformable bodies by name;
+///   6. parallel bonds (translate_bonds), whose rules see every particle set.
 /// Every field is checked here or by the core validators with a field path
 /// "components[i].<kind>.<field>", so a user can find it in the scene file.
 #include "demlink/server/scene/scene_translator.hpp"
@@ -34,6 +35,7 @@
 #include "demlink/server/scene/particle_lattice.hpp"
 #include "demlink/server/scene/proto_convert.hpp"
 #include "demlink/server/scene/translate_materials.hpp"
+#include "demlink/server/scene/translate_bonds.hpp"
 #include "demlink/server/scene/translate_sensors.hpp"
 #include "demlink/server/scene/translate_sources.hpp"
 #include "demlink/server/scene/translate_state.hpp"
@@ -79,7 +81,7 @@ int checkStructure(const v1::Scene& scene) {
                        "declares no kind (one of simulation_box, material, plane, mesh_body, particle_lattice, "
                        "particle_file, particle_system, single_particle, particle_source, pit_generator, "
                        "particle_sink, region_sensor, flow_sensor, tracker, clump_template, facet_body, material_pair, "
-                       "rigid_body, particle_view, mass_spring_body, fem_body)");
+                       "rigid_body, particle_view, mass_spring_body, fem_body, parallel_bonds)");
     }
     if (component.has_simulation_box()) boxes.push_back(i);
   }
@@ -194,27 +196,6 @@ RunOptions toRunOptions(const v1::SimulationBox& box, const std::string& prefix,
   return run;
 }
 
-/// Pass 2: registers every material (its cohesion through the coarse-graining law);
-/// returns name -> world index.
-MaterialNames addMaterials(const v1::Scene& scene, const core::CoarseGraining& coarse, core::World& world) {
-  MaterialNames names;
-  std::map<std::string, int> declaredBy;
-  for (int i = 0; i < scene.components_size(); ++i) {
-    const v1::ComponentDeclaration& component = scene.components(i);
-    if (!component.has_material()) continue;
-    const std::string prefix = componentPath(i) + ".material";
-    core::Material material = translateMaterial(component.material(), component.name(), prefix);
-    material.cohesion_energy_density = coarse.cohesionEnergyDensity(material.cohesion_energy_density);
-    const auto [it, inserted] = declaredBy.emplace(material.name, i);
-    if (!inserted) {
-      throw InputError(prefix + ".name", quoted(std::as_const(material.name)),
-                       "material name already used by " + componentPath(it->second));
-    }
-    names.emplace(material.name, world.addMaterial(material));
-  }
-  return names;
-}
-
 void addPlane(const v1::Plane& plane, const std::string& name, const MaterialNames& materials,
               const std::string& prefix, core::World& world) {
   core::PlaneSpec spec;
@@ -296,7 +277,7 @@ TranslatedScene translateScene(const v1::Scene& scene, const FileScope& files, S
   TranslatedScene out{core::World(std::move(settings), boxPrefix), toRunOptions(box, boxPrefix, use),
                       std::move(fidelity), coarse};
 
-  const MaterialNames materials = addMaterials(scene, coarse, out.world);
+  const MaterialNames materials = addMaterials(scene, box, boxPrefix, files, coarse, out.world);
   addMaterialPairs(scene, materials, coarse, out.world);
   addClumpTemplates(scene, out.world);
   const MaterialResolver resolve = [&](const std::string& name, const std::string& field) {
@@ -370,12 +351,14 @@ TranslatedScene translateScene(const v1::Scene& scene, const FileScope& files, S
       case v1::ComponentDeclaration::kParticleView:  // served by the co-simulation host, no engine object
       case v1::ComponentDeclaration::kMassSpringBody:  // after all mesh bodies: addDeformableBodies
       case v1::ComponentDeclaration::kFemBody:
+      case v1::ComponentDeclaration::kParallelBonds:  // after every particle set: addParallelBonds
       case v1::ComponentDeclaration::KIND_NOT_SET:
         break;
     }
   }
   addDeformableBodies(scene, resolve, files, out.world);
   addSensorComponents(scene, out.world);
+  addParallelBonds(scene, resolve, out.world);
   requireOutputFileCount(out.world);
   if (out.run.mesh_loads && out.world.meshes().empty()) {
     throw core::InputError(out.run.field_prefix + ".output.mesh_loads", "true",

@@ -4,6 +4,8 @@
 #include "demlink/server/scene/translate_materials.hpp"
 
 #include <algorithm>
+#include <filesystem>
+#include <map>
 #include <utility>
 
 #include "demlink/core/input_error.hpp"
@@ -27,13 +29,26 @@ std::uint32_t pairMaterial(const std::map<std::string, std::uint32_t>& materials
   throw InputError(field, core::quotedLogText(name), "unknown material (declared: " + (declared.empty() ? "none" : declared) + ")");
 }
 
+/// The built-in database, with the scene's materials file when it names one.
+core::MaterialDatabase sceneMaterialDatabase(const std::string& materialsFile, const FileScope& files,
+                                             const std::string& field) {
+  if (materialsFile.empty()) return core::MaterialDatabase::builtIn();
+  const std::filesystem::path path =
+      resolveExistingSceneFile(materialsFile, files, field, "a materials file path is required");
+  try {
+    return core::MaterialDatabase::builtInWith(core::MaterialDatabase::fromFile(path));
+  } catch (const InputError& error) {
+    throw error.as(field);
+  }
+}
+
 }  // namespace
 
 core::Material translateMaterial(const v1::Material& declared, const std::string& componentName,
-                                 const std::string& fieldPrefix) {
+                                 const std::string& fieldPrefix, const core::MaterialDatabase& database) {
   core::Material material;
   if (!declared.database_name().empty()) {
-    material = core::MaterialDatabase::builtIn().at(declared.database_name(), fieldPrefix + ".database_name").material;
+    material = database.at(declared.database_name(), fieldPrefix + ".database_name").material;
   }
   material.name = declared.name().empty() ? componentName : declared.name();
   core::requireValidName(fieldPrefix + ".name", material.name);
@@ -46,6 +61,29 @@ core::Material translateMaterial(const v1::Material& declared, const std::string
   if (declared.has_cohesion_energy_density()) material.cohesion_energy_density = declared.cohesion_energy_density();
   material.validate(fieldPrefix);
   return material;
+}
+
+std::map<std::string, std::uint32_t> addMaterials(const v1::Scene& scene, const v1::SimulationBox& box,
+                                                  const std::string& boxPrefix, const FileScope& files,
+                                                  const core::CoarseGraining& coarse, core::World& world) {
+  const core::MaterialDatabase database =
+      sceneMaterialDatabase(box.materials_file(), files, boxPrefix + ".materials_file");
+  std::map<std::string, std::uint32_t> names;
+  std::map<std::string, int> declaredBy;
+  for (int i = 0; i < scene.components_size(); ++i) {
+    const v1::ComponentDeclaration& component = scene.components(i);
+    if (!component.has_material()) continue;
+    const std::string prefix = componentPath(i) + ".material";
+    core::Material material = translateMaterial(component.material(), component.name(), prefix, database);
+    material.cohesion_energy_density = coarse.cohesionEnergyDensity(material.cohesion_energy_density);
+    const auto [it, inserted] = declaredBy.emplace(material.name, i);
+    if (!inserted) {
+      throw InputError(prefix + ".name", core::quotedLogText(material.name),
+                       "material name already used by " + componentPath(it->second));
+    }
+    names.emplace(material.name, world.addMaterial(material));
+  }
+  return names;
 }
 
 void addMaterialPairs(const v1::Scene& scene, const std::map<std::string, std::uint32_t>& materials,

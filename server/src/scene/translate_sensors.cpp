@@ -72,10 +72,7 @@ core::RegionPlacement placementOf(const Region& region, const core::World& world
   return placement;
 }
 
-struct TranslatedVolume {
-  core::VolumeShape shape;
-  core::RegionPlacement placement;
-};
+}  // namespace
 
 TranslatedVolume toVolume(const v1::Volume& volume, bool present, const core::World& world,
                           const std::string& prefix) {
@@ -100,6 +97,8 @@ TranslatedVolume toVolume(const v1::Volume& volume, bool present, const core::Wo
   }
   throw InputError(prefix, "{}", "declares no shape (box or sphere)");
 }
+
+namespace {
 
 struct TranslatedSurface {
   core::SurfaceShape shape;

@@ -22,7 +22,19 @@ LiveViewHub::LiveViewHub()
       ready_(std::make_unique<ViewSnapshot>()),
       front_(std::make_unique<ViewSnapshot>()) {}
 
+bool LiveViewHub::follows(const core::World& world) {
+  const core::World* followed = nullptr;
+  // seq_cst: the claiming thread sees everything the released one wrote to the buffers.
+  return followed_.compare_exchange_strong(followed, &world) || followed == &world;
+}
+
+void LiveViewHub::release(const core::World& world) {
+  const core::World* followed = &world;
+  followed_.compare_exchange_strong(followed, nullptr);
+}
+
 void LiveViewHub::offer(const core::World& world) {
+  if (!follows(world)) return;
   // The scene is described once per simulation whether or not a page is open, so the
   // first page to connect gets it without waiting for a step.
   if (&world != last_world_ || (captured_before_ && world.stepCount() < last_step_)) {
@@ -39,6 +51,7 @@ void LiveViewHub::offer(const core::World& world) {
 }
 
 void LiveViewHub::offerNow(const core::World& world) {
+  if (!follows(world)) return;
   if (!captured_before_ || &world != last_world_) {
     offer(world);
     return;

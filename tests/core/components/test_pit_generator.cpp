@@ -66,6 +66,9 @@ TEST(PitGenerator, BedReachesTheTargetInsideTheBoxWithSmallOverlaps) {
   const double fraction = volume / (0.4 * 0.2 * top);
   EXPECT_GT(fraction, 0.35);
   EXPECT_LT(fraction, 0.68);
+  // The report's packing fraction is the same solid volume over the target height.
+  EXPECT_NEAR(bed->report.packing_fraction, volume / (0.4 * 0.2 * spec.target_height), 1e-12);
+  EXPECT_GT(bed->report.settle_wall_seconds, 0.0);
 }
 
 TEST(PitGenerator, SameSeedSameBedOtherSeedOtherBed) {

@@ -103,7 +103,7 @@ TEST(MaterialDatabase, ParsesQuotedFieldsCommentsAndColumnOrder) {
   EXPECT_EQ(r.material.density, 2600.0);
   EXPECT_EQ(r.material.youngs_modulus, 2e7);
   EXPECT_EQ(r.material.restitution, 0.7);
-  EXPECT_EQ(r.size.kind, SizeDistribution::Kind::Uniform);
+  EXPECT_EQ(r.size.kind, MaterialSizeRange::Kind::Uniform);
   EXPECT_EQ(r.size.radius_min, 0.001);
   EXPECT_EQ(r.size.radius_max, 0.003);
   EXPECT_EQ(r.line, 4u);
@@ -165,6 +165,57 @@ TEST(MaterialDatabase, MissingFileNamesThePath) {
   } catch (const InputError& e) {
     EXPECT_EQ(e.field(), "materials database");
     EXPECT_NE(std::string(e.what()).find("/nonexistent/materials.csv"), std::string::npos) << e.what();
+  }
+}
+
+
+TEST(MaterialDatabase, CsvTextReadsBackToTheSameRecords) {
+  MaterialRecord record;
+  record.material.name = "calibrated sand";
+  record.material.density = 2650.0;
+  record.material.youngs_modulus = 3.3e7;
+  record.material.poisson_ratio = 0.27;
+  record.material.restitution = 0.41;
+  record.material.sliding_friction = 0.1 + 0.2;  // not short in decimal: the round trip must keep every bit
+  record.material.rolling_friction = 0.123456789012345;
+  record.material.cohesion_energy_density = 1.5e4;
+  record.size = {MaterialSizeRange::Kind::Uniform, 0.00025, 0.001};
+  record.source = "calibrated: \"repose\", 32.1 deg";
+  MaterialRecord constant = record;
+  constant.material.name = "beads";
+  constant.size = {MaterialSizeRange::Kind::Constant, 0.002, 0.002};
+  const MaterialDatabase back = MaterialDatabase::parse(MaterialDatabase::toCsv({record, constant}), "written.csv");
+  ASSERT_EQ(back.records().size(), 2u);
+  const MaterialRecord& r = back.records()[0];
+  EXPECT_EQ(r.material.name, record.material.name);
+  EXPECT_EQ(r.material.density, record.material.density);
+  EXPECT_EQ(r.material.youngs_modulus, record.material.youngs_modulus);
+  EXPECT_EQ(r.material.poisson_ratio, record.material.poisson_ratio);
+  EXPECT_EQ(r.material.restitution, record.material.restitution);
+  EXPECT_EQ(r.material.sliding_friction, record.material.sliding_friction);
+  EXPECT_EQ(r.material.rolling_friction, record.material.rolling_friction);
+  EXPECT_EQ(r.material.cohesion_energy_density, record.material.cohesion_energy_density);
+  EXPECT_EQ(r.size.kind, MaterialSizeRange::Kind::Uniform);
+  EXPECT_EQ(r.size.radius_min, record.size.radius_min);
+  EXPECT_EQ(r.size.radius_max, record.size.radius_max);
+  EXPECT_EQ(r.source, record.source);
+  EXPECT_EQ(back.records()[1].size.kind, MaterialSizeRange::Kind::Constant);
+}
+
+TEST(MaterialDatabase, BuiltInWithAddsAUsersMaterialsAndRefusesABuiltInName) {
+  const MaterialDatabase user = MaterialDatabase::parse(std::string(kHeader) + kGoodRow, "mine.csv");
+  const MaterialDatabase both = MaterialDatabase::builtInWith(user);
+  EXPECT_EQ(both.records().size(), MaterialDatabase::builtIn().records().size() + 1);
+  EXPECT_NE(both.find("Glass"), nullptr);
+  EXPECT_NE(both.find("wheat"), nullptr);
+  const MaterialDatabase clash = MaterialDatabase::parse(
+      std::string(kHeader) + kGoodRow + "Hard-Coal,1350,2e7,0.3,0.5,0.5,0.1,uniform,0.005,0.025,mine\n", "mine.csv");
+  try {
+    (void)MaterialDatabase::builtInWith(clash);
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "mine.csv:3.name");
+    EXPECT_EQ(e.value(), "\"Hard-Coal\"");
   }
 }
 

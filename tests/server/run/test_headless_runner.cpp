@@ -2,7 +2,11 @@
 /// them, start-up errors named by their scene path.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "demlink/core/input_error.hpp"
+#include "demlink/core/state/checkpoint.hpp"
+#include "demlink/core/step/watchdog.hpp"
 #include "demlink/server/run/headless_runner.hpp"
 #include "demlink/server/scene/scene_loader.hpp"
 #include "test_support.hpp"
@@ -57,6 +61,45 @@ TEST(HeadlessRunner, ParticlesFallUnderGravity) {
   EXPECT_EQ(summary.frames, 2u) << "vtk_interval 0: first and last frame only";
   EXPECT_GT(summary.final_kinetic_energy, 0.0);
   EXPECT_LT(scene.world.particles().position[7].z(), zBefore);
+}
+
+/// A state that turns non-finite is never written. With the watchdog off (every_steps 0)
+/// the writers stop the run themselves: the frame due after the NaN appears is refused, the
+/// final checkpoint of that state is not written, and every file already on disk is finite.
+/// With the watchdog on, it stops the run first, with the same outcome on disk.
+TEST(HeadlessRunner, NonFiniteStateIsNeverWritten) {
+  for (const char* watchdog : {"0", "100"}) {
+    SCOPED_TRACE(std::string("watchdog every_steps ") + watchdog);
+    const test::ScratchDir scratch;
+    const std::filesystem::path& dir = scratch.path();
+    std::string json = test::tinySceneJson(0.01, 0.003);
+    json.replace(json.find(R"("restitution_tolerance": 0.2,)"), 29,
+                 std::string(R"("restitution_tolerance": 0.2, "watchdog": {"every_steps": )") + watchdog + "},");
+    TranslatedScene scene = translateScene(parseSceneJson(json, "tiny"), {});
+    scene.run.output_directory = dir.string();
+    core::World& world = scene.world;
+    const auto poison = [&](const core::World& seen) {
+      if (seen.stepCount() == 450) world.particles().velocity[3].x() = std::nan("");
+    };
+    try {
+      (void)runHeadless(scene, poison);
+      ADD_FAILURE() << "the run went on with a NaN velocity";
+    } catch (const core::SimulationFault& fault) {
+      EXPECT_EQ(fault.check(), "non_finite");
+      EXPECT_NE(std::string(fault.what()).find("particle"), std::string::npos) << fault.what();
+    }
+    // Frames at steps 0 and 300 only, both finite; no final checkpoint of the NaN state.
+    EXPECT_TRUE(std::filesystem::exists(dir / "particles_000001.vtp"));
+    EXPECT_FALSE(std::filesystem::exists(dir / "particles_000002.vtp"));
+    EXPECT_FALSE(std::filesystem::exists(dir / core::kFinalCheckpointFileName));
+    for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+      const std::string extension = entry.path().extension().string();
+      if (extension != ".csv" && extension != ".pvd" && extension != ".txt") continue;  // the text files
+      const std::string text = test::readText(entry.path());
+      EXPECT_EQ(text.find("nan"), std::string::npos) << entry.path();
+      EXPECT_EQ(text.find("inf"), std::string::npos) << entry.path();
+    }
+  }
 }
 
 TEST(HeadlessRunner, TimeStepAboveTheLimitNamesTheSceneField) {

@@ -10,6 +10,7 @@
 #include "demlink/server/scene/scene_loader.hpp"
 #include "demlink/server/scene/scene_translator.hpp"
 #include "scene_test_support.hpp"
+#include "test_support.hpp"
 
 namespace demlink::server {
 namespace {
@@ -153,6 +154,86 @@ INSTANTIATE_TEST_SUITE_P(
         PairError{"duplicate", R"({"material_a": "b", "material_b": "a", "sliding_friction": 0.1})",
                   "components[4].material_pair.material_b"}),
     [](const ::testing::TestParamInfo<PairError>& param) { return std::string(param.param.what); });
+
+
+// A user's materials file (simulation_box.materials_file): its entries are found by
+// database_name beside the built-in ones; a bad file or a built-in name again is an
+// error naming the box's field, then the file's line and column.
+constexpr const char* kUserMaterials =
+    "name,density,youngs_modulus,poisson_ratio,restitution,sliding_friction,rolling_friction,size_kind,"
+    "radius_min,radius_max,source\n"
+    "my sand,2600,3e7,0.28,0.35,0.62,0.21,uniform,0.001,0.0015,\"lab: shear box, 2026\"\n";
+
+core::InputError translationError(const v1::Scene& scene, const FileScope& files) {
+  try {
+    (void)translateScene(scene, files);
+  } catch (const core::InputError& error) {
+    return error;
+  }
+  ADD_FAILURE() << "expected an InputError";
+  return core::InputError("(none)", "", "");
+}
+
+std::string boxWithMaterialsFile(const std::string& file) {
+  return R"({"name": "box", "simulation_box": {"end_time": 0.1, "materials_file": ")" + file + "\"}}";
+}
+
+TEST(TranslateMaterials, UserMaterialsFileEntriesJoinTheBuiltInDatabase) {
+  const test::ScratchDir scratch;
+  test::writeText(scratch.path() / "my_materials.csv", kUserMaterials);
+  const TranslatedScene t = translateScene(
+      sceneOf({boxWithMaterialsFile("my_materials.csv"),
+               R"({"name": "mine", "material": {"database_name": "My-Sand", "restitution": 0.4}})",
+               R"({"name": "grain", "material": {"database_name": "wheat"}})"}),
+      FileScope(scratch.path()));
+  ASSERT_EQ(t.world.materials().size(), 2u);
+  const core::Material& mine = t.world.materials()[0];
+  EXPECT_EQ(mine.name, "mine");
+  EXPECT_EQ(mine.density, 2600.0);
+  EXPECT_EQ(mine.youngs_modulus, 3e7);
+  EXPECT_EQ(mine.poisson_ratio, 0.28);
+  EXPECT_EQ(mine.sliding_friction, 0.62);
+  EXPECT_EQ(mine.rolling_friction, 0.21);
+  EXPECT_EQ(mine.restitution, 0.4) << "an explicit field still overrides the file's value";
+  EXPECT_EQ(t.world.materials()[1].density, core::MaterialDatabase::builtIn().at("wheat", "test").material.density);
+}
+
+TEST(TranslateMaterials, UserMaterialsFileErrorsNameTheFieldTheFileAndTheValue) {
+  const test::ScratchDir scratch;
+  const FileScope files(scratch.path());
+  const std::string mine = R"({"name": "mine", "material": {"database_name": "my_sand"}})";
+  const std::string field = "components[0].simulation_box.materials_file";
+
+  const core::InputError missing = translationError(sceneOf({boxWithMaterialsFile("absent.csv"), mine}), files);
+  EXPECT_EQ(missing.field(), field);
+  EXPECT_NE(missing.reason().find("not found"), std::string::npos) << missing.what();
+
+  test::writeText(scratch.path() / "bad.csv",
+                  std::string(kUserMaterials) + "soft,-5,1e7,0.3,0.5,0.5,0,uniform,0.001,0.002,estimate\n");
+  const core::InputError bad = translationError(sceneOf({boxWithMaterialsFile("bad.csv"), mine}), files);
+  EXPECT_EQ(bad.field(), field);
+  EXPECT_EQ(bad.value(), "-5");
+  EXPECT_NE(bad.reason().find("bad.csv:3.density"), std::string::npos) << bad.what();
+
+  test::writeText(scratch.path() / "clash.csv",
+                  std::string(kUserMaterials) + "Wheat,1300,1e7,0.4,0.5,0.4,0.05,uniform,0.0018,0.0024,mine\n");
+  const core::InputError clash = translationError(sceneOf({boxWithMaterialsFile("clash.csv"), mine}), files);
+  EXPECT_EQ(clash.field(), field);
+  EXPECT_EQ(clash.value(), "\"Wheat\"");
+  EXPECT_NE(clash.reason().find("clash.csv:3.name"), std::string::npos) << clash.what();
+  EXPECT_NE(clash.reason().find("built-in"), std::string::npos) << clash.what();
+
+  const core::InputError unknown = translationError(
+      sceneOf({boxWithMaterialsFile("my_materials.csv"),
+               R"({"name": "m", "material": {"database_name": "granite"}})"}),
+      [&] {
+        test::writeText(scratch.path() / "my_materials.csv", kUserMaterials);
+        return files;
+      }());
+  EXPECT_EQ(unknown.field(), "components[1].material.database_name");
+  EXPECT_NE(unknown.reason().find("my sand"), std::string::npos) << "the known names include the file's: "
+                                                                  << unknown.what();
+}
 
 }  // namespace
 }  // namespace demlink::server

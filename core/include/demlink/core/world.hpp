@@ -15,6 +15,7 @@
 #include <string_view>
 #include <vector>
 
+#include "demlink/core/bonds/bond_set.hpp"
 #include "demlink/core/components/component_list.hpp"
 #include "demlink/core/contact/contact_recorder.hpp"
 #include "demlink/core/contact/contact_setup.hpp"
@@ -85,6 +86,14 @@ class World {
   [[nodiscard]] const std::vector<std::unique_ptr<DeformableBody>>& deformableBodies() const { return deformables_.bodies; }
   /// The body at `index` (std::out_of_range otherwise), e.g. to set a driven pose.
   [[nodiscard]] DeformableBody& deformableBody(std::size_t index) { return *deformables_.bodies.at(index); }
+
+  /// Adds a rule that makes parallel bonds (bonds/bond_set.hpp) before initialize():
+  /// validates its properties, fraction and materials (errors name "<fieldPrefix>.<field>")
+  /// and its bonds join the time-step check; the step then runs stage parallel_bonds.
+  /// Returns the rule's index.
+  std::size_t addBondRule(BondRule rule, const std::string& fieldPrefix = "parallel_bonds");
+  /// The bond rules and every bond made so far.
+  [[nodiscard]] const BondSet& bonds() const { return bonds_; }
 
   /// Changes the motion of the frame (the "room" of the docs) from the next step
   /// on (validated; names "frame.<field>"): a change of the world's state, the
@@ -199,6 +208,10 @@ class World {
   /// Measures what the watchdog checks, now (stage watchdog calls it every
   /// every_steps steps; tests call it directly).
   [[nodiscard]] WatchdogReading watch();
+  /// What in the state is NaN or infinite (a particle's position, velocity, spin or force,
+  /// a mesh's pose or velocity, a deformable body's node positions), named; empty when all
+  /// is finite. The watchdog stops on it, and the run's writers refuse to write such a state.
+  [[nodiscard]] std::string nonFiniteState() const;
   [[nodiscard]] const ContactPairTable& pairTable() const { return contacts_.table; }
   [[nodiscard]] const RemovalTally& removedAtBounds() const { return state_.removed_at_bounds; }
   [[nodiscard]] const NeighbourList& neighbourList() const { return neighbours_.list; }
@@ -299,6 +312,7 @@ class World {
   Walls walls_;                   ///< planes and meshes with their near lists
   DeformableSet deformables_;     ///< deformable bodies with their near lists
   ComponentList components_;
+  BondSet bonds_;                 ///< parallel bonds and the rules that make them
   NeighbourSearch neighbours_;    ///< Verlet list, rebuild guard, pending slot map
   PairLoopPartition partition_;   ///< the pair loop's chunks and force buffers
   ContactSetup contacts_;         ///< pair table, overrides, future particles, passes, kernel

@@ -9,7 +9,7 @@
 ///      overfill x packing_fraction x (box area x target height) of solid volume;
 ///   2. settle: a private World (the pit material, a floor and four side walls, the
 ///      main world's contact model and |g| along -z, time step half the critical
-///      limit) runs until the rained column has had time to fall and the mean kinetic
+///      limit at a restitution tolerance of at least 10 %) runs until the rained column has had time to fall and the mean kinetic
 ///      energy per particle is below the threshold (or max_settle_time passes, with a
 ///      warning);
 ///   3. keep: the particles whose top (z + r) lies at or below lower.z + target_height
@@ -66,6 +66,9 @@ struct PitReport {
   double bed_top = 0.0;               ///< highest z + r of the kept particles [m]
   double settle_time = 0.0;           ///< simulated settling time [s]
   std::uint64_t settle_steps = 0;
+  double settle_wall_seconds = 0.0;   ///< wall-clock time of the settling loop [s]
+  /// Solid volume of the kept particles over the box's footprint times the target height [-].
+  double packing_fraction = 0.0;
   double final_mean_kinetic_energy = 0.0;  ///< [J] per particle (per clump)
   double threshold = 0.0;             ///< the kinetic energy threshold used [J]
   bool settled = false;               ///< false: stopped at max_settle_time

@@ -7,6 +7,7 @@
 /// instantiation at set-up (contact_law_registry.hpp). Each loop checks that the
 /// per-contact history its storage keeps is the one the law declares.
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <numbers>
 #include <ranges>
@@ -128,6 +129,12 @@ DEMLINK_FORCE_INLINE void particleContactRowsBody(ParticleArrays& p, NeighbourLi
   double inverseDistances[kBlock];
   const ContactPairParams* pairParams[kBlock];
   ContactElasticTerms elastic[kBlock];
+  // Per touching contact: the force on j, its normal force, the lever arms of i and j, and
+  // (with rolling resistance) the rolling torque on j.
+  Vec3 forces[kBlock];
+  double normalForces[kBlock];
+  std::array<double, 2> arms[kBlock];
+  [[maybe_unused]] Vec3 rollingTorques[kPasses.rolling ? kBlock : 1];
   const std::uint32_t pairEnd = offsets[rowEnd];
   for (std::uint32_t blockBegin = offsets[rowBegin]; blockBegin < pairEnd; blockBegin += kBlock) {
     const std::uint32_t blockEnd = std::min(pairEnd, blockBegin + kBlock);
@@ -176,6 +183,11 @@ DEMLINK_FORCE_INLINE void particleContactRowsBody(ParticleArrays& p, NeighbourLi
       normals[m] = distances[m] > 0.0 ? Vec3(normals[m] * inverseDistances[m]) : Vec3::UnitZ();
       elastic[m] = contactElasticTerms<Law>(*pairParams[m], reduced[k].radius, reduced[k].mass, overlaps[m]);
     }
+    // The forces of the touching pairs, then (with rolling resistance) their rolling
+    // torques in a pass of their own: each ends in a chain of a square root and three
+    // divisions, which, one contact at a time, stalled the loop; over an array the
+    // processor overlaps the chains of several contacts. Then every sum in list order,
+    // as one pass would add them.
     for (std::uint32_t m = 0; m < count; ++m) {
       const std::uint32_t k = touching[m];
       const std::uint32_t i = rows[k];
@@ -201,17 +213,38 @@ DEMLINK_FORCE_INLINE void particleContactRowsBody(ParticleArrays& p, NeighbourLi
                                                p.position[i] + armI * normal, -normal, overlap, -f));
         }
       }
-      const Vec3 nxf = normal.cross(f);
+      forces[m] = f;
+      normalForces[m] = normalForce;
+      arms[m] = {armI, armJ};
+    }
+    if constexpr (kPasses.rolling) {
+      for (std::uint32_t m = 0; m < count; ++m) {
+        const ContactPairParams& params = *pairParams[m];
+        if (!(params.rolling_friction > 0.0)) continue;
+        const std::uint32_t k = touching[m];
+        const std::uint32_t i = rows[k];
+        const std::uint32_t j = partners[k];
+        const double reducedInertia = 1.0 / (p.inv_inertia[i] + p.inv_inertia[j]);
+        rollingTorques[m] = rollingResistanceTorque(params.rolling_friction, reduced[k].radius, normalForces[m],
+                                                    normals[m], p.angular_velocity[j] - p.angular_velocity[i],
+                                                    reducedInertia, dt);
+      }
+    }
+    for (std::uint32_t m = 0; m < count; ++m) {
+      const std::uint32_t k = touching[m];
+      const std::uint32_t i = rows[k];
+      const std::uint32_t j = partners[k];
+      const Vec3& f = forces[m];
+      const auto [armI, armJ] = arms[m];
+      const Vec3 nxf = normals[m].cross(f);
       out.force[i] -= f;
       out.torque[i] -= armI * nxf;
       out.force[j] += f;
       Vec3& torqueJ = out.torque[j];
       torqueJ -= armJ * nxf;
       if constexpr (kPasses.rolling) {
-        if (params.rolling_friction > 0.0) {
-          const double reducedInertia = 1.0 / (p.inv_inertia[i] + p.inv_inertia[j]);
-          const Vec3 t = rollingResistanceTorque(params.rolling_friction, reduced[k].radius, normalForce, normal,
-                                                 p.angular_velocity[j] - p.angular_velocity[i], reducedInertia, dt);
+        if (pairParams[m]->rolling_friction > 0.0) {
+          const Vec3& t = rollingTorques[m];
           torqueJ += t;
           out.torque[i] -= t;
         }

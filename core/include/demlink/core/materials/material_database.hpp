@@ -21,8 +21,9 @@
 
 namespace demlink::core {
 
-/// Default radius distribution of a database material.
-struct SizeDistribution {
+/// Default radius distribution of a database material (its own type: the particle
+/// sources' core::SizeDistribution describes more shapes and is a different type).
+struct MaterialSizeRange {
   enum class Kind : std::uint8_t {
     Constant,  ///< every radius is radius_min (= radius_max)
     Uniform,   ///< radius uniform in [radius_min, radius_max]
@@ -35,7 +36,7 @@ struct SizeDistribution {
 /// One row of the database.
 struct MaterialRecord {
   Material material;      ///< name as written in the file; values SI
-  SizeDistribution size;  ///< default particle radii
+  MaterialSizeRange size;  ///< default particle radii
   std::string source;     ///< citation or "estimate: why"
   std::size_t line = 0;   ///< line in the file it was read from [-]
 };
@@ -51,6 +52,13 @@ class MaterialDatabase {
   static MaterialDatabase fromFile(const std::filesystem::path& path);
   /// The database shipped with DEMLink (data/materials.csv as of the build).
   static const MaterialDatabase& builtIn();
+  /// The built-in materials followed by `user`'s (a scene's materials_file). A user file
+  /// may only add materials: a name the built-in database has (after normalisation) throws
+  /// InputError naming "<user origin>:<line>.name", so a scene name never means two things.
+  static MaterialDatabase builtInWith(const MaterialDatabase& user);
+  /// `records` as the text of a database file (header and one row each) that parse()
+  /// reads back to the same values; numbers are written shortest round-trip.
+  static std::string toCsv(const std::vector<MaterialRecord>& records);
 
   /// The record named `name` (normalised lookup) or nullptr.
   [[nodiscard]] const MaterialRecord* find(std::string_view name) const;

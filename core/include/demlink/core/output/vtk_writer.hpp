@@ -22,6 +22,7 @@
 #include "demlink/core/math_types.hpp"
 #include "demlink/core/particles/particle_arrays.hpp"
 
+#include "demlink/core/bonds/bond_set.hpp"
 #include "demlink/core/contact/contact_record.hpp"
 
 namespace demlink::core {
@@ -88,6 +89,15 @@ void writeTetrahedraVtu(const std::string& path, std::span<const Vec3> positions
 /// (UInt32). Throws std::runtime_error if the file cannot be written.
 void writeContactsVtp(const std::string& path, std::span<const ContactRecord> contacts,
                       VtkEncoding encoding = VtkEncoding::AppendedRaw);
+
+/// Writes the bond network (PolyData): per bond, broken ones included, one line between
+/// its particles' centres, with cell data "normal_force" (Fn [N], tension positive),
+/// "shear_force" (Fs on the first particle [N], vector), "twisting_moment" [N m],
+/// "bending_moment" [N m] (vector), "tensile_stress" and "shear_stress" (the largest on
+/// the bond's rim [Pa]), "intact" (UInt8: 1 intact, 0 broken) and "particle_a",
+/// "particle_b" (UInt64 ids). Throws std::runtime_error if the file cannot be written.
+void writeBondsVtp(const std::string& path, const BondSet& bonds, const ParticleArrays& particles,
+                   VtkEncoding encoding = VtkEncoding::AppendedRaw);
 
 /// Writes triangle meshes (as writeMeshVtp) with per-triangle loads as cell data
 /// (TriangleLoad, contact_record.hpp): "load_force" [N], "normal_force" [N],

@@ -46,6 +46,7 @@ enum class Stage : std::uint8_t {
   kRollingResistance,
   kCohesion,
   kContactRecording,
+  kParallelBonds,
   kDeformableForces,
   kClumpForceSum,
   kSecondHalfKick,
@@ -98,6 +99,7 @@ struct SceneFeatures {
   bool watchdog = false;        ///< the watchdog runs (its every_steps > 0)
   bool cohesion = false;        ///< some material pair has cohesion (k_c > 0)
   bool contact_recording = false;  ///< contact output is requested (contacts or mesh loads)
+  bool parallel_bonds = false;     ///< the scene declares parallel bonds
 };
 
 struct StageInfo {

@@ -87,6 +87,9 @@ struct CosimOptions {
   /// Sees the running simulation's world after every step and at its start (the live view,
   /// LiveViewHub::offer); it must not change the world.
   std::function<void(const core::World&)> step_observer;
+  /// Told once when the simulation closes, after its last step_observer call
+  /// (LiveViewHub::release); it must not change the world.
+  std::function<void(const core::World&)> close_observer;
   /// This host mirrors rank 0's on another MPI rank: it drives the engine in lockstep but
   /// writes no output files.
   bool mirror = false;

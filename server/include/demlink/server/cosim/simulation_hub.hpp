@@ -26,6 +26,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "demlink/core/parallel/spin_wait.hpp"
 #include "demlink/server/cosim/cosim_host.hpp"
 #include "demlink/server/net/session_handler.hpp"
 
@@ -47,6 +48,9 @@ struct SimulationHubOptions {
   /// Simulations opened in all, 0: no limit (demlink-server --max-simulations: the server
   /// exits once that many have ended, so it opens no more).
   std::uint64_t max_total = 0;
+  /// Spin budget of each simulation thread's wait for its next call (SimulationWorker;
+  /// demlink-server passes its --spin-wait-us, the network loop's); zero: block at once.
+  std::chrono::nanoseconds spin_wait = core::defaultSpinBudget();
 };
 
 class SimulationHub final : public SessionHandler {

@@ -8,6 +8,15 @@
 /// The host is only ever touched by this thread, so it needs no locks; the network thread
 /// never waits for it except in finish() (server shutdown), which the host's stop flag
 /// keeps short.
+///
+/// Between calls the thread waits spin-then-block (core/parallel/spin_history.hpp) with
+/// the network loop's budget: a client exchanging back to back sends its next package a
+/// round trip after the answer, and a thread blocked on the condition variable would add
+/// its wake-up (tens of microseconds on a VM) to every round trip. It spins as the network
+/// loop's deputy, not as an exchange party of its own: of the two, only one works on a
+/// package at a time, and the gate still counts each spinner.
+#include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
@@ -28,7 +37,9 @@ class SimulationWorker {
   /// and how many posted calls have run so far (timer polls not counted).
   using Report = std::function<void(std::vector<Outgoing>, CosimHost::Status, bool ended, std::uint64_t calls_done)>;
 
-  SimulationWorker(std::unique_ptr<CosimHost> host, Report report);
+  /// `spinWait`: the spin budget of the waits between calls (0: block at once).
+  SimulationWorker(std::unique_ptr<CosimHost> host, Report report,
+                   std::chrono::nanoseconds spinWait = std::chrono::nanoseconds::zero());
   /// Drops queued work and joins the thread.
   ~SimulationWorker();
   SimulationWorker(const SimulationWorker&) = delete;
@@ -49,6 +60,9 @@ class SimulationWorker {
   std::mutex mutex_;
   std::condition_variable wake_;
   std::deque<Work> queue_;
+  /// queue_.size() or quit_, readable without the lock: what a spinning wait polls.
+  std::atomic<std::size_t> pending_{0};
+  std::chrono::nanoseconds spin_wait_{0};
   bool quit_ = false;
   bool ended_ = false;  ///< the host's simulation has ended; the thread returns
   std::uint64_t calls_done_ = 0;  ///< the thread's own count

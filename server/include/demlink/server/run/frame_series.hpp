@@ -41,7 +41,8 @@ class FrameSeries {
   void writePlanes(const core::World& world);
 
   /// Writes particles_<frame>.vtp, rewrites particles.pvd and appends a summary row;
-  /// with meshes, also meshes_<frame>.vtp (all meshes at their current pose) and meshes.pvd.
+  /// with meshes, also meshes_<frame>.vtp (all meshes at their current pose) and meshes.pvd;
+  /// with parallel bonds, bonds_<frame>.vtp (core::writeBondsVtp) and bonds.pvd.
   /// Returns the frame's statistics.
   FrameStats writeFrame(const core::World& world, double wallSeconds);
 
@@ -51,9 +52,11 @@ class FrameSeries {
  private:
   std::filesystem::path directory_;
   void writeMeshes(const core::World& world, double time);
+  void writeBonds(const core::World& world, double time);
 
   std::vector<core::PvdEntry> entries_;
   std::vector<core::PvdEntry> mesh_entries_;
+  std::vector<core::PvdEntry> bond_entries_;
   std::ofstream summary_;
 };
 

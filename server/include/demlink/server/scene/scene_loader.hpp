@@ -28,6 +28,13 @@ inline constexpr std::size_t kMaxSceneJsonDepth = 64;
 /// InputError naming the source (and the line where the nesting got too deep).
 [[nodiscard]] v1::Scene parseSceneJson(const std::string& json, const std::string& sourceName);
 
+/// Parses a JSON document of another file format the project defines in protobuf (e.g.
+/// demlink-calibrate's targets) into `message` with the scene files' rules: a JSON object,
+/// nested at most kMaxSceneJsonDepth deep, strict about unknown fields. Errors are
+/// InputError naming `sourceName`; `kind` ("scene") and `example` ("{...}") word them.
+void parseJsonMessage(const std::string& json, const std::string& sourceName, const std::string& kind,
+                      const std::string& example, google::protobuf::Message& message);
+
 /// A scene, or one of its parts (e.g. a ComponentDeclaration), as indented JSON with proto
 /// field names: what a scene file looks like.
 [[nodiscard]] std::string sceneToJson(const google::protobuf::Message& message);

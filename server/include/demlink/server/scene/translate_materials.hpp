@@ -9,17 +9,34 @@
 #include "demlink/core/materials/material.hpp"
 #include "demlink/core/particles/coarse_graining.hpp"
 #include "demlink/core/world.hpp"
+#include "demlink/server/scene/proto_convert.hpp"
 #include "demlink/v1/scene.pb.h"
+
+namespace demlink::core {
+class MaterialDatabase;
+}  // namespace demlink::core
 
 namespace demlink::server {
 
-/// A Material declaration as an engine material: the database entry named by
+/// A Material declaration as an engine material: the entry of `database` named by
 /// database_name (if any) or core::Material's defaults, then every field given
 /// explicitly. The name defaults to the component's name. Throws
 /// core::InputError naming `fieldPrefix + ".<field>"` (an unknown database_name
 /// lists the known names).
 [[nodiscard]] core::Material translateMaterial(const v1::Material& declared, const std::string& componentName,
-                                               const std::string& fieldPrefix);
+                                               const std::string& fieldPrefix, const core::MaterialDatabase& database);
+
+/// Registers every material component with the world, in declaration order (its cohesion
+/// through `coarse`'s law); returns name -> world index. database_name values are looked
+/// up in the built-in database and, when `box.materials_file` is given, in that file
+/// (resolved against `files`). Throws core::InputError naming
+/// `boxPrefix + ".materials_file"` for a file that is missing, outside the scene's
+/// folders, malformed or names a built-in material again (the place in the file and the
+/// reason follow), and "components[i].material.<field>" for a material's own errors.
+[[nodiscard]] std::map<std::string, std::uint32_t> addMaterials(const v1::Scene& scene, const v1::SimulationBox& box,
+                                                                const std::string& boxPrefix, const FileScope& files,
+                                                                const core::CoarseGraining& coarse,
+                                                                core::World& world);
 
 /// Registers every material_pair component with the world. `materials` maps
 /// declared material names to world indices. Throws core::InputError naming

@@ -11,6 +11,17 @@
 
 namespace demlink::server {
 
+/// A volume region's shape and placement.
+struct TranslatedVolume {
+  core::VolumeShape shape;
+  core::RegionPlacement placement;
+};
+
+/// The region `volume` (`present`: the declaration has it; else an InputError naming
+/// `prefix` as missing) with its box or sphere checked and its attachment resolved among
+/// world.meshes(); errors name prefix + ".box.size", ".sphere.radius", ".attached_to", ...
+TranslatedVolume toVolume(const v1::Volume& volume, bool present, const core::World& world, const std::string& prefix);
+
 /// Adds every sink, sensor and tracker of the scene to the world, in declaration order.
 /// Mesh bodies are found by component name among world.meshes(). Throws core::InputError
 /// naming the field, e.g. "components[5].region_sensor.region.attached_to" = "bucket":

@@ -9,6 +9,10 @@
 /// is never held for longer, so neither thread ever waits on the other's copying or
 /// encoding, and a view that falls behind just skips captures. Memory: three snapshots
 /// of the largest particle count seen.
+///
+/// A server steps several simulations at once, each on its own thread; the view follows
+/// one of them: the first to offer a world while none is followed, until release() says
+/// that world is closing. Offers from the others return at once and touch nothing.
 #include <atomic>
 #include <chrono>
 #include <cstdint>
@@ -32,6 +36,9 @@ class LiveViewHub final : public ViewFeed {
   void offer(const core::World& world);
   /// Captures now whether or not a frame is due (a run's final state).
   void offerNow(const core::World& world);
+  /// The simulation of `world` is closing (its thread offers no more): the next world
+  /// to offer is followed. A world not followed is ignored.
+  void release(const core::World& world);
   /// Snapshots captured so far [-].
   [[nodiscard]] std::uint64_t captures() const { return captures_.load(std::memory_order_relaxed); }
 
@@ -46,6 +53,8 @@ class LiveViewHub final : public ViewFeed {
  private:
   using Clock = std::chrono::steady_clock;
   void capture(const core::World& world, Clock::time_point now);
+  /// Whether `world` is the one followed (claiming it when none is).
+  bool follows(const core::World& world);
 
   std::atomic<std::int64_t> next_due_ns_;      ///< steady-clock time of the next capture; max: none wanted
   std::atomic<std::int64_t> period_ns_;        ///< 1 / the highest wanted rate; 0: none wanted
@@ -53,6 +62,7 @@ class LiveViewHub final : public ViewFeed {
   std::atomic<bool> want_force_{false};
   std::atomic<std::uint64_t> captures_{0};
   std::function<void()> notify_;
+  std::atomic<const core::World*> followed_{nullptr};
 
   std::mutex mutex_;  ///< guards ready_, ready_version_ and scene_
   std::unique_ptr<ViewSnapshot> back_;
@@ -63,7 +73,7 @@ class LiveViewHub final : public ViewFeed {
   std::string scene_;
   std::uint64_t scene_version_ = 0;
 
-  // Simulation thread only: the previous capture, for the rate figures.
+  // The followed simulation's thread only: the previous capture, for the rate figures.
   bool captured_before_ = false;
   const core::World* last_world_ = nullptr;
   Clock::time_point last_wall_{};
