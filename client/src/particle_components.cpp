@@ -19,6 +19,17 @@ void setBoxVolume(v1::Volume& volume, const Vec3& centre, const Vec3& size, cons
 
 }  // namespace
 
+ClumpTemplate::ClumpTemplate(std::string name) : Component(std::move(name)) {
+  declaration().mutable_clump_template();
+}
+ClumpTemplate& ClumpTemplate::addSphere(const Vec3& offset, double radius) {
+  v1::ClumpSphere* sphere = message().add_spheres();
+  *sphere->mutable_offset() = toProto(offset);
+  sphere->set_radius(radius);
+  return *this;
+}
+v1::ClumpTemplate& ClumpTemplate::message() { return *declaration().mutable_clump_template(); }
+
 ParticleSource::ParticleSource(std::string name) : Component(std::move(name)) {
   declaration().mutable_particle_source();
 }
@@ -101,6 +112,10 @@ ParticleSource& ParticleSource::setSeed(std::uint64_t seed) {
 }
 ParticleSource& ParticleSource::attachTo(const std::string& meshComponent) {
   message().set_attached_mesh(meshComponent);
+  return *this;
+}
+ParticleSource& ParticleSource::setClumpTemplate(const std::string& templateName) {
+  message().set_clump_template(templateName);
   return *this;
 }
 CountAndMass ParticleSource::insertedInterval() const { return fromProto(outputs().particle_source().interval()); }
@@ -190,6 +205,11 @@ PitGenerator& PitGenerator::setTargetHeight(double metres) {
 }
 PitGenerator& PitGenerator::setSeed(std::uint64_t seed) {
   message().set_seed(seed);
+  return *this;
+}
+
+PitGenerator& PitGenerator::setClumpTemplate(const std::string& templateName) {
+  message().set_clump_template(templateName);
   return *this;
 }
 

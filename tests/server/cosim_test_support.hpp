@@ -85,9 +85,10 @@ class CosimHarness {
     h.set_simulation(simulation);
     take(host_.connected(id, h, now_));
   }
-  void declare(ConnectionId id, const std::string& componentJson) {
+  void declare(ConnectionId id, const std::string& componentJson) { declare(id, declarationOf(componentJson)); }
+  void declare(ConnectionId id, const v1::ComponentDeclaration& component) {
     v1::ClientMessage m;
-    *m.mutable_declare()->mutable_component() = declarationOf(componentJson);
+    *m.mutable_declare()->mutable_component() = component;
     take(host_.received(id, m, now_));
   }
   void send(ConnectionId id, const v1::DataPackage& package) {

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <array>
 #include <cstdint>
+#include <limits>
 
 namespace demlink::core {
 namespace {
@@ -117,8 +118,11 @@ ClumpSphere refined(const StlMesh& mesh, ClumpSphere sphere, double reach) {
 
 struct Candidate {
   ClumpSphere sphere;
-  double gain = 0.0;         ///< uncovered samples it covers [-]
-  double to_centroid = 0.0;  ///< distance to the uncovered samples' centroid [m]
+  double gain = 0.0;  ///< uncovered samples it covers [-]
+  /// Which of two candidates that cover as much wins, the larger: before the first sphere,
+  /// minus the distance to the uncovered samples' centroid; after it, the distance to the
+  /// nearest placed centre [m].
+  double spread = 0.0;
 };
 
 }  // namespace
@@ -153,7 +157,12 @@ std::vector<ClumpSphere> inscribedSpheres(const StlMesh& mesh, const SolidSample
     double largest = 0.0;
     for (std::size_t k = 0; k < band.size(); k += every) {
       const Vec3 centre = samples.point(band[k]);
-      candidates.push_back({{centre, distanceToSurface(mesh, centre)}, 0.0, (centre - centroid).norm()});
+      double spread = -(centre - centroid).norm();
+      if (!spheres.empty()) {
+        spread = std::numeric_limits<double>::infinity();
+        for (const ClumpSphere& placed : spheres) spread = std::min(spread, (centre - placed.offset).norm());
+      }
+      candidates.push_back({{centre, distanceToSurface(mesh, centre)}, 0.0, spread});
       largest = std::max(largest, candidates.back().sphere.radius);
     }
     if (!(largest > 0.0)) {
@@ -162,15 +171,16 @@ std::vector<ClumpSphere> inscribedSpheres(const StlMesh& mesh, const SolidSample
     }
     // Among the nearly largest spheres, the one that covers the most of what is still
     // uncovered (so spheres spread over a long or flat medial axis instead of crowding
-    // the first one), then the one nearest the uncovered centroid (so the first sphere of
-    // a capsule sits in its middle, not at the end of its axis where the sample order starts).
+    // the first one); of equal ones, the first sphere nearest the uncovered centroid (a
+    // capsule's in its middle, not at the end of its axis where the sample order starts),
+    // later ones farthest from every placed centre (spread over a plate's whole middle).
     std::size_t chosen = candidates.size();
     for (std::size_t k = 0; k < candidates.size(); ++k) {
       Candidate& candidate = candidates[k];
       if (candidate.sphere.radius < largest - 0.5 * samples.spacing) continue;
       candidate.gain = uncovered.gain(candidate.sphere);
       if (chosen == candidates.size() || candidate.gain > candidates[chosen].gain ||
-          (candidate.gain == candidates[chosen].gain && candidate.to_centroid < candidates[chosen].to_centroid)) {
+          (candidate.gain == candidates[chosen].gain && candidate.spread > candidates[chosen].spread)) {
         chosen = k;
       }
     }

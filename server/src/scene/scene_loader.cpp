@@ -78,12 +78,12 @@ v1::Scene loadSceneFile(const std::string& path) {
   return parseSceneJson(core::readInputFile("scene file", path), path);
 }
 
-std::string sceneToJson(const v1::Scene& scene) {
+std::string sceneToJson(const google::protobuf::Message& message) {
   google::protobuf::util::JsonPrintOptions options;
   options.add_whitespace = true;
   options.preserve_proto_field_names = true;
   std::string json;
-  const auto status = google::protobuf::util::MessageToJsonString(scene, &json, options);
+  const auto status = google::protobuf::util::MessageToJsonString(message, &json, options);
   if (!status.ok()) throw std::runtime_error("cannot print scene as JSON: " + std::string(status.message()));
   return json;
 }

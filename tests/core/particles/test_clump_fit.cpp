@@ -23,9 +23,10 @@ ClumpTemplate fitted(const StlMesh& mesh, const SolidMassProperties& solid, cons
 }
 
 TEST(SolidSamples, InsideSamplesFillTheVolumeAndDepthIsTheDistanceToTheSurface) {
-  // Two separate boxes: the samples between them are outside.
+  // Two separate boxes, the second above part of the first: the samples between them and
+  // above the first are outside, also in the columns whose ray crosses both.
   StlMesh mesh = test::boxMesh(Vec3(0, 0, 0), Vec3(1.0, 0.6, 0.4));
-  const StlMesh second = test::boxMesh(Vec3(1.5, 0, 0), Vec3(2.0, 0.6, 0.4));
+  const StlMesh second = test::boxMesh(Vec3(0.5, 0, 0.6), Vec3(1.0, 0.6, 1.0));
   const auto offset = static_cast<std::uint32_t>(mesh.vertices.size());
   mesh.vertices.insert(mesh.vertices.end(), second.vertices.begin(), second.vertices.end());
   for (auto tri : second.triangles) mesh.triangles.push_back({tri[0] + offset, tri[1] + offset, tri[2] + offset});
@@ -36,7 +37,7 @@ TEST(SolidSamples, InsideSamplesFillTheVolumeAndDepthIsTheDistanceToTheSurface) 
   for (std::size_t index = 0; index < samples.size(); ++index) {
     const Vec3 p = samples.point(index);
     const bool inFirst = p.x() > 0 && p.x() < 1.0 && p.y() > 0 && p.y() < 0.6 && p.z() > 0 && p.z() < 0.4;
-    const bool inSecond = p.x() > 1.5 && p.x() < 2.0 && p.y() > 0 && p.y() < 0.6 && p.z() > 0 && p.z() < 0.4;
+    const bool inSecond = p.x() > 0.5 && p.x() < 1.0 && p.y() > 0 && p.y() < 0.6 && p.z() > 0.6 && p.z() < 1.0;
     ASSERT_EQ(samples.inside[index] != 0, inFirst || inSecond) << "sample at " << p.transpose();
     if (samples.inside[index] == 0) continue;
     volume += h * h * h;
@@ -45,7 +46,7 @@ TEST(SolidSamples, InsideSamplesFillTheVolumeAndDepthIsTheDistanceToTheSurface) 
     EXPECT_GE(samples.depth[index], exact - 1e-12);
     EXPECT_LE(samples.depth[index], exact + 1.0001 * h);
   }
-  EXPECT_NEAR(volume, 1.0 * 0.6 * 0.4 + 0.5 * 0.6 * 0.4, 0.02 * 0.34);
+  EXPECT_NEAR(volume, 1.0 * 0.6 * 0.4 + 0.5 * 0.6 * 0.4, 0.03 * 0.36);
 }
 
 TEST(ClumpFit, OneSphereFitsASphere) {
@@ -86,14 +87,22 @@ TEST(ClumpFit, CapsuleErrorsFallAsSpheresAreAdded) {
   const std::vector<double> errors = errorsByCount(test::capsule(0.5, 2.0, 16), true);
   for (std::size_t k = 1; k < errors.size(); ++k) EXPECT_LT(errors[k], errors[k - 1] * 1.05) << k;
   EXPECT_LT(errors.back(), 0.25 * errors.front());
-  EXPECT_LT(errors.back(), 0.05);
+  EXPECT_LT(errors.back(), 0.06);
 }
 
 TEST(ClumpFit, BoxErrorsFallAsSpheresAreAdded) {
   const std::vector<double> errors = errorsByCount(test::boxMesh(Vec3(0, 0, 0), Vec3(0.04, 0.02, 0.012)), true);
   EXPECT_LT(errors.back(), 0.5 * errors.front());
   EXPECT_LT(errors[3], errors[0]);
-  EXPECT_LT(errors.back(), 0.15);
+  EXPECT_LT(errors.back(), 0.1);
+}
+
+TEST(ClumpFit, PlateSpheresSpreadOverTheWholePlate) {
+  // A 10 x 100 x 40 mm plate: 16 spheres of the plate's half thickness cannot cover it;
+  // crowded in its middle, the volume-matched clump would miss most of the inertia.
+  const std::vector<double> errors = errorsByCount(test::boxMesh(Vec3(0, 0, 0), Vec3(0.01, 0.1, 0.04)), true);
+  EXPECT_GT(errors.front(), 0.5);
+  EXPECT_LT(errors.back(), 0.1);
 }
 
 TEST(ClumpFit, InscribedSpheresStayInsideAndTheFitIsRepeatable) {

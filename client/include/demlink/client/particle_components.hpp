@@ -1,7 +1,8 @@
 #pragma once
 /// Components that insert or remove particles: ParticleSource (steady stream into a box
 /// or disc), ParticleSink (removes what enters a volume), PitGenerator (a settled bed at
-/// step 0). Sources and sinks report counts and masses per interval and in total.
+/// step 0), and ClumpTemplate (a multisphere shape sources and pit generators insert
+/// instead of spheres). Sources and sinks report counts and masses per interval and in total.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -9,6 +10,17 @@
 #include "demlink/client/component.hpp"
 
 namespace demlink::client {
+
+/// A rigid multisphere shape (docs/clumps.md): member spheres with their offsets in the
+/// template's own frame. It has no material: a source or pit generator that names it
+/// inserts clumps of it in its own material. demlink-clump-fit writes one fitted to an STL.
+class ClumpTemplate : public Component {
+ public:
+  explicit ClumpTemplate(std::string name);
+  /// One member sphere: centre in the template's frame [m], radius [m].
+  ClumpTemplate& addSphere(const Vec3& offset, double radius);
+  [[nodiscard]] v1::ClumpTemplate& message();
+};
 
 class ParticleSource : public Component {
  public:
@@ -31,6 +43,9 @@ class ParticleSource : public Component {
   ParticleSource& setVelocity(const Vec3& velocity);           ///< initial velocity [m/s]
   ParticleSource& setSeed(std::uint64_t seed);
   ParticleSource& attachTo(const std::string& meshComponent);  ///< region in that body's frame
+  /// Insert clumps of the named ClumpTemplate instead of spheres (then set no sizes; the
+  /// rate counts clumps).
+  ParticleSource& setClumpTemplate(const std::string& templateName);
   [[nodiscard]] v1::ParticleSource& message();
 
   // Run-time inputs: one-shot, sent with the next package (omitted: unchanged).
@@ -84,6 +99,8 @@ class PitGenerator : public Component {
   PitGenerator& setBox(const Vec3& lower, const Vec3& upper);  ///< [m]
   PitGenerator& setTargetHeight(double metres);            ///< bed surface above the floor [m]
   PitGenerator& setSeed(std::uint64_t seed);
+  /// Settle clumps of the named ClumpTemplate instead of spheres (then set no sizes).
+  PitGenerator& setClumpTemplate(const std::string& templateName);
   [[nodiscard]] v1::PitGenerator& message();
 };
 

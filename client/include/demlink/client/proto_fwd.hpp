@@ -9,6 +9,7 @@
 namespace demlink::v1 {
 
 class ClientMessage;
+class ClumpTemplate;
 class CompileReport;
 class Compiled;
 class ComponentDeclaration;

@@ -10,8 +10,9 @@
 ///     budget allows). Their exact distance to the surface is the radius of the sphere each
 ///     could hold (inscribed: it touches the surface and never crosses it). Among those
 ///     within half a spacing of the largest radius, the sphere goes to the candidate that
-///     covers the most uncovered samples (ties: nearest the centroid of the uncovered
-///     samples), its centre then moved by at most one spacing to where it is farthest from
+///     covers the most uncovered samples (ties: for the first sphere the one nearest the
+///     centroid of the solid's samples, later the one farthest from every placed centre),
+///     its centre then moved by at most one spacing to where it is farthest from
 ///     the surface. Every sample inside it is marked covered. Repeat.
 ///  3. Optionally all radii are scaled by one factor so the union of the spheres (overlaps
 ///     counted once, unionMoments) has the solid's volume: inscribed spheres always miss

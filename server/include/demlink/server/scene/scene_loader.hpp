@@ -35,7 +35,8 @@ inline constexpr std::size_t kMaxSceneJsonDepth = 64;
 void parseJsonMessage(const std::string& json, const std::string& sourceName, const std::string& kind,
                       const std::string& example, google::protobuf::Message& message);
 
-/// The scene as indented JSON with proto field names (what a scene file looks like).
-[[nodiscard]] std::string sceneToJson(const v1::Scene& scene);
+/// A scene, or one of its parts (e.g. a ComponentDeclaration), as indented JSON with proto
+/// field names: what a scene file looks like.
+[[nodiscard]] std::string sceneToJson(const google::protobuf::Message& message);
 
 }  // namespace demlink::server
