@@ -2,7 +2,10 @@
 /// Helpers shared by the server tests: a scratch directory per test and
 /// whole-file text I/O.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 #include <unistd.h>
+
+#include <cstdlib>
 
 #include <filesystem>
 #include <fstream>
@@ -73,6 +76,28 @@ inline std::vector<double> asciiValues(const std::string& xml, const std::string
 
 /// A small valid scene (JSON): a box with a floor, one material and a 2x2x2
 /// lattice; end_time and vtk_interval as given [s].
+/// A command-line program's exit code and its stdout and stderr together.
+struct ProgramRun {
+  int exit_code = -1;
+  std::string output;
+};
+
+/// Runs `program` with `arguments` (each passed quoted); the output is captured in dir/tool.log.
+inline ProgramRun runProgram(const std::string& program, const std::vector<std::string>& arguments,
+                             const std::filesystem::path& dir) {
+  const std::filesystem::path log = dir / "tool.log";
+  // Built with append(): GCC 12 reports a false -Wrestrict for `"literal" + std::string` at -O3.
+  std::string command;
+  command.append("\"").append(program).append("\"");
+  for (const std::string& argument : arguments) command.append(" \"").append(argument).append("\"");
+  command.append(" > \"").append(log.string()).append("\" 2>&1");
+  const int status = std::system(command.c_str());
+  ProgramRun run;
+  if (status != -1 && WIFEXITED(status)) run.exit_code = WEXITSTATUS(status);
+  run.output = readText(log);
+  return run;
+}
+
 inline std::string tinySceneJson(double endTime, double vtkInterval) {
   return R"({"components": [
     {"name": "box", "simulation_box": {"time_step": 1e-5, "restitution_tolerance": 0.2, "end_time": )" + std::to_string(endTime) +

@@ -14,22 +14,10 @@
 namespace demlink::server {
 namespace {
 
-struct Result {
-  int exit_code = -1;
-  std::string output;  ///< stdout and stderr
-};
+using Result = test::ProgramRun;
 
 Result runFit(const std::vector<std::string>& arguments, const std::filesystem::path& dir) {
-  const std::filesystem::path log = dir / "tool.log";
-  std::string command;
-  command.append("\"").append(DEMLINK_CLUMP_FIT_EXE).append("\"");
-  for (const std::string& argument : arguments) command.append(" \"").append(argument).append("\"");
-  command.append(" > \"").append(log.string()).append("\" 2>&1");
-  const int status = std::system(command.c_str());
-  Result result;
-  if (status != -1 && WIFEXITED(status)) result.exit_code = WEXITSTATUS(status);
-  result.output = test::readText(log);
-  return result;
+  return test::runProgram(DEMLINK_CLUMP_FIT_EXE, arguments, dir);
 }
 
 const std::string kRock = std::string(DEMLINK_EXAMPLES_DIR) + "/scenes/meshes/rock.stl";

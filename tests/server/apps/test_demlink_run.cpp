@@ -10,24 +10,10 @@
 namespace demlink::server {
 namespace {
 
-struct Result {
-  int exit_code = -1;
-  std::string output;  ///< stdout and stderr
-};
+using Result = test::ProgramRun;
 
-/// Runs demlink-run with `arguments` (each passed quoted), output captured in dir/tool.log.
 Result runTool(const std::vector<std::string>& arguments, const std::filesystem::path& dir) {
-  const std::filesystem::path log = dir / "tool.log";
-  // Built with append(): GCC 12 reports a false -Wrestrict for `"literal" + std::string` at -O3.
-  std::string command;
-  command.append("\"").append(DEMLINK_RUN_EXE).append("\"");
-  for (const std::string& argument : arguments) command.append(" \"").append(argument).append("\"");
-  command.append(" > \"").append(log.string()).append("\" 2>&1");
-  const int status = std::system(command.c_str());
-  Result result;
-  if (status != -1 && WIFEXITED(status)) result.exit_code = WEXITSTATUS(status);
-  result.output = test::readText(log);
-  return result;
+  return test::runProgram(DEMLINK_RUN_EXE, arguments, dir);
 }
 
 std::size_t lineCount(const std::string& text) { return test::countOccurrences(text, "\n"); }
