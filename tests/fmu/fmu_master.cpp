@@ -109,13 +109,13 @@ int main(int argc, char** argv) {
   const auto freeInstance = symbol<decltype(&fmi2FreeInstance)>(library, "fmi2FreeInstance");
   if (std::string(symbol<decltype(&fmi2GetVersion)>(library, "fmi2GetVersion")()) != "2.0") return failWith("version");
 
-  demlink::fmu::ExchangeOrder order = demlink::fmu::ExchangeOrder::kSendFirst;
+  demlink::fmu::FmuConfig config;
   try {
-    order = demlink::fmu::readConfigFile((work / "resources" / "demlink_fmu.cfg").string()).exchange_order;
+    config = demlink::fmu::readConfigFile((work / "resources" / "demlink_fmu.cfg").string());
   } catch (const std::exception& e) {
     return failWith(e.what());
   }
-  const bool sendFirst = order == demlink::fmu::ExchangeOrder::kSendFirst;
+  const bool sendFirst = config.exchange_order == demlink::fmu::ExchangeOrder::kSendFirst;
   // The DEM time the outputs after fmi2DoStep(t, h) must describe (the end of their interval).
   const auto expectedOutputTime = [&](double t, double h) { return sendFirst ? t + h : t; };
   double maxTimeError = 0.0;
@@ -139,7 +139,7 @@ int main(int argc, char** argv) {
     const fmi2ValueReference z = ref("plate.position[3]");
     const fmi2ValueReference vz = ref("plate.velocity[3]");
     const fmi2ValueReference force = ref("plate.meanForce[3]");
-    const double h = demlink::fmu::readConfigFile((work / "resources" / "demlink_fmu.cfg").string()).interval_s;
+    const double h = config.interval_s;
     const double duration = std::atof(argv[7]);
     demlink::coupling::CoupledPlate dynamics(std::atof(argv[6]));
     for (int k = 0; k * h < duration - 0.5 * h; ++k) {
