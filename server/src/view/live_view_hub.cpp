@@ -23,8 +23,11 @@ LiveViewHub::LiveViewHub()
       front_(std::make_unique<ViewSnapshot>()) {}
 
 bool LiveViewHub::follows(const core::World& world) {
-  const core::World* followed = nullptr;
-  // seq_cst: the claiming thread sees everything the released one wrote to the buffers.
+  // A plain load first: offer() runs after every step of every simulation, and a CAS would
+  // take the shared cache line each time. The claiming CAS (seq_cst) sees everything the
+  // releasing thread wrote to the buffers.
+  const core::World* followed = followed_.load(std::memory_order_acquire);
+  if (followed != nullptr) return followed == &world;
   return followed_.compare_exchange_strong(followed, &world) || followed == &world;
 }
 
