@@ -40,8 +40,7 @@ add_library(demlink_client STATIC ${client_sources})
 target_include_directories(demlink_client PUBLIC ${client_dir}/include)
 target_include_directories(demlink_client SYSTEM PRIVATE ${DEMLINK_ASIO_INCLUDE})
 target_link_libraries(demlink_client PUBLIC demlink::proto PRIVATE demlink::wire demlink::parallel Threads::Threads ws2_32 mswsock
-                                                                 demlink_build_flags)
-target_compile_definitions(demlink_client PRIVATE ASIO_STANDALONE ASIO_NO_DEPRECATED)
+                                                                 demlink_asio demlink_build_flags)
 set_source_files_properties(${client_dir}/src/connection.cpp PROPERTIES COMPILE_OPTIONS -Wno-null-dereference)
 
 add_library(demlink_c SHARED ${c_abi_sources})
