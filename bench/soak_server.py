@@ -266,8 +266,8 @@ def runtime_input_past_limit(port, rng, group):
 
 def many_expected_names(port, rng, group):
     """A box that expects 100,000 names: the assembly timeout's Error names a few and the count."""
-    # Built before the Hello: under the soak's 0.5 s quiet period a Declare that comes later
-    # than that after the Hello finds an empty simulation compiled (docs/cosim.md).
+    # Built before the Hello: a Declare that comes later than the quiet period after the
+    # Hello finds an empty simulation compiled (docs/cosim.md), and this one is 1.3 MB.
     box = scene()[0]
     box.simulation_box.coupling.expected_count = 0
     box.simulation_box.coupling.expected_names.extend(f"part-{k:06d}" for k in range(100000))
@@ -373,7 +373,7 @@ def main():
     log = open(log_path, "w")
     server = subprocess.Popen(
         [args.server, "--port", "0", "--output", os.path.join(work, "out"), "--overwrite",
-         "--timeout", "2", "--assembly-timeout", "3", "--hello-timeout", "2", "--quiet-period", "0.5",
+         "--timeout", "2", "--assembly-timeout", "3", "--hello-timeout", "2", "--quiet-period", "2",
          "--max-queued-bytes", "1048576", "--progress", "5"],
         stdout=log, stderr=subprocess.STDOUT)
     try:

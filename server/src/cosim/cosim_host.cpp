@@ -59,6 +59,8 @@ struct CosimHost::Impl {
   CosimCompiler compiler;
   std::map<ConnectionId, Connection> connections;
   std::unique_ptr<CosimSimulation> sim;
+  /// The running simulation's particle memory in the server's ledger (native only).
+  std::optional<ParticleMemoryLedger::Reservation> memory;
   std::uint64_t finished = 0;
   std::optional<SteadyClock::time_point> quiet_since;
   std::optional<SteadyClock::time_point> waiting_since;
@@ -170,6 +172,7 @@ struct CosimHost::Impl {
     }
     connections.clear();
     sim.reset();
+    memory.reset();
     compiler.reset();
     quiet_since.reset();
     waiting_since.reset();
@@ -202,6 +205,28 @@ struct CosimHost::Impl {
       send(out, id, makeError(othersCode, "the simulation ended: " + cause, error.component(), error.field(), true));
     }
     endSimulation(out, cause);
+  }
+
+  /// Reserves the compiled world's particle memory in the server's ledger (`memory`), or
+  /// says why not: the simulations running now hold too much of the budget. LIGGGHTS runs
+  /// one simulation at a time (checked against the budget as its scene was translated),
+  /// and its MPI mirrors must decide as rank 0 does, so only native simulations reserve.
+  [[nodiscard]] std::optional<v1::Error> reserveMemory(const CompiledSimulation& compiled) {
+    if (options.backend != BackendKind::Native || options.mirror) return std::nullopt;
+    const std::shared_ptr<ParticleMemoryLedger>& ledger =
+        options.particle_memory ? options.particle_memory : processParticleMemory();
+    const std::uint64_t need = particleMemoryEstimate(compiled.scene->world);
+    if (std::optional<ParticleMemoryLedger::Reservation> held = ParticleMemoryLedger::reserve(ledger, need)) {
+      memory.emplace(std::move(*held));
+      return std::nullopt;
+    }
+    return makeError(v1::Error::SERVER_BUSY,
+                     fmt::format("this simulation needs about {:.3g} GB for its particles and nodes; the simulations "
+                                 "running now hold {:.3g} GB of this server's {:.3g} GB (half of its memory or "
+                                 "address-space limit); connect again when one has finished",
+                                 static_cast<double>(need) * 1e-9, static_cast<double>(ledger->held()) * 1e-9,
+                                 static_cast<double>(ledger->budget()) * 1e-9),
+                     "", "", true);
   }
 
   /// What the engine refuses of a compiled set: a SimulationBox.backend other than the
@@ -251,6 +276,12 @@ struct CosimHost::Impl {
                     core::logText(refused->message(), kLogMessageMaxBytes));
       for (const auto& [id, connection] : connections) send(out, id, *refused);
       endSimulation(out, "compile failed: " + refused->message());
+      return;
+    }
+    if (std::optional<v1::Error> refused = reserveMemory(compiled)) {
+      spdlog::warn("simulation {}: not started: {}", number(), core::logText(refused->message(), kLogMessageMaxBytes));
+      for (const auto& [id, connection] : connections) send(out, id, *refused);
+      endSimulation(out, "not started: " + refused->message());
       return;
     }
     std::filesystem::path directory;
@@ -599,6 +630,7 @@ struct CosimHost::Impl {
         spdlog::error("ending the simulation failed too: {}", again.what());
         connections.clear();
         sim.reset();
+        memory.reset();
         compiler.reset();
       }
     }

@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "demlink/server/backend/simulation_backend.hpp"
+#include "demlink/server/cosim/particle_memory_ledger.hpp"
 #include "demlink/server/net/session_handler.hpp"
 #include "demlink/server/scene/input_limits.hpp"
 #include "demlink/v1/protocol.pb.h"
@@ -103,6 +104,10 @@ struct CosimOptions {
   /// Set: the simulation steps only while it holds a turn (stepping_turns.hpp), shared by
   /// every simulation of the server.
   std::shared_ptr<SteppingTurns> turns;
+  /// The ledger a native simulation's particle memory is reserved in while it runs,
+  /// shared by every simulation of the server; unset: the process's own
+  /// (processParticleMemory()).
+  std::shared_ptr<ParticleMemoryLedger> particle_memory;
 };
 
 class CosimHost final : public SessionHandler {
