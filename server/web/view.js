@@ -206,6 +206,7 @@ function regionObject(kind, half) {
 const state = {
   status: null, framesReceived: 0, fps: 0, paused: false, fitted: false, live: true,
   frames: 0, times: [], frameIndex: 0, playing: false, nearCount: 0, shown: 0, bytes: 0,
+  simulations: [], followed: 0,
 };
 window.demlinkView = state;
 let lastFrame = null;
@@ -467,12 +468,31 @@ function onText(message) {
       document.getElementById('slider').max = String(Math.max(0, message.frames - 1));
       request('frame=0');
     }
+  } else if (message.kind === 'simulations') {
+    showSimulations(message);
   } else if (message.kind === 'error') {
     document.getElementById('connection').textContent = `server: ${message.message}`;
   }
 }
 
+// A server's simulations, when it runs several: the choice shows which one the view follows.
+function showSimulations(message) {
+  state.simulations = message.simulations;
+  state.followed = message.followed;
+  document.getElementById('simulation-choice').classList.toggle('hidden', message.simulations.length < 2);
+  const select = document.getElementById('simulation');
+  const ids = message.simulations.map((s) => String(s.id));
+  if (Array.from(select.options, (o) => o.value).join() !== ids.join()) {
+    select.replaceChildren(...ids.map((id) => new Option('', id)));
+  }
+  message.simulations.forEach((s, k) => {
+    select.options[k].textContent = `${s.name}: ${s.particles} particles, t = ${format(s.time, 4)} s`;
+  });
+  if (message.followed) select.value = String(message.followed);
+}
+
 // ---- controls ----
+document.getElementById('simulation').addEventListener('change', (event) => request(`sim=${event.target.value}`));
 for (const id of ['colour', 'budget', 'rate']) document.getElementById(id).addEventListener('change', () => request(currentRequest()));
 document.getElementById('pause').addEventListener('click', (event) => {
   state.paused = !state.paused;

@@ -153,14 +153,15 @@ TEST(FrameEncoder, Quantise) {
 
 TEST(ViewRequests, ParsesAndRefuses) {
   std::string error;
-  const std::optional<ViewRequest> request = parseViewRequest("rate=12.5 max=2000;colour=force frame=7", 30.0, error);
+  const std::optional<ViewRequest> request = parseViewRequest("rate=12.5 max=2000;colour=force frame=7 sim=3", 30.0, error);
   ASSERT_TRUE(request.has_value()) << error;
   EXPECT_EQ(request->rate.value(), 12.5);
   EXPECT_EQ(request->max_particles.value(), 2000u);
   EXPECT_EQ(request->colour.value(), ColourField::kForce);
   EXPECT_EQ(request->frame.value(), 7u);
+  EXPECT_EQ(request->simulation.value(), 3u);
   for (const char* bad : {"rate=0", "rate=31", "rate=nan", "max=-1", "max=20000000", "colour=blue", "frame=x",
-                          "volume=3", "rate"}) {
+                          "sim=0", "sim=-1", "sim=two", "sim=", "volume=3", "rate"}) {
     EXPECT_FALSE(parseViewRequest(bad, 30.0, error).has_value()) << bad;
     EXPECT_FALSE(error.empty());
   }

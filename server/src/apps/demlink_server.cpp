@@ -292,6 +292,9 @@ int run(int argc, char** argv) {
     viewOptions.access_token = line.token.value_or("");
     viewHub = std::make_unique<demlink::server::LiveViewHub>();
     view = std::make_unique<demlink::server::ViewServer>(*viewHub, viewOptions);
+    options.open_observer = [hub = viewHub.get()](const demlink::core::World& world, const std::string& name) {
+      hub->announce(world, name);
+    };
     options.step_observer = [hub = viewHub.get()](const demlink::core::World& world) { hub->offer(world); };
     options.close_observer = [hub = viewHub.get()](const demlink::core::World& world) { hub->release(world); };
     view->start();
