@@ -206,7 +206,7 @@ function regionObject(kind, half) {
 const state = {
   status: null, framesReceived: 0, fps: 0, paused: false, fitted: false, live: true,
   frames: 0, times: [], frameIndex: 0, playing: false, nearCount: 0, shown: 0, bytes: 0,
-  simulations: [], followed: 0,
+  simulations: [], followed: 0, maxRate: 30,
 };
 window.demlinkView = state;
 let lastFrame = null;
@@ -436,7 +436,9 @@ function updateLevelOfDetail() {
 let socket = null;
 function request(text) { if (socket && socket.readyState === WebSocket.OPEN) socket.send(text); }
 function currentRequest() {
-  return `rate=${document.getElementById('rate').value} max=${document.getElementById('budget').value} ` +
+  // The server's cap (--view-max-rate, in its hello) bounds the rate asked for.
+  const rate = Math.min(Number(document.getElementById('rate').value), state.maxRate);
+  return `rate=${rate} max=${document.getElementById('budget').value} ` +
     `colour=${document.getElementById('colour').value}`;
 }
 function connect() {
@@ -445,7 +447,7 @@ function connect() {
   socket = new WebSocket(url);
   socket.binaryType = 'arraybuffer';
   const connection = document.getElementById('connection');
-  socket.onopen = () => { connection.textContent = 'connected'; request(currentRequest()); };
+  socket.onopen = () => { connection.textContent = 'connected'; };
   socket.onclose = () => { connection.textContent = 'disconnected (the run ended or the server stopped)'; };
   socket.onmessage = (event) => {
     if (typeof event.data === 'string') { onText(JSON.parse(event.data)); return; }
@@ -460,6 +462,8 @@ function connect() {
 function onText(message) {
   if (message.kind === 'scene') buildScene(message);
   else if (message.kind === 'hello') {
+    state.maxRate = message.maxRate;
+    request(currentRequest());  // the first request: it needs the hello's rate cap
     state.live = message.live;
     state.frames = message.frames;
     state.times = message.times;

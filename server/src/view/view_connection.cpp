@@ -310,6 +310,8 @@ void ViewConnection::offerFrame() {
                std::chrono::duration<double>(now - simulations_sent_).count() >= kSimulationsInterval)) {
     if (sendSimulations(now)) return;
   }
+  // A recorded frame already sent (or refused) is not read again until the page asks anew.
+  if (!live && sent_version_ == std::uint64_t{wanted_frame_} + 1) return;
   std::uint64_t version = 0;
   const ViewSnapshot* snapshot = nullptr;
   try {
