@@ -1,9 +1,12 @@
 // Choosing among a server's simulations in the page, in headless Chromium: the view fixture
-// steps two scenes at once (3 x 3 and 5 x 5 spheres), the page must list both, and picking
-// one in its list must bring that simulation's frames: the overlay's particle count follows
-// the choice, both ways. The page's console must stay free of errors.
+// steps three scenes at once (3 x 3 spheres, 5 x 5 spheres, and a mass-spring sheet of two
+// triangles and five springs, one of which tears at the first step), the page must list
+// them, and picking one in its list must bring that simulation's frames: the overlay's
+// particle count follows the choice, each way. The sheet is drawn with its four intact
+// springs and the one triangle the torn spring leaves supported. The page's console must
+// stay free of errors.
 //
-//   node check_view_choice.mjs --fixture DEMLINK_VIEW_FIXTURE --scenes SMALL,LARGE [--chromium PATH]
+//   node check_view_choice.mjs --fixture DEMLINK_VIEW_FIXTURE --scenes SMALL,LARGE,SHEET [--chromium PATH]
 // Prints "N passed, M failed"; exits 1 on any failure.
 import { spawn } from 'node:child_process';
 import fs from 'node:fs';
@@ -17,7 +20,11 @@ const args = Object.fromEntries(process.argv.slice(2).reduce((pairs, arg, i, all
   return pairs;
 }, []));
 const scenes = args.scenes.split(',');
-const kParticles = { [path.basename(scenes[0], '.json')]: 9, [path.basename(scenes[1], '.json')]: 25 };
+const kExpected = {
+  [path.basename(scenes[0], '.json')]: { particles: 9 },
+  [path.basename(scenes[1], '.json')]: { particles: 25 },
+  [path.basename(scenes[2], '.json')]: { particles: 0, surfaces: [{ triangles: 1, springs: 4 }] },
+};
 
 let passed = 0, failed = 0;
 function check(ok, what) {
@@ -52,7 +59,7 @@ async function main() {
   const errors = [];
   devtools.listeners.push((message) => {
     if (message.sessionId !== page.sessionId) return;
-    if (message.method === 'Runtime.exceptionThrown') errors.push(message.params.exceptionDetails.text);
+    if (message.method === 'Runtime.exceptionThrown') errors.push(`${message.params.exceptionDetails.text} ${message.params.exceptionDetails.exception?.description ?? ''}`);
     if (message.method === 'Runtime.consoleAPICalled' && message.params.type === 'error') errors.push(JSON.stringify(message.params.args));
     if (message.method === 'Log.entryAdded' && message.params.entry.level === 'error') errors.push(message.params.entry.text);
   });
@@ -64,10 +71,10 @@ async function main() {
       try { if (await evaluate(page, expression)) return true; } catch { /* the page is still loading */ }
       await sleep(100);
     }
-    throw new Error(`timed out waiting for ${what}`);
+    throw new Error(`timed out waiting for ${what}${errors.length ? '; the page logged: ' + errors.slice(0, 3).join('; ') : ''}`);
   };
-  await waitFor(`window.demlinkView && window.demlinkView.status && window.demlinkView.simulations.length === 2`, 60,
-    'a frame and a list of two simulations');
+  await waitFor(`window.demlinkView && window.demlinkView.status && window.demlinkView.simulations.length === 3`, 60,
+    'a frame and a list of three simulations');
   const listed = await evaluate(page, `(() => {
     const choice = document.getElementById('simulation-choice');
     return { visible: getComputedStyle(choice).display !== 'none',
@@ -75,8 +82,8 @@ async function main() {
       simulations: window.demlinkView.simulations };
   })()`);
   check(listed.visible, 'the page shows its list of simulations');
-  check(listed.simulations.every((s) => kParticles[s.name] === s.particles) && listed.options.length === 2,
-    `the list names both with their particle counts (${listed.options.map((o) => o.text).join('; ')})`);
+  check(listed.simulations.every((s) => kExpected[s.name]?.particles === s.particles) && listed.options.length === 3,
+    `the list names each with its particle count (${listed.options.map((o) => o.text).join('; ')})`);
   const overlayParticles = () => evaluate(page, `Number(document.getElementById('particles').textContent)`);
   // Each in turn, the one not shown first: the overlay's particle count must follow.
   const firstShown = await overlayParticles();
@@ -95,6 +102,9 @@ async function main() {
     const selected = await evaluate(page, `document.getElementById('simulation').value`);
     check(shown === simulation.particles && followed === simulation.id && selected === String(simulation.id),
       `chose ${simulation.name}: overlay ${shown} particles (expected ${simulation.particles}), followed ${followed}, selected ${selected}`);
+    const surfaces = JSON.stringify(await evaluate(page, `window.demlinkView.surfaces`));
+    const expected = JSON.stringify(kExpected[simulation.name].surfaces ?? []);
+    check(surfaces === expected, `${simulation.name} draws surfaces ${surfaces} (expected ${expected}: torn springs and the triangles they held are not drawn)`);
   }
   check(errors.length === 0, `no errors in the page's console${errors.length ? ': ' + errors.join('; ') : ''}`);
   await devtools.send('Browser.close').catch(() => {});

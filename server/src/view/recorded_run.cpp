@@ -75,7 +75,7 @@ RecordedRun::RecordedRun(const std::filesystem::path& directory, const std::stri
       const auto& triangle = surfaces_[s].triangles[t];
       json += fmt::format("{}{},{},{}", t == 0 ? "" : ",", triangle[0], triangle[1], triangle[2]);
     }
-    json += "]}";
+    json += R"(],"springs":[]})";  // the files hold surfaces, not springs
   }
   json += R"(],"regions":[],"materials":[)";
   for (std::uint32_t m = 0; m < materials; ++m) json += fmt::format("{}\"material {}\"", m == 0 ? "" : ",", m);
