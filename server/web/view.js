@@ -11,6 +11,7 @@ import { OrbitControls } from '/three/examples/jsm/controls/OrbitControls.js';
 
 const kHeaderBytes = 144;
 const kMagic = 0x46564c44;
+const kVersion = 2;
 const kNearPixels = 6;       // projected radius above which a particle is drawn as a sphere [px]
 const kNearBudget = 8000;    // most sphere instances
 const kColourNames = ['speed', 'force', 'material', 'id'];
@@ -121,7 +122,7 @@ spheres.frustumCulled = false;
 scene.add(spheres);
 
 function ensureCapacity(count) {
-  if (count <= capacity) return;
+  if (positionQ && count <= capacity) return;
   capacity = Math.max(count, Math.ceil(capacity * 1.5), 1024);
   positionQ = new Uint16Array(3 * capacity);
   radiusQ = new Uint16Array(capacity);
@@ -142,10 +143,12 @@ const regionObjects = [];
 const planeObjects = [];
 const edgeMaterial = new THREE.LineBasicMaterial({ color: 0xc8d0da });
 const regionMaterial = new THREE.LineBasicMaterial({ color: 0xffc857 });
+const springMaterial = new THREE.LineBasicMaterial({ color: 0xf0d0ea });
 
 function buildScene(info) {
   // A server's next simulation brings a new scene: the last one's objects go.
-  for (const object of [...meshObjects, ...regionObjects, ...planeObjects, ...surfaceObjects.map((s) => s.mesh)]) {
+  for (const object of [...meshObjects, ...regionObjects, ...planeObjects, ...surfaceObjects.map((s) => s.mesh),
+    ...surfaceObjects.filter((s) => s.lines).map((s) => s.lines)]) {
     scene.remove(object);
   }
   meshObjects.length = regionObjects.length = planeObjects.length = surfaceObjects.length = 0;
@@ -168,7 +171,15 @@ function buildScene(info) {
     const mesh = new THREE.Mesh(geometry, new THREE.MeshLambertMaterial({ color: 0xb07fa8, side: THREE.DoubleSide }));
     mesh.frustumCulled = false;
     scene.add(mesh);
-    surfaceObjects.push({ mesh, triangles: surface.triangles, activeKey: '' });
+    // A mass-spring body's springs as lines between its nodes; a torn spring is not drawn.
+    const springs = surface.springs ?? [];
+    let lines = null;
+    if (springs.length > 0) {
+      lines = new THREE.LineSegments(new THREE.BufferGeometry(), springMaterial);
+      lines.frustumCulled = false;
+      scene.add(lines);
+    }
+    surfaceObjects.push({ mesh, triangles: surface.triangles, activeKey: '', springs, lines, intactKey: '' });
   }
 }
 
@@ -206,6 +217,7 @@ function regionObject(kind, half) {
 const state = {
   status: null, framesReceived: 0, fps: 0, paused: false, fitted: false, live: true,
   frames: 0, times: [], frameIndex: 0, playing: false, nearCount: 0, shown: 0, bytes: 0,
+  simulations: [], followed: 0, maxRate: 30, surfaces: [],
 };
 window.demlinkView = state;
 let lastFrame = null;
@@ -214,6 +226,7 @@ let nearDirty = true;
 function decodeFrame(buffer) {
   const view = new DataView(buffer);
   if (buffer.byteLength < kHeaderBytes || view.getUint32(0, true) !== kMagic) throw new Error('not a DEMLink view frame');
+  if (view.getUint32(4, true) !== kVersion) throw new Error(`view frame version ${view.getUint32(4, true)}, expected ${kVersion}`);
   const f32 = (offset) => view.getFloat32(offset, true);
   const frame = {
     time: view.getFloat64(8, true), step: view.getFloat64(16, true), rtf: view.getFloat64(24, true),
@@ -243,10 +256,12 @@ function decodeFrame(buffer) {
   frame.surfaces = [];
   for (let k = 0; k < frame.surfaceCount; ++k) {
     const nodes = view.getUint32(offset, true), triangles = view.getUint32(offset + 4, true);
-    offset += 8;
+    const springs = view.getUint32(offset + 8, true);
+    offset += 12;
     const positions = new Float32Array(buffer.slice(offset, offset + 12 * nodes)); offset += 12 * nodes;
     const active = new Uint8Array(buffer, offset, triangles); offset = align(offset + triangles);
-    frame.surfaces.push({ positions, active });
+    const intact = new Uint8Array(buffer, offset, springs); offset = align(offset + springs);
+    frame.surfaces.push({ positions, active, intact });
   }
   return frame;
 }
@@ -278,6 +293,9 @@ function applyFrame(frame) {
   }
   frame.regions.forEach((region, k) => setPose(regionObjects[k], region.pose));
   frame.surfaces.forEach((surface, k) => updateSurface(surfaceObjects[k], surface));
+  // What each surface draws now (the browser tests read it): triangles and spring lines.
+  state.surfaces = surfaceObjects.map((s) => ({
+    triangles: (s.mesh.geometry.index?.count ?? 0) / 3, springs: (s.lines?.geometry.index?.count ?? 0) / 2 }));
   updatePlanes(frame.lower, frame.upper);
   if (!state.fitted && frame.count > 0) fitCamera(frame.lower, frame.upper);
   lastFrame = frame;
@@ -289,7 +307,18 @@ function applyFrame(frame) {
 function updateSurface(object, surface) {
   if (!object) return;
   const geometry = object.mesh.geometry;
-  geometry.setAttribute('position', new THREE.BufferAttribute(surface.positions, 3));
+  const positions = new THREE.BufferAttribute(surface.positions, 3);
+  geometry.setAttribute('position', positions);
+  if (object.lines) {
+    object.lines.geometry.setAttribute('position', positions);
+    const key = surface.intact.join('');
+    if (key !== object.intactKey) {  // a spring tore: only intact springs are drawn
+      const index = [];
+      object.springs.forEach((node, i) => { if (surface.intact[i >> 1]) index.push(node); });
+      object.lines.geometry.setIndex(index);
+      object.intactKey = key;
+    }
+  }
   const key = surface.active.join('');
   if (key !== object.activeKey) {  // a tear: only active triangles are drawn
     const index = [];
@@ -435,7 +464,9 @@ function updateLevelOfDetail() {
 let socket = null;
 function request(text) { if (socket && socket.readyState === WebSocket.OPEN) socket.send(text); }
 function currentRequest() {
-  return `rate=${document.getElementById('rate').value} max=${document.getElementById('budget').value} ` +
+  // The server's cap (--view-max-rate, in its hello) bounds the rate asked for.
+  const rate = Math.min(Number(document.getElementById('rate').value), state.maxRate);
+  return `rate=${rate} max=${document.getElementById('budget').value} ` +
     `colour=${document.getElementById('colour').value}`;
 }
 function connect() {
@@ -444,7 +475,7 @@ function connect() {
   socket = new WebSocket(url);
   socket.binaryType = 'arraybuffer';
   const connection = document.getElementById('connection');
-  socket.onopen = () => { connection.textContent = 'connected'; request(currentRequest()); };
+  socket.onopen = () => { connection.textContent = 'connected'; };
   socket.onclose = () => { connection.textContent = 'disconnected (the run ended or the server stopped)'; };
   socket.onmessage = (event) => {
     if (typeof event.data === 'string') { onText(JSON.parse(event.data)); return; }
@@ -459,6 +490,8 @@ function connect() {
 function onText(message) {
   if (message.kind === 'scene') buildScene(message);
   else if (message.kind === 'hello') {
+    state.maxRate = message.maxRate;
+    request(currentRequest());  // the first request: it needs the hello's rate cap
     state.live = message.live;
     state.frames = message.frames;
     state.times = message.times;
@@ -467,12 +500,31 @@ function onText(message) {
       document.getElementById('slider').max = String(Math.max(0, message.frames - 1));
       request('frame=0');
     }
+  } else if (message.kind === 'simulations') {
+    showSimulations(message);
   } else if (message.kind === 'error') {
     document.getElementById('connection').textContent = `server: ${message.message}`;
   }
 }
 
+// A server's simulations, when it runs several: the choice shows which one the view follows.
+function showSimulations(message) {
+  state.simulations = message.simulations;
+  state.followed = message.followed;
+  document.getElementById('simulation-choice').classList.toggle('hidden', message.simulations.length < 2);
+  const select = document.getElementById('simulation');
+  const ids = message.simulations.map((s) => String(s.id));
+  if (Array.from(select.options, (o) => o.value).join() !== ids.join()) {
+    select.replaceChildren(...ids.map((id) => new Option('', id)));
+  }
+  message.simulations.forEach((s, k) => {
+    select.options[k].textContent = `${s.name}: ${s.particles} particles, t = ${format(s.time, 4)} s`;
+  });
+  if (message.followed) select.value = String(message.followed);
+}
+
 // ---- controls ----
+document.getElementById('simulation').addEventListener('change', (event) => request(`sim=${event.target.value}`));
 for (const id of ['colour', 'budget', 'rate']) document.getElementById(id).addEventListener('change', () => request(currentRequest()));
 document.getElementById('pause').addEventListener('click', (event) => {
   state.paused = !state.paused;

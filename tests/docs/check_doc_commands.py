@@ -8,9 +8,11 @@ Commands are the lines of ```sh blocks and of indented (4-space) blocks, continu
 lines joined, trailing "# ..." comments dropped. Every command must match one RULE below,
 which says how it is run; a command no rule knows fails the test (add a rule with it).
 What the rules change, honestly:
-- scripts/demo.sh runs as scripts/demo_cosim.sh OUT 1: the build is the one ctest runs
-  on (demo.sh would install and build first), and one dig-dump cycle instead of two
-  (about half the time). The commands that read the demo's outputs read this run's.
+- scripts/demo.sh runs as scripts/demo_cosim.sh OUT 1 --view 0: the build is the one ctest
+  runs on (demo.sh would install and build first), and one dig-dump cycle instead of two
+  (about half the time). The commands that read the demo's outputs read this run's. The
+  view costs the demo nothing while no page is open; while the demo runs, its server's
+  live view must serve the page and greet a WebSocket (docs/view.md).
 - demlink-run gets --end-time 0.02 (the scene is the same, the run shorter) and writes
   below the scratch folder instead of out/.
 - demlink-server gets --port 0 and --listen 127.0.0.1 (tests never listen elsewhere); it
@@ -21,14 +23,17 @@ What the rules change, honestly:
   by the ctest cases named in their rule.
 Usage: check_doc_commands.py REPO BUILD_DIR SCRATCH [--no-demo]
 """
+import base64
 import os
 import re
 import shlex
 import shutil
 import signal
+import socket
 import subprocess
 import sys
 import time
+import urllib.request
 
 PAGES = ["README.md", "docs/tutorial.md"]
 
@@ -85,7 +90,7 @@ class Runner:
         if not self.demo:
             raise SkipDemo()
         if not self.demo_ran:
-            self.shell(f"scripts/demo_cosim.sh {shlex.quote(self.demo_dir)} 1", timeout=1500)
+            run_demo_with_view(self.repo, [self.demo_dir, "1"], timeout=1500)
             self.demo_ran = True
 
     def in_demo(self, command):
@@ -121,6 +126,57 @@ class Runner:
 
 class SkipDemo(Exception):
     pass
+
+
+def check_view(url):
+    """The live view at `url` serves its page and greets a WebSocket with its hello."""
+    with urllib.request.urlopen(url, timeout=10) as page:
+        body = page.read().decode()
+        if page.status != 200 or '<script type="module" src="view.js">' not in body:
+            raise RuntimeError(f"the demo's view at {url} did not serve the page: {page.status}\n{body[:500]}")
+    host, port = re.match(r"http://([^:/]+):(\d+)/", url).groups()
+    with socket.create_connection((host, int(port)), timeout=10) as ws:
+        key = base64.b64encode(os.urandom(16)).decode()
+        ws.sendall((f"GET /ws HTTP/1.1\r\nHost: {host}\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+                    f"Sec-WebSocket-Key: {key}\r\nSec-WebSocket-Version: 13\r\n\r\n").encode())
+        received = b""
+        while b'"kind":"hello","live":true' not in received and len(received) < 1 << 22:
+            chunk = ws.recv(65536)
+            if not chunk:
+                break
+            received += chunk
+    if b"101 Switching Protocols" not in received or b'"kind":"hello","live":true' not in received:
+        raise RuntimeError(f"the demo's view at {url} did not greet a WebSocket: {received[:300]!r}")
+    print(f"  the demo's live view at {url} serves its page and greets a WebSocket", flush=True)
+
+
+def run_demo_with_view(repo, arguments, timeout):
+    """scripts/demo_cosim.sh ARGUMENTS --view 0; checks the view while the demo runs."""
+    out = arguments[0]
+    command = ["scripts/demo_cosim.sh", *arguments, "--view", "0"]
+    print(f"  $ {shlex.join(command)}", flush=True)
+    demo = subprocess.Popen(command, cwd=repo, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                            start_new_session=True)
+    try:
+        log = os.path.join(repo, out, "server.log")
+        url = None
+        deadline = time.monotonic() + 120
+        while url is None and time.monotonic() < deadline and demo.poll() is None:
+            if os.path.exists(log):
+                found = re.search(r"view at (http://\S+/)", open(log, errors="replace").read())
+                url = found.group(1) if found else None
+            time.sleep(0.2)
+        if url is None:
+            raise RuntimeError("the demo's server announced no view within 120 s")
+        check_view(url)
+        output, _ = demo.communicate(timeout=timeout)
+    except BaseException:
+        os.killpg(demo.pid, signal.SIGTERM)
+        demo.wait()
+        raise
+    if demo.returncode != 0:
+        raise RuntimeError(f"exit {demo.returncode}:\n{output[-3000:]}")
+    return output
 
 
 def skip(reason):

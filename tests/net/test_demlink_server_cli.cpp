@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <array>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -13,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "demlink/server/net/asio.hpp"
 #include "demlink/server/scene/scene_loader.hpp"
 #include "child_process.hpp"
 #include "scene_messages.hpp"
@@ -55,6 +57,9 @@ TEST(DemlinkServerCli, BadOptionsExitTwoNamingOptionAndValue) {
       {{"--port"}, "--port: 1 required N missing"},  // CLI11's wording
       {{"--bogus"}, "--bogus: unknown option"},
       {{"--restore", "no/such/checkpoint.bin"}, "--restore = no/such/checkpoint.bin: no such file"},
+      {{"--view", "0", "--view-max-connections", "0"}, "--view-max-connections = 0: not a whole number in 1..1024"},
+      {{"--view", "0", "--view-max-rate", "-3"}, "--view-max-rate = -3: frames per second must be > 0 and <= 120"},
+      {{"--view", "0", "--view-max-bytes-per-second", "1e2"}, "--view-max-bytes-per-second = 1e2: must be >= 1000"},
   };
   for (const auto& [arguments, expected] : cases) {
     const Result result = runServer(arguments);
@@ -105,6 +110,43 @@ TEST(DemlinkServerCli, ListensOnAnEphemeralPortAndExitsZeroOnSigint) {
   EXPECT_EQ(server.waitForExit(), 0) << "SIGINT must end the server cleanly within 3 s";
 }
 
+
+/// The view's caps come from the command line: --view-max-connections 1 refuses a second
+/// connection with HTTP 503, and the page's hello carries --view-max-rate.
+TEST(DemlinkServerCli, ViewCapsComeFromTheCommandLine) {
+  integration::Child server({DEMLINK_SERVER_EXE, "--port", "0", "--output", ::testing::TempDir() + "demlink_view_caps",
+                             "--view", "127.0.0.1:0", "--view-max-connections", "1", "--view-max-rate", "5"});
+  const std::string viewLine = server.readLine(std::chrono::seconds(10));
+  const std::string prefix = "demlink-server view at http://127.0.0.1:";
+  ASSERT_TRUE(viewLine.starts_with(prefix)) << viewLine;
+  const auto port = static_cast<std::uint16_t>(std::stoi(viewLine.substr(prefix.size())));
+  asio::io_context io;
+  const asio::ip::tcp::endpoint view(asio::ip::make_address("127.0.0.1"), port);
+  asio::ip::tcp::socket page(io);
+  page.connect(view);
+  asio::write(page, asio::buffer(std::string(
+                        "GET /ws HTTP/1.1\r\nHost: x\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+                        "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n")));
+  // The handshake and the hello (unmasked text frames: their JSON shows in the bytes).
+  std::string received;
+  std::array<char, 4096> buffer{};
+  while (received.find(R"("maxRate":)") == std::string::npos && received.size() < 65536) {
+    received.append(buffer.data(), page.read_some(asio::buffer(buffer)));
+  }
+  EXPECT_NE(received.find("101 Switching Protocols"), std::string::npos) << received;
+  EXPECT_NE(received.find(R"("maxRate":5})"), std::string::npos) << received;
+  // The page holds the one connection allowed: the next is refused.
+  asio::ip::tcp::socket second(io);
+  second.connect(view);
+  asio::write(second, asio::buffer(std::string("GET / HTTP/1.1\r\nHost: x\r\n\r\n")));
+  std::string answer;
+  asio::error_code error;
+  while (!error) answer.append(buffer.data(), second.read_some(asio::buffer(buffer), error));
+  EXPECT_TRUE(answer.starts_with("HTTP/1.1 503 Service Unavailable")) << answer;
+  EXPECT_NE(answer.find("at most 1 connections"), std::string::npos) << answer;
+  server.signal(SIGINT);
+  EXPECT_EQ(server.waitForExit(std::chrono::seconds(5)), 0);
+}
 
 /// The id and interval of `name` in `compiled` (every component of the simulation).
 std::pair<std::uint32_t, std::uint64_t> componentOf(const v1::Compiled& compiled, const std::string& name) {

@@ -1,13 +1,15 @@
-// The view's binary frames: header fields, the quantisation error bound, and the stable
-// subset by particle id.
+// The view's binary frames: header fields, the quantisation error bound, the stable
+// subset by particle id, and a mass-spring body's springs with a torn one flagged.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cstring>
 #include <numeric>
 #include <random>
+#include <memory>
 #include <set>
 
+#include "demlink/core/deformable/mass_spring_body.hpp"
 #include "demlink/server/view/frame_encoder.hpp"
 #include "view_requests.hpp"
 
@@ -151,16 +153,98 @@ TEST(FrameEncoder, Quantise) {
   EXPECT_EQ(quantise(std::nan(""), 0.0, 1.0), 0);
 }
 
+/// The surface sections of a frame whose header says it has no particles, meshes or regions.
+struct DecodedSurface {
+  std::vector<float> positions;
+  std::vector<std::uint8_t> active, intact;
+};
+std::vector<DecodedSurface> decodeSurfaces(const std::vector<std::uint8_t>& frame) {
+  EXPECT_EQ(read<std::uint32_t>(frame, 76) + read<std::uint32_t>(frame, 120) + read<std::uint32_t>(frame, 128), 0u);
+  std::vector<DecodedSurface> out(read<std::uint32_t>(frame, 124));
+  std::size_t offset = kFrameHeaderBytes;
+  for (DecodedSurface& surface : out) {
+    const std::uint32_t nodes = read<std::uint32_t>(frame, offset);
+    const std::uint32_t triangles = read<std::uint32_t>(frame, offset + 4);
+    const std::uint32_t springs = read<std::uint32_t>(frame, offset + 8);
+    offset += 12;
+    for (std::uint32_t k = 0; k < 3 * nodes; ++k, offset += 4) surface.positions.push_back(read<float>(frame, offset));
+    surface.active.assign(frame.begin() + static_cast<std::ptrdiff_t>(offset),
+                          frame.begin() + static_cast<std::ptrdiff_t>(offset + triangles));
+    offset = aligned(offset + triangles);
+    surface.intact.assign(frame.begin() + static_cast<std::ptrdiff_t>(offset),
+                          frame.begin() + static_cast<std::ptrdiff_t>(offset + springs));
+    offset = aligned(offset + springs);
+  }
+  EXPECT_EQ(offset, frame.size()) << "the surfaces end the frame";
+  return out;
+}
+
+TEST(FrameEncoder, MassSpringBodyCarriesItsSpringsAndATornOneIsFlagged) {
+  core::SimulationSettings settings;
+  settings.gravity = core::Vec3::Zero();
+  settings.time_step = 1.0e-4;
+  core::World world(settings);
+  core::Material material;
+  material.name = "rubber";
+  material.density = 1000.0;
+  material.youngs_modulus = 1.0e6;
+  material.poisson_ratio = 0.3;
+  material.restitution = 0.5;
+  const std::uint32_t rubber = world.addMaterial(material);
+  // A triangle of springs whose first (nodes 0-1, 5 % over its rest length: 25 N) tears
+  // at the first step's end (break force 10 N); the others are at rest and hold.
+  core::MassSpringSpec spec;
+  spec.name = "sheet";
+  spec.material = rubber;
+  spec.total_mass = 3.0;
+  spec.nodes = {core::Vec3::Zero(), core::Vec3(1.05, 0.0, 0.0), core::Vec3(0.0, 1.0, 0.0)};
+  spec.springs = {{0, 1, 500.0, 0.0, 1.0}, {1, 2, 500.0, 0.0, -1.0}, {0, 2, 500.0, 0.0, -1.0}};
+  spec.triangles = {{0, 1, 2}};
+  spec.break_force = 10.0;
+  world.addDeformableBody(std::make_unique<core::MassSpringBody>(spec, "sheet"), "sheet");
+  world.initialize();
+
+  const std::string scene = describeScene(world);
+  EXPECT_NE(scene.find(R"("name":"sheet","triangles":[0,1,2],"springs":[0,1,1,2,0,2]})"), std::string::npos)
+      << scene;
+  ViewSnapshot snapshot;
+  FrameScratch scratch;
+  std::vector<std::uint8_t> frame;
+  captureSnapshot(world, {}, snapshot);
+  encodeFrame(snapshot, FrameRequest{}, scratch, frame);
+  EXPECT_EQ(read<std::uint32_t>(frame, 4), kFrameVersion);
+  std::vector<DecodedSurface> surfaces = decodeSurfaces(frame);
+  ASSERT_EQ(surfaces.size(), 1u);
+  EXPECT_EQ(surfaces[0].intact, (std::vector<std::uint8_t>{1, 1, 1}));
+  EXPECT_EQ(surfaces[0].active, (std::vector<std::uint8_t>{1}));
+  ASSERT_EQ(surfaces[0].positions.size(), 9u);
+  EXPECT_FLOAT_EQ(surfaces[0].positions[3], 1.05f);
+
+  world.step();
+  const auto& body = dynamic_cast<const core::MassSpringBody&>(*world.deformableBodies()[0]);
+  ASSERT_EQ(body.brokenCount(), 1u) << "the test needs the first spring torn";
+  captureSnapshot(world, {}, snapshot);
+  encodeFrame(snapshot, FrameRequest{}, scratch, frame);
+  surfaces = decodeSurfaces(frame);
+  ASSERT_EQ(surfaces.size(), 1u);
+  EXPECT_EQ(surfaces[0].intact, (std::vector<std::uint8_t>{0, 1, 1})) << "the torn spring is flagged, the others not";
+  EXPECT_EQ(surfaces[0].active, (std::vector<std::uint8_t>{0})) << "the triangle along it lost its support";
+  for (std::size_t k = 0; k < 9; ++k) {
+    EXPECT_FLOAT_EQ(surfaces[0].positions[k], static_cast<float>(body.nodePosition(k / 3)[static_cast<int>(k % 3)]));
+  }
+}
+
 TEST(ViewRequests, ParsesAndRefuses) {
   std::string error;
-  const std::optional<ViewRequest> request = parseViewRequest("rate=12.5 max=2000;colour=force frame=7", 30.0, error);
+  const std::optional<ViewRequest> request = parseViewRequest("rate=12.5 max=2000;colour=force frame=7 sim=3", 30.0, error);
   ASSERT_TRUE(request.has_value()) << error;
   EXPECT_EQ(request->rate.value(), 12.5);
   EXPECT_EQ(request->max_particles.value(), 2000u);
   EXPECT_EQ(request->colour.value(), ColourField::kForce);
   EXPECT_EQ(request->frame.value(), 7u);
+  EXPECT_EQ(request->simulation.value(), 3u);
   for (const char* bad : {"rate=0", "rate=31", "rate=nan", "max=-1", "max=20000000", "colour=blue", "frame=x",
-                          "volume=3", "rate"}) {
+                          "sim=0", "sim=-1", "sim=two", "sim=", "volume=3", "rate"}) {
     EXPECT_FALSE(parseViewRequest(bad, 30.0, error).has_value()) << bad;
     EXPECT_FALSE(error.empty());
   }

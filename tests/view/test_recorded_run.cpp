@@ -43,6 +43,21 @@ fs::path writeRun(const std::string& name, core::VtkEncoding encoding) {
   }
   core::writePvd((dir / "particles.pvd").string(), entries);
   core::writePvd((dir / "meshes.pvd").string(), meshEntries);
+  // A mass-spring square of two triangles and five springs whose first spring (nodes 0-1)
+  // has torn by frame 2, taking the triangle along it.
+  std::vector<core::PvdEntry> sheetEntries;
+  const std::vector<core::Vec3> nodes{{0, 0, 0}, {0.1, 0, 0}, {0.1, 0.1, 0}, {0, 0.1, 0}};
+  const std::vector<core::Vec3> zero(nodes.size(), core::Vec3::Zero());
+  const std::vector<std::array<std::uint32_t, 2>> springs{{0, 1}, {1, 2}, {2, 3}, {3, 0}, {0, 2}};
+  const std::vector<std::array<std::uint32_t, 3>> triangles{{0, 1, 2}, {0, 2, 3}};
+  for (int frame = 0; frame < 3; ++frame) {
+    const std::vector<char> intact{frame < 2 ? char{1} : char{0}, 1, 1, 1, 1};
+    const std::vector<char> active{frame < 2 ? char{1} : char{0}, 1};
+    const std::string file = "deformable_sheet_00000" + std::to_string(frame) + ".vtp";
+    core::writeDeformableVtp((dir / file).string(), {nodes, zero, zero, springs, intact, triangles, active}, encoding);
+    sheetEntries.push_back({0.25 * frame, file});
+  }
+  core::writePvd((dir / "deformable_sheet.pvd").string(), sheetEntries);
   return dir;
 }
 
@@ -52,7 +67,11 @@ TEST(RecordedRun, ReadsTheRunsOwnFilesInBothEncodings) {
     RecordedRun run(dir, "OUTPUT_DIR");
     ASSERT_EQ(run.frameCount(), 3u);
     EXPECT_EQ(run.frameTime(2), 0.5);
-    EXPECT_NE(run.sceneJson().find(R"("name":"meshes","triangles":[0,1,2])"), std::string::npos) << run.sceneJson();
+    EXPECT_NE(run.sceneJson().find(R"("name":"meshes","triangles":[0,1,2],"springs":[]})"), std::string::npos)
+        << run.sceneJson();
+    EXPECT_NE(run.sceneJson().find(R"("name":"sheet","triangles":[0,1,2,0,2,3],"springs":[0,1,1,2,2,3,3,0,0,2]})"),
+              std::string::npos)
+        << run.sceneJson();
     std::uint64_t version = 0;
     const ViewSnapshot* frame = run.snapshot(2, version);
     EXPECT_EQ(version, 3u);
@@ -63,8 +82,14 @@ TEST(RecordedRun, ReadsTheRunsOwnFilesInBothEncodings) {
     EXPECT_EQ(frame->id[3], 103u);
     EXPECT_EQ(frame->material[3], 1u);
     EXPECT_EQ(frame->status.time, 0.5);
-    ASSERT_EQ(frame->surfaces.size(), 1u);
+    ASSERT_EQ(frame->surfaces.size(), 2u);  // the meshes, then the sheet
     EXPECT_FLOAT_EQ(frame->surfaces[0].positions[3], 3.0f);  // the mesh's second vertex at frame 2
+    EXPECT_EQ(frame->surfaces[0].spring_intact, std::vector<std::uint8_t>{}) << "a rigid mesh has no springs";
+    EXPECT_EQ(frame->surfaces[1].spring_intact, (std::vector<std::uint8_t>{0, 1, 1, 1, 1})) << "torn by frame 2";
+    EXPECT_EQ(frame->surfaces[1].triangle_active, (std::vector<std::uint8_t>{0, 1}));
+    frame = run.snapshot(1, version);
+    EXPECT_EQ(frame->surfaces[1].spring_intact, (std::vector<std::uint8_t>{1, 1, 1, 1, 1})) << "intact at frame 1";
+    EXPECT_EQ(frame->surfaces[1].triangle_active, (std::vector<std::uint8_t>{1, 1}));
     run.snapshot(99, version);  // clamped to the last frame
     EXPECT_EQ(version, 3u);
   }

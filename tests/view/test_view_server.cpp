@@ -1,11 +1,13 @@
 // The view server with a live hub over loopback sockets: page files, the token, frames at the
 // rate and particle budget a page asks for, the connection cap, and a stalled page that must
-// not slow the simulation, and several simulations stepping at once.
+// not slow the simulation, and several simulations stepping at once, among which a page chooses.
 #include <gtest/gtest.h>
 
 #include <atomic>
 #include <chrono>
 #include <cstring>
+#include <optional>
+#include <regex>
 #include <string>
 #include <thread>
 
@@ -92,6 +94,47 @@ struct Client {
   }
 };
 
+/// The id a "simulations" message gives the simulation called `name`, and its particle count.
+std::optional<std::pair<std::uint64_t, std::uint64_t>> listed(const std::string& list, const std::string& name) {
+  std::smatch match;
+  const std::regex entry(R"re("id":(\d+),"name":")re" + name + R"re(","particles":(\d+),"time":)re");
+  if (!std::regex_search(list, match, entry)) return std::nullopt;
+  return std::pair{std::stoull(match[1].str()), std::stoull(match[2].str())};
+}
+
+std::uint64_t followedId(const std::string& list) {
+  std::smatch match;
+  if (!std::regex_search(list, match, std::regex(R"re("followed":(\d+))re"))) return 0;
+  return std::stoull(match[1].str());
+}
+
+/// Two worlds of 30 and 50 spheres stepping on threads of their own until destroyed, each
+/// announced under its name and offered after every step, as demlink-server's simulations.
+struct TwoSimulations {
+  core::World small = rowOfSpheres(30);
+  core::World large = rowOfSpheres(50);
+  std::atomic<bool> stop{false};
+  std::thread a, b;
+
+  explicit TwoSimulations(LiveViewHub& hub) {
+    auto run = [this, &hub](core::World& world, const std::string& name) {
+      hub.announce(world, name);
+      while (!stop.load()) {
+        world.step();
+        hub.offer(world);
+        std::this_thread::sleep_for(std::chrono::microseconds(200));
+      }
+    };
+    a = std::thread(run, std::ref(small), "sim_small");
+    b = std::thread(run, std::ref(large), "sim_large");
+  }
+  ~TwoSimulations() {
+    stop = true;
+    a.join();
+    b.join();
+  }
+};
+
 std::string get(std::uint16_t port, const std::string& target) {
   Client client(port);
   client.send("GET " + target + " HTTP/1.1\r\nHost: x\r\n\r\n");
@@ -168,8 +211,14 @@ TEST(ViewServer, StreamsFramesAtThePagesBudget) {
     }
   });
   std::uint32_t total = 0, sent = 0, colour = 99;
-  for (int k = 0; k < 3; ++k) {  // the first may predate the request
+  std::string list;
+  for (int k = 0; k < 3;) {  // the first may predate the request
     const auto [opcode, frame] = client.readFrame();
+    if (opcode == 1) {  // the list of simulations: this one alone
+      list = frame;
+      continue;
+    }
+    ++k;
     ASSERT_EQ(opcode, 2);
     ASSERT_GE(frame.size(), kFrameHeaderBytes);
     std::memcpy(&total, frame.data() + 72, 4);
@@ -177,6 +226,8 @@ TEST(ViewServer, StreamsFramesAtThePagesBudget) {
     std::memcpy(&colour, frame.data() + 116, 4);
   }
   stepper.join();
+  EXPECT_NE(list.find(R"("simulations":[{"id":1,"name":"simulation 1","particles":40,"time":)"), std::string::npos)
+      << list;
   EXPECT_EQ(total, 40u);
   EXPECT_EQ(sent, 15u);
   EXPECT_EQ(colour, static_cast<std::uint32_t>(ColourField::kId));
@@ -271,6 +322,118 @@ TEST(LiveViewHub, FollowsOneOfSeveralSimulationsSteppingAtOnce) {
   shown = hub.snapshot(0, version);
   ASSERT_NE(shown, nullptr);
   EXPECT_EQ(shown->particleCount(), &other == &first ? 30u : 50u);
+}
+
+TEST(LiveViewHub, FollowsTheSimulationAPageChooses) {
+  LiveViewHub hub;
+  hub.setDemand(1000.0, {});
+  TwoSimulations simulations(hub);
+  std::string list;
+  for (int k = 0; k < 2000 && !(listed(list, "sim_small") && listed(list, "sim_large")); ++k) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    list = hub.simulationsJson();
+  }
+  ASSERT_TRUE(listed(list, "sim_small") && listed(list, "sim_large")) << list;
+  EXPECT_EQ(listed(list, "sim_small")->second, 30u);
+  EXPECT_EQ(listed(list, "sim_large")->second, 50u);
+  // Each in turn, twice over: after the choice every snapshot is the chosen one's.
+  for (const char* name : {"sim_small", "sim_large", "sim_small", "sim_large"}) {
+    const auto [id, particles] = *listed(list, name);
+    const std::uint64_t versionBefore = hub.simulationsVersion();
+    const bool followedBefore = followedId(hub.simulationsJson()) == id;
+    ASSERT_EQ(hub.follow(id), std::nullopt) << name;
+    if (!followedBefore) {
+      EXPECT_GT(hub.simulationsVersion(), versionBefore) << "the pages are sent the list again";
+    }
+    EXPECT_EQ(followedId(hub.simulationsJson()), id);
+    std::uint64_t version = 0, first = 0;
+    const ViewSnapshot* shown = nullptr;
+    for (int k = 0; k < 2000; ++k) {  // the first capture after the choice
+      shown = hub.snapshot(0, version);
+      if (shown != nullptr && shown->particleCount() == particles) break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    ASSERT_NE(shown, nullptr);
+    ASSERT_EQ(shown->particleCount(), particles) << name;
+    first = version;
+    for (int k = 0; k < 50; ++k) {
+      shown = hub.snapshot(0, version);
+      EXPECT_EQ(shown->particleCount(), particles) << name;
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    EXPECT_GT(version, first) << "the chosen simulation goes on being captured";
+  }
+  // An id no open simulation has is refused, and the view stays where it is.
+  const std::uint64_t followed = followedId(hub.simulationsJson());
+  const std::optional<std::string> refused = hub.follow(12345);
+  ASSERT_TRUE(refused.has_value());
+  EXPECT_NE(refused->find("no open simulation has this id (open: "), std::string::npos) << *refused;
+  EXPECT_EQ(followedId(hub.simulationsJson()), followed);
+}
+
+TEST(LiveViewHub, ClosedSimulationLeavesTheList) {
+  core::World first = rowOfSpheres(30);
+  core::World second = rowOfSpheres(50);
+  LiveViewHub hub;
+  hub.announce(first, "sim_001");
+  hub.offer(first);
+  hub.offer(second);  // unnamed: listed by its id
+  const std::string list = hub.simulationsJson();
+  ASSERT_TRUE(listed(list, "sim_001")) << list;
+  const std::uint64_t secondId = listed(list, "simulation " + std::to_string(listed(list, "sim_001")->first + 1))->first;
+  EXPECT_EQ(followedId(list), listed(list, "sim_001")->first);  // the first to offer
+  hub.release(first);
+  const std::string after = hub.simulationsJson();
+  EXPECT_FALSE(listed(after, "sim_001")) << after;
+  EXPECT_EQ(followedId(after), 0u);
+  EXPECT_TRUE(hub.follow(listed(list, "sim_001")->first).has_value()) << "a closed simulation cannot be chosen";
+  EXPECT_EQ(hub.follow(secondId), std::nullopt);
+  hub.offerNow(second);
+  std::uint64_t version = 0;
+  const ViewSnapshot* shown = hub.snapshot(0, version);
+  ASSERT_NE(shown, nullptr);
+  EXPECT_EQ(shown->particleCount(), 50u);
+}
+
+TEST(ViewServer, PageChoosesAmongSimulationsSteppingAtOnce) {
+  LiveViewHub hub;
+  ViewServer server(hub, {});
+  server.start();
+  TwoSimulations simulations(hub);
+  Client client(server.port());
+  client.send(upgrade("/ws"));
+  client.readUntil("\r\n\r\n");
+  client.send(encodeMaskedClientFrame(WebSocketOpcode::kText, "rate=30", {1, 2, 3, 4}));
+  // Frames' particle totals and the latest list, message by message.
+  std::string list, error;
+  auto nextTotal = [&]() -> std::uint32_t {
+    for (;;) {
+      const auto [opcode, payload] = client.readFrame();
+      if (opcode == 1 && payload.find(R"("kind":"simulations")") != std::string::npos) list = payload;
+      if (opcode == 1 && payload.find(R"("kind":"error")") != std::string::npos) error = payload;
+      if (opcode != 2) continue;
+      std::uint32_t total = 0;
+      std::memcpy(&total, payload.data() + 72, 4);
+      return total;
+    }
+  };
+  for (int k = 0; k < 200 && !(listed(list, "sim_small") && listed(list, "sim_large")); ++k) nextTotal();
+  ASSERT_TRUE(listed(list, "sim_small") && listed(list, "sim_large")) << list;
+  for (const char* name : {"sim_small", "sim_large"}) {
+    const auto [id, particles] = *listed(list, name);
+    client.send(encodeMaskedClientFrame(WebSocketOpcode::kText, "sim=" + std::to_string(id), {9, 8, 7, 6}));
+    int frames = 0;
+    while (frames < 200 && nextTotal() != particles) ++frames;
+    ASSERT_LT(frames, 200) << "no frame of " << name << " after choosing it";
+    for (int k = 0; k < 10; ++k) EXPECT_EQ(nextTotal(), particles) << name;
+    while (followedId(list) != id && frames++ < 400) nextTotal();
+    EXPECT_EQ(followedId(list), id) << list;
+  }
+  // An unknown id gets a named error; the page keeps its connection and its simulation.
+  client.send(encodeMaskedClientFrame(WebSocketOpcode::kText, "sim=999", {1, 1, 1, 1}));
+  for (int k = 0; k < 200 && error.empty(); ++k) nextTotal();
+  EXPECT_NE(error.find(R"(sim = \"999\": no open simulation has this id (open: )"), std::string::npos) << error;
+  for (int k = 0; k < 5; ++k) EXPECT_EQ(nextTotal(), 50u);
 }
 
 }  // namespace

@@ -1,7 +1,8 @@
 /// demlink-run: headless mode from the command line.
 ///
 ///   demlink-run <scene.json> [--output DIR] [--end-time T] [--restore FILE] [--overwrite] [--quiet]
-///               [--backend native|liggghts] [--view ADDR:PORT [--view-linger S] [--pace X]] [--token T]
+///               [--backend native|liggghts] [--view ADDR:PORT [--view-linger S] [--pace X]
+///               [--view-max-connections N] [--view-max-rate R] [--view-max-bytes-per-second B]] [--token T]
 ///   mpirun -np N demlink-run <scene.json> --backend liggghts ...   (docs/scale-out.md)
 ///   demlink-run --check <scene.json>
 ///   demlink-run --help | --version
@@ -22,6 +23,7 @@
 #include <thread>
 
 #include "command_line_main.hpp"
+#include "view_caps_command_line.hpp"
 #include "demlink/cli/command_line.hpp"
 #include "demlink/core/input_error.hpp"
 #include "demlink/server/backend/liggghts_script.hpp"
@@ -52,6 +54,7 @@ struct CommandLine {
   double view_linger = 0.0;  ///< [s]
   double pace = 0.0;         ///< most simulated seconds per wall second; 0: as fast as it goes
   std::optional<std::string> token;
+  demlink::server::ViewServerOptions view_caps;  ///< the --view-max-* options
 };
 
 int run(int argc, char** argv) {
@@ -73,9 +76,11 @@ int run(int argc, char** argv) {
   app.add_flag("--check", line.check,
                "validate the scene (translate it, check the time step and output intervals) without running; "
                "exit 0 if valid, 2 naming the field if not");
-  cli::addText(app, "--view", line.view,
-               "serve a live 3D view of the run in a browser at ADDR:PORT (or PORT on 127.0.0.1; docs/view.md)")
-      ->type_name("ADDR:PORT");
+  CLI::Option* viewOption =
+      cli::addText(app, "--view", line.view,
+                   "serve a live 3D view of the run in a browser at ADDR:PORT (or PORT on 127.0.0.1; docs/view.md)")
+          ->type_name("ADDR:PORT");
+  demlink::server::addViewCapOptions(app, line.view_caps, viewOption);
   cli::addNumber(app, "--view-linger", line.view_linger, {0.0, false, 86400.0},
                  "keep the view serving the final state this long after the run ends [s]")
       ->type_name("S");
@@ -141,7 +146,7 @@ int run(int argc, char** argv) {
     demlink::server::runHeadless(translated);
     return 0;
   }
-  demlink::server::ViewServerOptions viewOptions;
+  demlink::server::ViewServerOptions viewOptions = line.view_caps;
   demlink::server::parseViewAddress(*line.view, "--view", viewOptions);
   if (!line.token) {
     if (const char* fromEnvironment = std::getenv("DEMLINK_TOKEN")) line.token = fromEnvironment;

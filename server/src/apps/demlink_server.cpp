@@ -5,7 +5,9 @@
 ///                  [--max-frame-bytes N] [--max-queued-bytes N] [--max-unwelcomed N]
 ///                  [--progress S] [--spin-wait-us US] [--record FILE] [--replay FILE] [--data-root DIR] [--overwrite]
 ///                  [--restore FILE]
-///                  [--once | --max-simulations N] [--backend native|liggghts] [--view ADDR:PORT] [--help] [--version]
+///                  [--once | --max-simulations N] [--backend native|liggghts]
+///                  [--view ADDR:PORT [--view-max-connections N] [--view-max-rate R] [--view-max-bytes-per-second B]]
+///                  [--help] [--version]
 ///   mpirun -np N demlink-server --backend liggghts ...   (docs/scale-out.md)
 ///
 /// Prints "demlink-server listening on ADDR:PORT" once it accepts connections (scripts and
@@ -40,6 +42,7 @@
 #include "demlink/server/cosim/session_replay.hpp"
 #include "demlink/server/cosim/simulation_hub.hpp"
 #include "command_line_main.hpp"
+#include "view_caps_command_line.hpp"
 #include "demlink/cli/command_line.hpp"
 #include "demlink/server/net/tcp_server.hpp"
 #include "demlink/server/scene/scene_loader.hpp"
@@ -79,6 +82,7 @@ struct CommandLine {
   bool once = false;
   std::string backend = "native";
   std::optional<std::string> view;
+  demlink::server::ViewServerOptions view_caps;  ///< the --view-max-* options
 };
 
 /// Registers the options on `app`, writing into `line`.
@@ -154,10 +158,11 @@ void addOptions(CLI::App& app, CommandLine& line) {
                   line.restore = text;
                 })
       ->type_name("FILE");
-  cli::addText(app, "--view", line.view,
-               "serve a live 3D view of the running simulation in a browser at ADDR:PORT (or PORT on 127.0.0.1; "
-               "docs/view.md); its WebSocket takes the --token")
-      ->type_name("ADDR:PORT");
+  CLI::Option* view = cli::addText(app, "--view", line.view,
+                                   "serve a live 3D view of the running simulation in a browser at ADDR:PORT (or PORT "
+                                   "on 127.0.0.1; docs/view.md); its WebSocket takes the --token")
+                          ->type_name("ADDR:PORT");
+  demlink::server::addViewCapOptions(app, line.view_caps, view);
   app.add_flag("--overwrite", line.overwrite, "a simulation may write into an output folder that holds a run's outputs");
   CLI::Option* once = app.add_flag("--once", line.once, "exit after the first simulation ends (= --max-simulations 1)");
   cli::addWholeNumber<std::size_t>(app, "--max-open-simulations", line.max_open, 1, 4096,
@@ -293,11 +298,14 @@ int run(int argc, char** argv) {
   std::unique_ptr<demlink::server::LiveViewHub> viewHub;
   std::unique_ptr<demlink::server::ViewServer> view;
   if (line.view) {
-    demlink::server::ViewServerOptions viewOptions;
+    demlink::server::ViewServerOptions viewOptions = line.view_caps;
     demlink::server::parseViewAddress(*line.view, "--view", viewOptions);
     viewOptions.access_token = line.token.value_or("");
     viewHub = std::make_unique<demlink::server::LiveViewHub>();
     view = std::make_unique<demlink::server::ViewServer>(*viewHub, viewOptions);
+    options.open_observer = [hub = viewHub.get()](const demlink::core::World& world, const std::string& name) {
+      hub->announce(world, name);
+    };
     options.step_observer = [hub = viewHub.get()](const demlink::core::World& world) { hub->offer(world); };
     options.close_observer = [hub = viewHub.get()](const demlink::core::World& world) { hub->release(world); };
     view->start();

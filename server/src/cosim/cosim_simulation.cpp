@@ -75,6 +75,7 @@ CosimSimulation::CosimSimulation(CompiledSimulation compiled, const std::filesys
   }
   w.setStageTiming(true);  // the run log's per-stage rows
   if (driver_) driver_->start(w);
+  if (options.open_observer) options.open_observer(w, directory_.filename().string());
   if (step_observer_) step_observer_(w);
 }
 

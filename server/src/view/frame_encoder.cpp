@@ -169,10 +169,12 @@ void encodeFrame(const ViewSnapshot& snapshot, const FrameRequest& request, Fram
   for (const ViewSurface& surface : snapshot.surfaces) {
     writer.put(static_cast<std::uint32_t>(surface.positions.size() / 3));
     writer.put(static_cast<std::uint32_t>(surface.triangle_active.size()));
+    writer.put(static_cast<std::uint32_t>(surface.spring_intact.size()));
     for (const float v : surface.positions) writer.put(v);
-    std::uint8_t* active = writer.reserve(surface.triangle_active.size());
-    std::memcpy(active, surface.triangle_active.data(), surface.triangle_active.size());
-    writer.pad();
+    for (const std::vector<std::uint8_t>* flags : {&surface.triangle_active, &surface.spring_intact}) {
+      if (!flags->empty()) std::memcpy(writer.reserve(flags->size()), flags->data(), flags->size());
+      writer.pad();
+    }
   }
 }
 

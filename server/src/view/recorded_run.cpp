@@ -40,10 +40,10 @@ RecordedRun::RecordedRun(const std::filesystem::path& directory, const std::stri
   frames_ = readPvd(index);
   if (frames_.empty()) throw core::InputError(field, index.string(), "lists no frames");
   if (std::filesystem::is_regular_file(directory / "planes.vtp")) {
-    surfaces_.push_back({"planes", {}, {{0.0, directory / "planes.vtp"}}});
+    surfaces_.push_back({"planes", {}, {{0.0, directory / "planes.vtp"}}, {}});
   }
   if (std::filesystem::is_regular_file(directory / "meshes.pvd")) {
-    surfaces_.push_back({"meshes", {}, readPvd(directory / "meshes.pvd")});
+    surfaces_.push_back({"meshes", {}, readPvd(directory / "meshes.pvd"), {}});
   }
   std::vector<std::filesystem::path> deformables;
   for (const auto& entry : std::filesystem::directory_iterator(directory)) {
@@ -55,11 +55,15 @@ RecordedRun::RecordedRun(const std::filesystem::path& directory, const std::stri
     std::vector<PvdFrame> series = readPvd(path);
     // FEM bodies write volumes (.vtu); the view draws surfaces only.
     if (!series.empty() && series.front().file.extension() == ".vtp") {
-      surfaces_.push_back({path.stem().string().substr(11), {}, std::move(series)});
+      surfaces_.push_back({path.stem().string().substr(11), {}, std::move(series), {}});
     }
   }
   std::erase_if(surfaces_, [](const SurfaceSeries& s) { return s.frames.empty(); });
-  for (SurfaceSeries& surface : surfaces_) surface.triangles = readPolyData(surface.frames.front().file).triangles;
+  for (SurfaceSeries& surface : surfaces_) {
+    PolyData first = readPolyData(surface.frames.front().file);
+    surface.triangles = std::move(first.triangles);
+    surface.springs = std::move(first.lines);  // a mass-spring body's springs; none elsewhere
+  }
 
   std::uint64_t version = 0;
   const ViewSnapshot* first = snapshot(0, version);
@@ -74,6 +78,10 @@ RecordedRun::RecordedRun(const std::filesystem::path& directory, const std::stri
     for (std::size_t t = 0; t < surfaces_[s].triangles.size(); ++t) {
       const auto& triangle = surfaces_[s].triangles[t];
       json += fmt::format("{}{},{},{}", t == 0 ? "" : ",", triangle[0], triangle[1], triangle[2]);
+    }
+    json += R"(],"springs":[)";
+    for (std::size_t k = 0; k < surfaces_[s].springs.size(); ++k) {
+      json += fmt::format("{}{},{}", k == 0 ? "" : ",", surfaces_[s].springs[k][0], surfaces_[s].springs[k][1]);
     }
     json += "]}";
   }
@@ -146,8 +154,17 @@ void RecordedRun::load(std::uint32_t index) {
   for (std::size_t k = 0; k < surfaces_.size(); ++k) {
     const PolyData surface = readPolyData(nearestFrame(surfaces_[k].frames, frame.time).file);
     s.surfaces[k].positions.assign(surface.points.begin(), surface.points.end());
-    // A torn surface keeps its points; the triangles' count stays that of the first frame.
-    s.surfaces[k].triangle_active.assign(surfaces_[k].triangles.size(), 1);
+    // A torn surface keeps its points and cells; its cell data "intact" (the springs', then
+    // the triangles') says which still hold. Files without it: all of them.
+    const std::size_t springs = surfaces_[k].springs.size(), triangles = surfaces_[k].triangles.size();
+    const auto intact = surface.cell_data.find("intact");
+    const bool flagged = intact != surface.cell_data.end() && intact->second.values.size() == springs + triangles;
+    s.surfaces[k].spring_intact.assign(springs, 1);
+    s.surfaces[k].triangle_active.assign(triangles, 1);
+    for (std::size_t c = 0; flagged && c < springs + triangles; ++c) {
+      const std::uint8_t holds = intact->second.values[c] != 0.0 ? 1 : 0;
+      (c < springs ? s.surfaces[k].spring_intact[c] : s.surfaces[k].triangle_active[c - springs]) = holds;
+    }
   }
   loaded_ = index;
   any_loaded_ = true;

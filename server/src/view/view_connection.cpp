@@ -20,6 +20,8 @@ namespace {
 constexpr std::uintmax_t kMaxServedFileBytes = 8u << 20;
 /// Text and control messages a page may have waiting (its errors, pongs) [-].
 constexpr std::size_t kMaxPendingMessages = 16;
+/// A page's list of simulations is sent again at least this often, for their times [s].
+constexpr double kSimulationsInterval = 1.0;
 
 std::string_view contentType(std::string_view name) {
   if (name.ends_with(".html")) return "text/html; charset=utf-8";
@@ -216,6 +218,7 @@ void ViewConnection::startWebSocket(const HttpRequest& request) {
   sent_scene_version_ = host_.feed().sceneVersion();
   sendText(host_.feed().sceneJson());
   sendText(helloJson(host_.feed(), host_.options().max_frame_rate));
+  sendSimulations(Clock::now());
   host_.demandChanged();
   writeNext();
 }
@@ -248,6 +251,12 @@ void ViewConnection::onMessage(const ClientMessage& message) {
         demand = true;
       }
       if (request->frame) wanted_frame_ = *request->frame;
+      if (request->simulation) {
+        if (const std::optional<std::string> why = host_.feed().follow(*request->simulation)) {
+          sendText(R"({"kind":"error","message":)" +
+                   jsonString("sim = \"" + std::to_string(*request->simulation) + "\": " + *why) + "}");
+        }
+      }
       // A changed request shows on the next frame, even if the snapshot is the same.
       sent_version_ = 0;
       if (demand) host_.demandChanged();
@@ -297,6 +306,12 @@ void ViewConnection::offerFrame() {
     sendText(feed.sceneJson());
     return;
   }
+  if (live && (feed.simulationsVersion() != sent_simulations_version_ ||
+               std::chrono::duration<double>(now - simulations_sent_).count() >= kSimulationsInterval)) {
+    if (sendSimulations(now)) return;
+  }
+  // A recorded frame already sent (or refused) is not read again until the page asks anew.
+  if (!live && sent_version_ == std::uint64_t{wanted_frame_} + 1) return;
   std::uint64_t version = 0;
   const ViewSnapshot* snapshot = nullptr;
   try {
@@ -326,6 +341,16 @@ void ViewConnection::offerFrame() {
     }
     self->writeNext();
   });
+}
+
+bool ViewConnection::sendSimulations(Clock::time_point now) {
+  ViewFeed& feed = host_.feed();
+  sent_simulations_version_ = feed.simulationsVersion();
+  simulations_sent_ = now;
+  std::string list = feed.simulationsJson();
+  if (list.empty()) return false;
+  sendText(std::move(list));
+  return true;
 }
 
 void ViewConnection::retryFrameAfter(double seconds) {

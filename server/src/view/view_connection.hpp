@@ -5,8 +5,10 @@
 /// Page files: "/" (index.html) and the other files of server/web/ from the program,
 /// "/three/..." from libjs-three's folder; each answered with "Connection: close".
 /// /ws: the handshake (and the token, when one is set), then the scene JSON, a hello
-/// naming the run's kind and frames, and binary frames (frame_encoder.hpp) whenever the
-/// feed has a newer snapshot, the page's rate allows one and its byte budget covers it.
+/// naming the run's kind and frames, the list of a live server's simulations (again when
+/// it changes, and every second for their times), and binary frames (frame_encoder.hpp)
+/// whenever the feed has a newer snapshot, the page's rate allows one and its byte budget
+/// covers it.
 /// At most one write is in flight: a frame that cannot go now is not kept.
 #include "demlink/server/net/asio.hpp"
 
@@ -44,7 +46,7 @@ class ViewConnection : public std::enable_shared_from_this<ViewConnection> {
   void start();
   /// Refuses the connection with 503 (the server is at its connection cap) and closes.
   void refuseBusy();
-  /// The feed has a new snapshot: send it if this page is due.
+  /// The feed has a new snapshot, or a second passed: send what this page is due.
   void offerFrame();
   void close();
 
@@ -67,6 +69,8 @@ class ViewConnection : public std::enable_shared_from_this<ViewConnection> {
   void sendText(std::string text);
   /// Queues one unfragmented message (text or control) behind the others.
   void sendControl(WebSocketOpcode opcode, std::string payload);
+  /// Sends the feed's list of simulations; false when it has none.
+  bool sendSimulations(Clock::time_point now);
   void writeNext();
   void writeRawThenClose(std::string bytes);
   /// Calls offerFrame() again after `seconds`, so a capture that came too early for this
@@ -99,6 +103,8 @@ class ViewConnection : public std::enable_shared_from_this<ViewConnection> {
   FrameScratch scratch_;
   std::uint64_t sent_version_ = 0;
   std::uint64_t sent_scene_version_ = 0;
+  std::uint64_t sent_simulations_version_ = 0;
+  Clock::time_point simulations_sent_{};
   Clock::time_point last_frame_{};
   double byte_allowance_ = 0.0;  ///< token bucket [B]
   Clock::time_point allowance_time_ = Clock::now();

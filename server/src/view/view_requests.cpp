@@ -89,8 +89,15 @@ std::optional<ViewRequest> parseViewRequest(std::string_view text, double maxRat
         return std::nullopt;
       }
       request.frame = *frame;
+    } else if (name == "sim") {
+      const std::optional<std::uint64_t> id = parseNumber<std::uint64_t>(value);
+      if (!id || *id == 0) {
+        error = describe(name, value, "a simulation id, an integer >= 1");
+        return std::nullopt;
+      }
+      request.simulation = *id;
     } else {
-      error = describe(name, value, "unknown request (rate, max, colour, frame)");
+      error = describe(name, value, "unknown request (rate, max, colour, frame, sim)");
       return std::nullopt;
     }
   }

@@ -1,6 +1,6 @@
 #pragma once
 /// What a page may ask of the view over its WebSocket: "rate=10 max=100000 colour=speed
-/// frame=3" (any subset, separated by spaces or ';'). Parsed here, apart from the sockets,
+/// frame=3 sim=2" (any subset, separated by spaces or ';'). Parsed here, apart from the sockets,
 /// so that tests check every refusal.
 #include <cstdint>
 #include <optional>
@@ -19,6 +19,7 @@ struct ViewRequest {
   std::optional<std::size_t> max_particles;
   std::optional<ColourField> colour;
   std::optional<std::uint32_t> frame;  ///< recorded runs
+  std::optional<std::uint64_t> simulation;  ///< the id of the simulation to follow (live servers)
 };
 
 /// Parses one request; on a bad item returns nullopt and sets `error` to

@@ -36,8 +36,7 @@ class ViewServer::Impl final : public ViewHost {
       if (!wake_pending_.exchange(true)) {
         asio::post(io_, [this] {
           wake_pending_.store(false);
-          const std::vector<std::shared_ptr<ViewConnection>> open = connections_;  // offerFrame may close one
-          for (const auto& connection : open) connection->offerFrame();
+          offerFrames();
         });
       }
     });
@@ -47,6 +46,7 @@ class ViewServer::Impl final : public ViewHost {
 
   void start() {
     accept();
+    tick();
     thread_ = std::thread([this] { io_.run(); });
   }
 
@@ -55,6 +55,7 @@ class ViewServer::Impl final : public ViewHost {
     asio::post(io_, [this] {
       asio::error_code ignored;
       acceptor_.close(ignored);
+      heartbeat_.cancel();
       const std::vector<std::shared_ptr<ViewConnection>> open = std::move(connections_);
       connections_.clear();
       for (const auto& connection : open) connection->close();
@@ -85,6 +86,22 @@ class ViewServer::Impl final : public ViewHost {
   std::uint64_t framesSent() const { return frames_sent_.load(std::memory_order_relaxed); }
 
  private:
+  void offerFrames() {
+    const std::vector<std::shared_ptr<ViewConnection>> open = connections_;  // offerFrame may close one
+    for (const auto& connection : open) connection->offerFrame();
+  }
+
+  /// Once a second, whether or not the followed simulation steps: the pages' lists of
+  /// simulations show the others' progress even while the followed one waits.
+  void tick() {
+    heartbeat_.expires_after(std::chrono::seconds(1));
+    heartbeat_.async_wait([this](const asio::error_code& error) {
+      if (error) return;
+      offerFrames();
+      tick();
+    });
+  }
+
   void accept() {
     acceptor_.async_accept([this](const asio::error_code& error, asio::ip::tcp::socket socket) {
       if (error == asio::error::operation_aborted) return;
@@ -107,6 +124,7 @@ class ViewServer::Impl final : public ViewHost {
   asio::io_context io_;
   asio::ip::tcp::acceptor acceptor_;
   asio::executor_work_guard<asio::io_context::executor_type> work_;
+  asio::steady_timer heartbeat_{io_};
   std::vector<std::shared_ptr<ViewConnection>> connections_;
   std::atomic<bool> wake_pending_{false};
   std::atomic<std::uint64_t> frames_sent_{0};

@@ -10,6 +10,7 @@
 #include "demlink/core/components/particle_sink.hpp"
 #include "demlink/core/components/particle_source.hpp"
 #include "demlink/core/components/region_sensor.hpp"
+#include "demlink/core/deformable/mass_spring_body.hpp"
 #include "json_text.hpp"
 
 namespace demlink::server {
@@ -135,6 +136,11 @@ void captureSnapshot(const core::World& world, const CaptureFields& fields, View
       }
     }
     out.triangle_active.assign(surface.active().begin(), surface.active().end());
+    if (const auto* springs = dynamic_cast<const core::MassSpringBody*>(world.deformableBodies()[b].get())) {
+      out.spring_intact.assign(springs->intact().begin(), springs->intact().end());
+    } else {
+      out.spring_intact.clear();
+    }
   }
 
   snapshot.regions.clear();
@@ -186,7 +192,14 @@ std::string describeScene(const core::World& world) {
     if (b > 0) out += ',';
     out += "{\"name\":" + jsonString(body.name()) + ",\"triangles\":";
     appendTriangles(out, body.surface().triangles());
-    out += '}';
+    out += ",\"springs\":[";
+    if (const auto* massSpring = dynamic_cast<const core::MassSpringBody*>(&body)) {
+      const std::vector<core::SpringSpec>& springs = massSpring->springs();
+      for (std::size_t k = 0; k < springs.size(); ++k) {
+        out += fmt::format("{}{},{}", k == 0 ? "" : ",", springs[k].a, springs[k].b);
+      }
+    }
+    out += "]}";
   }
   out += "],\"regions\":[";
   bool first = true;

@@ -6,6 +6,7 @@
 #include <cstring>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <optional>
 #include <sstream>
 
@@ -137,6 +138,31 @@ void appendValue(VtkColumn& column, const std::string& type, const char* bytes) 
   column.values.push_back(type == "Int64" ? static_cast<double>(load<std::int64_t>(bytes)) : static_cast<double>(integer));
 }
 
+/// The `Corners`-point cells of a Lines or Polys section (cells of other sizes, which the
+/// writer does not produce for a surface, are skipped); refuses points out of range and
+/// offsets out of order.
+template <std::size_t Corners>
+void cellsOf(const std::vector<std::int64_t>& connectivity, const std::vector<std::int64_t>& offsets,
+             std::size_t pointCount, const std::filesystem::path& path, const std::string& section,
+             std::vector<std::array<std::uint32_t, Corners>>& out) {
+  std::int64_t previous = 0;
+  for (const std::int64_t offset : offsets) {
+    if (offset < previous || offset > static_cast<std::int64_t>(connectivity.size())) {
+      refuse(path, section + " offsets out of order");
+    }
+    if (offset - previous == static_cast<std::int64_t>(Corners)) {
+      std::array<std::uint32_t, Corners> cell{};
+      for (std::size_t k = 0; k < Corners; ++k) {
+        const std::int64_t vertex = connectivity[static_cast<std::size_t>(previous) + k];
+        if (vertex < 0 || static_cast<std::size_t>(vertex) >= pointCount) refuse(path, "a cell's point out of range in " + section);
+        cell[k] = static_cast<std::uint32_t>(vertex);
+      }
+      out.push_back(cell);
+    }
+    previous = offset;
+  }
+}
+
 }  // namespace
 
 std::vector<PvdFrame> readPvd(const std::filesystem::path& path) {
@@ -183,7 +209,7 @@ PolyData readPolyData(const std::filesystem::path& path) {
 
   PolyData data;
   std::string section;  // Points, PointData, CellData, Verts, Lines, Polys
-  std::vector<std::int64_t> connectivity, offsets;
+  std::map<std::string, std::vector<std::int64_t>> cells;  // "<section> connectivity|offsets" of Lines, Polys
   std::size_t at = 0;
   while (const std::optional<Tag> tag = nextTag(text, at, headerEnd, path)) {
     at = tag->end;
@@ -252,10 +278,10 @@ PolyData readPolyData(const std::filesystem::path& path) {
       data.points = std::move(column.values);
     } else if (section == "PointData") {
       data.point_data[name] = std::move(column);
-    } else if (section == "Polys" && name == "connectivity") {
-      connectivity.assign(column.values.begin(), column.values.end());
-    } else if (section == "Polys" && name == "offsets") {
-      offsets.assign(column.values.begin(), column.values.end());
+    } else if (section == "CellData") {
+      data.cell_data[name] = std::move(column);
+    } else if ((section == "Lines" || section == "Polys") && (name == "connectivity" || name == "offsets")) {
+      cells[section + " " + name].assign(column.values.begin(), column.values.end());
     }
   }
   if (data.points.size() != 3 * data.point_count) refuse(path, "Points do not match NumberOfPoints");
@@ -264,21 +290,8 @@ PolyData readPolyData(const std::filesystem::path& path) {
       refuse(path, "point data " + name + " does not match NumberOfPoints");
     }
   }
-  std::int64_t previous = 0;
-  for (const std::int64_t offset : offsets) {
-    if (offset - previous == 3 && offset <= static_cast<std::int64_t>(connectivity.size())) {
-      std::array<std::uint32_t, 3> triangle{};
-      for (std::size_t k = 0; k < 3; ++k) {
-        const std::int64_t vertex = connectivity[static_cast<std::size_t>(previous) + k];
-        if (vertex < 0 || static_cast<std::size_t>(vertex) >= data.point_count) refuse(path, "a polygon's point out of range");
-        triangle[k] = static_cast<std::uint32_t>(vertex);
-      }
-      data.triangles.push_back(triangle);
-    } else if (offset < previous || offset > static_cast<std::int64_t>(connectivity.size())) {
-      refuse(path, "Polys offsets out of order");
-    }
-    previous = offset;
-  }
+  cellsOf<2>(cells["Lines connectivity"], cells["Lines offsets"], data.point_count, path, "Lines", data.lines);
+  cellsOf<3>(cells["Polys connectivity"], cells["Polys offsets"], data.point_count, path, "Polys", data.triangles);
   return data;
 }
 

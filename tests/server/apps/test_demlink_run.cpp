@@ -102,5 +102,31 @@ TEST(DemlinkRun, BadInputNeverCrashes) {
   EXPECT_EQ(runTool({"--help"}, dir).exit_code, 0);
 }
 
+TEST(DemlinkRun, BadViewCapsExitTwoNamingTheOption) {
+  const test::ScratchDir scratch;
+  const std::filesystem::path& dir = scratch.path();
+  test::writeText(dir / "tiny.json", test::tinySceneJson(1e-4, 1e-4));
+  const std::string scene = (dir / "tiny.json").string();
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{"--view-max-connections", "0"}, "--view-max-connections = 0: not a whole number in 1..1024"},
+      {{"--view-max-connections", "2.5"}, "--view-max-connections = 2.5"},
+      {{"--view-max-rate", "0"}, "--view-max-rate = 0: frames per second must be > 0 and <= 120"},
+      {{"--view-max-rate", "500"}, "--view-max-rate = 500"},
+      {{"--view-max-bytes-per-second", "10"}, "--view-max-bytes-per-second = 10: must be >= 1000"},
+      {{"--view-max-bytes-per-second", "inf"}, "--view-max-bytes-per-second = inf: not a number"},
+  };
+  for (const auto& [option, expected] : cases) {
+    std::vector<std::string> arguments{scene, "--view", "0"};
+    arguments.insert(arguments.end(), option.begin(), option.end());
+    const Result result = runTool(arguments, dir);
+    EXPECT_EQ(result.exit_code, 2) << option.front() << "\n" << result.output;
+    EXPECT_NE(result.output.find("error: " + expected), std::string::npos) << result.output;
+  }
+  // A cap without --view is a mistake, not a silent no-op.
+  const Result alone = runTool({scene, "--view-max-connections", "4"}, dir);
+  EXPECT_EQ(alone.exit_code, 2);
+  EXPECT_NE(alone.output.find("--view-max-connections requires --view"), std::string::npos) << alone.output;
+}
+
 }  // namespace
 }  // namespace demlink::server

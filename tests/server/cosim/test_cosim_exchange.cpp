@@ -194,6 +194,13 @@ TEST(CosimExchange, StepObserverSeesEveryStepAndTheViewsMassBalanceHolds) {
   std::uint64_t calls = 0;
   std::uint64_t lastStep = 0;
   CosimOptions options = CosimHarness::options(dir.path(), {}, {});
+  std::string openedAs;
+  std::uint64_t callsWhenOpened = 99;
+  options.open_observer = [&](const core::World& world, const std::string& name) {
+    openedAs = name;
+    callsWhenOpened = calls;
+    hub.announce(world, name);
+  };
   options.step_observer = [&](const core::World& world) {
     ++calls;
     lastStep = world.stepCount();
@@ -219,6 +226,10 @@ TEST(CosimExchange, StepObserverSeesEveryStepAndTheViewsMassBalanceHolds) {
   // Once at the start, then after every step.
   EXPECT_EQ(lastStep, 2000u);
   EXPECT_EQ(calls, lastStep + 1);
+  // Named once, by its output folder, before its first step was observed.
+  EXPECT_EQ(openedAs, "sim_001");
+  EXPECT_EQ(callsWhenOpened, 0u);
+  EXPECT_NE(hub.simulationsJson().find(R"("name":"sim_001")"), std::string::npos) << hub.simulationsJson();
   std::uint64_t version = 0;
   const ViewSnapshot* snapshot = hub.snapshot(0, version);
   ASSERT_NE(snapshot, nullptr);

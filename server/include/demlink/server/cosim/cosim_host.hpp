@@ -85,6 +85,9 @@ struct CosimOptions {
   /// Called before the running simulation calls its engine, which every MPI rank must
   /// do together: rank 0 broadcasts the events collected since the last call.
   std::function<void()> before_engine;
+  /// Told once when a simulation starts, before its first step_observer call, with its
+  /// name: its output folder's, "sim_003" (the live view's list, LiveViewHub::announce).
+  std::function<void(const core::World&, const std::string&)> open_observer;
   /// Sees the running simulation's world after every step and at its start (the live view,
   /// LiveViewHub::offer); it must not change the world.
   std::function<void(const core::World&)> step_observer;

@@ -4,7 +4,7 @@
 /// Layout (little-endian; every section starts on a 4-byte boundary so the page reads it
 /// with typed arrays, no copying):
 ///   header, kFrameHeaderBytes:
-///     0 u32 magic "DLVF"        4 u32 version (1)
+///     0 u32 magic "DLVF"        4 u32 version (2)
 ///     8 f64 time [s]           16 f64 step           24 f64 real-time factor
 ///    32 f64 steps per second   40 f64 particle mass  48 f64 inserted mass
 ///    56 f64 removed mass       64 f64 initial mass [kg]
@@ -18,7 +18,8 @@
 ///   colours:   u16[m], quantised over [colour minimum, colour maximum]
 ///   meshes:    per mesh f32[7]: position, orientation (x, y, z, w)
 ///   regions:   per region u32 kind, f32[3] half size, f32[7] pose (ViewRegion)
-///   surfaces:  per surface u32 nodes, u32 triangles, f32[3 nodes], u8[triangles] active
+///   surfaces:  per surface u32 nodes, u32 triangles, u32 springs, f32[3 nodes],
+///              u8[triangles] active, u8[springs] intact (the scene lists the springs)
 /// Quantising to 16 bits puts a particle within (upper - lower) / 131070 of its place on
 /// each axis: a 10 m domain draws to 0.08 mm.
 ///
@@ -35,7 +36,7 @@
 namespace demlink::server {
 
 inline constexpr std::uint32_t kFrameMagic = 0x46564C44;  // "DLVF" in little-endian byte order
-inline constexpr std::uint32_t kFrameVersion = 1;
+inline constexpr std::uint32_t kFrameVersion = 2;
 inline constexpr std::size_t kFrameHeaderBytes = 144;
 
 /// What one page asked for.

@@ -4,7 +4,8 @@
 /// surface series, read with vtk_series_reader.hpp one frame at a time, when a page asks.
 ///
 /// The files hold world-frame vertices, not poses, so meshes, planes and deformable
-/// surfaces all travel as surfaces (ViewSurface) whose triangles the scene JSON lists once.
+/// surfaces all travel as surfaces (ViewSurface) whose triangles (and a mass-spring body's
+/// springs) the scene JSON lists once; each frame's cell data "intact" flags the torn.
 /// The files hold no masses, so the overlay's mass figures stay empty.
 #include <filesystem>
 #include <string>
@@ -33,11 +34,13 @@ class RecordedRun final : public ViewFeed {
   void setNotify(std::function<void()> /*notify*/) override {}
 
  private:
-  /// One surface series: a name, its triangles (from its first file) and its files by frame.
+  /// One surface series: a name, its triangles (from its first file), its files by frame
+  /// and a mass-spring body's springs (from its first file).
   struct SurfaceSeries {
     std::string name;
     std::vector<std::array<std::uint32_t, 3>> triangles;
     std::vector<PvdFrame> frames;  ///< one entry: the same file at every frame (planes.vtp)
+    std::vector<std::array<std::uint32_t, 2>> springs;  ///< a mass-spring body's, as its files' line cells
   };
   void load(std::uint32_t index);
 

@@ -3,6 +3,7 @@
 /// finished run's files (RecordedRun). The server calls a feed on its own thread only.
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 
 #include "demlink/server/view/view_snapshot.hpp"
@@ -31,6 +32,16 @@ class ViewFeed {
   /// Called (from the simulation thread) after each new capture; the server posts to
   /// its own thread from it. Set once, before the run steps.
   virtual void setNotify(std::function<void()> notify) = 0;
+  /// The simulations a live server runs and which one the view follows, as a
+  /// "simulations" message; empty when there is nothing to choose (a recorded run).
+  [[nodiscard]] virtual std::string simulationsJson() { return {}; }
+  /// Grows whenever a simulation opens or closes or the view follows another.
+  [[nodiscard]] virtual std::uint64_t simulationsVersion() { return 0; }
+  /// Follows simulation `id` (an id of simulationsJson) for every page from now on;
+  /// returns why not when that cannot be.
+  [[nodiscard]] virtual std::optional<std::string> follow(std::uint64_t /*id*/) {
+    return std::string("this view shows one recorded run");
+  }
 };
 
 }  // namespace demlink::server

@@ -30,11 +30,14 @@ struct ViewRegion {
   ViewPose pose;
 };
 
-/// A deformable body's surface now: node positions [m] and, per triangle, whether it
-/// still takes part in contacts (a torn mass-spring surface loses triangles).
+/// A deformable body's surface now: node positions [m], per triangle whether it still
+/// takes part in contacts (a torn mass-spring surface loses triangles), and for a
+/// mass-spring body per spring whether it is intact (its nodes are all surface nodes, so
+/// the springs index `positions`).
 struct ViewSurface {
   std::vector<float> positions;  ///< x, y, z per node
   std::vector<std::uint8_t> triangle_active;
+  std::vector<std::uint8_t> spring_intact;  ///< per spring of the scene's list; empty: no springs
 };
 
 /// The run's figures the overlay shows.
@@ -78,7 +81,8 @@ void captureSnapshot(const core::World& world, const CaptureFields& fields, View
 
 /// The parts of the scene that never change during a run, as JSON for the page: planes
 /// (point, normal), mesh bodies (name, body-frame vertices, triangles), deformable
-/// surfaces (name, triangles) and the region list's names. Sent once per connection.
+/// surfaces (name, triangles, a mass-spring body's springs as node pairs) and the region
+/// list's names. Sent once per connection.
 [[nodiscard]] std::string describeScene(const core::World& world);
 
 }  // namespace demlink::server

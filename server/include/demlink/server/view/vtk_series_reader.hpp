@@ -31,6 +31,9 @@ struct PolyData {
   std::size_t point_count = 0;
   std::vector<double> points;  ///< x, y, z per point
   std::map<std::string, VtkColumn> point_data;
+  /// Per cell, in VTK's cell order (Verts, Lines, Polys): a deformable body's "intact".
+  std::map<std::string, VtkColumn> cell_data;
+  std::vector<std::array<std::uint32_t, 2>> lines;      ///< the Lines section's 2-point cells
   std::vector<std::array<std::uint32_t, 3>> triangles;  ///< the Polys section's 3-corner cells
 };
 
