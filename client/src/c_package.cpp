@@ -298,6 +298,8 @@ void writeOutputs(const Component& component, int handle, Package& p) {
     case v1::DataPackage::kRegionSensor: {
       const auto& o = d.region_sensor();
       p.ints.push_back(static_cast<long long>(o.count()));
+      p.ints.push_back(static_cast<long long>(std::min<std::uint64_t>(o.bonds_intact(), LLONG_MAX)));
+      p.ints.push_back(static_cast<long long>(std::min<std::uint64_t>(o.bonds_broken(), LLONG_MAX)));
       p.reals.push_back(o.mass());
       // An empty region sends no centre of mass or mean velocity: NaN here, as documented.
       if (o.has_centre_of_mass()) {

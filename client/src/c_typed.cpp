@@ -635,6 +635,10 @@ int dl_deformable_body_exchange(dl_client* client, int component, const double p
 }
 
 int dl_region_sensor_read(dl_client* client, int component, int* count, double out[7]) {
+  return dl_region_sensor_read_bonds(client, component, count, out, nullptr);
+}
+
+int dl_region_sensor_read_bonds(dl_client* client, int component, int* count, double out[7], int bonds[2]) {
   return guarded(client, [&](Client& c) -> int {
     if (count == nullptr || out == nullptr) throw ArgumentError("count or out is NULL");
     auto& sensor = typed<RegionSensor>(c, component, "region_sensor");
@@ -646,6 +650,10 @@ int dl_region_sensor_read(dl_client* client, int component, int* count, double o
           const Vec3 v = sensor.meanVelocity();
           const double values[7] = {sensor.mass(), com.x, com.y, com.z, v.x, v.y, v.z};
           std::copy(values, values + 7, out);
+          if (bonds != nullptr) {
+            bonds[0] = clampCount(sensor.bondsIntact());
+            bonds[1] = clampCount(sensor.bondsBroken());
+          }
         },
         [] {});
   });

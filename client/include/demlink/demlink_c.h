@@ -116,7 +116,8 @@
  *   particle_source,
  *   particle_sink  : ints[2..4] = count during the interval, since step 0, shortfall since
  *                    step 0 (sources only); reals = the corresponding masses [kg].
- *   region_sensor  : ints[2] count; reals = mass [kg], centre of mass(3) [m],
+ *   region_sensor  : ints[2] count, ints[3] intact and ints[4] broken parallel bonds whose
+ *                    midpoint is inside; reals = mass [kg], centre of mass(3) [m],
  *                    mean velocity(3) [m/s] (NaN when empty).
  *   flow_sensor    : ints[2..5] crossings: positive interval, negative interval, positive
  *                    total, negative total; reals = the corresponding masses [kg].
@@ -358,6 +359,9 @@ DL_API int dl_rigid_body_exchange(dl_client* client, int component, const double
                                   double wrenchOut[12]);
 /* out = mass [kg], centre of mass(3) [m], mean velocity(3) [m/s]. */
 DL_API int dl_region_sensor_read(dl_client* client, int component, int* count, double out[7]);
+/* As dl_region_sensor_read (one exchange), and bonds = intact, broken parallel bonds whose
+ * midpoint is inside. */
+DL_API int dl_region_sensor_read_bonds(dl_client* client, int component, int* count, double out[7], int bonds[2]);
 /* positive interval, negative interval, positive total, negative total. */
 DL_API int dl_flow_sensor_read(dl_client* client, int component, int counts[4], double masses[4]);
 /* interval, total, shortfall total. */

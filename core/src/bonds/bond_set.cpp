@@ -144,8 +144,10 @@ void BondSet::remapSlots(std::span<const std::uint32_t> newSlotOfOld) {
     const std::uint32_t a = newSlotOfOld[bond.slot_a];
     const std::uint32_t b = newSlotOfOld[bond.slot_b];
     if (a == kRemovedSlot || b == kRemovedSlot) {
-      ++counts_.dropped;
-      if (!bond.broken) --counts_.intact;
+      if (!bond.broken) {
+        --counts_.intact;
+        ++counts_.dropped;
+      }
       continue;
     }
     bond.slot_a = a;

@@ -44,11 +44,14 @@ struct BondRule {
   std::uint64_t seed = 0;                 ///< of the fraction's stream
 };
 
-/// Bonds counted by state.
+/// Bonds counted by state; every bond made is in exactly one of the three.
 struct BondCounts {
   std::uint64_t intact = 0;
-  std::uint64_t broken = 0;   ///< broken since they were made
-  std::uint64_t dropped = 0;  ///< lost with a removed particle
+  std::uint64_t broken = 0;   ///< broken since they were made (also when a particle was removed since)
+  std::uint64_t dropped = 0;  ///< lost intact with a removed particle
+
+  /// Bonds made so far [-].
+  [[nodiscard]] std::uint64_t created() const { return intact + broken + dropped; }
 };
 
 class BondSet {
