@@ -266,12 +266,15 @@ def runtime_input_past_limit(port, rng, group):
 
 def many_expected_names(port, rng, group):
     """A box that expects 100,000 names: the assembly timeout's Error names a few and the count."""
+    # Built before the Hello: under the soak's 0.5 s quiet period a Declare that comes later
+    # than that after the Hello finds an empty simulation compiled (docs/cosim.md).
+    box = scene()[0]
+    box.simulation_box.coupling.expected_count = 0
+    box.simulation_box.coupling.expected_names.extend(f"part-{k:06d}" for k in range(100000))
+
     def run():
         with Client("127.0.0.1", port, timeout=15.0) as c:
             c.hello("soak-names", simulation=group)
-            box = scene()[0]
-            box.simulation_box.coupling.expected_count = 0
-            box.simulation_box.coupling.expected_names.extend(f"part-{k:06d}" for k in range(100000))
             c.declare(box)
             c.receive(timeout=15.0)
     return refused_as("TIMEOUT", run)

@@ -72,8 +72,8 @@ void writeSettings(StateWriter& out, const SimulationSettings& s, const WorldSta
   out.write(s.threads);
 }
 
-/// Settings that change the trajectory must match; the thread count may differ
-/// (results are then equal to round-off only, as for any change of thread count).
+/// Settings that change the trajectory must match; the thread count may differ (the
+/// trajectory does not depend on it: the run continues in the same bits).
 void checkSettings(StateReader in, const SimulationSettings& s, const WorldState& state) {
   requireEqual(in, "time_step", in.read<double>(), s.time_step);
   requireEqual(in, "gravity", in.read<Vec3>(), state.gravity);

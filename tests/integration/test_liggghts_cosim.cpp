@@ -21,6 +21,7 @@
 #include <numbers>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "child_process.hpp"
@@ -424,6 +425,64 @@ TEST(LiggghtsCosim, RefusedComponentIsNamedAndTheServerStaysUp) {
   if (!::testing::Test::HasFailure()) std::filesystem::remove_all(out);
 }
 
+
+TEST(LiggghtsCosim, ServerAnswersAHelloWhileAnIntervalSteps) {
+  // Rank 0's simulation steps on a thread of its own: a long interval under way on two
+  // ranks, a second client's Hello is answered at once (refused: one LIGGGHTS simulation at
+  // a time, and the refusal names the one that runs), and the interval runs to its stop.
+  const std::filesystem::path out = scratch("busy");
+  Child server = startServer(2, out, {"--once"});
+  std::string announced;
+  const int port = announcedPort(server, announced);
+  ASSERT_GT(port, 0) << announced;
+  client::Connection connection;
+  connectTo(connection, port, "long");
+  client::Session session(connection);
+  constexpr std::uint64_t kLongInterval = 20000;  // steps: seconds of LIGGGHTS on two ranks
+  client::SimulationBox& box = declareBed(session, static_cast<double>(kLongInterval) * kDt, 4);
+  box.setCommunicationInterval(static_cast<double>(kLongInterval) * kDt);
+  session.declare();
+  session.waitCompiled();
+  using Clock = std::chrono::steady_clock;
+  Clock::time_point answered;
+  bool exchanged = false;
+  std::thread stepping([&] {
+    exchanged = session.exchange();  // the step-0 package; its answer ends the interval
+    answered = Clock::now();
+  });
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));  // the interval is under way
+  std::vector<double> waits;
+  std::vector<Clock::time_point> probed;
+  std::string refusal;
+  for (int k = 0; k < 3; ++k) {
+    const Clock::time_point sent = Clock::now();
+    client::Connection other;
+    try {
+      connectTo(other, port, "probe");
+      other.close();
+    } catch (const std::exception& error) {  // the refusal (or a timeout, which fails below)
+      refusal = error.what();
+    }
+    probed.push_back(Clock::now());
+    waits.push_back(std::chrono::duration<double>(probed.back() - sent).count());
+  }
+  stepping.join();
+  connection.close();
+  EXPECT_EQ(server.waitForExit(std::chrono::seconds(60)), 0);
+  std::sort(waits.begin(), waits.end());
+  std::printf("Hello answered while a %llu-step LIGGGHTS interval steps on 2 ranks: median %.1f ms, max %.1f ms; "
+              "the interval's answer came %.2f s after the last probe\n",
+              static_cast<unsigned long long>(kLongInterval), waits[1] * 1e3, waits.back() * 1e3,
+              std::chrono::duration<double>(answered - probed.back()).count());
+  EXPECT_TRUE(exchanged);
+  EXPECT_NE(refusal.find("simulation 1"), std::string::npos) << refusal;
+  EXPECT_NE(refusal.find("is running"), std::string::npos) << refusal;
+  // The probes were answered while the interval stepped (not after it), and promptly: 100 ms
+  // is the target on an idle machine; the bound leaves room for a loaded one.
+  EXPECT_LT(probed.back(), answered) << "the probes waited for the interval";
+  EXPECT_LT(waits[1], 0.5);
+  if (!::testing::Test::HasFailure()) std::filesystem::remove_all(out);
+}
 
 /// What a switched source inserted, read by its client at the three switches.
 struct SwitchedSourceRun {

@@ -239,6 +239,7 @@ int run(int argc, char** argv) {
   options.backend = backend;
   // Under MPI rank 0 is the server; the other ranks mirror its host (cosim_lockstep.hpp).
   std::function<void()> stopMirrors;  // outlives the host, which calls into the leader
+  bool stepsOffTheNetworkThread = backend == demlink::server::BackendKind::Native;
   if (backend == demlink::server::BackendKind::Liggghts) {
 #ifdef DEMLINK_HAS_LIGGGHTS
     if (line.replay) throw InputError("--replay", *line.replay, "replays run on the native backend");
@@ -264,6 +265,11 @@ int run(int argc, char** argv) {
     leader->attach(options);
     stopMirrors = [leader] { leader->close(); };
     spdlog::info("LIGGGHTS backend on {} MPI rank(s)", demlink::server::mpiRanks());
+    stepsOffTheNetworkThread = demlink::server::mpiCallsFromAnyThread();
+    if (!stepsOffTheNetworkThread) {
+      spdlog::warn("this MPI library keeps MPI calls on the thread that started it: the simulation steps on the "
+                   "network thread, which answers nobody while an interval runs");
+    }
 #else
     throw InputError("--backend", line.backend,
                      "this build has no LIGGGHTS backend (configure with libliggghts-dev and libopenmpi-dev; "
@@ -298,9 +304,10 @@ int run(int argc, char** argv) {
     std::printf("demlink-server view at %s%s\n", view->url().c_str(),
                 viewOptions.access_token.empty() ? "" : "?token=<the access token>");
   }
-  // Natively every simulation steps on its own thread (SimulationHub), so the network loop
-  // answers whatever a simulation does. LIGGGHTS steps under MPI, whose calls stay on the
-  // thread that started it: one host on the network thread, one simulation at a time.
+  // Every simulation steps on its own thread (SimulationHub), so the network loop answers
+  // whatever a simulation does. LIGGGHTS under MPI: one simulation at a time (the mirrors
+  // follow one host's events), whose intervals always run to their stop; only an MPI
+  // library without thread support keeps it on the network thread.
   const std::uint64_t maxSimulations = line.once ? 1 : line.max_simulations;
   std::optional<std::chrono::nanoseconds> spinBudget;
   if (line.spin_wait_us) {
@@ -309,10 +316,12 @@ int run(int argc, char** argv) {
   }
   std::unique_ptr<demlink::server::SessionHandler> handler;
   std::function<std::uint64_t()> finished;
-  if (backend == demlink::server::BackendKind::Native) {
+  if (stepsOffTheNetworkThread) {
+    const bool native = backend == demlink::server::BackendKind::Native;
     demlink::server::SimulationHubOptions hubOptions;
     hubOptions.spin_wait = demlink::core::defaultSpinBudget();  // the network loop's
-    hubOptions.max_open = line.max_open;
+    hubOptions.max_open = native ? line.max_open : 1;
+    hubOptions.interruptible_intervals = native;
     hubOptions.max_stepping = line.max_stepping;
     hubOptions.max_total = maxSimulations;
     auto hub = std::make_unique<demlink::server::SimulationHub>(options, hubOptions);

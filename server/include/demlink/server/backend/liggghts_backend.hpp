@@ -22,7 +22,12 @@
 namespace demlink::server {
 
 /// Initialises MPI once per process (no-op if it already is); returns this process's rank.
+/// It asks for MPI_THREAD_MULTIPLE, so that rank 0's simulation may step on a thread of its
+/// own while the network thread serves (demlink-server; docs/server.md, "Threads").
 int ensureMpi();
+/// Whether the MPI library lets any thread make MPI calls (after ensureMpi()): it granted
+/// at least MPI_THREAD_SERIALIZED. Callers keep the calls from overlapping themselves.
+[[nodiscard]] bool mpiCallsFromAnyThread();
 /// Ranks in MPI_COMM_WORLD (after ensureMpi()).
 [[nodiscard]] int mpiRanks();
 
