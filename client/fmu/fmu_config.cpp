@@ -66,7 +66,9 @@ const std::map<std::string, KindLayout>& layouts() {
         {{"mass", "kg", "Mass removed during the interval"}, {"massTotal", "kg", "Mass removed since the start"}}}},
       {"region_sensor",
        {{},
-        {{"count", "", "Particles in the region"}},
+        {{"count", "", "Particles in the region"},
+         {"bondsIntact", "", "Intact parallel bonds whose midpoint is in the region"},
+         {"bondsBroken", "", "Broken parallel bonds whose midpoint is in the region"}},
         join({{{"mass", "kg", "Mass in the region"}},
               expand("centreOfMass", 3, "m", "Centre of mass of the particles in the region (NaN when empty)"),
               expand("meanVelocity", 3, "m/s", "Mean velocity of the particles in the region (NaN when empty)")})}},
@@ -84,7 +86,8 @@ const std::map<std::string, KindLayout>& layouts() {
   return table;
 }
 
-const char* const kDeclaredOnly[] = {"material", "plane", "single_particle", "particle_system", "pit_generator"};
+const char* const kDeclaredOnly[] = {"material",        "plane",         "single_particle",
+                                     "particle_system", "pit_generator", "parallel_bonds"};
 
 [[noreturn]] void bad(int line, const std::string& field, const std::string& value, const std::string& reason) {
   throw std::invalid_argument("FMU configuration line " + std::to_string(line) + ": " + field + " = '" + value +
@@ -156,7 +159,7 @@ bool isExchanged(const std::string& kind) {
   throw std::invalid_argument("component kind '" + kind +
                               "' cannot be carried by an FMU (exchanged: simulation_box, rigid_body, particle_source, "
                               "particle_sink, region_sensor, flow_sensor; declared only: material, plane, "
-                              "single_particle, particle_system, pit_generator)");
+                              "single_particle, particle_system, pit_generator, parallel_bonds)");
 }
 
 const KindLayout& layoutOf(const std::string& kind) { return layouts().at(kind); }

@@ -202,6 +202,18 @@ std::unique_ptr<Component> componentFromPackage(const Package& p) {
     auto c = std::make_unique<PitGenerator>(name);
     c->setMaterial(r.text(2)).setBox(r.vec(1), r.vec(4)).setRadiusRange(r.real(7), r.real(8));
     c->setTargetHeight(r.real(9)).setSeed(static_cast<std::uint64_t>(r.integer(0, 0)));
+    if (r.hasReal(10)) c->setClods(r.real(10), r.hasReal(11) ? r.real(11) : 0.0, r.text(3));
+    out = std::move(c);
+  } else if (kind == "parallel_bonds") {
+    auto c = std::make_unique<ParallelBonds>(name);
+    c->setStiffnessPerArea(r.real(1), r.real(2)).setStrength(r.real(3), r.real(4)).setGapTolerance(r.real(5));
+    if (r.hasReal(6)) c->setRadiusMultiplier(r.real(6));
+    if (r.hasReal(7)) c->setCreateTime(r.real(7));
+    c->setFraction(r.hasReal(8) ? r.real(8) : 1.0, static_cast<std::uint64_t>(r.integer(0, 0)));
+    if (r.hasReal(9)) c->setBox(r.vec(9), r.vec(12));
+    for (std::size_t k = 2; k < p.strings.size(); ++k) {
+      if (!p.strings[k].empty()) c->addMaterial(p.strings[k]);
+    }
     out = std::move(c);
   } else if (kind == "rigid_body") {
     auto c = std::make_unique<RigidBody>(name);
@@ -223,7 +235,7 @@ std::unique_ptr<Component> componentFromPackage(const Package& p) {
   } else {
     throw ArgumentError("declare package: kind '" + kind +
                         "' has no generic layout (simulation_box, material, plane, single_particle, "
-                        "particle_system, particle_source, particle_sink, pit_generator, rigid_body, "
+                        "particle_system, particle_source, particle_sink, pit_generator, parallel_bonds, rigid_body, "
                         "region_sensor, flow_sensor, particle_view)");
   }
   out->setCommunicationInterval(interval);
@@ -298,6 +310,8 @@ void writeOutputs(const Component& component, int handle, Package& p) {
     case v1::DataPackage::kRegionSensor: {
       const auto& o = d.region_sensor();
       p.ints.push_back(static_cast<long long>(o.count()));
+      p.ints.push_back(static_cast<long long>(std::min<std::uint64_t>(o.bonds_intact(), LLONG_MAX)));
+      p.ints.push_back(static_cast<long long>(std::min<std::uint64_t>(o.bonds_broken(), LLONG_MAX)));
       p.reals.push_back(o.mass());
       // An empty region sends no centre of mass or mean velocity: NaN here, as documented.
       if (o.has_centre_of_mass()) {

@@ -5,6 +5,7 @@
 #include <array>
 #include <climits>
 #include <cmath>
+#include <sstream>
 
 #include "c_internal.hpp"
 
@@ -526,6 +527,34 @@ int dl_declare_pit_generator(dl_client* client, const char* name, const char* ma
   });
 }
 
+int dl_declare_parallel_bonds(dl_client* client, const char* name, const double properties[8], const double box[6],
+                              const char* materials, uint64_t seed, int* component) {
+  return guarded(client, [&](Client& c) -> int {
+    if (properties == nullptr) throw ArgumentError("properties is NULL (8 values expected)");
+    auto b = std::make_unique<ParallelBonds>(str(name));
+    b->setStiffnessPerArea(properties[0], properties[1]).setStrength(properties[2], properties[3]);
+    b->setGapTolerance(properties[4]).setCreateTime(properties[6]);
+    if (!std::isnan(properties[5])) b->setRadiusMultiplier(properties[5]);
+    b->setFraction(std::isnan(properties[7]) ? 1.0 : properties[7], seed);
+    if (box != nullptr) b->setBox(vec(box, "box"), vec(box + 3, "box size"));
+    std::istringstream names(str(materials));
+    for (std::string material; names >> material;) b->addMaterial(material);
+    return declareComponent(c, std::move(b), 0.0, component);
+  });
+}
+
+int dl_declare_pit_generator_clods(dl_client* client, const char* name, const char* material, const double lower[3],
+                                   const double upper[3], double rMin, double rMax, double targetHeight, uint64_t seed,
+                                   const double clods[2], const char* bondsName, int* component) {
+  return guarded(client, [&](Client& c) -> int {
+    if (clods == nullptr) throw ArgumentError("clods is NULL (fraction, radius expected)");
+    auto p = std::make_unique<PitGenerator>(str(name));
+    p->setMaterial(str(material)).setBox(vec(lower, "lower"), vec(upper, "upper")).setRadiusRange(rMin, rMax);
+    p->setTargetHeight(targetHeight).setSeed(seed).setClods(clods[0], clods[1], str(bondsName));
+    return declareComponent(c, std::move(p), 0.0, component);
+  });
+}
+
 int dl_declare_particle_view(dl_client* client, const char* name, double interval, int maxCount, int* component) {
   return guarded(client, [&](Client& c) -> int {
     auto v = std::make_unique<ParticleView>(str(name));
@@ -635,6 +664,10 @@ int dl_deformable_body_exchange(dl_client* client, int component, const double p
 }
 
 int dl_region_sensor_read(dl_client* client, int component, int* count, double out[7]) {
+  return dl_region_sensor_read_bonds(client, component, count, out, nullptr);
+}
+
+int dl_region_sensor_read_bonds(dl_client* client, int component, int* count, double out[7], int bonds[2]) {
   return guarded(client, [&](Client& c) -> int {
     if (count == nullptr || out == nullptr) throw ArgumentError("count or out is NULL");
     auto& sensor = typed<RegionSensor>(c, component, "region_sensor");
@@ -646,6 +679,10 @@ int dl_region_sensor_read(dl_client* client, int component, int* count, double o
           const Vec3 v = sensor.meanVelocity();
           const double values[7] = {sensor.mass(), com.x, com.y, com.z, v.x, v.y, v.z};
           std::copy(values, values + 7, out);
+          if (bonds != nullptr) {
+            bonds[0] = clampCount(sensor.bondsIntact());
+            bonds[1] = clampCount(sensor.bondsBroken());
+          }
         },
         [] {});
   });

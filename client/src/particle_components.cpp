@@ -213,6 +213,13 @@ PitGenerator& PitGenerator::setClumpTemplate(const std::string& templateName) {
   return *this;
 }
 
+PitGenerator& PitGenerator::setClods(double fraction, double radius, const std::string& bondsComponent) {
+  message().set_clod_fraction(fraction);
+  message().set_clod_radius(radius);
+  message().set_clod_bonds(bondsComponent);
+  return *this;
+}
+
 v1::ParticleSource& ParticleSource::message() { return *declaration().mutable_particle_source(); }
 v1::ParticleSink& ParticleSink::message() { return *declaration().mutable_particle_sink(); }
 v1::PitGenerator& PitGenerator::message() { return *declaration().mutable_pit_generator(); }

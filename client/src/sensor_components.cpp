@@ -56,6 +56,8 @@ void RegionSensor::writeInputs(v1::DataPackage& package) const {
 
 std::uint64_t RegionSensor::count() const { return outputs().region_sensor().count(); }
 double RegionSensor::mass() const { return outputs().region_sensor().mass(); }
+std::uint64_t RegionSensor::bondsIntact() const { return outputs().region_sensor().bonds_intact(); }
+std::uint64_t RegionSensor::bondsBroken() const { return outputs().region_sensor().bonds_broken(); }
 // An empty region sends no centre of mass or mean velocity: NaN here, as before.
 namespace {
 Vec3 nanVec() {

@@ -10,6 +10,8 @@ keeps both in step.
     make_site_scene.py                      -> examples/cosim/site_scene.json (no box)
     make_site_scene.py --test-box OUT.json  -> also a copy with a simulation_box
     make_site_scene.py --pit-half-x 1.2 ... -> a narrower pit (the ctest's small scene)
+    make_site_scene.py --clods 0.3 0.3 --output examples/cosim/site_scene_clods.json
+                                            -> a bed with clods (30 % of the gravel, 0.3 m)
 """
 import argparse
 import json
@@ -51,7 +53,16 @@ def box_sensor(name, lo, hi, interval):
                                             "sample_interval": interval}}
 
 
-def scene(k, pit_half_x, ground):
+def clay(k):
+    """Parallel bonds of a clay binder for the clods. Stiffness: the bonded gravel's
+    critical time step (docs/physics.md, "Parallel bonds") stays near half the site's
+    kTimeStep limit; strength: a clod carries its weight, a bucket breaks it."""
+    return {"name": "clay", "parallel_bonds": {
+        "materials": ["gravel"], "normal_stiffness_per_area": 5e7, "shear_stiffness_per_area": 5e7,
+        "tensile_strength": 5e4, "shear_strength": 5e4, "gap_tolerance": 0.15 * k["kGravelRadiusMin"]}}
+
+
+def scene(k, pit_half_x, ground, clods=None):
     px, py, d = pit_half_x, k["kPitHalfY"], k["kPitDepth"]
     gx0, gx1, gy0, gy1 = ground
     c = []
@@ -75,6 +86,9 @@ def scene(k, pit_half_x, ground):
         "material": "gravel",
         "sizes": {"uniform": {"r_min": k["kGravelRadiusMin"], "r_max": k["kGravelRadiusMax"]}},
         "lower": v(-px, -py, -d), "upper": v(px, py, 0.0), "target_height": d, "seed": "5"}})
+    if clods:
+        c[-1]["pit_generator"].update({"clod_fraction": clods[0], "clod_radius": clods[1], "clod_bonds": "clay"})
+        c.append(clay(k))
     # Where the gravel is: in the pit (up to a heap of 0.75 m), spilled on the ground
     # (centres up to 0.5 m above it, outside the pit; the truck bed is higher).
     interval = 0.01
@@ -93,9 +107,11 @@ def main():
     ap.add_argument("--test-box", help="also write this copy with a simulation_box for the excavator alone")
     ap.add_argument("--ground", type=float, nargs=4, default=[-6.0, 9.0, -7.0, 3.0],
                     metavar=("X0", "X1", "Y0", "Y1"), help="ground and domain footprint [m]")
+    ap.add_argument("--clods", type=float, nargs=2, metavar=("FRACTION", "RADIUS"),
+                    help="group this fraction of the bed into clods of this radius [m], bonded by 'clay'")
     a = ap.parse_args()
     k = layout()
-    comps = scene(k, a.pit_half_x or k["kPitHalfX"], a.ground)
+    comps = scene(k, a.pit_half_x or k["kPitHalfX"], a.ground, a.clods)
     pathlib.Path(a.output).write_text(json.dumps({"components": comps}, indent=1) + "\n")
     if a.test_box:
         gx0, gx1, gy0, gy1 = a.ground

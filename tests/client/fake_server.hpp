@@ -205,6 +205,8 @@ inline void fillFakeOutputs(const std::string& kind, std::uint32_t id, std::uint
     o->set_mass(s * 0.25);
     vec(o->mutable_centre_of_mass(), s, 0.0, 1.0);
     vec(o->mutable_mean_velocity(), 0.0, -s, 0.0);
+    o->set_bonds_intact(step * 100 + 7);
+    o->set_bonds_broken(step * 100 + 3);
   } else if (kind == "simulation_box") {
     auto* o = d.mutable_simulation_box();
     o->set_time(s * 1e-3);

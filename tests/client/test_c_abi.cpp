@@ -97,7 +97,8 @@ TEST(ClientCAbi, GenericPackagesFollowTheDocumentedLayout) {
   EXPECT_EQ(steps, 2);
   ASSERT_EQ(dl_get_outputs(c.client, 1, pkg.package), DL_OK);
   EXPECT_EQ(strings(pkg.package), (std::vector<std::string>{"region_sensor", "fill"}));
-  EXPECT_EQ(ints(pkg.package), (std::vector<long long>{1, 0, 2}));  // handle, step 0, count = 0*10 + id 2
+  // handle, step 0, count = 0*10 + id 2, bonds intact and broken = 0*100 + 7, + 3
+  EXPECT_EQ(ints(pkg.package), (std::vector<long long>{1, 0, 2, 7, 3}));
 
   // Inputs at step 0: the body's 13 reals, the sensor's empty package.
   const long long bodyHandle[] = {0};
@@ -112,7 +113,7 @@ TEST(ClientCAbi, GenericPackagesFollowTheDocumentedLayout) {
   // step-1 package, so the generic caller sends it before receiving again.
   ASSERT_EQ(dl_recv_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
   EXPECT_EQ(strings(pkg.package), (std::vector<std::string>{"region_sensor", "fill"}));
-  EXPECT_EQ(ints(pkg.package), (std::vector<long long>{1, 1, 12}));
+  EXPECT_EQ(ints(pkg.package), (std::vector<long long>{1, 1, 12, 107, 103}));
   EXPECT_EQ(reals(pkg.package), (std::vector<double>{0.25, 1.0, 0.0, 1.0, 0.0, -1.0, 0.0}));
   ASSERT_EQ(dl_set_data(pkg.package, sensorHandle, 1, nullptr, 0, nullptr, 0), DL_OK);
   ASSERT_EQ(dl_send_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
@@ -181,9 +182,12 @@ TEST(ClientCAbi, TypedHelpersReceiveThenSend) {
     if (k % 2 == 0) {
       int count = -1;
       double out[7];
-      ASSERT_EQ(dl_region_sensor_read(c.client, sensor, &count, out), DL_OK) << dl_last_error(c.client);
+      int bonds[2] = {-1, -1};
+      ASSERT_EQ(dl_region_sensor_read_bonds(c.client, sensor, &count, out, bonds), DL_OK) << dl_last_error(c.client);
       EXPECT_EQ(count, k * 10 + 2);
       EXPECT_EQ(out[0], 0.25 * k);
+      EXPECT_EQ(bonds[0], k * 100 + 7);
+      EXPECT_EQ(bonds[1], k * 100 + 3);
     }
   }
   EXPECT_EQ(dl_finish(c.client, nullptr), DL_OK);

@@ -70,6 +70,8 @@ TEST(ClientSession, TwoIntervalsSendExactlyTheDueComponents) {
     }
     if (step % 3 == 0) {
       EXPECT_EQ(sensor.count(), step * 10 + 2);
+      EXPECT_EQ(sensor.bondsIntact(), step * 100 + 7);
+      EXPECT_EQ(sensor.bondsBroken(), step * 100 + 3);
     }
   }
   const std::vector<std::uint64_t> expectedSteps{2, 3, 4, 6, 8, 9, 10, 12};

@@ -137,6 +137,29 @@ TEST(FmuConfig, NamedFieldsFillTheGenericLayout) {
   EXPECT_EQ(probe.strings, (std::vector<std::string>{"plate"}));
 }
 
+TEST(FmuConfig, ParallelBondsAndClodsFillTheGenericLayout) {
+  const FmuConfig config = parseConfig(
+      "model = M\ninterval = 0.01\n[simulation_box box]\ntime_step = 2e-5\n"
+      "[pit_generator bed]\nmaterial = gravel\nlower = 0 0 0\nupper = 1 1 1\nradius_min = 0.01\n"
+      "radius_max = 0.02\ntarget_height = 0.5\nclod_fraction = 0.3\nclod_radius = 0.05\nclod_bonds = clay\n"
+      "[parallel_bonds clay]\nnormal_stiffness_per_area = 1e9\nshear_stiffness_per_area = 2e9\n"
+      "tensile_strength = 1e5\nshear_strength = 2e5\ngap_tolerance = 0.001\nmaterials = gravel sand\nseed = 4\n");
+  ASSERT_EQ(config.components.size(), 3u);
+  const ComponentSpec& bed = config.components[1];
+  ASSERT_EQ(bed.reals.size(), 11u);  // reals[1..11]
+  EXPECT_EQ(bed.reals[9], 0.3);
+  EXPECT_EQ(bed.reals[10], 0.05);
+  EXPECT_EQ(bed.strings, (std::vector<std::string>{"gravel", "clay"}));
+  const ComponentSpec& clay = config.components[2];
+  ASSERT_EQ(clay.reals.size(), 5u);  // kn, ks, strengths, gap: reals[1..5]; the rest defaults
+  EXPECT_EQ(clay.reals, (std::vector<double>{1e9, 2e9, 1e5, 2e5, 0.001}));
+  EXPECT_EQ(clay.ints, (std::vector<long long>{4}));
+  // A name list follows its field's own (empty) slot, as expected_names does; the layout
+  // skips empty material names.
+  EXPECT_EQ(clay.strings, (std::vector<std::string>{"", "gravel", "sand"}));
+  EXPECT_FALSE(isExchanged("parallel_bonds"));
+}
+
 TEST(FmuConfig, GuidChangesWithTheText) {
   EXPECT_EQ(guidOf("model A"), guidOf("model A"));
   EXPECT_NE(guidOf("model A"), guidOf("model B"));

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <numbers>
 #include <string>
@@ -374,6 +375,59 @@ TEST_F(CAbiRealServer, SourceWithADiscRegionAndSizeDistributions) {
   // Weights 1 : 3, so a quarter are small: binomial(50, 1/4) has a standard deviation of 3.1.
   EXPECT_NEAR(small, discCounts[1] / 4.0, 4 * 3.1);
   EXPECT_EQ(dl_finish(c, "done"), DL_OK);
+  EXPECT_EQ(server_->child.waitForExit(std::chrono::seconds(20)), 0);
+}
+
+// A pit whose clods are joined by parallel bonds, both declared with the typed calls; a
+// region sensor over the bed reads the bonds (dl_region_sensor_read_bonds).
+TEST_F(CAbiRealServer, ParallelBondsAndClodsDeclaredThroughTheCAbiAreCounted) {
+  ASSERT_GT(server_->port, 0) << server_->announced;
+  ClientGuard g;
+  dl_client* c = g.client;
+  ASSERT_EQ(dl_connect_to_host(c, server_->host.c_str(), server_->port, "bonds", nullptr), DL_OK) << dl_last_error(c);
+  const double nan = std::nan("");
+  const double gravity[3] = {0.0, 0.0, -kG};
+  const double lower[3] = {-0.1, -0.1, -0.05};
+  const double upper[3] = {0.1, 0.1, 0.2};
+  int box = -1, glass = -1, floor = -1, bed = -1, clay = -1, probe = -1;
+  // The box is declared only (interval 0): the probe is the one exchanged component.
+  ASSERT_EQ(dl_declare_simulation_box(c, "box", 0.0, kDt, nan, gravity, lower, upper, 0, &box), DL_OK)
+      << dl_last_error(c);
+  ASSERT_EQ(dl_declare_material(c, "glass", "", kDensity, 5e6, 0.3, 0.5, 0.5, 0.0, &glass), DL_OK) << dl_last_error(c);
+  const double origin[3] = {0.0, 0.0, 0.0};
+  const double up[3] = {0.0, 0.0, 1.0};
+  ASSERT_EQ(dl_declare_plane(c, "floor", origin, up, "glass", &floor), DL_OK) << dl_last_error(c);
+  const double bedLower[3] = {-0.05, -0.05, 0.0};
+  const double bedUpper[3] = {0.05, 0.05, 0.05};
+  const double clods[2] = {0.4, 0.012};  // fraction [-], radius [m]
+  ASSERT_EQ(dl_declare_pit_generator_clods(c, "bed", "glass", bedLower, bedUpper, 0.004, 0.004, 0.012, 7, clods, "clay",
+                                           &bed),
+            DL_OK)
+      << dl_last_error(c);
+  int bad = -1;
+  EXPECT_EQ(dl_declare_parallel_bonds(c, "odd", nullptr, nullptr, "", 0, &bad), DL_ERR_ARGUMENT);
+  const double properties[8] = {1e8, 1e8, 1e6, 1e6, 4e-4, nan, 0.0, nan};
+  ASSERT_EQ(dl_declare_parallel_bonds(c, "clay", properties, nullptr, "glass", 0, &clay), DL_OK) << dl_last_error(c);
+  const double centre[3] = {0.0, 0.0, 0.025};
+  const double size[3] = {0.2, 0.2, 0.1};
+  ASSERT_EQ(dl_declare_region_sensor_box(c, "probe", kInterval, centre, size, "", &probe), DL_OK) << dl_last_error(c);
+  ASSERT_EQ(dl_declarations_done(c), DL_OK) << dl_last_error(c);
+
+  int count = 0;
+  double out[7];
+  int bonds[2] = {-1, -1};
+  for (int k = 0; k < 2; ++k) {
+    ASSERT_EQ(dl_region_sensor_read_bonds(c, probe, &count, out, bonds), DL_OK) << dl_last_error(c);
+    std::printf("read %d: %d spheres, bonds %d intact, %d broken\n", k, count, bonds[0], bonds[1]);
+    // Receive first: the first read returns the initial state, before the bonds are made.
+    if (k == 0) {
+      EXPECT_EQ(bonds[0], 0);
+    }
+  }
+  EXPECT_GT(count, 20);
+  EXPECT_GT(bonds[0], 0) << "the clods are bonded at the first step";
+  EXPECT_EQ(bonds[1], 0) << "nothing loads them beyond their strength";
+  EXPECT_EQ(dl_finish(c, "tool finished"), DL_OK);
   EXPECT_EQ(server_->child.waitForExit(std::chrono::seconds(20)), 0);
 }
 

@@ -86,7 +86,14 @@
  *                    rectangle: [7] length, [8] width [m], [9..11] length axis (optional);
  *                    disc: [7] radius [m]; strings[2] attached body ("" none).
  *   pit_generator  : strings[2] material; reals[1..3] lower, [4..6] upper corner [m],
- *                    [7] r_min, [8] r_max, [9] target height [m]; ints[0] seed.
+ *                    [7] r_min, [8] r_max, [9] target height [m]; ints[0] seed; clods
+ *                    (optional): reals[10] fraction [-], [11] radius [m], strings[3] the
+ *                    parallel_bonds that join them.
+ *   parallel_bonds : reals[1] kn, [2] ks [Pa/m], [3] tensile, [4] shear strength [Pa],
+ *                    [5] gap tolerance [m], [6] radius multiplier, [7] create time [s],
+ *                    [8] fraction (each NaN or omitted: default), [9..11] centre,
+ *                    [12..14] size [m] of the region box (omitted: everywhere);
+ *                    strings[2..] material names (none: any); ints[0] seed.
  *   rigid_body     : strings[2] material, strings[3] geometry text; ints[0] geometry:
  *                    0 STL file on the server (strings[3] = path), 1 box (reals[11..13]
  *                    size [m]), 2 STL file on the client (strings[3] = path; its bytes are
@@ -116,7 +123,8 @@
  *   particle_source,
  *   particle_sink  : ints[2..4] = count during the interval, since step 0, shortfall since
  *                    step 0 (sources only); reals = the corresponding masses [kg].
- *   region_sensor  : ints[2] count; reals = mass [kg], centre of mass(3) [m],
+ *   region_sensor  : ints[2] count, ints[3] intact and ints[4] broken parallel bonds whose
+ *                    midpoint is inside; reals = mass [kg], centre of mass(3) [m],
  *                    mean velocity(3) [m/s] (NaN when empty).
  *   flow_sensor    : ints[2..5] crossings: positive interval, negative interval, positive
  *                    total, negative total; reals = the corresponding masses [kg].
@@ -317,6 +325,21 @@ DL_API int dl_declare_pit_generator(dl_client* client, const char* name, const c
                                     double targetHeight, uint64_t seed, int* component);
 DL_API int dl_declare_particle_view(dl_client* client, const char* name, double interval, int maxCount,
                                     int* component);
+/* Parallel bonds (docs/reference/parallel_bonds.md), declared only. properties = normal and
+ * shear stiffness per area [Pa/m], tensile and shear strength [Pa], gap tolerance [m],
+ * radius multiplier [-] (NaN: 1), create time [s], fraction of the candidate pairs [-]
+ * (NaN: 1) -- 8 values; box = centre(3), size(3) [m] of the region (NULL: everywhere);
+ * materials = material names separated by spaces ("" or NULL: any); seed of the fraction.
+ * The server checks the values when the scene compiles and names the bad field. */
+DL_API int dl_declare_parallel_bonds(dl_client* client, const char* name, const double properties[8],
+                                     const double box[6], const char* materials, uint64_t seed, int* component);
+/* dl_declare_pit_generator with clods: clods = fraction [-] of the bed's spheres grouped into
+ * clods, clod radius [m]; bondsName = the parallel bonds that join them
+ * (docs/reference/pit_generator.md). */
+DL_API int dl_declare_pit_generator_clods(dl_client* client, const char* name, const char* material,
+                                          const double lower[3], const double upper[3], double rMin, double rMax,
+                                          double targetHeight, uint64_t seed, const double clods[2],
+                                          const char* bondsName, int* component);
 /* Deformable bodies (docs/deformable.md). springs = total mass [kg], stiffness [N/m],
  * damping [N s/m]; breakLimits = force [N], strain [-] (NaN or negative: never, NULL: both
  * never). fixedRegions / drivenRegions: count boxes of lo(3) hi(3) [m] each (NULL when the
@@ -358,6 +381,9 @@ DL_API int dl_rigid_body_exchange(dl_client* client, int component, const double
                                   double wrenchOut[12]);
 /* out = mass [kg], centre of mass(3) [m], mean velocity(3) [m/s]. */
 DL_API int dl_region_sensor_read(dl_client* client, int component, int* count, double out[7]);
+/* As dl_region_sensor_read (one exchange), and bonds = intact, broken parallel bonds whose
+ * midpoint is inside. */
+DL_API int dl_region_sensor_read_bonds(dl_client* client, int component, int* count, double out[7], int bonds[2]);
 /* positive interval, negative interval, positive total, negative total. */
 DL_API int dl_flow_sensor_read(dl_client* client, int component, int counts[4], double masses[4]);
 /* interval, total, shortfall total. */

@@ -14,7 +14,7 @@ component has sent, receives the interval [t, t + tc] (no lag, docs/modelica.md)
 <ul>
 <li>Basics: SimulationBox</li>
 <li>Components: Material, Plane, SingleParticle, ParticleSystem, ParticleSource,
-ParticleSink, PitGenerator, RigidBody / RigidBodyFrame (box or STL on the server),
+ParticleSink, PitGenerator, ParallelBonds, RigidBody / RigidBodyFrame (box or STL on the server),
 CADPart / CADPartFrame (STL from this computer); the *Frame variants connect to
 Modelica.Mechanics.MultiBody</li>
 <li>Sensors: RegionSensor, FlowSensor</li>

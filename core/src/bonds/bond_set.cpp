@@ -17,13 +17,11 @@
 #include "demlink/core/world.hpp"
 
 namespace demlink::core {
-namespace {
 
-/// Candidate pairs (slots) whose surfaces are at most `gap` apart, each once with the
-/// smaller id first, sorted by ids. A hash grid of cells 2 max R + gap wide: every such
-/// pair lies in the same or an adjacent cell.
-std::vector<std::pair<std::uint32_t, std::uint32_t>> pairsWithin(const ParticleArrays& p,
-                                                                 const std::vector<char>& eligible, double gap) {
+/// A hash grid of cells 2 max R + gap wide: every such pair lies in the same or an
+/// adjacent cell.
+std::vector<std::pair<std::uint32_t, std::uint32_t>> pairsWithinGap(const ParticleArrays& p,
+                                                                    const std::vector<char>& eligible, double gap) {
   std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
   double largest = 0.0;
   for (std::size_t i = 0; i < p.size(); ++i) {
@@ -71,8 +69,6 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> pairsWithin(const ParticleA
   return pairs;
 }
 
-}  // namespace
-
 std::size_t BondSet::addRule(BondRule rule) {
   rules_.push_back(std::move(rule));
   made_.push_back(0);
@@ -113,7 +109,9 @@ void BondSet::make(World& world, const ParticleArrays& p, std::size_t ruleIndex)
   std::vector<char> eligible(p.size(), 1);
   const RegionPose pose = rule.region ? rule.placement.poseAt(world) : RegionPose{};
   for (std::size_t i = 0; i < p.size(); ++i) {
-    if (!rule.materials.empty() &&
+    if (rule.groups && !rule.groups->contains(p.id[i])) {
+      eligible[i] = 0;
+    } else if (!rule.materials.empty() &&
         std::find(rule.materials.begin(), rule.materials.end(), p.material[i]) == rule.materials.end()) {
       eligible[i] = 0;
     } else if (rule.region && !rule.region->contains(pose, p.position[i])) {
@@ -123,7 +121,8 @@ void BondSet::make(World& world, const ParticleArrays& p, std::size_t ruleIndex)
   std::set<std::pair<std::uint64_t, std::uint64_t>> existing;
   for (const ParallelBond& bond : bonds_) existing.emplace(bond.id_a, bond.id_b);
   Random random(rule.seed);
-  for (const auto& [a, b] : pairsWithin(p, eligible, rule.properties.gap_tolerance)) {
+  for (const auto& [a, b] : pairsWithinGap(p, eligible, rule.properties.gap_tolerance)) {
+    if (rule.groups && rule.groups->at(p.id[a]) != rule.groups->at(p.id[b])) continue;
     if (rule.fraction < 1.0 && !(random.uniform() < rule.fraction)) continue;
     if (existing.contains({p.id[a], p.id[b]})) continue;
     ParallelBond bond;
@@ -144,8 +143,10 @@ void BondSet::remapSlots(std::span<const std::uint32_t> newSlotOfOld) {
     const std::uint32_t a = newSlotOfOld[bond.slot_a];
     const std::uint32_t b = newSlotOfOld[bond.slot_b];
     if (a == kRemovedSlot || b == kRemovedSlot) {
-      ++counts_.dropped;
-      if (!bond.broken) --counts_.intact;
+      if (!bond.broken) {
+        --counts_.intact;
+        ++counts_.dropped;
+      }
       continue;
     }
     bond.slot_a = a;

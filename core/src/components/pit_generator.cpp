@@ -9,6 +9,7 @@
 #include <limits>
 #include <vector>
 
+#include "demlink/core/bonds/clods.hpp"
 #include "demlink/core/input_error.hpp"
 #include "demlink/core/components/random.hpp"
 #include "demlink/core/world.hpp"
@@ -176,7 +177,40 @@ void PitSpec::validate(const std::string& prefix, double clumpBoundingRadius) co
   if (overfill < 1.0) throw InputError(prefix + ".overfill", formatValue(overfill), "must be >= 1");
   requireNonNegative(prefix + ".kinetic_energy_threshold", kinetic_energy_threshold);
   requireNonNegative(prefix + ".max_settle_time", max_settle_time);
+  requireFinite(prefix + ".clod_fraction", clod_fraction);
+  if (clod_fraction < 0.0 || clod_fraction > 1.0) {
+    throw InputError(prefix + ".clod_fraction", formatValue(clod_fraction), "must be in [0, 1]");
+  }
+  if (clod_fraction > 0.0) {
+    if (clump_template) {
+      throw InputError(prefix + ".clod_fraction", formatValue(clod_fraction),
+                       "clods join spheres; a pit of clumps (clump_template) has none");
+    }
+    requirePositive(prefix + ".clod_radius", clod_radius);
+    requireNonNegative(prefix + ".clod_gap", clod_gap);
+  } else if (clod_radius != 0.0) {
+    throw InputError(prefix + ".clod_radius", formatValue(clod_radius), "needs clod_fraction > 0");
+  }
 }
+
+namespace {
+
+/// Groups the spheres kept from slot `first` on into clods (pit_generator.hpp).
+void formPitClods(const World& world, const PitSpec& spec, std::size_t first, PitReport& report) {
+  const ParticleArrays& p = world.particles();
+  std::vector<char> kept(p.size(), 0);
+  std::fill(kept.begin() + static_cast<std::ptrdiff_t>(first), kept.end(), 1);
+  // Its own stream: the clods must not change the bed, which the pit's seed also draws.
+  const ClodSpec clods{spec.clod_fraction, spec.clod_radius, spec.clod_gap, spec.seed ^ 0xC10D5C10D5C10D5ULL};
+  const std::vector<std::uint32_t> clodOf = formClods(p, kept, clods);
+  for (std::size_t i = first; i < p.size(); ++i) {
+    if (clodOf[i] == 0) continue;
+    report.clod_members.emplace_back(p.id[i], clodOf[i]);
+    report.clods = std::max(report.clods, clodOf[i]);
+  }
+}
+
+}  // namespace
 
 PitReport generatePit(World& world, const PitSpec& spec, const std::string& name, const std::string& prefix) {
   const ClumpTemplate* shape = nullptr;
@@ -289,7 +323,9 @@ PitReport generatePit(World& world, const PitSpec& spec, const std::string& name
   if (shape != nullptr) {
     keepClumps(world, pit, spec, surface, report, prefix);
   } else {
+    const std::size_t first = world.particles().size();
     keepSpheres(world, pit, spec, surface, report, prefix);
+    if (spec.clod_fraction > 0.0) formPitClods(world, spec, first, report);
   }
   const Vec3 size = spec.upper - spec.lower;
   report.packing_fraction = report.kept_mass / material.density / (size.x() * size.y() * spec.target_height);
@@ -298,6 +334,13 @@ PitReport generatePit(World& world, const PitSpec& spec, const std::string& name
                name, report.settle_time, report.settle_steps, report.settle_wall_seconds, report.kept, report.rained,
                shape != nullptr ? "clumps" : "particles", report.kept_mass, report.bed_top, surface,
                report.packing_fraction);
+  if (spec.clod_fraction > 0.0) {
+    spdlog::info("pit_generator {}: {} clods of radius {:.4g} m hold {} of the {} spheres ({:.4f}, asked {:.4f})", name,
+                 report.clods, spec.clod_radius, report.clod_members.size(), report.kept,
+                 report.kept > 0 ? static_cast<double>(report.clod_members.size()) / static_cast<double>(report.kept)
+                                 : 0.0,
+                 spec.clod_fraction);
+  }
   if (report.bed_top < surface - 2.0 * rMax) {
     spdlog::warn("pit_generator {}: the bed reaches only {:.4g} m, below the target {:.4g} m; raise overfill or "
                  "packing_fraction",

@@ -2,7 +2,8 @@
 ///
 /// One pass over the particles at each sample (not every step): transform the centre
 /// into the region's frame, test membership, accumulate m, m v and m x in slot order
-/// (deterministic for a given slot order).
+/// (deterministic for a given slot order); then one pass over the bonds, testing each
+/// bond's midpoint.
 #include "demlink/core/components/region_sensor.hpp"
 
 #include <limits>
@@ -24,6 +25,7 @@ RegionSensor::RegionSensor(std::string name, VolumeShape shape, RegionPlacement 
 void RegionSensor::initialize(World& world) {
   placement_.resolve(world, fieldPrefix() + ".region");
   resolveSchedule(world);
+  counts_bonds_ = world.bonds().hasRules();
   sample(world);
 }
 
@@ -69,14 +71,27 @@ RegionReading RegionSensor::measure(const World& world) const {
     reading.mean_velocity = momentum / reading.mass;
     reading.centre_of_mass = moment / reading.mass;
   }
+  for (const ParallelBond& bond : world.bonds().bonds()) {
+    if (!shape_.contains(pose, 0.5 * (p.position[bond.slot_a] + p.position[bond.slot_b]))) continue;
+    ++(bond.broken ? reading.bonds_broken : reading.bonds_intact);
+  }
   return reading;
 }
 
 void RegionSensor::sample(const World& world) {
   latest_ = measure(world);
   const RegionReading& r = latest_;
-  publish({r.time, static_cast<double>(r.count), r.mass, r.mean_velocity.x(), r.mean_velocity.y(),
-           r.mean_velocity.z(), r.centre_of_mass.x(), r.centre_of_mass.y(), r.centre_of_mass.z()});
+  std::vector<double> row{r.time,
+                          static_cast<double>(r.count),
+                          r.mass,
+                          r.mean_velocity.x(),
+                          r.mean_velocity.y(),
+                          r.mean_velocity.z(),
+                          r.centre_of_mass.x(),
+                          r.centre_of_mass.y(),
+                          r.centre_of_mass.z()};
+  if (counts_bonds_) row.insert(row.end(), {static_cast<double>(r.bonds_intact), static_cast<double>(r.bonds_broken)});
+  publish(std::move(row));
 }
 
 void RegionSensor::saveState(StateWriter& out) const {
@@ -105,8 +120,10 @@ void RegionSensor::loadState(StateReader& in) {
 }
 
 std::vector<std::string> RegionSensor::columns() const {
-  return {"time_s",      "count",       "mass_kg", "mean_vx_m_s", "mean_vy_m_s",
-          "mean_vz_m_s", "com_x_m",     "com_y_m", "com_z_m"};
+  std::vector<std::string> names{"time_s",      "count",   "mass_kg", "mean_vx_m_s", "mean_vy_m_s",
+                                 "mean_vz_m_s", "com_x_m", "com_y_m", "com_z_m"};
+  if (counts_bonds_) names.insert(names.end(), {"bonds_intact", "bonds_broken"});
+  return names;
 }
 
 }  // namespace demlink::core

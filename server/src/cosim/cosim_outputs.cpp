@@ -141,6 +141,8 @@ v1::DataPackage CosimOutputs::outputOf(std::size_t index, const CosimComponent& 
       v1::RegionSensorOutput& o = *out.mutable_region_sensor();
       o.set_count(reading.count);
       o.set_mass(reading.mass);
+      o.set_bonds_intact(reading.bonds_intact);
+      o.set_bonds_broken(reading.bonds_broken);
       if (reading.count > 0) {  // an empty region has no centre of mass: left unset, never NaN
         setVec3(*o.mutable_centre_of_mass(), reading.centre_of_mass);
         setVec3(*o.mutable_mean_velocity(), reading.mean_velocity);

@@ -195,6 +195,8 @@ RunSummary runHeadless(TranslatedScene& scene, const StepObserver& observer) {
   summary.final_kinetic_energy = world.kineticEnergy();
   summary.wall_seconds = std::max(timing.total_seconds, 1.0e-9);
   summary.output_directory = driver.directory();
+  summary.bonds_created = world.bonds().counts().created();
+  summary.bonds_broken = world.bonds().counts().broken;
 
   const FrameStats last = frameStats(world);
   spdlog::info("finished: {} steps to t = {:.6g} s in {} wall ({:.0f} steps/s, {:.3g} M particle-steps/s)",
@@ -205,6 +207,11 @@ RunSummary runHeadless(TranslatedScene& scene, const StepObserver& observer) {
                "max z {:.5g} m, {} neighbour builds",
                last.particles, world.removedAtBounds().count, last.kinetic_energy, last.mean_z, last.max_z,
                last.neighbour_builds);
+  if (world.bonds().hasRules()) {
+    const core::BondCounts& bonds = world.bonds().counts();
+    spdlog::info("parallel bonds: {} created, {} broken, {} intact, {} lost with a removed particle",
+                 bonds.created(), bonds.broken, bonds.intact, bonds.dropped);
+  }
   spdlog::info("stage timing (sampled): {}", stageTimingSummary(world));
   for (const auto& component : world.components()) {
     if (const auto* source = dynamic_cast<const core::ParticleSource*>(component.get())) {

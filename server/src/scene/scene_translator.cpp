@@ -283,6 +283,7 @@ TranslatedScene translateScene(const v1::Scene& scene, const FileScope& files, S
   const MaterialResolver resolve = [&](const std::string& name, const std::string& field) {
     return resolveMaterial(materials, name, field);
   };
+  ClodGroups clods;  // of the pit generators, for their clod_bonds rules
   for (int i = 0; i < scene.components_size(); ++i) {
     const v1::ComponentDeclaration& component = scene.components(i);
     const std::string path = componentPath(i);
@@ -336,8 +337,16 @@ TranslatedScene translateScene(const v1::Scene& scene, const FileScope& files, S
         const std::string prefix = path + ".pit_generator";
         const std::uint32_t material =
             resolveMaterial(materials, component.pit_generator().material(), prefix + ".material");
-        const core::PitSpec spec = pitSpec(component.pit_generator(), material, prefix, out.world);
-        if (use != SceneUse::CosimCheck) core::generatePit(out.world, spec, component.name(), prefix);
+        core::PitSpec spec = pitSpec(component.pit_generator(), material, prefix, out.world);
+        const std::string& clodBonds = component.pit_generator().clod_bonds();
+        if (spec.clod_fraction > 0.0) {
+          spec.clod_gap = clodBondGap(scene, clodBonds, prefix + ".clod_bonds");
+          clods[clodBonds];  // its rule bonds only within clods, even when the pit made none
+        }
+        if (use != SceneUse::CosimCheck) {
+          const core::PitReport report = core::generatePit(out.world, spec, component.name(), prefix);
+          if (spec.clod_fraction > 0.0) addClodGroups(clods, clodBonds, report);
+        }
         break;
       }
       case v1::ComponentDeclaration::kParticleSink:
@@ -358,7 +367,7 @@ TranslatedScene translateScene(const v1::Scene& scene, const FileScope& files, S
   }
   addDeformableBodies(scene, resolve, files, out.world);
   addSensorComponents(scene, out.world);
-  addParallelBonds(scene, resolve, out.world);
+  addParallelBonds(scene, resolve, out.world, clods);
   requireOutputFileCount(out.world);
   if (out.run.mesh_loads && out.world.meshes().empty()) {
     throw core::InputError(out.run.field_prefix + ".output.mesh_loads", "true",

@@ -222,8 +222,16 @@ core::PitSpec pitSpec(const v1::PitGenerator& pit, std::uint32_t material, const
   if (pit.has_overfill()) spec.overfill = pit.overfill();
   spec.kinetic_energy_threshold = pit.kinetic_energy_threshold();
   spec.max_settle_time = pit.max_settle_time();
+  spec.clod_fraction = pit.clod_fraction();
+  spec.clod_radius = pit.clod_radius();
   const core::ClumpTemplate* shape = spec.clump_template ? &world.clumpTemplates()[*spec.clump_template] : nullptr;
   spec.validate(prefix, shape != nullptr ? shape->boundingRadius() : 0.0);
+  if (spec.clod_fraction > 0.0 && pit.clod_bonds().empty()) {
+    throw InputError(prefix + ".clod_bonds", "\"\"", "required with clod_fraction > 0: the name of a parallel_bonds component");
+  }
+  if (spec.clod_fraction == 0.0 && !pit.clod_bonds().empty()) {
+    throw InputError(prefix + ".clod_bonds", "\"" + pit.clod_bonds() + "\"", "needs clod_fraction > 0");
+  }
   return spec;
 }
 

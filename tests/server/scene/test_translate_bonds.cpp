@@ -119,5 +119,74 @@ TEST(TranslateBonds, HeadlessRunWritesTheBondNetwork) {
   EXPECT_NE(test::readText(scratch.path() / "bonds.pvd").find("bonds_000002.vtp"), std::string::npos);
 }
 
+/// A small pit (0.12 x 0.12 m, r = 10 mm) whose clods `cement` joins; `clods` is a JSON
+/// fragment of the pit's clod fields.
+std::string clodPit(const std::string& clods) {
+  return R"({"name": "pit", "pit_generator": {"material": "rock", "sizes": {"radius": 0.01},
+      "lower": {"x": -0.06, "y": -0.06}, "upper": {"x": 0.06, "y": 0.06, "z": 0.1}, "target_height": 0.05,
+      "seed": "3", "max_settle_time": 0.3)" + (clods.empty() ? std::string() : ", " + clods) + "}}";
+}
+
+constexpr const char* kPitBox = R"({"name": "box", "simulation_box": {"time_step": 2e-5, "end_time": 1e-3,
+    "gravity": {"z": -9.81}, "restitution_tolerance": 0.2, "max_impact_velocity": 1,
+    "output": {"vtk_interval": 1e-3, "progress_interval_s": 60}}})";
+constexpr const char* kBedSensor = R"({"name": "bed", "region_sensor": {"sample_every_steps": 10,
+    "region": {"box": {"size": {"x": 1, "y": 1, "z": 1}}}}})";
+
+TEST(TranslateBonds, PitClodsAreBondedByTheirRuleAndCountedInTheRunSummaryAndSensor) {
+  const test::ScratchDir scratch;
+  TranslatedScene t = translateScene(
+      test::sceneOf({kPitBox, kRock, clodPit(R"("clod_fraction": 0.5, "clod_radius": 0.025, "clod_bonds": "cement")"),
+                     bonds(R"("normal_stiffness_per_area": 1e9, "shear_stiffness_per_area": 1e9,
+                              "gap_tolerance": 0.001)"),
+                     kBedSensor}),
+      kScenes);
+  const core::BondRule& rule = t.world.bonds().rules().at(0);
+  ASSERT_TRUE(rule.groups.has_value()) << "the clods' rule bonds within clods only";
+  ASSERT_FALSE(rule.groups->empty());
+  const double grouped = static_cast<double>(rule.groups->size()) / static_cast<double>(t.world.particles().size());
+  EXPECT_NEAR(grouped, 0.5, 0.02);
+  t.run.output_directory = scratch.path().string();
+  const RunSummary summary = runHeadless(t);
+  const core::BondCounts& counts = t.world.bonds().counts();
+  EXPECT_GT(counts.created(), 0u);
+  EXPECT_EQ(summary.bonds_created, counts.created());
+  EXPECT_EQ(summary.bonds_broken, counts.broken);
+  for (const core::ParallelBond& bond : t.world.bonds().bonds()) {
+    ASSERT_EQ(rule.groups->at(bond.id_a), rule.groups->at(bond.id_b)) << "no bond between two clods";
+  }
+  // The sensor over everything counts every bond, in its CSV file too.
+  const std::string csv = test::readText(scratch.path() / "region_sensor_bed.csv");
+  ASSERT_NE(csv.find(",bonds_intact,bonds_broken"), std::string::npos) << csv.substr(0, 200);
+  const std::string lastRow = csv.substr(csv.rfind('\n', csv.size() - 2) + 1);
+  const std::string lastTwo = lastRow.substr(lastRow.rfind(',', lastRow.rfind(',') - 1) + 1);
+  EXPECT_EQ(lastTwo, std::to_string(counts.intact) + "," + std::to_string(counts.broken) + "\n") << lastRow;
+}
+
+TEST(TranslateBonds, BadClodFieldsAreNamedWithTheirValues) {
+  const auto errorOfPit = [](const std::string& clods, const std::string& bondsName) {
+    try {
+      std::string rule = bonds("");
+      rule.replace(rule.find("cement"), 6, bondsName);
+      (void)translateScene(test::sceneOf({kPitBox, kRock, clodPit(clods), rule}), kScenes, SceneUse::CosimCheck);
+    } catch (const core::InputError& error) {
+      return error.field() + " = " + error.value();
+    }
+    return std::string("(accepted)");
+  };
+  const std::string prefix = "components[2].pit_generator.";
+  EXPECT_EQ(errorOfPit(R"("clod_fraction": 0.3, "clod_radius": 0.02, "clod_bonds": "cement")", "cement"),
+            "(accepted)");
+  EXPECT_EQ(errorOfPit(R"("clod_fraction": 1.2, "clod_radius": 0.02, "clod_bonds": "cement")", "cement"),
+            prefix + "clod_fraction = 1.2");
+  EXPECT_EQ(errorOfPit(R"("clod_fraction": 0.3, "clod_radius": -0.02, "clod_bonds": "cement")", "cement"),
+            prefix + "clod_radius = -0.02");
+  EXPECT_EQ(errorOfPit(R"("clod_fraction": 0.3, "clod_radius": 0.02)", "cement"), prefix + "clod_bonds = \"\"");
+  EXPECT_EQ(errorOfPit(R"("clod_fraction": 0.3, "clod_radius": 0.02, "clod_bonds": "glue")", "cement"),
+            prefix + "clod_bonds = \"glue\"");
+  EXPECT_EQ(errorOfPit(R"("clod_radius": 0.02)", "cement"), prefix + "clod_radius = 0.02");
+  EXPECT_EQ(errorOfPit(R"("clod_bonds": "cement")", "cement"), prefix + "clod_bonds = \"cement\"");
+}
+
 }  // namespace
 }  // namespace demlink::server

@@ -1,5 +1,6 @@
 #pragma once
 /// Everything a C++ client needs: Connection, Session and the typed components.
+#include "demlink/client/bond_components.hpp"
 #include "demlink/client/component.hpp"
 #include "demlink/client/connection.hpp"
 #include "demlink/client/deformable_bodies.hpp"

@@ -101,6 +101,9 @@ class PitGenerator : public Component {
   PitGenerator& setSeed(std::uint64_t seed);
   /// Settle clumps of the named ClumpTemplate instead of spheres (then set no sizes).
   PitGenerator& setClumpTemplate(const std::string& templateName);
+  /// Group `fraction` [-] of the settled spheres into clods of `radius` [m], joined by the
+  /// bonds of the ParallelBonds component `bondsComponent` (docs/reference/pit_generator.md).
+  PitGenerator& setClods(double fraction, double radius, const std::string& bondsComponent);
   [[nodiscard]] v1::PitGenerator& message();
 };
 

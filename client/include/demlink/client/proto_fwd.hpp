@@ -22,6 +22,7 @@ class FlowSensor;
 class MassSpringBody;
 class Material;
 class NodeSet;
+class ParallelBonds;
 class ParticleSink;
 class ParticleSinkInput;
 class ParticleSource;

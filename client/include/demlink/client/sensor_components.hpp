@@ -1,6 +1,6 @@
 #pragma once
 /// Measuring components: RegionSensor (count, mass, centre of mass, mean velocity inside
-/// a box or sphere), FlowSensor (crossings of a rectangle or disc per direction) and
+/// a box or sphere, and the parallel bonds there), FlowSensor (crossings of a rectangle or disc per direction) and
 /// ParticleView (decimated positions for a 3D view, the coupling paper's DEMPoints).
 ///
 /// Why sensors fill their sample interval: the schema requires one for the server's CSV
@@ -35,6 +35,9 @@ class RegionSensor : public Component {
   [[nodiscard]] double mass() const;           ///< [kg]
   [[nodiscard]] Vec3 centreOfMass() const;     ///< [m]; NaN when empty
   [[nodiscard]] Vec3 meanVelocity() const;     ///< mass-weighted [m/s]; NaN when empty
+  /// Parallel bonds whose midpoint is inside, intact and broken [-] (0 without bonds).
+  [[nodiscard]] std::uint64_t bondsIntact() const;
+  [[nodiscard]] std::uint64_t bondsBroken() const;
 
  protected:
   void prepareDeclaration() override;

@@ -92,6 +92,18 @@ package External "The C functions of libdemlink_c (demlink/demlink_c.h) and of R
       annotation (Library = "demlink_c", Include = "#include \"demlink/demlink_c.h\"");
   end regionSensorRead;
 
+  impure function regionSensorReadBonds "dl_region_sensor_read_bonds"
+    extends Modelica.Icons.Function;
+    input Client client;
+    input Integer handle;
+    output Integer status;
+    output Integer count;
+    output Real out[7];
+    output Integer bonds[2] "Intact, broken parallel bonds inside";
+    external "C" status = dl_region_sensor_read_bonds(client, handle, count, out, bonds)
+      annotation (Library = "demlink_c", Include = "#include \"demlink/demlink_c.h\"");
+  end regionSensorReadBonds;
+
   impure function flowSensorRead "dl_flow_sensor_read"
     extends Modelica.Icons.Function;
     input Client client;

@@ -29,6 +29,10 @@ model RegionSensor "Count, mass, centre of mass and mean velocity of the particl
     "Their centre of mass (NaN when empty)" annotation (Placement(transformation(extent = {{100, -30}, {120, -10}})));
   Modelica.Blocks.Interfaces.RealOutput meanVelocity[3](each unit = "m/s", each start = 0, each fixed = true)
     "Their mean velocity (NaN when empty)" annotation (Placement(transformation(extent = {{100, -70}, {120, -50}})));
+  Modelica.Blocks.Interfaces.IntegerOutput bondsIntact(start = 0, fixed = true)
+    "Intact parallel bonds whose midpoint is inside" annotation (Placement(transformation(extent = {{100, -100}, {120, -80}})));
+  Modelica.Blocks.Interfaces.IntegerOutput bondsBroken(start = 0, fixed = true)
+    "Broken parallel bonds whose midpoint is inside" annotation (Placement(transformation(extent = {{100, 80}, {120, 100}})));
 protected
   Modelica.Blocks.Interfaces.RealInput centreNow[3] "centre_in, or centre";
   Modelica.Blocks.Interfaces.RealInput orientationNow[4] "orientation_in, or orientation";
@@ -40,6 +44,7 @@ protected
   Integer samplesSent(start = 0, fixed = true) "Samples whose inputs were sent (each sample's first call)";
   Integer samplesReceived(start = 0, fixed = true) "Samples whose outputs were received (the second call)";
   Real out[7](each start = 0, each fixed = true);
+  Integer bonds[2](each start = 0, each fixed = true) "Intact, broken";
 equation
   connect(centre_in, centreNow);
   connect(orientation_in, orientationNow);
@@ -68,21 +73,24 @@ algorithm
       sentSize := cat(1, sizeNow, {radiusNow});
     end if;
     // The sample's first call sends the inputs at t (send first; docs/modelica.md, "How a component runs").
-    (status, count, out) := DEMLink.Functions.External.regionSensorRead(client, 0);
+    (status, count, out, bonds) := DEMLink.Functions.External.regionSensorReadBonds(client, 0);
     DEMLink.Functions.checkExchange(client, status);
     samplesSent := pre(samplesSent) + 1;
   end when;
   when pre(samplesSent) > pre(samplesReceived) then
     // The event iteration after every component's first call: this one returns [t, t + tc].
-    (status, count, out) := DEMLink.Functions.External.regionSensorRead(client, 0);
+    (status, count, out, bonds) := DEMLink.Functions.External.regionSensorReadBonds(client, 0);
     DEMLink.Functions.checkExchange(client, status);
     samplesReceived := pre(samplesSent);
     mass := out[1];
     centreOfMass := out[2:4];
     meanVelocity := out[5:7];
+    bondsIntact := bonds[1];
+    bondsBroken := bonds[2];
   end when;
   annotation (Documentation(info = "<html><p>The coupling paper's RegionSensor (section 5.2),
-e.g. the fill of an excavator's bucket when attached to it.</p>
+e.g. the fill of an excavator's bucket when attached to it. <code>bondsIntact</code> and
+<code>bondsBroken</code> count the parallel bonds (ParallelBonds) whose midpoint is inside.</p>
 <p>Run-time inputs: with <code>use_pose_in</code> the region follows <code>centre_in</code>
 and <code>orientation_in</code>, with <code>use_size_in</code> its edge lengths
 (<code>size_in</code>, box) or radius (<code>radius_in</code>, sphere); in the frame it was

@@ -18,6 +18,8 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "demlink/core/bonds/parallel_bond.hpp"
@@ -42,13 +44,19 @@ struct BondRule {
   std::uint64_t create_step = 0;          ///< bonds are made at the end of the first step after this count
   double fraction = 1.0;                  ///< probability a candidate pair is bonded [-], (0, 1]
   std::uint64_t seed = 0;                 ///< of the fraction's stream
+  /// Clods (bonds/clods.hpp): group of each particle id; when set, only particles listed
+  /// here are bonded, and only to particles of their own group.
+  std::optional<std::unordered_map<std::uint64_t, std::uint32_t>> groups;
 };
 
-/// Bonds counted by state.
+/// Bonds counted by state; every bond made is in exactly one of the three.
 struct BondCounts {
   std::uint64_t intact = 0;
-  std::uint64_t broken = 0;   ///< broken since they were made
-  std::uint64_t dropped = 0;  ///< lost with a removed particle
+  std::uint64_t broken = 0;   ///< broken since they were made (also when a particle was removed since)
+  std::uint64_t dropped = 0;  ///< lost intact with a removed particle
+
+  /// Bonds made so far [-].
+  [[nodiscard]] std::uint64_t created() const { return intact + broken + dropped; }
 };
 
 class BondSet {
@@ -99,6 +107,13 @@ class BondSet {
   std::vector<ParallelBond> bonds_;
   BondCounts counts_;
 };
+
+/// Candidate pairs (slots) among the `eligible` particles whose surfaces are at most
+/// `gap` apart, each once with the smaller id first, sorted by ids; members of one clump
+/// are never paired.
+[[nodiscard]] std::vector<std::pair<std::uint32_t, std::uint32_t>> pairsWithinGap(const ParticleArrays& particles,
+                                                                                  const std::vector<char>& eligible,
+                                                                                  double gap);
 
 /// Most bonds one sphere is assumed to carry in the time-step limit [-]: the kissing
 /// number of equal spheres.

@@ -26,9 +26,16 @@
 /// lies inside the box footprint; it is copied with World::addClump at the same COM
 /// and orientation (ClumpSpec wants the template frame: body orientation times the
 /// inverse principal rotation), at rest.
+///
+/// Clods (spheres only): with clod_fraction > 0 the kept bed is grouped into clods of
+/// about clod_radius (bonds/clods.hpp, seeded by the pit's seed) and the report lists
+/// each member's id and clod, for the bond rule that joins them (BondRule::groups). The
+/// bed itself is the same with or without clods.
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "demlink/core/math_types.hpp"
 #include "demlink/core/components/size_distribution.hpp"
@@ -53,6 +60,9 @@ struct PitSpec {
   double kinetic_energy_threshold = 0.0;
   /// Give up settling after this simulated time [s]; 0: 10 free-fall times of the rain column.
   double max_settle_time = 0.0;
+  double clod_fraction = 0.0;  ///< of the kept spheres put into clods [-], in [0, 1]; 0: no clods
+  double clod_radius = 0.0;    ///< [m], > 0 with clod_fraction > 0
+  double clod_gap = 0.0;       ///< surface gap of touching spheres in a clod [m]: the bond rule's gap tolerance
 
   /// Throws InputError naming `fieldPrefix + ".<field>"`. For clumps the fit of the
   /// box and target height is checked against `clumpBoundingRadius` [m] (0: not checked).
@@ -72,6 +82,9 @@ struct PitReport {
   double final_mean_kinetic_energy = 0.0;  ///< [J] per particle (per clump)
   double threshold = 0.0;             ///< the kinetic energy threshold used [J]
   bool settled = false;               ///< false: stopped at max_settle_time
+  std::uint32_t clods = 0;            ///< clods formed [-]
+  /// (particle id in the main world, clod number from 1) of every sphere in a clod.
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> clod_members;
 };
 
 /// Settles a bed as described above and adds it to `world` (materials must be

@@ -8,6 +8,11 @@
 /// particle count once across adjacent regions, and costs one transform per particle.
 /// Mean velocity is mass-weighted (total momentum / total mass), i.e. the velocity of
 /// the contents' centre of mass; for equal masses it is the plain mean.
+///
+/// Parallel bonds (bonds/bond_set.hpp) are counted by their midpoint, the middle of the
+/// two particles' centres now: a bond belongs to one region whichever of its particles
+/// is inside, as a particle does, and a broken bond is counted where its particles are.
+/// Bonds lost with a removed particle are no longer counted anywhere.
 #include <cstdint>
 
 #include "demlink/core/components/region_shape.hpp"
@@ -22,6 +27,8 @@ struct RegionReading {
   double mass = 0.0;                 ///< [kg]
   Vec3 mean_velocity = Vec3::Zero();   ///< sum m v / sum m [m/s]; NaN when empty
   Vec3 centre_of_mass = Vec3::Zero();  ///< sum m x / sum m [m]; NaN when empty
+  std::uint64_t bonds_intact = 0;    ///< intact parallel bonds whose midpoint is inside [-]
+  std::uint64_t bonds_broken = 0;    ///< broken parallel bonds whose midpoint is inside [-]
 };
 
 class RegionSensor final : public SampledComponent {
@@ -34,9 +41,12 @@ class RegionSensor final : public SampledComponent {
   [[nodiscard]] StageSet stages() const override { return stageBit(Stage::kObserve); }
   void initialize(World& world) override;
   void observe(const World& world) override;
-  /// time_s, count, mass_kg, mean_vx_m_s, mean_vy_m_s, mean_vz_m_s, com_x_m, com_y_m, com_z_m
+  /// time_s, count, mass_kg, mean_vx_m_s, mean_vy_m_s, mean_vz_m_s, com_x_m, com_y_m, com_z_m,
+  /// and, in a world with bond rules (known from initialize() on), bonds_intact, bonds_broken.
+  /// Why only then: the sensors of scenes without bonds keep their columns and checkpoints.
   [[nodiscard]] std::vector<std::string> columns() const override;
-  /// Schedule, then a "REGN" section with the latest reading.
+  /// Schedule, then a "REGN" section with the latest reading but its bond counts (they
+  /// are measured again at the next sample).
   void saveState(StateWriter& out) const override;
   void loadState(StateReader& in) override;
 
@@ -61,6 +71,7 @@ class RegionSensor final : public SampledComponent {
   VolumeShape shape_;
   RegionPlacement placement_;
   bool inputs_changed_ = false;
+  bool counts_bonds_ = false;  ///< the world has bond rules: the samples carry the bond counts
   RegionReading latest_;
 };
 

@@ -33,6 +33,8 @@ struct RunSummary {
   double final_time = 0.0;               ///< [s]
   double final_kinetic_energy = 0.0;     ///< [J]
   double wall_seconds = 0.0;             ///< stepping and output, excluding initialisation [s]
+  std::uint64_t bonds_created = 0;       ///< parallel bonds made during the run and before it [-]
+  std::uint64_t bonds_broken = 0;        ///< of those, broken by the end [-]
   std::filesystem::path output_directory;
 };
 
