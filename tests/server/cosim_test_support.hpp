@@ -184,4 +184,17 @@ inline std::vector<std::string> smallBedJson(std::uint32_t n = 3) {
 
 inline std::string fileBytes(const std::filesystem::path& path) { return readText(path); }
 
+/// Runs connection `id`'s compiled simulation to its end: sends the box's step-0 package,
+/// then answers every package with the next (at most 100 rounds).
+inline void runToTheEnd(CosimHarness& h, ConnectionId id) {
+  h.sample(id, h.idOf(id, "box"), 0);
+  std::size_t read = 0;
+  for (int guard = 0; guard < 100 && !h.finished(id); ++guard) {
+    while (read < h.inbox(id).size()) {
+      const v1::ServerMessage m = h.inbox(id)[read++];
+      if (m.has_data() && !h.finished(id)) h.sample(id, m.data().component_id(), m.data().step());
+    }
+  }
+}
+
 }  // namespace demlink::server::test

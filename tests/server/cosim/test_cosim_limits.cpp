@@ -40,14 +40,7 @@ void freshClientRunsToTheEnd(CosimHarness& h, ConnectionId id) {
   h.declare(id, boxJson(1e-5, 1e-4, R"("coupling": {"expected_count": 4})", 5e-5));
   for (const std::string& c : smallBedJson()) h.declare(id, c);
   ASSERT_TRUE(h.compiled(id)) << (h.errors(id).empty() ? "" : h.errors(id).front().message());
-  h.sample(id, h.idOf(id, "box"), 0);
-  std::size_t read = 0;
-  for (int guard = 0; guard < 100 && !h.finished(id); ++guard) {
-    while (read < h.inbox(id).size()) {
-      const v1::ServerMessage m = h.inbox(id)[read++];
-      if (m.has_data() && !h.finished(id)) h.sample(id, m.data().component_id(), m.data().step());
-    }
-  }
+  runToTheEnd(h, id);
   ASSERT_TRUE(h.finished(id));
   EXPECT_EQ(h.finished(id)->reason(), "end time reached");
 }

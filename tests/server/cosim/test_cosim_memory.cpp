@@ -37,19 +37,6 @@ void declareSmallRun(CosimHarness& h, ConnectionId id) {
   for (const std::string& c : smallBedJson()) h.declare(id, c);
 }
 
-/// Runs connection `id`'s compiled simulation to its end.
-void runToTheEnd(CosimHarness& h, ConnectionId id) {
-  h.sample(id, h.idOf(id, "box"), 0);
-  std::size_t read = 0;
-  for (int guard = 0; guard < 100 && !h.finished(id); ++guard) {
-    while (read < h.inbox(id).size()) {
-      const v1::ServerMessage m = h.inbox(id)[read++];
-      if (m.has_data() && !h.finished(id)) h.sample(id, m.data().component_id(), m.data().step());
-    }
-  }
-  ASSERT_TRUE(h.finished(id));
-}
-
 TEST(CosimMemory, SimulationsShareOneParticleMemoryBudget) {
   ScratchDir dir;
   constexpr std::uint64_t kOneBed = 9 * kBytesPerParticle;  // smallBedJson(): a 3 x 3 layer
@@ -77,6 +64,7 @@ TEST(CosimMemory, SimulationsShareOneParticleMemoryBudget) {
 
   // Once the first has ended, its memory is free for the next.
   runToTheEnd(*first, 1);
+  ASSERT_TRUE(first->finished(1));
   EXPECT_EQ(ledger->held(), 0u);
   declareSmallRun(*second, 3);
   EXPECT_TRUE(second->compiled(3)) << (second->errors(3).empty() ? "" : second->errors(3).back().message());
