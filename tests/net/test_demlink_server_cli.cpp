@@ -116,6 +116,8 @@ TEST(DemlinkServerCli, ListensOnAnEphemeralPortAndExitsZeroOnSigint) {
 TEST(DemlinkServerCli, ViewCapsComeFromTheCommandLine) {
   integration::Child server({DEMLINK_SERVER_EXE, "--port", "0", "--output", ::testing::TempDir() + "demlink_view_caps",
                              "--view", "127.0.0.1:0", "--view-max-connections", "1", "--view-max-rate", "5"});
+  const std::string listening = server.readLine(std::chrono::seconds(10));
+  ASSERT_TRUE(listening.starts_with("demlink-server listening on ")) << listening;  // the port comes first
   const std::string viewLine = server.readLine(std::chrono::seconds(10));
   const std::string prefix = "demlink-server view at http://127.0.0.1:";
   ASSERT_TRUE(viewLine.starts_with(prefix)) << viewLine;

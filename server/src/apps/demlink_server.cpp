@@ -309,8 +309,6 @@ int run(int argc, char** argv) {
     options.step_observer = [hub = viewHub.get()](const demlink::core::World& world) { hub->offer(world); };
     options.close_observer = [hub = viewHub.get()](const demlink::core::World& world) { hub->release(world); };
     view->start();
-    std::printf("demlink-server view at %s%s\n", view->url().c_str(),
-                viewOptions.access_token.empty() ? "" : "?token=<the access token>");
   }
   // Every simulation steps on its own thread (SimulationHub), so the network loop answers
   // whatever a simulation does. LIGGGHTS under MPI: one simulation at a time (the mirrors
@@ -359,7 +357,12 @@ int run(int argc, char** argv) {
   if (!bound.is_loopback() && net.access_token.empty()) {
     spdlog::warn("listening on {} without an access token: anyone who can reach it can connect", server.address());
   }
+  // The listening line first: tools that start the server read its port from the first line.
   std::printf("demlink-server listening on %s:%u\n", server.address().c_str(), static_cast<unsigned>(server.port()));
+  if (view) {
+    std::printf("demlink-server view at %s%s\n", view->url().c_str(),
+                line.token.value_or("").empty() ? "" : "?token=<the access token>");
+  }
   std::fflush(stdout);
   server.run();
   if (stopMirrors) stopMirrors();
