@@ -14,11 +14,8 @@ import os from 'node:os';
 import path from 'node:path';
 
 import { DevTools, chromiumArguments, evaluate } from './devtools_pipe.mjs';
+import { args, check, children, deadline, finish, sleep } from './check_harness.mjs';
 
-const args = Object.fromEntries(process.argv.slice(2).reduce((pairs, arg, i, all) => {
-  if (arg.startsWith('--')) pairs.push([arg.slice(2), all[i + 1]]);
-  return pairs;
-}, []));
 const scenes = args.scenes.split(',');
 const kExpected = {
   [path.basename(scenes[0], '.json')]: { particles: 9 },
@@ -26,18 +23,7 @@ const kExpected = {
   [path.basename(scenes[2], '.json')]: { particles: 0, surfaces: [{ triangles: 1, springs: 4 }] },
 };
 
-let passed = 0, failed = 0;
-function check(ok, what) {
-  if (ok) { passed += 1; console.log(`ok: ${what}`); } else { failed += 1; console.log(`FAILED: ${what}`); }
-}
-const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, ms));
-const children = [];
-function finish() {
-  for (const child of children) if (child.exitCode === null) child.kill('SIGTERM');
-  console.log(`${passed} passed, ${failed} failed`);
-  process.exit(failed === 0 && passed > 0 ? 0 : 1);
-}
-setTimeout(() => { check(false, 'finished within 150 s'); finish(); }, 150_000).unref();
+deadline(150);
 
 async function main() {
   let log = '';

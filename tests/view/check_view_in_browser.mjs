@@ -14,11 +14,8 @@ import path from 'node:path';
 import zlib from 'node:zlib';
 
 import { DevTools, chromiumArguments } from './devtools_pipe.mjs';
+import { args, check, children, deadline, finish, sleep } from './check_harness.mjs';
 
-const args = Object.fromEntries(process.argv.slice(2).reduce((pairs, arg, i, all) => {
-  if (arg.startsWith('--')) pairs.push([arg.slice(2), all[i + 1]]);
-  return pairs;
-}, []));
 const chromiumPath = args.chromium ?? '/usr/bin/chromium';
 const outDir = path.resolve(args.out);
 fs.rmSync(outDir, { recursive: true, force: true });
@@ -31,18 +28,7 @@ const kRadius = 0.01, kDensity = 2500, kEndTime = 16.0;
 const kBoxStart = [-0.15, 0.06, 0.1], kBoxVelocity = [0.02, 0, 0];
 const kBackground = [0x1e, 0x21, 0x26];
 
-let passed = 0, failed = 0;
-function check(ok, what) {
-  if (ok) { passed += 1; console.log(`ok: ${what}`); } else { failed += 1; console.log(`FAILED: ${what}`); }
-}
-const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, ms));
-const children = [];
-function finish() {
-  for (const child of children) if (child.exitCode === null) child.kill('SIGTERM');
-  console.log(`${passed} passed, ${failed} failed`);
-  process.exit(failed === 0 && passed > 0 ? 0 : 1);
-}
-setTimeout(() => { check(false, 'finished within 240 s'); finish(); }, 240_000).unref();
+deadline(240);
 
 /// Waits until `pattern` appears in the output a child wrote so far; returns the match.
 function waitForOutput(child, text, pattern, seconds) {
