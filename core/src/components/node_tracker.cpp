@@ -86,7 +86,7 @@ void NodeTracker::sample(const World& world) {
                             world.stepCount());
     }
   }
-  publish(std::move(row));
+  publish(world, std::move(row));
 }
 
 }  // namespace demlink::core

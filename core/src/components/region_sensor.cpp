@@ -91,7 +91,7 @@ void RegionSensor::sample(const World& world) {
                           r.centre_of_mass.y(),
                           r.centre_of_mass.z()};
   if (counts_bonds_) row.insert(row.end(), {static_cast<double>(r.bonds_intact), static_cast<double>(r.bonds_broken)});
-  publish(std::move(row));
+  publish(world, std::move(row));
 }
 
 void RegionSensor::saveState(StateWriter& out) const {
