@@ -40,7 +40,7 @@ inline bool spellsNonFinite(std::string_view cell) {
   for (const char c : cell) {
     if (c != '+' && c != '-' && c != ' ') word += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   }
-  return word.starts_with("nan") || word.starts_with("inf");
+  return word == "nan" || word.starts_with("nan(") || word == "inf" || word == "infinity";
 }
 
 }  // namespace demlink::core::test
