@@ -86,8 +86,8 @@ one_run() {  # folder index, run number
   particles=$(sed -n 's/.*compiled, .* \([0-9]*\) particles$/\1/p' "$dir/excavator.log")
   local dt
   dt=$(sed -n 's/^time step: \([0-9.e+-]*\) s.*/\1/p' "$dir/server.log" | head -n1)
-  awk -v b="$b" -v k="$k" -v load="$load" -v sw="${settle_wall:-nan}" -v ss="${settle_sim:-nan}" \
-    -v pk="${packing:-nan}" -v top="${top:-nan}" -v n="$particles" -v sim="$sim" -v wall="$wall" -v dt="$dt" \
+  awk -v b="$b" -v k="$k" -v load="$load" -v sw="${settle_wall:-}" -v ss="${settle_sim:-}" \
+    -v pk="${packing:-}" -v top="${top:-}" -v n="$particles" -v sim="$sim" -v wall="$wall" -v dt="$dt" \
     -v th="$threads" 'BEGIN { printf "%s\t%d\t%s\t%s\t%s\t%s\t%s\t%d\t%s\t%s\t%.4f\t%.4g\n", b, k, load, sw, ss, pk, top, n,
                               sim, wall, sim / wall, n * (sim / dt) / wall / th }' >>"$results"
   echo "[$b run $k, load $load] $(tail -n1 "$results" | cut -f4-)"
@@ -100,10 +100,11 @@ done
 echo
 echo "medians (real-time factor = simulated s / wall s of the exchanges; settling apart):"
 for b in "${bins[@]}"; do
-  awk -F'\t' -v b="$b" 'NR > 1 && $1 == b { n++; rtf[n] = $11; ps[n] = $12; sw[n] = $4 }
+  # An empty settling cell (no "settled in" line) is missing: left out of its median.
+  awk -F'\t' -v b="$b" 'NR > 1 && $1 == b { n++; rtf[n] = $11; ps[n] = $12; if ($4 != "") sw[++m] = $4 }
     function median(a, n,   i, j, t) { for (i = 1; i <= n; i++) for (j = i + 1; j <= n; j++) if (a[j] < a[i]) { t = a[i]; a[i] = a[j]; a[j] = t }
                                        return n % 2 ? a[(n + 1) / 2] : 0.5 * (a[n / 2] + a[n / 2 + 1]) }
     END { if (n) printf "  %s: real-time factor %.3f, %.3g particle-steps/s per thread, settling %.1f s wall (%d runs)\n",
-                        b, median(rtf, n), median(ps, n), median(sw, n), n }' "$results"
+                        b, median(rtf, n), median(ps, n), m ? median(sw, m) : 0, n }' "$results"
 done
 echo "table: $results"

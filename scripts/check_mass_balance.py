@@ -13,6 +13,9 @@ This script knows nothing about excavators: each term is FILE:COLUMN (added), or
 checked at every time all files share. The reference is --initial KG if given, otherwise
 the sum at the first shared time.
 
+A row whose term or time cell is empty (a value that does not exist, the CSV rule of
+csv_cell.py) has no sample to balance: it is skipped, and the skipped rows are counted.
+
 Exit code 0: balanced; 1: out of tolerance (the worst rows are printed); 2: bad input
 (a missing file or column, no shared times, a non-number), with a message naming it.
 
@@ -25,7 +28,11 @@ Example (the server's sensor CSVs of one simulation):
 import argparse
 import csv
 import math
+import os
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from csv_cell import cell_number, is_missing  # noqa: E402  (same folder)
 
 TIME_MATCH_S = 1e-9  # two rows belong to the same sample when their times differ by less [s]
 
@@ -58,16 +65,20 @@ def read_series(path, column, time_columns):
         raise InputProblem(f"{path}: no column '{column}' (header: {header})")
     ti, vi = header.index(time_column), header.index(column)
     series = {}
+    missing = 0
     for line, row in enumerate(rows[1:], start=2):
         if not row:
             continue
         try:
-            t, v = float(row[ti]), float(row[vi])
+            t, v = cell_number(row[ti]), cell_number(row[vi])
         except (ValueError, IndexError):
             raise InputProblem(f"{path}:{line}: '{column}' or '{time_column}' is not a number: {row}") from None
-        if not math.isfinite(t) or not math.isfinite(v):
-            raise InputProblem(f"{path}:{line}: non-finite {time_column} = {t} or {column} = {v}")
+        if is_missing(t) or is_missing(v):
+            missing += 1
+            continue
         series[round(t / TIME_MATCH_S)] = (t, v)
+    if missing:
+        print(f"{path}: {missing} rows without a '{column}' or '{time_column}' value (empty cell) skipped")
     if not series:
         raise InputProblem(f"{path}: no data rows")
     return series

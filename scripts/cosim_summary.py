@@ -34,6 +34,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from check_mass_balance import InputProblem, read_series  # noqa: E402  (same folder)
+from csv_cell import cell_number, is_missing  # noqa: E402
 
 TIME_COLUMNS = ["time_s"]
 
@@ -58,10 +59,10 @@ def removed_at_bounds(sim_dir):
     for row in rows:
         if len(row) >= 3 and row[0] == "timing" and row[1] == "removed_mass_at_bounds":
             try:
-                value = float(row[2])
+                value = cell_number(row[2])
             except ValueError:
                 value = math.nan
-            if not math.isfinite(value) or value < 0:
+            if is_missing(value) or value < 0:
                 raise InputProblem(f"{path}: removed_mass_at_bounds = '{row[2]}' is not a mass >= 0")
             return value
     # Written when a run ends (with the timing rows): missing means it did not end.

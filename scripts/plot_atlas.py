@@ -22,6 +22,9 @@ import os
 import sys
 from collections import OrderedDict
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from csv_cell import cell_number  # noqa: E402  (same folder)
+
 import matplotlib
 
 matplotlib.use("Agg")
@@ -40,9 +43,10 @@ METRICS = OrderedDict([
 
 
 def number(text):
+    """A cell's number; NaN for an empty cell (missing, csv_cell.py) or a cell that is not one."""
     try:
-        return float(text)
-    except (TypeError, ValueError):
+        return cell_number(text)
+    except (AttributeError, TypeError, ValueError):
         return math.nan
 
 

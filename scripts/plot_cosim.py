@@ -26,6 +26,9 @@ import math
 import os
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from csv_cell import cell_number  # noqa: E402  (same folder)
+
 # Role -> CSV column (a list for roles drawn as several curves). As the models wrote them
 # when this was written (examples/excavator/main.cpp, examples/truck/truck_client.cpp).
 EXCAVATOR_COLUMNS = {
@@ -67,7 +70,7 @@ def read_columns(path, mapping, what):
                     f"Fix the table at the top of scripts/plot_cosim.py or pass --column {what}.{role}=NAME")
             i = header.index(name)
             try:
-                data[name] = [float(row[i]) for row in rows[1:]]
+                data[name] = [cell_number(row[i]) for row in rows[1:]]  # an empty cell: NaN, not drawn
             except (ValueError, IndexError):
                 raise PlotInputError(f"{what} file {path}: column '{name}' has a value that is not a number") from None
     return data

@@ -37,6 +37,7 @@
 #include <spdlog/spdlog.h>
 
 #include "demlink/cli/command_line.hpp"
+#include "demlink/core/output/csv_table.hpp"
 #include "study_coupling.hpp"
 #include "study_scenes.hpp"
 
@@ -56,6 +57,11 @@ std::string text(double value) {
   std::snprintf(buffer, sizeof buffer, "%g", value);
   return buffer;
 }
+
+/// A number cell of the study's CSVs by the engine's rule (core::csvNumber: NaN, a value
+/// that does not exist, is an empty cell). An infinity here is a ratio to a zero
+/// reference or time, which does not exist either.
+std::string cell(double value) { return core::csvNumber(std::isinf(value) ? std::nan("") : value); }
 
 /// The sweeps; one seed per setting adds a second seed of the finest one as a noise row.
 std::vector<Setting> settings(bool smoke, std::uint32_t seeds) {
@@ -139,19 +145,19 @@ constexpr const char* kCouplingHeader =
 std::string atlasLines(const Row& row, const std::map<std::string, double>& reference) {
   const Knobs& k = row.knobs;
   const SceneResult& r = row.result;
-  const std::string head = field(row.setting->knob) + "," + field(row.setting->value) + "," + text(k.dt_fraction) +
-                           "," + text(row.dt) + "," + std::string(core::toString(k.law)) + "," +
-                           std::string(core::toString(k.integrator)) + "," + text(k.skin_factor) + "," +
-                           text(k.modulus_scale) + "," + text(k.coarse) + "," + std::to_string(k.seed) + "," +
-                           r.scene + "," + field(r.status) + "," + text(r.simulated) + "," + text(r.wall) + "," + text(row.cpu) + "," +
-                           text(r.simulated > 0 ? r.wall / r.simulated : std::nan("")) + "," +
-                           text(r.wall > 0 ? r.particle_steps / r.wall : std::nan(""));
+  const std::string head = field(row.setting->knob) + "," + field(row.setting->value) + "," + cell(k.dt_fraction) +
+                           "," + cell(row.dt) + "," + std::string(core::toString(k.law)) + "," +
+                           std::string(core::toString(k.integrator)) + "," + cell(k.skin_factor) + "," +
+                           cell(k.modulus_scale) + "," + cell(k.coarse) + "," + std::to_string(k.seed) + "," +
+                           r.scene + "," + field(r.status) + "," + cell(r.simulated) + "," + cell(r.wall) + "," + cell(row.cpu) + "," +
+                           cell(r.simulated > 0 ? r.wall / r.simulated : std::nan("")) + "," +
+                           cell(r.wall > 0 ? r.particle_steps / r.wall : std::nan(""));
   if (r.metrics.empty()) return head + ",,,,\n";
   std::string lines;
   for (const auto& [name, value] : r.metrics) {
     const auto it = reference.find(r.scene + "/" + name);
     const double ref = it == reference.end() ? std::nan("") : it->second;
-    lines += head + "," + name + "," + text(value) + "," + text(ref) + "," + text((value - ref) / ref) + "\n";
+    lines += head + "," + name + "," + cell(value) + "," + cell(ref) + "," + cell((value - ref) / ref) + "\n";
   }
   return lines;
 }
@@ -229,18 +235,18 @@ std::vector<SeedValues> writeSummary(const std::filesystem::path& path, const st
     const double combined = std::hypot(error, refError);
     const std::string resolved = std::isfinite(combined) ? (std::abs(mean - refMean) > 2.0 * combined ? "yes" : "no") : "";
     out << field(g.setting->knob) << "," << field(g.setting->value) << "," << g.scene << "," << g.metric << ","
-        << g.values.size() << "," << text(mean) << "," << text(error) << "," << text(refMean) << "," << text(refError)
-        << "," << text((mean - refMean) / refMean) << "," << text(combined / std::abs(refMean)) << "," << text(noise)
-        << "," << resolved << "," << text(cpu) << "\n";
+        << g.values.size() << "," << cell(mean) << "," << cell(error) << "," << cell(refMean) << "," << cell(refError)
+        << "," << cell((mean - refMean) / refMean) << "," << cell(combined / std::abs(refMean)) << "," << cell(noise)
+        << "," << resolved << "," << cell(cpu) << "\n";
   }
   return groups;
 }
 
 std::string couplingLine(const CouplingResult& r, double referenceDepth) {
-  return std::to_string(r.c.interval_steps) + "," + text(r.interval) + "," + text(r.c.mass) + "," +
-         toString(r.c.order) + "," + field(r.status) + "," + text(r.depth) + "," + text(r.oscillation) + "," +
-         text(referenceDepth) + "," + text(r.depth - referenceDepth) + "," + text(r.wall) + "," + text(r.simulated) +
-         "," + text(r.wall > 0 ? r.particle_steps / r.wall : std::nan("")) + "\n";
+  return std::to_string(r.c.interval_steps) + "," + cell(r.interval) + "," + cell(r.c.mass) + "," +
+         toString(r.c.order) + "," + field(r.status) + "," + cell(r.depth) + "," + cell(r.oscillation) + "," +
+         cell(referenceDepth) + "," + cell(r.depth - referenceDepth) + "," + cell(r.wall) + "," + cell(r.simulated) +
+         "," + cell(r.wall > 0 ? r.particle_steps / r.wall : std::nan("")) + "\n";
 }
 
 /// The final coupling.csv, with every depth against the one-step interval's.

@@ -17,6 +17,7 @@ Usage: plot_sheet.py RUN_DIR [--node sheet_302] [--output sheet_impact.png]
 
 import argparse
 import csv
+import math
 import os
 import sys
 
@@ -38,6 +39,9 @@ def read_csv(path):
     columns = {name: [] for name in header}
     for row in rows[1:]:
         for name, value in zip(header, row):
+            if not value.strip():  # DEMLink writes a value that does not exist as an empty cell
+                columns[name].append(math.nan)
+                continue
             try:
                 columns[name].append(float(value))
             except ValueError:

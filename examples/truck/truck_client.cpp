@@ -448,10 +448,14 @@ int run(const Options& o) {
     // Log the state at t with the wrench of the interval that ended at t.
     const auto f = model.springForces();
     const auto& s = model.state();
+    // An empty load has no centre of mass (NaN from the C ABI): empty cells, DEMLink's
+    // missing value in every CSV, never the text "nan".
+    char com[96] = ",,";
+    if (!std::isnan(loadCom[0])) std::snprintf(com, sizeof com, "%.5f,%.5f,%.5f", loadCom[0], loadCom[1], loadCom[2]);
     std::fprintf(csv,
-                 "%.4f,%s,%.4f,%lld,%.5f,%.5f,%.5f,%.4f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.7f,%.7f,%.7f,"
+                 "%.4f,%s,%.4f,%lld,%s,%.4f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.7f,%.7f,%.7f,"
                  "%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.4f,%.4f,%.4f,%.5f,%.5f\n",
-                 t, phaseName(phase), loadMass, loadCount, loadCom[0], loadCom[1], loadCom[2], inserted, f[0], f[1],
+                 t, phaseName(phase), loadMass, loadCount, com, inserted, f[0], f[1],
                  f[2], f[3], f[0] + f[1], f[2] + f[3], f[0] + f[2], f[1] + f[3], s.z, s.theta, s.phi, in.dem_force[0],
                  in.dem_force[1], in.dem_force[2], in.dem_torque[0], in.dem_torque[1], in.dem_torque[2], frameAcc[0],
                  frameAcc[1], frameAcc[2], yawRate, speed);

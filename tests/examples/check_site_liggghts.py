@@ -3,9 +3,9 @@
 (run_site_liggghts.sh WORKDIR): the clients' CSVs and the server's sensor CSVs.
 
 Checks, each able to fail:
-  1. no NaN or infinity reached a client: every number in excavator.csv and truck.csv is
-     finite (except the truck load's centre of mass while the load is empty, which the
-     region sensor reports as NaN by definition);
+  1. no NaN or infinity reached a client: every cell of excavator.csv and truck.csv is a
+     finite number (except the truck load's centre of mass while the load is empty, which
+     does not exist: an empty cell, DEMLink's missing value; the text "nan" is a failure);
   2. the DEM pushed on the bucket while it was in the pit: |F_dem| above 2 kN at some
      sample of penetrate, drag or curl;
   3. the fill sensor rode with the bucket: the bucket held more than 50 kg at the last
@@ -22,14 +22,20 @@ import sys
 DIG = {"penetrate", "drag", "curl"}
 
 
-def finite_rows(path, allowed_nan):
+def finite_rows(path, allowed_missing):
     rows = [r for r in csv.DictReader(line for line in open(path) if not line.startswith("#"))]
     bad = []
     for r in rows:
         for key, value in r.items():
             if key == "phase":
                 continue
-            if not math.isfinite(float(value)) and not allowed_nan(r, key):
+            if value == "" and allowed_missing(r, key):
+                continue
+            try:
+                finite = math.isfinite(float(value))
+            except ValueError:
+                finite = False
+            if not finite:
                 bad.append((r.get("time", r.get("time_s")), key, value))
     return rows, bad
 

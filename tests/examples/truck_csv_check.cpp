@@ -43,13 +43,13 @@ struct Table {
     }
     return it->second;
   }
-  /// Mean of column `name` over the second half of the rows in `phase`.
+  /// Mean of column `name` over the second half of the rows in `phase` that have a value.
   [[nodiscard]] double mean(const std::string& phase, const std::string& name) const {
     const std::size_t p = column("phase");
     const std::size_t c = column(name);
     std::vector<double> values;
     for (const auto& r : rows) {
-      if (r[p] == phase) values.push_back(std::stod(r[c]));
+      if (r[p] == phase && !r[c].empty()) values.push_back(std::stod(r[c]));  // empty cell: missing
     }
     if (values.size() < 4) {
       std::fprintf(stderr, "truck_csv_check: phase '%s' has %zu rows\n", phase.c_str(), values.size());

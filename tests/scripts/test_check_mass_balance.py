@@ -7,7 +7,8 @@ mass moving between three files with a sink's running total balances (exit 0); o
 off by more than the tolerance fails (exit 1) naming the time; --initial against a wrong
 total fails; a subtracted term (--subtract FILE:COLUMN) works; files are matched by time even when
 they sample at different rates and name the time column differently; a missing column,
-a missing file and files with no common time are input errors (exit 2) naming them.
+a missing file and files with no common time are input errors (exit 2) naming them; an
+empty cell (DEMLink's missing value) skips its row, while the text "nan" is refused.
 """
 
 import os
@@ -84,6 +85,24 @@ class CheckMassBalanceTest(unittest.TestCase):
         r = self.run_script(*self.terms)
         self.assertEqual(r.returncode, 2)
         self.assertIn("share no sample time", r.stderr)
+        self.assertNotIn("Traceback", r.stderr)
+
+    def test_empty_cell_is_a_missing_value(self):
+        # Row 37 of the pit has no mass: that time is skipped (100 shared times, not 101),
+        # the others still balance. Written by hand: write_csv cannot write an empty cell.
+        with open(self.pit, "w") as f:
+            f.write("time_s,mass_kg,com_z_m\n")
+            for i in range(101):
+                f.write(f"{i * 0.1!r},{'' if i == 37 else repr(100.0 - 0.6 * i)},\n")
+        r = self.run_script("--initial", "100", "--rel-tol", "1e-9", *self.terms)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("over 100 shared times", r.stdout)
+        self.assertIn("1 rows without a 'mass_kg' or 'time_s' value (empty cell) skipped", r.stdout)
+        with open(self.pit, "a") as f:
+            f.write("10.1,nan,\n")
+        r = self.run_script("--initial", "100", *self.terms)
+        self.assertEqual(r.returncode, 2)
+        self.assertIn("is not a number", r.stderr)
         self.assertNotIn("Traceback", r.stderr)
 
 

@@ -32,7 +32,7 @@ void FlowSensor::initialize(ComponentWorld& world) {
   band_ = 0.0;
   scan(world, false);  // sizes the band from the initial velocities
   scan(world, false);  // remembers the particles within it
-  publish({world.time(), 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0});
+  publish(world, {world.time(), 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0});
 }
 
 void FlowSensor::observe(const ComponentWorld& world) {
@@ -42,7 +42,7 @@ void FlowSensor::observe(const ComponentWorld& world) {
   since_sample_ = {};
   const FlowTally& i = last_interval_;
   const FlowTally& t = total_;
-  publish({world.time(), static_cast<double>(i.positive_count), static_cast<double>(i.negative_count),
+  publish(world, {world.time(), static_cast<double>(i.positive_count), static_cast<double>(i.negative_count),
            static_cast<double>(i.netCount()), i.positive_mass, i.negative_mass, i.netMass(),
            static_cast<double>(t.positive_count), static_cast<double>(t.negative_count),
            static_cast<double>(t.netCount()), t.positive_mass, t.negative_mass, t.netMass()});

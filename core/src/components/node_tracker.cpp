@@ -86,7 +86,7 @@ void NodeTracker::sample(const ComponentWorld& world) {
                             world.stepCount());
     }
   }
-  publish(std::move(row));
+  publish(world, std::move(row));
 }
 
 }  // namespace demlink::core

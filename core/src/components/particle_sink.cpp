@@ -20,7 +20,7 @@ ParticleSink::ParticleSink(std::string name, VolumeShape shape, RegionPlacement 
 void ParticleSink::initialize(ComponentWorld& world) {
   placement_.resolve(world.meshes().size(), fieldPrefix() + ".region");
   resolveSchedule(world);
-  publish({world.time(), 0.0, 0.0, 0.0, 0.0});
+  publish(world, {world.time(), 0.0, 0.0, 0.0, 0.0});
 }
 
 void ParticleSink::changeRegion(const ComponentWorld& world, const RegionChange& change, const std::string& fieldPrefix) {
@@ -60,7 +60,7 @@ void ParticleSink::observe(const ComponentWorld& world) {
   if (!sampleDue(world)) return;
   last_interval_ = since_sample_;
   since_sample_ = {};
-  publish({world.time(), static_cast<double>(last_interval_.count), last_interval_.mass,
+  publish(world, {world.time(), static_cast<double>(last_interval_.count), last_interval_.mass,
            static_cast<double>(total_.count), total_.mass});
 }
 

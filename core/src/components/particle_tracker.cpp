@@ -118,7 +118,7 @@ void ParticleTracker::sample(const ComponentWorld& world) {
     appendVector(row, m.force);
     appendVector(row, m.torque);
   }
-  publish(std::move(row));
+  publish(world, std::move(row));
 }
 
 void ParticleTracker::saveState(StateWriter& out) const {

@@ -6,6 +6,7 @@
 /// bond's midpoint.
 #include "demlink/core/components/region_sensor.hpp"
 
+#include <cmath>
 #include <limits>
 
 #include "demlink/core/components/component_state.hpp"
@@ -91,7 +92,7 @@ void RegionSensor::sample(const ComponentWorld& world) {
                           r.centre_of_mass.y(),
                           r.centre_of_mass.z()};
   if (counts_bonds_) row.insert(row.end(), {static_cast<double>(r.bonds_intact), static_cast<double>(r.bonds_broken)});
-  publish(std::move(row));
+  publish(world, std::move(row));
 }
 
 void RegionSensor::saveState(StateWriter& out) const {
@@ -105,6 +106,18 @@ void RegionSensor::saveState(StateWriter& out) const {
   out.endSection(section);
 }
 
+namespace {
+
+/// A bond count of the restored latest row: a whole number in [0, 2^53] (exact in a double).
+std::uint64_t readBondCount(const StateReader& s, double value, const std::string& column) {
+  if (!(value >= 0.0 && value <= 0x1p53 && value == std::floor(value))) {
+    s.fail(std::to_string(value), "latest sample's " + column + " is not a bond count (a whole number >= 0)");
+  }
+  return static_cast<std::uint64_t>(value);
+}
+
+}  // namespace
+
 void RegionSensor::loadState(StateReader& in) {
   SampledComponent::loadState(in);
   StateReader s = componentSection(in, "REGN", "latest");
@@ -116,6 +129,13 @@ void RegionSensor::loadState(StateReader& in) {
   r.mean_velocity = s.read<Vec3>();
   r.centre_of_mass = s.read<Vec3>();
   s.requireEnd();
+  if (counts_bonds_) {
+    // REGN has no bond counts (so checkpoints of scenes without bonds keep their bytes);
+    // the latest row restored by SampledComponent holds them as they were sampled.
+    const std::vector<double>& row = latestRow();
+    r.bonds_intact = readBondCount(s, row[row.size() - 2], "bonds_intact");
+    r.bonds_broken = readBondCount(s, row[row.size() - 1], "bonds_broken");
+  }
   latest_ = r;
 }
 

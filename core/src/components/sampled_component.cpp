@@ -5,12 +5,14 @@
 /// floating-point accumulation of time decides whether a sample is taken.
 #include "demlink/core/components/sampled_component.hpp"
 
+#include <cmath>
 #include <set>
 
 #include "demlink/core/components/component_state.hpp"
 #include "demlink/core/base/input_error.hpp"
 #include "demlink/core/step/interval_steps.hpp"
 #include "demlink/core/components/component_world.hpp"
+#include "demlink/core/step/watchdog.hpp"
 
 namespace demlink::core {
 
@@ -36,7 +38,17 @@ bool SampledComponent::sampleDue(const ComponentWorld& world) const {
   return every_ > 0 && world.stepCount() % every_ == 0;
 }
 
-void SampledComponent::publish(std::vector<double> row) {
+void SampledComponent::publish(const ComponentWorld& world, std::vector<double> row) {
+  // NaN is a missing value (an empty cell); an infinity can only come from a state that is
+  // no longer finite, which stops the run as the watchdog would, before anything is recorded.
+  for (std::size_t k = 0; k < row.size(); ++k) {
+    if (!std::isinf(row[k])) continue;
+    const std::vector<std::string> names = columns();
+    throw SimulationFault("non_finite_output",
+                          std::string(kind()) + " " + name() + " column " + (k < names.size() ? names[k] : "?") +
+                              " is " + (row[k] > 0.0 ? "+" : "-") + "inf; the sample is not written",
+                          world.stepCount());
+  }
   latest_ = std::move(row);
   ++samples_;
   if (csv_) csv_->writeRow(latest_);

@@ -24,11 +24,20 @@ void TimeStepReport::addConstraint(TimeStepConstraint constraint) {
   constraints.push_back(std::move(constraint));
 }
 
+namespace {
+
+/// A limit in a report: +inf (nothing limits the step) is said in words, never "inf".
+std::string limitText(double seconds) {
+  return std::isfinite(seconds) ? fmt::format("{:.6g} s", seconds) : std::string("no limit");
+}
+
+}  // namespace
+
 std::vector<std::string> TimeStepReport::describe() const {
   std::vector<std::string> lines;
-  lines.push_back(fmt::format("critical time step {:.6g} s, limited by {}", limit, limited_by));
+  lines.push_back(fmt::format("critical time step {}, limited by {}", limitText(limit), limited_by));
   for (const TimeStepConstraint& c : constraints) {
-    lines.push_back(fmt::format("  {}: {:.6g} s ({})", c.name, c.limit, c.detail));
+    lines.push_back(fmt::format("  {}: {} ({})", c.name, limitText(c.limit), c.detail));
   }
   for (const PairDampingReport& d : damping) {
     lines.push_back(fmt::format("  damping {}/{}: e = {:.6g}, c = {:.6g}, beta = {:.6g}, gamma_n / sqrt(S_n m*) = "

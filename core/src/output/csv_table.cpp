@@ -1,4 +1,5 @@
-/// CSV output of sensors and trackers (contract in csv_table.hpp).
+/// CSV output of sensors and trackers, and the text of a numeric cell (contract in
+/// csv_table.hpp).
 ///
 /// Numbers are formatted with std::to_chars (shortest round-trip form), which is
 /// locale-independent, so a decimal comma in the user's locale cannot break a file.
@@ -10,8 +11,25 @@
 
 namespace demlink::core {
 
+void appendCsvNumber(std::string& line, double value) {
+  if (std::isnan(value)) return;  // a missing value is an empty cell
+  if (std::isinf(value)) {
+    throw std::domain_error(std::string("an infinite value (") + (value > 0.0 ? "+" : "-") +
+                            "inf) has no CSV cell: only finite numbers or a missing value are written");
+  }
+  char buffer[32];
+  const std::to_chars_result result = std::to_chars(buffer, buffer + sizeof buffer, value);
+  line.append(buffer, result.ptr);
+}
+
+std::string csvNumber(double value) {
+  std::string text;
+  appendCsvNumber(text, value);
+  return text;
+}
+
 CsvTable::CsvTable(std::filesystem::path path, const std::vector<std::string>& columns)
-    : path_(std::move(path)), out_(path_, std::ios::trunc), columns_(columns.size()) {
+    : path_(std::move(path)), out_(path_, std::ios::trunc), columns_(columns) {
   if (!out_) throw std::runtime_error("cannot write " + path_.string());
   std::string header;
   for (const std::string& column : columns) header += (header.empty() ? "" : ",") + column;
@@ -21,21 +39,19 @@ CsvTable::CsvTable(std::filesystem::path path, const std::vector<std::string>& c
 }
 
 void CsvTable::writeRow(std::span<const double> values) {
-  if (values.size() != columns_) {
+  if (values.size() != columns_.size()) {
     throw std::invalid_argument(path_.string() + ": row of " + std::to_string(values.size()) + " values for " +
-                                std::to_string(columns_) + " columns");
+                                std::to_string(columns_.size()) + " columns");
   }
   std::string line;
   line.reserve(24 * values.size());
-  char buffer[32];
   for (std::size_t k = 0; k < values.size(); ++k) {
     if (k > 0) line += ',';
-    if (std::isnan(values[k])) {
-      line += "nan";
-      continue;
+    try {
+      appendCsvNumber(line, values[k]);
+    } catch (const std::domain_error& error) {
+      throw std::invalid_argument(path_.string() + ": column " + columns_[k] + ": " + error.what());
     }
-    const std::to_chars_result result = std::to_chars(buffer, buffer + sizeof buffer, values[k]);
-    line.append(buffer, result.ptr);
   }
   line += '\n';
   out_ << line;

@@ -18,6 +18,8 @@
 #include <variant>
 #include <vector>
 
+#include "demlink/core/output/csv_table.hpp"
+
 namespace demlink::core {
 namespace {
 
@@ -408,7 +410,7 @@ void writeContactsCsv(const std::string& path, std::span<const ContactRecord> co
           r.overlap, r.normal_force.dot(r.normal), r.normal_force.x(), r.normal_force.y(), r.normal_force.z(),
           r.tangential_force.x(), r.tangential_force.y(), r.tangential_force.z()}) {
       line += ',';
-      appendNumber(line, value);
+      appendCsvNumber(line, value);  // the one CSV cell rule (csv_table.hpp)
     }
     out << line << '\n';
   }

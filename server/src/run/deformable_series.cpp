@@ -13,6 +13,7 @@
 
 #include "demlink/core/deformable/fem_body.hpp"
 #include "demlink/core/deformable/mass_spring_body.hpp"
+#include "demlink/core/output/csv_table.hpp"
 #include "demlink/core/step/watchdog.hpp"
 
 namespace demlink::server {
@@ -65,10 +66,13 @@ std::vector<std::string> deformableReportLines(const core::World& world) {
       springs = fmt::format(", {} elements", fem->elements().size());
     }
     lines.push_back(fmt::format("deformable {} ({}): {} nodes ({} on the surface){}, {} triangles, mass {:.6g} kg, "
-                                "critical time step {:.4g} s ({})",
+                                "critical time step {} ({})",
                                 body->name(), body->kind(), body->nodeCount(), body->surface().positions().size(),
                                 springs, body->surface().triangles().size(), body->totalMass(),
-                                body->criticalTimeStep(), body->criticalTimeStepReason()));
+                                std::isfinite(body->criticalTimeStep())
+                                    ? fmt::format("{:.4g} s", body->criticalTimeStep())
+                                    : std::string("no limit"),
+                                body->criticalTimeStepReason()));
   }
   return lines;
 }
@@ -142,8 +146,9 @@ void DeformableSeries::afterStep(const core::World& world) {
     if (ms == nullptr || ms->brokenSprings().size() == broken_written_[b]) continue;
     for (std::size_t k = broken_written_[b]; k < ms->brokenSprings().size(); ++k) {
       const core::BrokenSpring& s = ms->brokenSprings()[k];
-      broken_ << fmt::format("{:.9g},{},{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}\n", s.time, ms->name(), s.spring,
-                             s.position.x(), s.position.y(), s.position.z(), s.force, s.strain);
+      broken_ << fmt::format("{},{},{},{},{},{},{},{}\n", core::csvNumber(s.time), ms->name(), s.spring,
+                             core::csvNumber(s.position.x()), core::csvNumber(s.position.y()),
+                             core::csvNumber(s.position.z()), core::csvNumber(s.force), core::csvNumber(s.strain));
     }
     broken_written_[b] = ms->brokenSprings().size();
     broken_.flush();

@@ -17,6 +17,7 @@
 #include <system_error>
 
 #include "demlink/core/base/input_error.hpp"
+#include "demlink/core/output/csv_table.hpp"
 
 namespace demlink::server {
 
@@ -105,9 +106,10 @@ FrameStats FrameSeries::writeFrame(const core::World& world, double wallSeconds)
   core::writePvd((directory_ / "particles.pvd").string(), entries_);
   if (!world.meshes().empty()) writeMeshes(world, stats.time);
   if (world.bonds().hasRules()) writeBonds(world, stats.time);
-  summary_ << fmt::format("{:.9g},{},{:.9g},{:.9g},{:.9g},{},{:.3f}\n", stats.time, stats.particles,
-                          stats.kinetic_energy, stats.mean_z, stats.max_z, stats.neighbour_builds,
-                          stats.wall_seconds);
+  // mean_z and max_z of a frame without particles do not exist: empty cells (core::csvNumber).
+  summary_ << fmt::format("{},{},{},{},{},{},{:.3f}\n", core::csvNumber(stats.time), stats.particles,
+                          core::csvNumber(stats.kinetic_energy), core::csvNumber(stats.mean_z),
+                          core::csvNumber(stats.max_z), stats.neighbour_builds, stats.wall_seconds);
   summary_.flush();
   if (!summary_) throw std::runtime_error("cannot write " + (directory_ / "summary.csv").string());
   return stats;

@@ -140,6 +140,7 @@ void RunDriver::writeCheckpoint(const core::World& world, const std::string& nam
 void RunDriver::writeContacts(const core::World& world) {
   const core::ContactSnapshot& snapshot = world.contactSnapshot();
   const std::string stem = fmt::format("contacts_{:06}", contact_entries_.size());
+  requireFiniteState(world, stem + ".vtp/.csv");
   timed(timing_.output_seconds, [&] {
     core::writeContactsVtp((directory() / (stem + ".vtp")).string(), snapshot.contacts);
     core::writeContactsCsv((directory() / (stem + ".csv")).string(), snapshot.contacts);

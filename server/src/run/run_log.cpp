@@ -4,7 +4,10 @@
 #include <spdlog/fmt/fmt.h>
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
+
+#include "demlink/core/output/csv_table.hpp"
 
 namespace demlink::server {
 namespace {
@@ -21,7 +24,12 @@ std::string csvField(std::string_view text) {
   return quoted + "\"";
 }
 
-std::string number(double value) { return fmt::format("{:.9g}", value); }
+/// A value cell: the one CSV number rule (core::csvNumber: NaN is an empty cell).
+std::string number(double value) { return core::csvNumber(value); }
+
+/// A time step limit: +inf means nothing limits the step (a scene without particles, an
+/// unconditionally stable integrator), a value that does not exist: an empty cell.
+std::string limit(double seconds) { return number(std::isinf(seconds) ? std::nan("") : seconds); }
 
 }  // namespace
 
@@ -46,11 +54,11 @@ void RunLog::writeConfiguration(const core::World& world, const RunOptions& run,
   add("config", "start_time", number(world.time()), "s");
   add("config", "end_time", number(static_cast<double>(endStep) * s.time_step), "s");
   add("config", "time_step", number(s.time_step), "s");
-  add("config", "critical_time_step", number(report.limit), "s");
+  add("config", "critical_time_step", limit(report.limit), "s");
   add("config", "critical_time_step_limited_by", report.limited_by);
   add("config", "time_step_fraction_of_critical", number(s.time_step / report.limit));
   for (const core::TimeStepConstraint& c : report.constraints) {
-    add("time_step_limit", c.name, number(c.limit), "s");
+    add("time_step_limit", c.name, limit(c.limit), "s");
   }
   add("time_step_limit", "restitution_tolerance", number(report.restitution_tolerance));
   add("time_step_limit", "validated_impact_speed", number(report.impact_speed), "m/s");
@@ -85,7 +93,7 @@ void RunLog::writeConfiguration(const core::World& world, const RunOptions& run,
     add("deformable", name + ".nodes", std::to_string(body->nodeCount()));
     add("deformable", name + ".surface_triangles", std::to_string(body->surface().triangles().size()));
     add("deformable", name + ".mass", number(body->totalMass()), "kg");
-    add("deformable", name + ".critical_time_step", number(body->criticalTimeStep()), "s");
+    add("deformable", name + ".critical_time_step", limit(body->criticalTimeStep()), "s");
     add("deformable", name + ".critical_time_step_set_by", body->criticalTimeStepReason());
   }
   add("config", "output_directory", run.output_directory);

@@ -1,13 +1,18 @@
 // Region sensors: count, mass, mean velocity and centre of mass of a random set
 // against sums computed directly (relative 1e-12); a sensor attached to a rotating
-// mesh body and one moving with a constant velocity follow their carrier (1e-9 m).
+// mesh body and one moving with a constant velocity follow their carrier (1e-9 m); an
+// empty region writes empty CSV cells with the header's column count.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+#include <filesystem>
 #include <memory>
 #include <numbers>
+#include <unistd.h>
 
 #include "demlink/core/base/input_error.hpp"
 #include "demlink/core/components/region_sensor.hpp"
+#include "csv_test_support.hpp"
 #include "sensor_test_support.hpp"
 
 namespace demlink::core {
@@ -109,6 +114,49 @@ TEST(RegionSensor, EmptyRegionReportsNaNCentre) {
   EXPECT_EQ(sensor.latest().count, 0u);
   EXPECT_EQ(sensor.latest().mass, 0.0);
   EXPECT_TRUE(std::isnan(sensor.latest().centre_of_mass.x()));
+}
+
+/// In its CSV file an empty region's mean velocity and centre of mass, which do not exist,
+/// are empty cells, never "nan"; every row keeps the header's nine columns (the last six
+/// empty), while a sensor holding the sphere writes all nine as numbers.
+TEST(RegionSensor, EmptyRegionWritesEmptyCells) {
+  World world(test::sensorSettings());
+  world.addMaterial(test::testMaterial(0.5));
+  test::addSphere(world, Vec3::Zero(), 0.003, Vec3(0.1, 0.0, 0.0));
+  RegionPlacement far;
+  far.centre = Vec3(1.0, 0.0, 0.0);
+  RegionPlacement near;
+  world.addComponent(std::make_unique<RegionSensor>("far", VolumeShape::sphere(0.1, "far"), far,
+                                                    SampleSchedule{.every_steps = 10}, "far"));
+  world.addComponent(std::make_unique<RegionSensor>("near", VolumeShape::sphere(0.1, "near"), near,
+                                                    SampleSchedule{.every_steps = 10}, "near"));
+  world.initialize();
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("demlink_empty_region_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::vector<std::filesystem::path> files = writeSamplesToCsv(world.components(), dir);
+  ASSERT_EQ(files.size(), 2u);
+  for (int n = 0; n < 30; ++n) world.step();
+
+  const auto farRows = test::readCsvRows(files[0]);
+  ASSERT_EQ(farRows.size(), 1u + 4u) << "header, the initial sample and three more";
+  ASSERT_EQ(farRows[0].size(), 9u);
+  for (std::size_t r = 1; r < farRows.size(); ++r) {
+    const std::vector<std::string>& cells = farRows[r];
+    ASSERT_EQ(cells.size(), 9u) << "row " << r;
+    EXPECT_EQ(cells[1], "0") << "count";
+    EXPECT_EQ(cells[2], "0") << "mass";
+    for (std::size_t k = 3; k < 9; ++k) EXPECT_EQ(cells[k], "") << farRows[0][k] << " of row " << r;
+  }
+  const auto nearRows = test::readCsvRows(files[1]);
+  ASSERT_EQ(nearRows.size(), farRows.size());
+  for (std::size_t r = 1; r < nearRows.size(); ++r) {
+    ASSERT_EQ(nearRows[r].size(), 9u);
+    EXPECT_EQ(nearRows[r][1], "1");
+    EXPECT_EQ(std::strtod(nearRows[r][3].c_str(), nullptr), 0.1) << "mean_vx_m_s, exact";
+    for (const std::string& cell : nearRows[r]) EXPECT_FALSE(cell.empty());
+  }
+  if (!::testing::Test::HasFailure()) std::filesystem::remove_all(dir);
 }
 
 /// Eight resting spheres on a circle of radius 0.2 m at 45 degree steps; a small sphere

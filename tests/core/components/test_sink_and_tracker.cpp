@@ -3,20 +3,23 @@
 //    the step, and its tally equals the mass the world lost (relative 1e-12).
 //  - A moving sink sweeps a line; per-interval tallies add up to the total.
 //  - Tracker CSV rows equal the particle and mesh state (exact: shortest round-trip
-//    text), and a removed particle is reported as removed with NaN values.
+//    text), and a removed particle is reported as removed with empty (missing) cells.
+//  - An infinite reading stops the run (SimulationFault) and is never written.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <set>
-#include <sstream>
 #include <unistd.h>
 
 #include "demlink/core/base/input_error.hpp"
 #include "demlink/core/components/particle_sink.hpp"
 #include "demlink/core/components/particle_tracker.hpp"
+#include "demlink/core/step/watchdog.hpp"
+#include "csv_test_support.hpp"
 #include "sensor_test_support.hpp"
 
 namespace demlink::core {
@@ -87,18 +90,6 @@ TEST(ParticleSink, MovingBoxSweepsALineAndIntervalsAddUp) {
   EXPECT_NEAR(intervalMass, massBefore, 1e-12 * massBefore);
 }
 
-std::vector<std::vector<std::string>> readCsv(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::vector<std::vector<std::string>> rows;
-  for (std::string line; std::getline(in, line);) {
-    std::vector<std::string> cells;
-    std::stringstream stream(line);
-    for (std::string cell; std::getline(stream, cell, ',');) cells.push_back(cell);
-    rows.push_back(cells);
-  }
-  return rows;
-}
-
 TEST(ParticleTracker, CsvRowsMatchTheStateAndRemovalIsNoted) {
   World world(test::sensorSettings(Vec3(0.0, 0.0, -9.81)));
   const auto mat = world.addMaterial(test::testMaterial(0.5));
@@ -155,7 +146,7 @@ TEST(ParticleTracker, CsvRowsMatchTheStateAndRemovalIsNoted) {
   EXPECT_EQ(tracker.particles()[1].status, TrackedParticle::Status::Removed);
   EXPECT_EQ(tracker.particles()[2].status, TrackedParticle::Status::NotYetPresent);
 
-  const auto rows = readCsv(files[0]);
+  const auto rows = test::readCsvRows(files[0]);
   ASSERT_EQ(rows.size(), 1 + expected.size());
   const std::vector<std::string>& header = rows[0];
   ASSERT_EQ(header.size(), 1u + 3u * 13u + 19u);
@@ -174,11 +165,12 @@ TEST(ParticleTracker, CsvRowsMatchTheStateAndRemovalIsNoted) {
     if (want[14] > 0.0) {
       for (std::size_t k = 1; k < 13; ++k) EXPECT_EQ(std::strtod(cells[14 + k].c_str(), nullptr), want[14 + k]);
     } else {
-      EXPECT_EQ(cells[15], "nan");
+      EXPECT_EQ(cells[15], "") << "a removed particle has no position: an empty cell";
     }
-    // Not-yet-present id 99: status 0, values NaN.
+    // Not-yet-present id 99: status 0, values missing (empty cells).
     EXPECT_EQ(cells[27], "0");
-    EXPECT_EQ(cells[28], "nan");
+    EXPECT_EQ(cells[28], "");
+    EXPECT_EQ(cells[39], "");
     // Mesh: x, qw, qz and tz.
     const std::size_t meshCol = 40;
     const std::size_t wantMesh = want.size() - 4;
@@ -188,6 +180,37 @@ TEST(ParticleTracker, CsvRowsMatchTheStateAndRemovalIsNoted) {
     EXPECT_EQ(std::strtod(cells[meshCol + 18].c_str(), nullptr), want[wantMesh + 3]);
   }
   EXPECT_GT(std::strtod(rows.back()[40].c_str(), nullptr), 0.5) << "the mesh moved along +x";
+  if (!::testing::Test::HasFailure()) std::filesystem::remove_all(dir);
+}
+
+/// An infinite reading can only come from a state that is no longer finite: the sample is
+/// refused as the watchdog would stop the run (SimulationFault "non_finite_output" naming
+/// the column), before anything is recorded or written.
+TEST(ParticleTracker, InfiniteValueStopsTheRunAndIsNeverWritten) {
+  World world(test::sensorSettings());
+  world.addMaterial(test::testMaterial(0.5));
+  const std::uint64_t id = test::addSphere(world, Vec3::Zero(), 0.002);
+  auto& tracker = static_cast<ParticleTracker&>(world.addComponent(std::make_unique<ParticleTracker>(
+      "spin", std::vector<std::uint64_t>{id}, std::vector<std::size_t>{}, SampleSchedule{.every_steps = 5},
+      "tracker")));
+  world.initialize();
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("demlink_tracker_inf_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::vector<std::filesystem::path> files = writeSamplesToCsv(world.components(), dir);
+  world.step();
+  world.particles().angular_velocity[test::slotOf(world, id)].x() = std::numeric_limits<double>::infinity();
+  try {
+    for (int n = 0; n < 4; ++n) world.step();
+    ADD_FAILURE() << "a sample with an infinite spin was taken";
+  } catch (const SimulationFault& fault) {
+    EXPECT_EQ(fault.check(), "non_finite_output");
+    EXPECT_NE(std::string(fault.what()).find("p1_wx_rad_s is +inf"), std::string::npos) << fault.what();
+  }
+  EXPECT_EQ(tracker.sampleCount(), 1u) << "only the initial sample";
+  const auto rows = test::readCsvRows(files.at(0));
+  ASSERT_EQ(rows.size(), 2u) << "header and the initial sample";
+  for (const std::string& cell : rows[1]) EXPECT_FALSE(test::spellsNonFinite(cell)) << cell;
   if (!::testing::Test::HasFailure()) std::filesystem::remove_all(dir);
 }
 

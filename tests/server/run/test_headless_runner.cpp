@@ -9,6 +9,7 @@
 #include "demlink/core/step/watchdog.hpp"
 #include "demlink/server/run/headless_runner.hpp"
 #include "demlink/server/scene/scene_loader.hpp"
+#include "csv_test_support.hpp"
 #include "test_support.hpp"
 
 namespace demlink::server {
@@ -100,6 +101,58 @@ TEST(HeadlessRunner, NonFiniteStateIsNeverWritten) {
       EXPECT_EQ(text.find("inf"), std::string::npos) << entry.path();
     }
   }
+}
+
+/// Every file of a run's output folder states a value that does not exist as an empty
+/// cell, never as "nan" or "inf": a region sensor that is empty at every sample, one that
+/// holds every particle, and a tracker of an id no particle has yet, in a scene with
+/// contacts output. Every CSV row has its header's column count.
+TEST(HeadlessRunner, NoOutputFileSpellsANonFiniteNumber) {
+  const test::ScratchDir scratch;
+  const std::filesystem::path& dir = scratch.path();
+  std::string json = test::tinySceneJson(0.003, 0.001);
+  json.replace(json.find("\n  ]}"), 5, R"(,
+    {"name": "empty", "region_sensor": {"sample_every_steps": 50,
+      "region": {"box": {"centre": {"x": 1}, "size": {"x": 0.01, "y": 0.01, "z": 0.01}}}}},
+    {"name": "all", "region_sensor": {"sample_every_steps": 50,
+      "region": {"box": {"size": {"x": 1, "y": 1, "z": 1}}}}},
+    {"name": "watch", "tracker": {"sample_every_steps": 50, "particle_ids": [1, 99]}}
+  ]})");
+  json.replace(json.find(R"("progress_interval_s": 60)"), 25,
+               R"("progress_interval_s": 60, "contact_interval": 0.001)");
+  TranslatedScene scene = translateScene(parseSceneJson(json, "tiny"), {});
+  scene.run.output_directory = dir.string();
+  (void)runHeadless(scene);
+
+  std::size_t emptyCells = 0;
+  std::size_t csvFiles = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    const std::string extension = entry.path().extension().string();
+    if (extension == ".csv") {
+      ++csvFiles;
+      const auto rows = core::test::readCsvRows(entry.path());
+      ASSERT_GE(rows.size(), 1u) << entry.path() << ": no header";
+      for (std::size_t r = 0; r < rows.size(); ++r) {
+        // run_log.csv quotes values with commas; the others are plain numbers.
+        if (entry.path().filename() != "run_log.csv") {
+          ASSERT_EQ(rows[r].size(), rows[0].size()) << entry.path() << r;
+        }
+        for (const std::string& cell : rows[r]) {
+          EXPECT_FALSE(core::test::spellsNonFinite(cell)) << entry.path() << " row " << r << ": " << cell;
+          emptyCells += cell.empty() ? 1 : 0;
+        }
+      }
+    } else if (extension == ".pvd" || extension == ".txt") {
+      const std::string text = test::readText(entry.path());
+      EXPECT_EQ(text.find("nan"), std::string::npos) << entry.path();
+      EXPECT_EQ(text.find("inf"), std::string::npos) << entry.path();
+    }
+  }
+  EXPECT_TRUE(std::filesystem::exists(dir / "region_sensor_empty.csv"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "contacts_000001.csv"));
+  EXPECT_GE(csvFiles, 7u) << "summary, run log, two sensors, tracker, contacts";
+  // 7 samples x (6 of the empty sensor + 12 of the absent particle) at least.
+  EXPECT_GE(emptyCells, 7u * 18u) << "the missing values are there, as empty cells";
 }
 
 TEST(HeadlessRunner, TimeStepAboveTheLimitNamesTheSceneField) {

@@ -45,8 +45,9 @@ class RegionSensor final : public SampledComponent {
   /// and, in a world with bond rules (known from initialize() on), bonds_intact, bonds_broken.
   /// Why only then: the sensors of scenes without bonds keep their columns and checkpoints.
   [[nodiscard]] std::vector<std::string> columns() const override;
-  /// Schedule, then a "REGN" section with the latest reading but its bond counts (they
-  /// are measured again at the next sample).
+  /// Schedule, then a "REGN" section with the latest reading but its bond counts: those
+  /// are the last two values of the schedule's latest row, and loadState takes them from
+  /// there, so a restored latest() equals the uninterrupted run's.
   void saveState(StateWriter& out) const override;
   void loadState(StateReader& in) override;
 

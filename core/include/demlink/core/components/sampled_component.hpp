@@ -66,8 +66,10 @@ class SampledComponent : public WorldComponent {
   void resolveSchedule(const ComponentWorld& world);
   /// True when the world's step count is a multiple of the sample period.
   [[nodiscard]] bool sampleDue(const ComponentWorld& world) const;
-  /// Records a sample (row laid out as columns()) and writes it to the CSV file.
-  void publish(std::vector<double> row);
+  /// Records a sample (row laid out as columns(); NaN for a value that does not exist)
+  /// and writes it to the CSV file. Throws SimulationFault "non_finite_output" naming
+  /// the column for an infinite value; nothing is recorded then.
+  void publish(const ComponentWorld& world, std::vector<double> row);
 
  private:
   SampleSchedule schedule_;

@@ -15,7 +15,7 @@
 
 namespace demlink::server {
 
-/// Statistics of one frame, as written to summary.csv.
+/// Statistics of one frame, as written to summary.csv (NaN as an empty cell).
 struct FrameStats {
   double time = 0.0;                 ///< simulated time [s]
   std::size_t particles = 0;         ///< [-]
