@@ -2,12 +2,14 @@
 // rate and particle budget a page asks for, the connection cap, and a stalled page that must
 // not slow the simulation, and several simulations stepping at once, among which a page chooses.
 #include <gtest/gtest.h>
+#include <poll.h>
 
 #include <atomic>
 #include <chrono>
 #include <cstring>
 #include <optional>
 #include <regex>
+#include <stdexcept>
 #include <string>
 #include <thread>
 
@@ -77,6 +79,11 @@ struct Client {
       out += c;
     }
     return out;
+  }
+  /// Whether data arrives within `seconds` (a test that waits in vain fails instead of hanging).
+  bool readable(double seconds) {
+    pollfd poll_fd{socket.native_handle(), POLLIN, 0};
+    return ::poll(&poll_fd, 1, static_cast<int>(seconds * 1000.0)) > 0;
   }
   /// One server frame: opcode and payload.
   std::pair<int, std::string> readFrame() {
@@ -184,7 +191,10 @@ struct Page {
     float lower_y = 0.0f;         ///< the box's lower y [m]
   };
   Shown nextFrame() {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
     for (;;) {
+      const double left = std::chrono::duration<double>(deadline - std::chrono::steady_clock::now()).count();
+      if (left <= 0.0 || !client.readable(left)) throw std::runtime_error("the page got no frame for 10 s");
       const auto [opcode, payload] = client.readFrame();
       if (opcode == 1 && payload.find(R"("kind":"simulations")") != std::string::npos) list = payload;
       if (opcode == 1 && payload.find(R"("kind":"error")") != std::string::npos) error = payload;
