@@ -445,9 +445,13 @@ TEST(LiveViewHub, CapturesEachFollowedSimulationApart) {
   std::uint64_t version = 0;
   EXPECT_EQ(hub.snapshot(large.first, 0, version), nullptr);
   EXPECT_EQ(hub.sceneVersion(large.first), 0u);
+  EXPECT_EQ(hub.captureSets(), 1u);
   ASSERT_NE(awaitSnapshot(hub, kDefaultSimulation, 30, version), nullptr);
-  // Pages follow each: each is captured into its own buffers, at its pages' rate.
-  hub.setDemand({{kDefaultSimulation, 1000.0, {}}, {large.first, 1000.0, {}}});
+  // Pages follow each: each is captured into its own buffers, at its pages' rate; one set
+  // per simulation however many pages follow it, by its id or as the default.
+  hub.setDemand({{kDefaultSimulation, 1000.0, {}}, {large.first, 10.0, {}}, {large.first, 1000.0, {}},
+                 {small.first, 10.0, {}}});
+  EXPECT_EQ(hub.captureSets(), 2u);
   ASSERT_NE(awaitSnapshot(hub, large.first, 50, version), nullptr);
   std::uint64_t firstLarge = version, firstSmall = 0;
   ASSERT_NE(awaitSnapshot(hub, kDefaultSimulation, 30, firstSmall), nullptr);
@@ -475,6 +479,7 @@ TEST(LiveViewHub, CapturesEachFollowedSimulationApart) {
   EXPECT_EQ(followedId(hub.simulationsJson(kDefaultSimulation)), small.first);
   // The large one's pages leave: its captures are dropped, the default's stay.
   hub.setDemand({{kDefaultSimulation, 1000.0, {}}});
+  EXPECT_EQ(hub.captureSets(), 1u);
   EXPECT_EQ(hub.snapshot(large.first, 0, version), nullptr);
   EXPECT_EQ(hub.sceneVersion(large.first), 0u);
   EXPECT_NE(hub.snapshot(kDefaultSimulation, 0, version), nullptr);
@@ -520,6 +525,7 @@ TEST(LiveViewHub, ClosedSimulationLeavesTheList) {
   EXPECT_EQ(shown->particleCount(), 50u);
   // Closed, the second's captures go too.
   hub.release(second);
+  EXPECT_EQ(hub.captureSets(), 0u);
   EXPECT_EQ(hub.snapshot(secondId, 0, version), nullptr);
   EXPECT_EQ(hub.snapshot(kDefaultSimulation, 0, version), nullptr);
 }
@@ -573,6 +579,7 @@ TEST(ViewServer, EachPageFollowsItsOwnSimulation) {
   EXPECT_TRUE(b.awaitFollowing(small.first)) << b.list;
   a.expectFramesOf(50, kLargeY, 10, "a stays on the large one while b follows the small one");
   EXPECT_TRUE(a.awaitFollowing(large.first)) << a.list;
+  EXPECT_EQ(hub.captureSets(), 2u) << "one set of buffers per simulation followed";
 }
 
 TEST(ViewServer, PageOfAClosedSimulationMovesToTheDefault) {
@@ -595,6 +602,7 @@ TEST(ViewServer, PageOfAClosedSimulationMovesToTheDefault) {
   EXPECT_GT(b.scenes, scenesBefore) << "the default's scene is sent before its frames";
   b.expectFramesOf(30, kSmallY, 10, "b moved to the default");
   a.expectFramesOf(30, kSmallY, 10, "a stays on the default");
+  EXPECT_EQ(hub.captureSets(), 1u) << "the closed one's buffers are gone";
   // b may choose again among the open ones; the closed id is refused.
   b.ask("sim=" + std::to_string(large.first));
   for (int k = 0; k < 200 && b.error.empty(); ++k) b.nextFrame();

@@ -242,6 +242,12 @@ std::string LiveViewHub::simulationsJson(SimulationId simulation) {
   return fmt::format(R"({{"kind":"simulations","followed":{},"simulations":[{}]}})", shown ? shown->id : 0, list);
 }
 
+std::size_t LiveViewHub::captureSets() {
+  std::lock_guard lock(listing_mutex_);
+  return static_cast<std::size_t>(
+      std::count_if(slots_.begin(), slots_.end(), [](const auto& slot) { return slot->capture != nullptr; }));
+}
+
 std::uint64_t LiveViewHub::simulationsVersion() {
   std::lock_guard lock(listing_mutex_);
   return listing_version_;

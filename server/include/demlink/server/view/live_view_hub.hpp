@@ -54,6 +54,8 @@ class LiveViewHub final : public ViewFeed {
   void release(const core::World& world);
   /// Snapshots captured so far, over all simulations [-].
   [[nodiscard]] std::uint64_t captures() const { return captures_.load(std::memory_order_relaxed); }
+  /// Simulations that have captures (three snapshot buffers each) now [-].
+  [[nodiscard]] std::size_t captureSets();
 
   std::string sceneJson(SimulationId simulation) override;
   std::uint64_t sceneVersion(SimulationId simulation) override;
