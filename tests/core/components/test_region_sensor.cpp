@@ -6,7 +6,7 @@
 #include <memory>
 #include <numbers>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/core/components/region_sensor.hpp"
 #include "sensor_test_support.hpp"
 

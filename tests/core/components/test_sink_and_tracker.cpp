@@ -14,7 +14,7 @@
 #include <sstream>
 #include <unistd.h>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/core/components/particle_sink.hpp"
 #include "demlink/core/components/particle_tracker.hpp"
 #include "sensor_test_support.hpp"
@@ -118,7 +118,7 @@ TEST(ParticleTracker, CsvRowsMatchTheStateAndRemovalIsNoted) {
   const std::filesystem::path dir =
       std::filesystem::temp_directory_path() / ("demlink_tracker_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
-  const std::vector<std::filesystem::path> files = writeSamplesToCsv(world, dir);
+  const std::vector<std::filesystem::path> files = writeSamplesToCsv(world.components(), dir);
   ASSERT_EQ(files.size(), 1u);
   EXPECT_EQ(files[0].filename(), "tracker_track.csv");
 
