@@ -507,7 +507,8 @@ function onText(message) {
   }
 }
 
-// A server's simulations, when it runs several: the choice shows which one the view follows.
+// A server's simulations, when it runs several: the choice shows which one this page follows
+// (the server's default until the page picks one, and again when the picked one closes).
 function showSimulations(message) {
   state.simulations = message.simulations;
   state.followed = message.followed;

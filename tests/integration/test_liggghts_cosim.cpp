@@ -6,13 +6,19 @@
 /// cannot run is refused at the compile naming it, and the server stays up. A
 /// co-simulation's checkpoint continues in demlink-run, and with its client in
 /// demlink-server --restore. A client switches a ParticleSource off and on and changes its
-/// rate, and LIGGGHTS inserts accordingly.
+/// rate, and LIGGGHTS inserts accordingly. The live view (--view) shows the LIGGGHTS world.
+#include <arpa/inet.h>
 #include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/socket.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <chrono>
+#include <cstring>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -573,6 +579,158 @@ TEST(LiggghtsCosim, SourceRateAndOnOffFromTheClientReachLiggghts) {
                 static_cast<unsigned long long>(run.off.count - run.on.count),
                 static_cast<unsigned long long>(run.doubled.count - run.off.count));
   }
+  if (!::testing::Test::HasFailure()) std::filesystem::remove_all(out);
+}
+
+/// A WebSocket page of the live view over a plain loopback socket (the test needs no more
+/// than the handshake and the server's unmasked frames).
+class ViewPage {
+ public:
+  explicit ViewPage(int port) {
+    fd_ = ::socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in address{};
+    address.sin_family = AF_INET;
+    address.sin_port = htons(static_cast<std::uint16_t>(port));
+    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    connected_ = ::connect(fd_, reinterpret_cast<const sockaddr*>(&address), sizeof address) == 0;
+  }
+  ~ViewPage() { ::close(fd_); }
+  ViewPage(const ViewPage&) = delete;
+  ViewPage& operator=(const ViewPage&) = delete;
+
+  [[nodiscard]] bool connected() const { return connected_; }
+  void sendRaw(const std::string& bytes) { static_cast<void>(::write(fd_, bytes.data(), bytes.size())); }
+  /// A short masked text message (the page's request).
+  void sendText(const std::string& text) {
+    const std::array<char, 4> mask{1, 2, 3, 4};
+    std::string frame{static_cast<char>(0x81), static_cast<char>(0x80 | text.size())};
+    frame.append(mask.data(), mask.size());
+    for (std::size_t k = 0; k < text.size(); ++k) frame += static_cast<char>(text[k] ^ mask[k % 4]);
+    sendRaw(frame);
+  }
+  /// Reads through the handshake's blank line; false on a closed socket or after `seconds`.
+  bool readHandshake(double seconds) {
+    std::string head;
+    while (head.find("\r\n\r\n") == std::string::npos) {
+      char c = 0;
+      if (!read(&c, 1, seconds)) return false;
+      head += c;
+    }
+    return head.find(" 101 ") != std::string::npos;
+  }
+  /// The next server message (opcode, payload); opcode -1 on a closed socket or after `seconds`.
+  std::pair<int, std::string> next(double seconds) {
+    std::array<std::uint8_t, 2> head{};
+    if (!read(head.data(), 2, seconds)) return {-1, {}};
+    std::uint64_t length = head[1] & 0x7F;
+    const std::size_t extra = length == 126 ? 2 : length == 127 ? 8 : 0;
+    if (extra > 0) {
+      std::array<std::uint8_t, 8> bytes{};
+      if (!read(bytes.data(), extra, seconds)) return {-1, {}};
+      length = 0;
+      for (std::size_t k = 0; k < extra; ++k) length = (length << 8) | bytes[k];
+    }
+    std::string payload(static_cast<std::size_t>(length), '\0');
+    if (!read(payload.data(), payload.size(), seconds)) return {-1, {}};
+    return {head[0] & 0x0F, payload};
+  }
+
+ private:
+  bool read(void* into, std::size_t size, double seconds) {
+    auto* bytes = static_cast<char*>(into);
+    while (size > 0) {
+      pollfd poll_fd{fd_, POLLIN, 0};
+      if (::poll(&poll_fd, 1, static_cast<int>(seconds * 1000.0)) <= 0) return false;
+      const ssize_t n = ::read(fd_, bytes, size);
+      if (n <= 0) return false;
+      bytes += n;
+      size -= static_cast<std::size_t>(n);
+    }
+    return true;
+  }
+  int fd_ = -1;
+  bool connected_ = false;
+};
+
+/// A view frame's particles in the world and step (frame_encoder.hpp's header).
+struct ViewFrame {
+  std::uint32_t particles = 0;
+  double step = 0.0;
+};
+
+ViewFrame viewFrame(const std::string& payload) {
+  ViewFrame frame;
+  if (payload.size() < 144) return frame;
+  std::memcpy(&frame.step, payload.data() + 16, 8);
+  std::memcpy(&frame.particles, payload.data() + 72, 4);
+  return frame;
+}
+
+TEST(LiggghtsCosim, LiveViewShowsTheLiggghtsWorld) {
+  // demlink-server --backend liggghts --view: a page is sent the scene and frames of the
+  // bed's 96 spheres, first at the start and then as LIGGGHTS steps.
+  const std::filesystem::path out = scratch("view");
+  Child server = startServer(1, out, {"--once", "--view", "127.0.0.1:0"});
+  std::string announced;
+  const int port = announcedPort(server, announced);
+  ASSERT_GT(port, 0) << announced;
+  const std::string viewLine = server.readLine(std::chrono::seconds(30));
+  const std::string prefix = "demlink-server view at http://127.0.0.1:";
+  ASSERT_TRUE(viewLine.starts_with(prefix)) << viewLine;
+  const int viewPort = std::atoi(viewLine.substr(prefix.size()).c_str());
+  client::Connection connection;
+  connectTo(connection, port, "bed");
+  client::Session session(connection);
+  constexpr std::uint64_t kViewExchanges = 50;
+  declareBed(session, static_cast<double>(kViewExchanges * kInterval) * kDt, 4);
+  session.declare();
+  session.waitCompiled();
+  ViewPage page(viewPort);
+  ASSERT_TRUE(page.connected());
+  page.sendRaw("GET /ws HTTP/1.1\r\nHost: x\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+               "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n");
+  ASSERT_TRUE(page.readHandshake(30.0));
+  page.sendText("rate=30");
+  std::string scene;
+  ViewFrame first;
+  for (;;) {  // the simulation was captured at its start: its scene, then its first frame
+    const auto [opcode, payload] = page.next(30.0);
+    ASSERT_NE(opcode, -1) << "no frame within 30 s; scene: " << scene;
+    if (opcode == 1 && payload.find(R"("kind":"scene")") != std::string::npos) scene = payload;
+    if (opcode != 2) continue;
+    first = viewFrame(payload);
+    break;
+  }
+  EXPECT_NE(scene.find(R"("materials":["glass"])"), std::string::npos) << scene;
+  EXPECT_NE(scene.find(R"("planes":[{"point":)"), std::string::npos) << scene;
+  EXPECT_EQ(first.particles, 96u);
+  // The frames that come while the client exchanges: LIGGGHTS's steps, all 96 spheres.
+  std::atomic<std::uint32_t> fewest{96}, most{96};
+  std::atomic<double> lastStep{first.step};
+  std::thread reader([&] {
+    for (;;) {
+      const auto [opcode, payload] = page.next(30.0);
+      if (opcode == -1) return;  // the server exits after the run (--once)
+      if (opcode != 2) continue;
+      const ViewFrame frame = viewFrame(payload);
+      fewest = std::min(fewest.load(), frame.particles);
+      most = std::max(most.load(), frame.particles);
+      lastStep = std::max(lastStep.load(), frame.step);
+    }
+  });
+  // The client takes 10 ms per exchange, so the 500 steps span several of the page's frame
+  // periods (LIGGGHTS alone would run them in less than one).
+  while (session.exchange()) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  const std::string finished = session.finished() ? session.finishedInfo().reason() : "";
+  connection.close();
+  const int serverExit = server.waitForExit(std::chrono::seconds(30));
+  reader.join();
+  EXPECT_EQ(finished, "end time reached");
+  EXPECT_EQ(serverExit, 0);
+  EXPECT_EQ(fewest.load(), 96u);
+  EXPECT_EQ(most.load(), 96u);
+  EXPECT_GT(lastStep.load(), first.step) << "frames of later steps follow as LIGGGHTS steps";
+  EXPECT_LE(lastStep.load(), static_cast<double>(kViewExchanges * kInterval));
   if (!::testing::Test::HasFailure()) std::filesystem::remove_all(out);
 }
 

@@ -3,8 +3,9 @@
 // triangles and five springs, one of which tears at the first step), the page must list
 // them, and picking one in its list must bring that simulation's frames: the overlay's
 // particle count follows the choice, each way. The sheet is drawn with its four intact
-// springs and the one triangle the torn spring leaves supported. The page's console must
-// stay free of errors.
+// springs and the one triangle the torn spring leaves supported. Then a second page opens:
+// it follows the default until it picks, and a pick in either page moves no other. The
+// pages' consoles must stay free of errors.
 //
 //   node check_view_choice.mjs --fixture DEMLINK_VIEW_FIXTURE --scenes SMALL,LARGE,SHEET [--chromium PATH]
 // Prints "N passed, M failed"; exits 1 on any failure.
@@ -43,8 +44,9 @@ async function main() {
   const devtools = new DevTools(browser);
   const page = await devtools.openPage('about:blank');
   const errors = [];
+  const sessions = new Set([page.sessionId]);
   devtools.listeners.push((message) => {
-    if (message.sessionId !== page.sessionId) return;
+    if (!sessions.has(message.sessionId)) return;
     if (message.method === 'Runtime.exceptionThrown') errors.push(`${message.params.exceptionDetails.text} ${message.params.exceptionDetails.exception?.description ?? ''}`);
     if (message.method === 'Runtime.consoleAPICalled' && message.params.type === 'error') errors.push(JSON.stringify(message.params.args));
     if (message.method === 'Log.entryAdded' && message.params.entry.level === 'error') errors.push(message.params.entry.text);
@@ -52,13 +54,14 @@ async function main() {
   await page('Runtime.enable');
   await page('Log.enable');
   await page('Page.navigate', { url });
-  const waitFor = async (expression, seconds, what) => {
+  const waitIn = async (target, expression, seconds, what) => {
     for (let k = 0; k < seconds * 10; ++k) {
-      try { if (await evaluate(page, expression)) return true; } catch { /* the page is still loading */ }
+      try { if (await evaluate(target, expression)) return true; } catch { /* the page is still loading */ }
       await sleep(100);
     }
     throw new Error(`timed out waiting for ${what}${errors.length ? '; the page logged: ' + errors.slice(0, 3).join('; ') : ''}`);
   };
+  const waitFor = (expression, seconds, what) => waitIn(page, expression, seconds, what);
   await waitFor(`window.demlinkView && window.demlinkView.status && window.demlinkView.simulations.length === 3`, 60,
     'a frame and a list of three simulations');
   const listed = await evaluate(page, `(() => {
@@ -70,16 +73,17 @@ async function main() {
   check(listed.visible, 'the page shows its list of simulations');
   check(listed.simulations.every((s) => kExpected[s.name]?.particles === s.particles) && listed.options.length === 3,
     `the list names each with its particle count (${listed.options.map((o) => o.text).join('; ')})`);
-  const overlayParticles = () => evaluate(page, `Number(document.getElementById('particles').textContent)`);
+  const overlayParticles = (target = page) => evaluate(target, `Number(document.getElementById('particles').textContent)`);
+  const choose = (target, simulation) => evaluate(target, `(() => {
+    const select = document.getElementById('simulation');
+    select.value = '${simulation.id}';
+    select.dispatchEvent(new Event('change'));
+  })()`);
   // Each in turn, the one not shown first: the overlay's particle count must follow.
   const firstShown = await overlayParticles();
   const order = [...listed.simulations].sort((a, b) => (a.particles === firstShown) - (b.particles === firstShown));
   for (const simulation of [...order, ...order]) {
-    await evaluate(page, `(() => {
-      const select = document.getElementById('simulation');
-      select.value = '${simulation.id}';
-      select.dispatchEvent(new Event('change'));
-    })()`);
+    await choose(page, simulation);
     await waitFor(`Number(document.getElementById('particles').textContent) === ${simulation.particles}`, 20,
       `${simulation.name}'s frames`).catch(() => {});
     await sleep(1500);  // later frames must stay the chosen simulation's, and the list say so
@@ -92,7 +96,37 @@ async function main() {
     const expected = JSON.stringify(kExpected[simulation.name].surfaces ?? []);
     check(surfaces === expected, `${simulation.name} draws surfaces ${surfaces} (expected ${expected}: torn springs and the triangles they held are not drawn)`);
   }
-  check(errors.length === 0, `no errors in the page's console${errors.length ? ': ' + errors.join('; ') : ''}`);
+
+  // A second page: the default until it picks; a pick in either page moves no other.
+  const second = await devtools.openPage('about:blank');
+  sessions.add(second.sessionId);
+  await second('Runtime.enable');
+  await second('Log.enable');
+  await second('Page.navigate', { url });
+  await waitIn(second, `window.demlinkView && window.demlinkView.status && window.demlinkView.simulations.length === 3`, 60,
+    'the second page\'s first frame and list');
+  const defaultId = await evaluate(second, `window.demlinkView.followed`);
+  const byId = (id) => listed.simulations.find((s) => s.id === id);
+  const others = listed.simulations.filter((s) => s.id !== defaultId);
+  check(byId(defaultId) !== undefined && others.length === 2, `the second page follows the default (${defaultId})`);
+  // The pages' states, read after frames have had time to arrive.
+  const shows = async (target, simulation) => {
+    await waitIn(target, `Number(document.getElementById('particles').textContent) === ${simulation.particles}`, 20,
+      `${simulation.name}'s frames`).catch(() => {});
+    await sleep(1500);
+    const shown = await overlayParticles(target);
+    const followed = await evaluate(target, `window.demlinkView.followed`);
+    return { ok: shown === simulation.particles && followed === simulation.id, text: `overlay ${shown} particles, followed ${followed}` };
+  };
+  const plan = [[page, others[0], second, byId(defaultId)], [second, others[1], page, others[0]]];
+  for (const [picking, picked, other, kept] of plan) {
+    await choose(picking, picked);
+    const mine = await shows(picking, picked);
+    check(mine.ok, `${picking === page ? 'first' : 'second'} page chose ${picked.name}: ${mine.text}`);
+    const theirs = await shows(other, kept);
+    check(theirs.ok, `${other === page ? 'first' : 'second'} page stays on ${kept.name} (${kept.particles} particles, id ${kept.id}): ${theirs.text}`);
+  }
+  check(errors.length === 0, `no errors in the pages' consoles${errors.length ? ': ' + errors.join('; ') : ''}`);
   await devtools.send('Browser.close').catch(() => {});
 }
 

@@ -67,13 +67,13 @@ TEST(RecordedRun, ReadsTheRunsOwnFilesInBothEncodings) {
     RecordedRun run(dir, "OUTPUT_DIR");
     ASSERT_EQ(run.frameCount(), 3u);
     EXPECT_EQ(run.frameTime(2), 0.5);
-    EXPECT_NE(run.sceneJson().find(R"("name":"meshes","triangles":[0,1,2],"springs":[]})"), std::string::npos)
-        << run.sceneJson();
-    EXPECT_NE(run.sceneJson().find(R"("name":"sheet","triangles":[0,1,2,0,2,3],"springs":[0,1,1,2,2,3,3,0,0,2]})"),
+    EXPECT_NE(run.sceneJson(kDefaultSimulation).find(R"("name":"meshes","triangles":[0,1,2],"springs":[]})"), std::string::npos)
+        << run.sceneJson(kDefaultSimulation);
+    EXPECT_NE(run.sceneJson(kDefaultSimulation).find(R"("name":"sheet","triangles":[0,1,2,0,2,3],"springs":[0,1,1,2,2,3,3,0,0,2]})"),
               std::string::npos)
-        << run.sceneJson();
+        << run.sceneJson(kDefaultSimulation);
     std::uint64_t version = 0;
-    const ViewSnapshot* frame = run.snapshot(2, version);
+    const ViewSnapshot* frame = run.snapshot(kDefaultSimulation, 2, version);
     EXPECT_EQ(version, 3u);
     ASSERT_EQ(frame->particleCount(), 5u);
     EXPECT_FLOAT_EQ(frame->position[3 * 4], static_cast<float>(0.4 + 1.0));
@@ -87,10 +87,10 @@ TEST(RecordedRun, ReadsTheRunsOwnFilesInBothEncodings) {
     EXPECT_EQ(frame->surfaces[0].spring_intact, std::vector<std::uint8_t>{}) << "a rigid mesh has no springs";
     EXPECT_EQ(frame->surfaces[1].spring_intact, (std::vector<std::uint8_t>{0, 1, 1, 1, 1})) << "torn by frame 2";
     EXPECT_EQ(frame->surfaces[1].triangle_active, (std::vector<std::uint8_t>{0, 1}));
-    frame = run.snapshot(1, version);
+    frame = run.snapshot(kDefaultSimulation, 1, version);
     EXPECT_EQ(frame->surfaces[1].spring_intact, (std::vector<std::uint8_t>{1, 1, 1, 1, 1})) << "intact at frame 1";
     EXPECT_EQ(frame->surfaces[1].triangle_active, (std::vector<std::uint8_t>{1, 1}));
-    run.snapshot(99, version);  // clamped to the last frame
+    run.snapshot(kDefaultSimulation, 99, version);  // clamped to the last frame
     EXPECT_EQ(version, 3u);
   }
 }
@@ -113,7 +113,7 @@ TEST(RecordedRun, RefusesWhatIsNotARun) {
   RecordedRun run(dir, "OUTPUT_DIR");
   std::uint64_t version = 0;
   try {
-    run.snapshot(1, version);
+    run.snapshot(kDefaultSimulation, 1, version);
     FAIL() << "a truncated frame was accepted";
   } catch (const core::InputError& error) {
     EXPECT_NE(std::string(error.what()).find("particles_000001.vtp"), std::string::npos) << error.what();

@@ -2,12 +2,14 @@
 // rate and particle budget a page asks for, the connection cap, and a stalled page that must
 // not slow the simulation, and several simulations stepping at once, among which a page chooses.
 #include <gtest/gtest.h>
+#include <poll.h>
 
 #include <atomic>
 #include <chrono>
 #include <cstring>
 #include <optional>
 #include <regex>
+#include <stdexcept>
 #include <string>
 #include <thread>
 
@@ -22,8 +24,14 @@ namespace {
 
 using asio::ip::tcp;
 
-/// n spheres in a row along x, no gravity, at rest.
-core::World rowOfSpheres(std::size_t n) {
+/// Where the two simulations' rows lie, so that a frame tells whose it is by its box too [m].
+constexpr double kSmallY = 0.0;
+constexpr double kLargeY = 0.5;
+/// Sphere radius of rowOfSpheres [m].
+constexpr double kRadius = 0.004;
+
+/// n spheres in a row along x at height y, no gravity, at rest.
+core::World rowOfSpheres(std::size_t n, double y = 0.0) {
   core::SimulationSettings settings;
   settings.gravity = core::Vec3::Zero();
   settings.time_step = 1.0e-5;
@@ -37,8 +45,8 @@ core::World rowOfSpheres(std::size_t n) {
   const std::uint32_t glass = world.addMaterial(material);
   for (std::size_t i = 0; i < n; ++i) {
     core::ParticleSpec spec;
-    spec.position = core::Vec3(0.01 * static_cast<double>(i), 0.0, 0.0);
-    spec.radius = 0.004;
+    spec.position = core::Vec3(0.01 * static_cast<double>(i), y, 0.0);
+    spec.radius = kRadius;
     spec.material = glass;
     world.addParticle(spec);
   }
@@ -71,6 +79,11 @@ struct Client {
       out += c;
     }
     return out;
+  }
+  /// Whether data arrives within `seconds` (a test that waits in vain fails instead of hanging).
+  bool readable(double seconds) {
+    pollfd poll_fd{socket.native_handle(), POLLIN, 0};
+    return ::poll(&poll_fd, 1, static_cast<int>(seconds * 1000.0)) > 0;
   }
   /// One server frame: opcode and payload.
   std::pair<int, std::string> readFrame() {
@@ -108,30 +121,42 @@ std::uint64_t followedId(const std::string& list) {
   return std::stoull(match[1].str());
 }
 
-/// Two worlds of 30 and 50 spheres stepping on threads of their own until destroyed, each
-/// announced under its name and offered after every step, as demlink-server's simulations.
+/// Two worlds, of 30 spheres at y = kSmallY and 50 at y = kLargeY, stepping on threads of
+/// their own until closed, each announced under its name, offered after every step and
+/// released at its end, as demlink-server's simulations. The small one steps first, so it
+/// is the default.
 struct TwoSimulations {
-  core::World small = rowOfSpheres(30);
-  core::World large = rowOfSpheres(50);
-  std::atomic<bool> stop{false};
+  core::World small = rowOfSpheres(30, kSmallY);
+  core::World large = rowOfSpheres(50, kLargeY);
+  std::atomic<bool> stop_small{false}, stop_large{false};
   std::thread a, b;
 
   explicit TwoSimulations(LiveViewHub& hub) {
-    auto run = [this, &hub](core::World& world, const std::string& name) {
+    auto run = [&hub](core::World& world, const std::string& name, const std::atomic<bool>& stop) {
       hub.announce(world, name);
       while (!stop.load()) {
         world.step();
         hub.offer(world);
         std::this_thread::sleep_for(std::chrono::microseconds(200));
       }
+      hub.release(world);
     };
-    a = std::thread(run, std::ref(small), "sim_small");
-    b = std::thread(run, std::ref(large), "sim_large");
+    a = std::thread(run, std::ref(small), "sim_small", std::cref(stop_small));
+    for (int k = 0; k < 5000 && followedId(hub.simulationsJson(kDefaultSimulation)) == 0; ++k) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    b = std::thread(run, std::ref(large), "sim_large", std::cref(stop_large));
+  }
+  /// Stops the large one; its thread releases it.
+  void closeLarge() {
+    stop_large = true;
+    b.join();
   }
   ~TwoSimulations() {
-    stop = true;
-    a.join();
-    b.join();
+    stop_small = true;
+    stop_large = true;
+    if (a.joinable()) a.join();
+    if (b.joinable()) b.join();
   }
 };
 
@@ -145,6 +170,63 @@ std::string upgrade(const std::string& target) {
   return "GET " + target + " HTTP/1.1\r\nHost: x\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
          "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n";
 }
+
+/// One page over a WebSocket at 30 frames/s: what its frames show, and the latest list,
+/// error and scene count among the text messages in between.
+struct Page {
+  Client client;
+  std::string list, error;
+  int scenes = 0;
+
+  explicit Page(std::uint16_t port) : client(port) {
+    client.send(upgrade("/ws"));
+    client.readUntil("\r\n\r\n");
+    ask("rate=30");
+  }
+  void ask(const std::string& request) {
+    client.send(encodeMaskedClientFrame(WebSocketOpcode::kText, request, {9, 8, 7, 6}));
+  }
+  struct Shown {
+    std::uint32_t particles = 0;  ///< in the world
+    float lower_y = 0.0f;         ///< the box's lower y [m]
+  };
+  Shown nextFrame() {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    for (;;) {
+      const double left = std::chrono::duration<double>(deadline - std::chrono::steady_clock::now()).count();
+      if (left <= 0.0 || !client.readable(left)) throw std::runtime_error("the page got no frame for 10 s");
+      const auto [opcode, payload] = client.readFrame();
+      if (opcode == 1 && payload.find(R"("kind":"simulations")") != std::string::npos) list = payload;
+      if (opcode == 1 && payload.find(R"("kind":"error")") != std::string::npos) error = payload;
+      if (opcode == 1 && payload.find(R"("kind":"scene")") != std::string::npos) ++scenes;
+      if (opcode != 2) continue;
+      Shown shown;
+      std::memcpy(&shown.particles, payload.data() + 72, 4);
+      std::memcpy(&shown.lower_y, payload.data() + 84, 4);
+      return shown;
+    }
+  }
+  /// Reads frames until one of `particles` arrives; false when none among the next 300.
+  bool awaitFrameOf(std::uint32_t particles) {
+    for (int k = 0; k < 300; ++k) {
+      if (nextFrame().particles == particles) return true;
+    }
+    return false;
+  }
+  /// Reads frames until the list says the page follows `id`; false when not within 300.
+  bool awaitFollowing(std::uint64_t id) {
+    for (int k = 0; k < 300 && followedId(list) != id; ++k) nextFrame();
+    return followedId(list) == id;
+  }
+  /// The next `count` frames are all of the simulation with `particles` at row height `y`.
+  void expectFramesOf(std::uint32_t particles, double y, int count, const std::string& what) {
+    for (int k = 0; k < count; ++k) {
+      const Shown shown = nextFrame();
+      EXPECT_EQ(shown.particles, particles) << what;
+      EXPECT_NEAR(shown.lower_y, y - kRadius, 1.0e-6) << what;
+    }
+  }
+};
 
 TEST(ViewServer, ServesThePageAndOnlyThreeJsFromItsFolder) {
   LiveViewHub hub;
@@ -282,12 +364,39 @@ TEST(ViewServer, StalledPageNeverSlowsTheSimulation) {
   EXPECT_LT(server.framesSent(), hub.captures());
 }
 
-TEST(LiveViewHub, FollowsOneOfSeveralSimulationsSteppingAtOnce) {
+/// Waits until the hub lists both simulations; their ids and particle counts.
+std::pair<std::pair<std::uint64_t, std::uint64_t>, std::pair<std::uint64_t, std::uint64_t>> bothListed(
+    LiveViewHub& hub) {
+  std::string list;
+  for (int k = 0; k < 5000 && !(listed(list, "sim_small") && listed(list, "sim_large")); ++k) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    list = hub.simulationsJson(kDefaultSimulation);
+  }
+  if (!(listed(list, "sim_small") && listed(list, "sim_large"))) {
+    ADD_FAILURE() << "not both listed: " << list;
+    return {};
+  }
+  return {*listed(list, "sim_small"), *listed(list, "sim_large")};
+}
+
+/// The snapshot of `simulation` once one with `particles` is there (null when none comes).
+const ViewSnapshot* awaitSnapshot(LiveViewHub& hub, SimulationId simulation, std::size_t particles,
+                                  std::uint64_t& version) {
+  for (int k = 0; k < 5000; ++k) {
+    const ViewSnapshot* shown = hub.snapshot(simulation, 0, version);
+    if (shown != nullptr && shown->particleCount() == particles) return shown;
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  return nullptr;
+}
+
+TEST(LiveViewHub, DefaultIsTheFirstToStepUntilItCloses) {
   core::World first = rowOfSpheres(30);
   core::World second = rowOfSpheres(50);
   LiveViewHub hub;
-  hub.setDemand(1000.0, {});
-  // Both step on their own threads and offer every step; only one is ever captured.
+  hub.setDemand({{kDefaultSimulation, 1000.0, {}}});
+  // Both step on their own threads and offer every step; pages follow the default only, so
+  // only the default is ever captured.
   std::atomic<bool> go{false};
   auto stepAndOffer = [&](core::World& world) {
     while (!go.load()) std::this_thread::yield();
@@ -301,74 +410,88 @@ TEST(LiveViewHub, FollowsOneOfSeveralSimulationsSteppingAtOnce) {
   a.join();
   b.join();
   std::uint64_t version = 0;
-  const ViewSnapshot* shown = hub.snapshot(0, version);
+  const ViewSnapshot* shown = hub.snapshot(kDefaultSimulation, 0, version);
   ASSERT_NE(shown, nullptr);
   const core::World& followed = shown->particleCount() == 30 ? first : second;
   const core::World& other = &followed == &first ? second : first;
-  const std::uint64_t sceneVersion = hub.sceneVersion();
-  EXPECT_EQ(sceneVersion, 1u);  // described once: the view never switched back and forth
-  // The other's offers change nothing while the followed one is open...
+  const std::uint64_t sceneVersion = hub.sceneVersion(kDefaultSimulation);
+  EXPECT_GT(sceneVersion, 0u);
+  // The other's offers capture nothing: no page follows it...
   const std::uint64_t captures = hub.captures();
   hub.offerNow(other);
   EXPECT_EQ(hub.captures(), captures);
-  // ...releasing the other is no release; releasing the followed one hands the view over.
+  // ...releasing it changes nothing; releasing the default makes the next to offer the default.
   hub.release(other);
   hub.offerNow(other);
   EXPECT_EQ(hub.captures(), captures);
   hub.release(followed);
   hub.offerNow(other);
   EXPECT_EQ(hub.captures(), captures + 1);
-  EXPECT_EQ(hub.sceneVersion(), sceneVersion + 1);
-  shown = hub.snapshot(0, version);
+  EXPECT_NE(hub.sceneVersion(kDefaultSimulation), sceneVersion);
+  shown = hub.snapshot(kDefaultSimulation, 0, version);
   ASSERT_NE(shown, nullptr);
   EXPECT_EQ(shown->particleCount(), &other == &first ? 30u : 50u);
 }
 
-TEST(LiveViewHub, FollowsTheSimulationAPageChooses) {
+TEST(LiveViewHub, CapturesEachFollowedSimulationApart) {
   LiveViewHub hub;
-  hub.setDemand(1000.0, {});
   TwoSimulations simulations(hub);
-  std::string list;
-  for (int k = 0; k < 2000 && !(listed(list, "sim_small") && listed(list, "sim_large")); ++k) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    list = hub.simulationsJson();
-  }
-  ASSERT_TRUE(listed(list, "sim_small") && listed(list, "sim_large")) << list;
-  EXPECT_EQ(listed(list, "sim_small")->second, 30u);
-  EXPECT_EQ(listed(list, "sim_large")->second, 50u);
-  // Each in turn, twice over: after the choice every snapshot is the chosen one's.
-  for (const char* name : {"sim_small", "sim_large", "sim_small", "sim_large"}) {
-    const auto [id, particles] = *listed(list, name);
-    const std::uint64_t versionBefore = hub.simulationsVersion();
-    const bool followedBefore = followedId(hub.simulationsJson()) == id;
-    ASSERT_EQ(hub.follow(id), std::nullopt) << name;
-    if (!followedBefore) {
-      EXPECT_GT(hub.simulationsVersion(), versionBefore) << "the pages are sent the list again";
-    }
-    EXPECT_EQ(followedId(hub.simulationsJson()), id);
-    std::uint64_t version = 0, first = 0;
-    const ViewSnapshot* shown = nullptr;
-    for (int k = 0; k < 2000; ++k) {  // the first capture after the choice
-      shown = hub.snapshot(0, version);
-      if (shown != nullptr && shown->particleCount() == particles) break;
-      std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    }
+  const auto [small, large] = bothListed(hub);
+  ASSERT_NE(small.first, 0u);
+  EXPECT_EQ(small.second, 30u);
+  EXPECT_EQ(large.second, 50u);
+  // No page: the default is captured once (its scene for the first page), the other never.
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  std::uint64_t version = 0;
+  EXPECT_EQ(hub.snapshot(large.first, 0, version), nullptr);
+  EXPECT_EQ(hub.sceneVersion(large.first), 0u);
+  EXPECT_EQ(hub.captureSets(), 1u);
+  ASSERT_NE(awaitSnapshot(hub, kDefaultSimulation, 30, version), nullptr);
+  // Pages follow each: each is captured into its own buffers, at its pages' rate; one set
+  // per simulation however many pages follow it, by its id or as the default.
+  hub.setDemand({{kDefaultSimulation, 1000.0, {}}, {large.first, 10.0, {}}, {large.first, 1000.0, {}},
+                 {small.first, 10.0, {}}});
+  EXPECT_EQ(hub.captureSets(), 2u);
+  ASSERT_NE(awaitSnapshot(hub, large.first, 50, version), nullptr);
+  std::uint64_t firstLarge = version, firstSmall = 0;
+  ASSERT_NE(awaitSnapshot(hub, kDefaultSimulation, 30, firstSmall), nullptr);
+  std::uint64_t lastLarge = firstLarge, lastSmall = firstSmall;
+  for (int k = 0; k < 50; ++k) {
+    const ViewSnapshot* shown = hub.snapshot(large.first, 0, lastLarge);
     ASSERT_NE(shown, nullptr);
-    ASSERT_EQ(shown->particleCount(), particles) << name;
-    first = version;
-    for (int k = 0; k < 50; ++k) {
-      shown = hub.snapshot(0, version);
-      EXPECT_EQ(shown->particleCount(), particles) << name;
-      std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    }
-    EXPECT_GT(version, first) << "the chosen simulation goes on being captured";
+    EXPECT_EQ(shown->particleCount(), 50u);
+    EXPECT_FLOAT_EQ(shown->position[1], static_cast<float>(kLargeY));
+    shown = hub.snapshot(kDefaultSimulation, 0, lastSmall);
+    ASSERT_NE(shown, nullptr);
+    EXPECT_EQ(shown->particleCount(), 30u);
+    EXPECT_FLOAT_EQ(shown->position[1], static_cast<float>(kSmallY));
+    shown = hub.snapshot(small.first, 0, version);  // the default by its id: the same
+    ASSERT_NE(shown, nullptr);
+    EXPECT_EQ(shown->particleCount(), 30u);
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
-  // An id no open simulation has is refused, and the view stays where it is.
-  const std::uint64_t followed = followedId(hub.simulationsJson());
-  const std::optional<std::string> refused = hub.follow(12345);
+  EXPECT_GT(lastLarge, firstLarge) << "the large one goes on being captured";
+  EXPECT_GT(lastSmall, firstSmall) << "the small one goes on being captured";
+  EXPECT_NE(hub.sceneVersion(large.first), hub.sceneVersion(kDefaultSimulation));
+  EXPECT_EQ(hub.sceneVersion(small.first), hub.sceneVersion(kDefaultSimulation));
+  // Each page's list says which it follows.
+  EXPECT_EQ(followedId(hub.simulationsJson(large.first)), large.first);
+  EXPECT_EQ(followedId(hub.simulationsJson(kDefaultSimulation)), small.first);
+  // The large one's pages leave: its captures are dropped, the default's stay.
+  hub.setDemand({{kDefaultSimulation, 1000.0, {}}});
+  EXPECT_EQ(hub.captureSets(), 1u);
+  EXPECT_EQ(hub.snapshot(large.first, 0, version), nullptr);
+  EXPECT_EQ(hub.sceneVersion(large.first), 0u);
+  EXPECT_NE(hub.snapshot(kDefaultSimulation, 0, version), nullptr);
+  // Any open simulation may be followed; an id no open simulation has is refused.
+  EXPECT_EQ(hub.cannotFollow(large.first), std::nullopt);
+  EXPECT_EQ(hub.cannotFollow(small.first), std::nullopt);
+  const std::optional<std::string> refused = hub.cannotFollow(12345);
   ASSERT_TRUE(refused.has_value());
-  EXPECT_NE(refused->find("no open simulation has this id (open: "), std::string::npos) << *refused;
-  EXPECT_EQ(followedId(hub.simulationsJson()), followed);
+  EXPECT_NE(refused->find("no open simulation has this id (open: " + std::to_string(small.first) + ", " +
+                          std::to_string(large.first) + ")"),
+            std::string::npos)
+      << *refused;
 }
 
 TEST(LiveViewHub, ClosedSimulationLeavesTheList) {
@@ -378,21 +501,33 @@ TEST(LiveViewHub, ClosedSimulationLeavesTheList) {
   hub.announce(first, "sim_001");
   hub.offer(first);
   hub.offer(second);  // unnamed: listed by its id
-  const std::string list = hub.simulationsJson();
+  const std::string list = hub.simulationsJson(kDefaultSimulation);
   ASSERT_TRUE(listed(list, "sim_001")) << list;
-  const std::uint64_t secondId = listed(list, "simulation " + std::to_string(listed(list, "sim_001")->first + 1))->first;
-  EXPECT_EQ(followedId(list), listed(list, "sim_001")->first);  // the first to offer
-  hub.release(first);
-  const std::string after = hub.simulationsJson();
-  EXPECT_FALSE(listed(after, "sim_001")) << after;
-  EXPECT_EQ(followedId(after), 0u);
-  EXPECT_TRUE(hub.follow(listed(list, "sim_001")->first).has_value()) << "a closed simulation cannot be chosen";
-  EXPECT_EQ(hub.follow(secondId), std::nullopt);
+  const std::uint64_t firstId = listed(list, "sim_001")->first;
+  const std::uint64_t secondId = listed(list, "simulation " + std::to_string(firstId + 1))->first;
+  EXPECT_EQ(followedId(list), firstId);  // the first to offer is the default
+  hub.setDemand({{firstId, 10.0, {}}, {secondId, 10.0, {}}});
   hub.offerNow(second);
   std::uint64_t version = 0;
-  const ViewSnapshot* shown = hub.snapshot(0, version);
+  ASSERT_NE(hub.snapshot(secondId, 0, version), nullptr);
+  hub.release(first);
+  const std::string after = hub.simulationsJson(kDefaultSimulation);
+  EXPECT_FALSE(listed(after, "sim_001")) << after;
+  EXPECT_EQ(followedId(after), 0u) << "no default until the next offers";
+  EXPECT_EQ(followedId(hub.simulationsJson(firstId)), 0u) << "a closed simulation's page is shown the default";
+  EXPECT_TRUE(hub.cannotFollow(firstId).has_value()) << "a closed simulation cannot be followed";
+  EXPECT_EQ(hub.snapshot(firstId, 0, version), nullptr);
+  EXPECT_EQ(hub.cannotFollow(secondId), std::nullopt);
+  hub.offerNow(second);
+  EXPECT_EQ(followedId(hub.simulationsJson(kDefaultSimulation)), secondId);
+  const ViewSnapshot* shown = hub.snapshot(kDefaultSimulation, 0, version);
   ASSERT_NE(shown, nullptr);
   EXPECT_EQ(shown->particleCount(), 50u);
+  // Closed, the second's captures go too.
+  hub.release(second);
+  EXPECT_EQ(hub.captureSets(), 0u);
+  EXPECT_EQ(hub.snapshot(secondId, 0, version), nullptr);
+  EXPECT_EQ(hub.snapshot(kDefaultSimulation, 0, version), nullptr);
 }
 
 TEST(ViewServer, PageChoosesAmongSimulationsSteppingAtOnce) {
@@ -400,40 +535,80 @@ TEST(ViewServer, PageChoosesAmongSimulationsSteppingAtOnce) {
   ViewServer server(hub, {});
   server.start();
   TwoSimulations simulations(hub);
-  Client client(server.port());
-  client.send(upgrade("/ws"));
-  client.readUntil("\r\n\r\n");
-  client.send(encodeMaskedClientFrame(WebSocketOpcode::kText, "rate=30", {1, 2, 3, 4}));
-  // Frames' particle totals and the latest list, message by message.
-  std::string list, error;
-  auto nextTotal = [&]() -> std::uint32_t {
-    for (;;) {
-      const auto [opcode, payload] = client.readFrame();
-      if (opcode == 1 && payload.find(R"("kind":"simulations")") != std::string::npos) list = payload;
-      if (opcode == 1 && payload.find(R"("kind":"error")") != std::string::npos) error = payload;
-      if (opcode != 2) continue;
-      std::uint32_t total = 0;
-      std::memcpy(&total, payload.data() + 72, 4);
-      return total;
-    }
-  };
-  for (int k = 0; k < 200 && !(listed(list, "sim_small") && listed(list, "sim_large")); ++k) nextTotal();
-  ASSERT_TRUE(listed(list, "sim_small") && listed(list, "sim_large")) << list;
-  for (const char* name : {"sim_small", "sim_large"}) {
-    const auto [id, particles] = *listed(list, name);
-    client.send(encodeMaskedClientFrame(WebSocketOpcode::kText, "sim=" + std::to_string(id), {9, 8, 7, 6}));
-    int frames = 0;
-    while (frames < 200 && nextTotal() != particles) ++frames;
-    ASSERT_LT(frames, 200) << "no frame of " << name << " after choosing it";
-    for (int k = 0; k < 10; ++k) EXPECT_EQ(nextTotal(), particles) << name;
-    while (followedId(list) != id && frames++ < 400) nextTotal();
-    EXPECT_EQ(followedId(list), id) << list;
+  Page page(server.port());
+  for (int k = 0; k < 200 && !(listed(page.list, "sim_small") && listed(page.list, "sim_large")); ++k) {
+    page.nextFrame();
+  }
+  ASSERT_TRUE(listed(page.list, "sim_small") && listed(page.list, "sim_large")) << page.list;
+  for (const char* name : {"sim_large", "sim_small", "sim_large"}) {
+    const auto [id, particles] = *listed(page.list, name);
+    page.ask("sim=" + std::to_string(id));
+    ASSERT_TRUE(page.awaitFrameOf(static_cast<std::uint32_t>(particles))) << "no frame of " << name;
+    page.expectFramesOf(static_cast<std::uint32_t>(particles), particles == 30 ? kSmallY : kLargeY, 10, name);
+    EXPECT_TRUE(page.awaitFollowing(id)) << page.list;
   }
   // An unknown id gets a named error; the page keeps its connection and its simulation.
-  client.send(encodeMaskedClientFrame(WebSocketOpcode::kText, "sim=999", {1, 1, 1, 1}));
-  for (int k = 0; k < 200 && error.empty(); ++k) nextTotal();
-  EXPECT_NE(error.find(R"(sim = \"999\": no open simulation has this id (open: )"), std::string::npos) << error;
-  for (int k = 0; k < 5; ++k) EXPECT_EQ(nextTotal(), 50u);
+  page.ask("sim=999");
+  for (int k = 0; k < 200 && page.error.empty(); ++k) page.nextFrame();
+  EXPECT_NE(page.error.find(R"(sim = \"999\": no open simulation has this id (open: )"), std::string::npos)
+      << page.error;
+  page.expectFramesOf(50, kLargeY, 5, "after the refused id");
+}
+
+TEST(ViewServer, EachPageFollowsItsOwnSimulation) {
+  LiveViewHub hub;
+  ViewServer server(hub, {});
+  server.start();
+  TwoSimulations simulations(hub);
+  const auto [small, large] = bothListed(hub);
+  Page a(server.port()), b(server.port());
+  // a follows the default (the small one) without choosing; b chooses the large one.
+  b.ask("sim=" + std::to_string(large.first));
+  ASSERT_TRUE(b.awaitFrameOf(50));
+  EXPECT_TRUE(b.awaitFollowing(large.first)) << b.list;
+  b.expectFramesOf(50, kLargeY, 10, "b chose the large one");
+  a.expectFramesOf(30, kSmallY, 10, "a stays on the default while b follows another");
+  EXPECT_TRUE(a.awaitFollowing(small.first)) << a.list;
+  // a chooses the large one too, then b the small one: neither choice moves the other page.
+  a.ask("sim=" + std::to_string(large.first));
+  ASSERT_TRUE(a.awaitFrameOf(50));
+  a.expectFramesOf(50, kLargeY, 10, "a chose the large one");
+  b.ask("sim=" + std::to_string(small.first));
+  ASSERT_TRUE(b.awaitFrameOf(30));
+  b.expectFramesOf(30, kSmallY, 10, "b chose the small one");
+  EXPECT_TRUE(b.awaitFollowing(small.first)) << b.list;
+  a.expectFramesOf(50, kLargeY, 10, "a stays on the large one while b follows the small one");
+  EXPECT_TRUE(a.awaitFollowing(large.first)) << a.list;
+  EXPECT_EQ(hub.captureSets(), 2u) << "one set of buffers per simulation followed";
+}
+
+TEST(ViewServer, PageOfAClosedSimulationMovesToTheDefault) {
+  LiveViewHub hub;
+  ViewServer server(hub, {});
+  server.start();
+  TwoSimulations simulations(hub);
+  const auto [small, large] = bothListed(hub);
+  Page a(server.port()), b(server.port());
+  b.ask("sim=" + std::to_string(large.first));
+  ASSERT_TRUE(b.awaitFrameOf(50));
+  b.expectFramesOf(50, kLargeY, 5, "b chose the large one");
+  const int scenesBefore = b.scenes;
+  simulations.closeLarge();
+  // b is told: its list no longer has the large one and says it follows the default, whose
+  // scene and frames follow.
+  EXPECT_TRUE(b.awaitFollowing(small.first)) << b.list;
+  EXPECT_FALSE(listed(b.list, "sim_large")) << b.list;
+  ASSERT_TRUE(b.awaitFrameOf(30));
+  EXPECT_GT(b.scenes, scenesBefore) << "the default's scene is sent before its frames";
+  b.expectFramesOf(30, kSmallY, 10, "b moved to the default");
+  a.expectFramesOf(30, kSmallY, 10, "a stays on the default");
+  EXPECT_EQ(hub.captureSets(), 1u) << "the closed one's buffers are gone";
+  // b may choose again among the open ones; the closed id is refused.
+  b.ask("sim=" + std::to_string(large.first));
+  for (int k = 0; k < 200 && b.error.empty(); ++k) b.nextFrame();
+  EXPECT_NE(b.error.find("no open simulation has this id (open: " + std::to_string(small.first) + ")"),
+            std::string::npos)
+      << b.error;
 }
 
 }  // namespace

@@ -5,7 +5,8 @@
 //   demlink_view_fixture SECONDS SCENE...
 //
 // Prints "view: URL", steps each scene at most one simulated second per wall second until
-// its end_time, then leaves it open at its final state, and exits after SECONDS.
+// its end_time, then closes it (its pages move to the default, as when a server's simulation
+// finishes), and exits after SECONDS.
 #include <atomic>
 #include <chrono>
 #include <cstdio>
@@ -39,8 +40,7 @@ void stepPaced(TranslatedScene& scene, LiveViewHub& hub, const std::string& name
     const double ahead = world.time() - std::chrono::duration<double>(Clock::now() - start).count();
     if (ahead > 1.0e-3) std::this_thread::sleep_for(std::chrono::duration<double>(ahead));
   }
-  hub.offerNow(world);
-  while (!stop.load()) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  hub.release(world);
 }
 
 }  // namespace

@@ -3,14 +3,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
 #include "json_text.hpp"
+#include "simulation_capture.hpp"
 
 namespace demlink::server {
 namespace {
-
-constexpr std::int64_t kNever = std::numeric_limits<std::int64_t>::max();
 
 std::int64_t nanoseconds(std::chrono::steady_clock::time_point time) {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(time.time_since_epoch()).count();
@@ -22,28 +20,20 @@ std::atomic<std::uint64_t> next_hub_serial{1};
 
 thread_local LiveViewHub::ListingCache LiveViewHub::listing_cache_;
 
-LiveViewHub::LiveViewHub()
-    : serial_(next_hub_serial.fetch_add(1)),
-      next_due_ns_(kNever),
-      period_ns_(0),
-      back_(std::make_unique<ViewSnapshot>()),
-      ready_(std::make_unique<ViewSnapshot>()),
-      front_(std::make_unique<ViewSnapshot>()) {}
+LiveViewHub::LiveViewHub() : serial_(next_hub_serial.fetch_add(1)) {}
 
-bool LiveViewHub::follows(const core::World& world) {
+LiveViewHub::~LiveViewHub() = default;
+
+void LiveViewHub::claimDefaultIfNone(const core::World& world, Listed& slot) {
   // A plain load first: offer() runs after every step of every simulation, and a CAS would
   // take the shared cache line each time.
-  const core::World* followed = followed_.load(std::memory_order_acquire);
-  if (followed != nullptr) return followed == &world;
-  if (!followed_.compare_exchange_strong(followed, &world)) return followed == &world;
-  // A newly followed world captures at once: its scene is described whether or not a page
-  // is open, so the first page to connect gets it without waiting.
-  next_due_ns_.store(0, std::memory_order_relaxed);
-  {
-    std::lock_guard lock(listing_mutex_);
-    ++listing_version_;
-  }
-  return true;
+  const core::World* current = default_.load(std::memory_order_acquire);
+  if (current != nullptr || !default_.compare_exchange_strong(current, &world)) return;
+  // The default is captured whether or not a page is open (at once: its scene is described
+  // then), so the first page to connect gets it without waiting.
+  std::lock_guard lock(listing_mutex_);
+  applyDemand(slot);
+  ++listing_version_;
 }
 
 LiveViewHub::Listed* LiveViewHub::findSlot(const core::World* world) {
@@ -53,7 +43,18 @@ LiveViewHub::Listed* LiveViewHub::findSlot(const core::World* world) {
   return nullptr;
 }
 
-void LiveViewHub::noteListing(const core::World& world) {
+LiveViewHub::Listed* LiveViewHub::shownSlot(SimulationId simulation) {
+  if (simulation == kDefaultSimulation) {
+    const core::World* world = default_.load(std::memory_order_acquire);
+    return world == nullptr ? nullptr : findSlot(world);
+  }
+  for (const auto& slot : slots_) {
+    if (slot->id == simulation && slot->world.load(std::memory_order_relaxed) != nullptr) return slot.get();
+  }
+  return nullptr;
+}
+
+LiveViewHub::Listed& LiveViewHub::noteListing(const core::World& world) {
   ListingCache& cache = listing_cache_;
   Listed* slot = cache.slot;
   if (cache.hub != serial_ || cache.world != &world || slot->world.load(std::memory_order_relaxed) != &world) {
@@ -76,171 +77,180 @@ void LiveViewHub::noteListing(const core::World& world) {
   }
   slot->particles.store(world.particles().size(), std::memory_order_relaxed);
   slot->time.store(world.time(), std::memory_order_relaxed);
+  return *slot;
 }
 
 void LiveViewHub::announce(const core::World& world, const std::string& name) {
-  noteListing(world);
+  Listed& slot = noteListing(world);
   std::lock_guard lock(listing_mutex_);
-  if (Listed* slot = findSlot(&world)) {
-    slot->name = name;
-    ++listing_version_;
-  }
+  slot.name = name;
+  ++listing_version_;
 }
 
 void LiveViewHub::release(const core::World& world) {
   {
     std::lock_guard lock(listing_mutex_);
-    if (Listed* slot = findSlot(&world)) slot->world.store(nullptr, std::memory_order_relaxed);
+    if (Listed* slot = findSlot(&world)) {
+      slot->world.store(nullptr, std::memory_order_relaxed);
+      slot->capture.reset();
+      slot->period_ns.store(0, std::memory_order_relaxed);
+      slot->next_due_ns.store(kNever, std::memory_order_relaxed);
+    }
+    // Under the listing's lock, so that a world claiming the default sees its slot's state.
+    const core::World* current = &world;
+    default_.compare_exchange_strong(current, nullptr);
     ++listing_version_;
-    // Under the listing's lock, so that follow() never hands the view to a closed world.
-    const core::World* followed = &world;
-    followed_.compare_exchange_strong(followed, nullptr);
   }
-  if (notify_) notify_();  // the pages' lists lose it
+  if (notify_) notify_();  // the pages' lists lose it; its pages move to the default
 }
 
-std::optional<std::string> LiveViewHub::follow(std::uint64_t id) {
+std::optional<std::string> LiveViewHub::cannotFollow(SimulationId id) {
   std::lock_guard lock(listing_mutex_);
-  const core::World* target = nullptr;
-  std::string open;
+  if (id != kDefaultSimulation && shownSlot(id) != nullptr) return std::nullopt;
+  std::vector<std::uint64_t> ids;
   for (const auto& slot : slots_) {
-    const core::World* world = slot->world.load(std::memory_order_relaxed);
-    if (world == nullptr) continue;
-    if (slot->id == id) target = world;
-    open += (open.empty() ? "" : ", ") + std::to_string(slot->id);
+    if (slot->world.load(std::memory_order_relaxed) != nullptr) ids.push_back(slot->id);
   }
-  if (target == nullptr) {
-    return "no open simulation has this id (open: " + (open.empty() ? std::string("none") : open) + ")";
+  std::sort(ids.begin(), ids.end());
+  std::string open;
+  for (const std::uint64_t open_id : ids) open += (open.empty() ? "" : ", ") + std::to_string(open_id);
+  return "no open simulation has this id (open: " + (open.empty() ? std::string("none") : open) + ")";
+}
+
+void LiveViewHub::applyDemand(Listed& slot) {
+  const bool isDefault = slot.world.load(std::memory_order_relaxed) == default_.load(std::memory_order_acquire);
+  bool followed = false;
+  double rate = 0.0;
+  CaptureFields fields;
+  for (const SimulationDemand& demand : demands_) {
+    if (demand.simulation != slot.id && !(isDefault && demand.simulation == kDefaultSimulation)) continue;
+    followed = true;
+    rate = std::max(rate, demand.frames_per_second);
+    fields.speed = fields.speed || demand.fields.speed;
+    fields.force = fields.force || demand.fields.force;
   }
-  if (followed_.load(std::memory_order_acquire) == target) return std::nullopt;
-  {
-    // The world followed so far finishes any capture first, and captures no more.
-    std::lock_guard capture(capture_mutex_);
-    followed_.store(target, std::memory_order_release);
-    next_due_ns_.store(0, std::memory_order_relaxed);
+  if (!followed && !isDefault) {
+    slot.capture.reset();
+    slot.period_ns.store(0, std::memory_order_relaxed);
+    slot.next_due_ns.store(kNever, std::memory_order_relaxed);
+    return;
   }
-  ++listing_version_;
-  return std::nullopt;
+  slot.want_speed.store(fields.speed, std::memory_order_relaxed);
+  slot.want_force.store(fields.force, std::memory_order_relaxed);
+  const std::int64_t period = rate > 0.0 ? static_cast<std::int64_t>(std::llround(1.0e9 / rate)) : 0;
+  const std::int64_t before = slot.period_ns.exchange(period, std::memory_order_relaxed);
+  if (!slot.capture) {
+    // New captures start at once: their scene is described then.
+    slot.capture = std::make_shared<SimulationCapture>();
+    slot.next_due_ns.store(0, std::memory_order_relaxed);
+  } else if (period > 0 && (before == 0 || period < before)) {
+    // A page that just arrived (or asked for a higher rate) gets its next frame now, not
+    // one old period later.
+    const std::int64_t now = nanoseconds(Clock::now());
+    if (slot.next_due_ns.load(std::memory_order_relaxed) > now) slot.next_due_ns.store(now, std::memory_order_relaxed);
+  } else if (period == 0 && before != 0) {
+    slot.next_due_ns.store(kNever, std::memory_order_relaxed);
+  }
+}
+
+void LiveViewHub::setDemand(const std::vector<SimulationDemand>& demands) {
+  std::lock_guard lock(listing_mutex_);
+  demands_ = demands;
+  for (const auto& slot : slots_) {
+    if (slot->world.load(std::memory_order_relaxed) != nullptr) applyDemand(*slot);
+  }
 }
 
 void LiveViewHub::offer(const core::World& world) {
-  noteListing(world);
-  if (!follows(world)) return;
+  Listed& slot = noteListing(world);
+  claimDefaultIfNone(world, slot);
+  const std::int64_t due = slot.next_due_ns.load(std::memory_order_relaxed);
+  if (due == kNever) return;  // nobody follows it, or none of its pages wants a frame
   const Clock::time_point now = Clock::now();
-  if (nanoseconds(now) < next_due_ns_.load(std::memory_order_relaxed)) return;
-  std::lock_guard lock(capture_mutex_);
-  if (followed_.load(std::memory_order_relaxed) != &world) return;  // a page chose another meanwhile
-  capture(world, now);
+  if (nanoseconds(now) < due) return;
+  capture(world, slot, now);
 }
 
 void LiveViewHub::offerNow(const core::World& world) {
-  noteListing(world);
-  if (!follows(world)) return;
-  std::lock_guard lock(capture_mutex_);
-  if (followed_.load(std::memory_order_relaxed) != &world) return;
-  capture(world, Clock::now());
+  Listed& slot = noteListing(world);
+  claimDefaultIfNone(world, slot);
+  capture(world, slot, Clock::now());
 }
 
-void LiveViewHub::capture(const core::World& world, Clock::time_point now) {
-  // Another world than the last one (or a clock that went back) is a new simulation.
-  const bool newScene = &world != last_world_ || (captured_before_ && world.stepCount() < last_step_);
-  std::string scene;
-  if (newScene) {
-    last_world_ = &world;
-    captured_before_ = false;
-    scene = describeScene(world);
-  }
-  const CaptureFields fields{want_speed_.load(std::memory_order_relaxed), want_force_.load(std::memory_order_relaxed)};
-  captureSnapshot(world, fields, *back_);
-  ViewStatus& status = back_->status;
-  if (captured_before_) {
-    const double wall = std::chrono::duration<double>(now - last_wall_).count();
-    status.real_time_factor = wall > 0.0 ? (status.time - last_time_) / wall : 0.0;
-    status.steps_per_second = wall > 0.0 ? static_cast<double>(status.step - last_step_) / wall : 0.0;
-  } else {
-    initial_mass_ = status.particle_mass - status.inserted_mass + status.removed_mass;
-  }
-  status.initial_mass = initial_mass_;
-  captured_before_ = true;
-  last_wall_ = now;
-  last_time_ = status.time;
-  last_step_ = status.step;
+void LiveViewHub::capture(const core::World& world, Listed& slot, Clock::time_point now) {
+  std::shared_ptr<SimulationCapture> into;
   {
-    // A new scene and its first frame are published together, so a page that is sent the
-    // scene is never sent a frame of the simulation before it.
-    std::lock_guard lock(mutex_);
-    if (newScene) {
-      scene_ = std::move(scene);
-      ++scene_version_;
+    std::lock_guard lock(listing_mutex_);
+    into = slot.capture;
+    if (!into) {
+      slot.next_due_ns.store(kNever, std::memory_order_relaxed);
+      return;
     }
-    std::swap(back_, ready_);
-    ++ready_version_;
   }
+  const CaptureFields fields{slot.want_speed.load(std::memory_order_relaxed),
+                             slot.want_force.load(std::memory_order_relaxed)};
+  into->capture(world, fields, now, versions_);
   captures_.fetch_add(1, std::memory_order_relaxed);
-  const std::int64_t period = period_ns_.load(std::memory_order_relaxed);
-  next_due_ns_.store(period > 0 ? nanoseconds(now) + period : kNever, std::memory_order_relaxed);
+  {
+    std::lock_guard lock(listing_mutex_);
+    if (slot.capture == into) {  // else its pages left meanwhile
+      const std::int64_t period = slot.period_ns.load(std::memory_order_relaxed);
+      slot.next_due_ns.store(period > 0 ? nanoseconds(now) + period : kNever, std::memory_order_relaxed);
+    }
+  }
   if (notify_) notify_();
 }
 
-std::string LiveViewHub::sceneJson() {
-  std::lock_guard lock(mutex_);
-  return scene_;
+std::shared_ptr<SimulationCapture> LiveViewHub::shownCapture(SimulationId simulation) {
+  std::lock_guard lock(listing_mutex_);
+  const Listed* slot = shownSlot(simulation);
+  return slot == nullptr ? nullptr : slot->capture;
 }
 
-std::uint64_t LiveViewHub::sceneVersion() {
-  std::lock_guard lock(mutex_);
-  return scene_version_;
+std::string LiveViewHub::sceneJson(SimulationId simulation) {
+  const std::shared_ptr<SimulationCapture> shown = shownCapture(simulation);
+  return shown ? shown->sceneJson() : std::string();
 }
 
-const ViewSnapshot* LiveViewHub::snapshot(std::uint32_t /*index*/, std::uint64_t& version) {
-  std::lock_guard lock(mutex_);
-  if (ready_version_ > front_version_) {
-    std::swap(ready_, front_);
-    front_version_ = ready_version_;
-  }
-  version = front_version_;
-  return front_version_ > 0 ? front_.get() : nullptr;
+std::uint64_t LiveViewHub::sceneVersion(SimulationId simulation) {
+  const std::shared_ptr<SimulationCapture> shown = shownCapture(simulation);
+  return shown ? shown->sceneVersion() : 0;
 }
 
-std::string LiveViewHub::simulationsJson() {
+const ViewSnapshot* LiveViewHub::snapshot(SimulationId simulation, std::uint32_t /*index*/, std::uint64_t& version) {
+  reading_ = shownCapture(simulation);
+  version = 0;
+  return reading_ ? reading_->snapshot(version) : nullptr;
+}
+
+std::string LiveViewHub::simulationsJson(SimulationId simulation) {
   std::lock_guard lock(listing_mutex_);
   std::vector<const Listed*> open;
   for (const auto& slot : slots_) {
     if (slot->world.load(std::memory_order_relaxed) != nullptr) open.push_back(slot.get());
   }
   std::sort(open.begin(), open.end(), [](const Listed* a, const Listed* b) { return a->id < b->id; });
-  const core::World* followed = followed_.load(std::memory_order_acquire);
-  std::uint64_t followedId = 0;
+  const Listed* shown = shownSlot(simulation);
   std::string list;
   for (const Listed* slot : open) {
-    if (slot->world.load(std::memory_order_relaxed) == followed) followedId = slot->id;
     if (!list.empty()) list += ',';
     const std::string name = slot->name.empty() ? "simulation " + std::to_string(slot->id) : slot->name;
     list += fmt::format(R"({{"id":{},"name":{},"particles":{},"time":{}}})", slot->id, jsonString(name),
                         slot->particles.load(std::memory_order_relaxed),
                         jsonNumber(slot->time.load(std::memory_order_relaxed)));
   }
-  return fmt::format(R"({{"kind":"simulations","followed":{},"simulations":[{}]}})", followedId, list);
+  return fmt::format(R"({{"kind":"simulations","followed":{},"simulations":[{}]}})", shown ? shown->id : 0, list);
+}
+
+std::size_t LiveViewHub::captureSets() {
+  std::lock_guard lock(listing_mutex_);
+  return static_cast<std::size_t>(
+      std::count_if(slots_.begin(), slots_.end(), [](const auto& slot) { return slot->capture != nullptr; }));
 }
 
 std::uint64_t LiveViewHub::simulationsVersion() {
   std::lock_guard lock(listing_mutex_);
   return listing_version_;
-}
-
-void LiveViewHub::setDemand(double framesPerSecond, CaptureFields fields) {
-  want_speed_.store(fields.speed, std::memory_order_relaxed);
-  want_force_.store(fields.force, std::memory_order_relaxed);
-  const std::int64_t period =
-      framesPerSecond > 0.0 ? static_cast<std::int64_t>(std::llround(1.0e9 / framesPerSecond)) : 0;
-  const std::int64_t before = period_ns_.exchange(period, std::memory_order_relaxed);
-  // A page that just arrived (or asked for a higher rate) gets its next frame now, not
-  // one old period later.
-  if (period > 0 && (before == 0 || period < before)) {
-    next_due_ns_.store(nanoseconds(Clock::now()), std::memory_order_relaxed);
-  } else if (period == 0) {
-    next_due_ns_.store(kNever, std::memory_order_relaxed);
-  }
 }
 
 }  // namespace demlink::server

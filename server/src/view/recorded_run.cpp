@@ -66,7 +66,7 @@ RecordedRun::RecordedRun(const std::filesystem::path& directory, const std::stri
   }
 
   std::uint64_t version = 0;
-  const ViewSnapshot* first = snapshot(0, version);
+  const ViewSnapshot* first = snapshot(kDefaultSimulation, 0, version);
   std::uint32_t materials = 0;
   for (const std::uint32_t m : first->material) materials = std::max(materials, m + 1);
   std::string json = R"({"kind":"scene","planes":[],"meshes":[],"surfaces":[)";
@@ -94,7 +94,7 @@ double RecordedRun::frameTime(std::uint32_t index) const {
   return frames_[std::min<std::size_t>(index, frames_.size() - 1)].time;
 }
 
-const ViewSnapshot* RecordedRun::snapshot(std::uint32_t index, std::uint64_t& version) {
+const ViewSnapshot* RecordedRun::snapshot(SimulationId /*simulation*/, std::uint32_t index, std::uint64_t& version) {
   index = std::min(index, static_cast<std::uint32_t>(frames_.size() - 1));
   if (!any_loaded_ || loaded_ != index) load(index);
   version = std::uint64_t{index} + 1;

@@ -215,8 +215,8 @@ void ViewConnection::startWebSocket(const HttpRequest& request) {
   websocket_ = true;
   request_timer_.cancel();
   pending_.push_back(websocketHandshakeResponse(request));
-  sent_scene_version_ = host_.feed().sceneVersion();
-  sendText(host_.feed().sceneJson());
+  sent_scene_version_ = host_.feed().sceneVersion(followed_);
+  sendText(host_.feed().sceneJson(followed_));
   sendText(helloJson(host_.feed(), host_.options().max_frame_rate));
   sendSimulations(Clock::now());
   host_.demandChanged();
@@ -252,9 +252,13 @@ void ViewConnection::onMessage(const ClientMessage& message) {
       }
       if (request->frame) wanted_frame_ = *request->frame;
       if (request->simulation) {
-        if (const std::optional<std::string> why = host_.feed().follow(*request->simulation)) {
+        if (const std::optional<std::string> why = host_.feed().cannotFollow(*request->simulation)) {
           sendText(R"({"kind":"error","message":)" +
                    jsonString("sim = \"" + std::to_string(*request->simulation) + "\": " + *why) + "}");
+        } else if (*request->simulation != followed_) {
+          followed_ = *request->simulation;
+          sent_simulations_version_ = 0;  // the page's list says which it follows now
+          demand = true;
         }
       }
       // A changed request shows on the next frame, even if the snapshot is the same.
@@ -284,7 +288,9 @@ void ViewConnection::sendControl(WebSocketOpcode opcode, std::string payload) {
 }
 
 void ViewConnection::offerFrame() {
-  if (!open_ || !websocket_ || closing_ || writing_) return;
+  if (!open_ || !websocket_ || closing_) return;
+  leaveClosedSimulation();
+  if (writing_) return;
   const Clock::time_point now = Clock::now();
   const double since = std::chrono::duration<double>(now - last_frame_).count();
   // 0.9: captures arrive on the feed's clock, so allow a little early rather than skip one.
@@ -301,9 +307,10 @@ void ViewConnection::offerFrame() {
     retryFrameAfter(-byte_allowance_ / cap);
     return;
   }
-  if (feed.sceneVersion() != sent_scene_version_) {  // a new simulation: its scene first
-    sent_scene_version_ = feed.sceneVersion();
-    sendText(feed.sceneJson());
+  // Another simulation (the page chose one, or a server's next): its scene first.
+  if (const std::uint64_t sceneVersion = feed.sceneVersion(followed_); sceneVersion != sent_scene_version_) {
+    sent_scene_version_ = sceneVersion;
+    sendText(feed.sceneJson(followed_));
     return;
   }
   if (live && (feed.simulationsVersion() != sent_simulations_version_ ||
@@ -315,7 +322,7 @@ void ViewConnection::offerFrame() {
   std::uint64_t version = 0;
   const ViewSnapshot* snapshot = nullptr;
   try {
-    snapshot = feed.snapshot(wanted_frame_, version);
+    snapshot = feed.snapshot(followed_, wanted_frame_, version);
   } catch (const std::exception& error) {  // a recorded frame's file is unreadable
     sent_version_ = std::uint64_t{wanted_frame_} + 1;  // not again until the page asks anew
     sendText(R"({"kind":"error","message":)" + jsonString(error.what()) + "}");
@@ -343,11 +350,24 @@ void ViewConnection::offerFrame() {
   });
 }
 
+void ViewConnection::leaveClosedSimulation() {
+  if (followed_ == kDefaultSimulation) return;
+  ViewFeed& feed = host_.feed();
+  const std::uint64_t version = feed.simulationsVersion();
+  if (version == checked_simulations_version_) return;
+  checked_simulations_version_ = version;
+  if (!feed.cannotFollow(followed_)) return;
+  followed_ = kDefaultSimulation;
+  sent_simulations_version_ = 0;
+  sent_version_ = 0;
+  host_.demandChanged();
+}
+
 bool ViewConnection::sendSimulations(Clock::time_point now) {
   ViewFeed& feed = host_.feed();
   sent_simulations_version_ = feed.simulationsVersion();
   simulations_sent_ = now;
-  std::string list = feed.simulationsJson();
+  std::string list = feed.simulationsJson(followed_);
   if (list.empty()) return false;
   sendText(std::move(list));
   return true;

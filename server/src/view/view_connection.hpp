@@ -8,7 +8,8 @@
 /// naming the run's kind and frames, the list of a live server's simulations (again when
 /// it changes, and every second for their times), and binary frames (frame_encoder.hpp)
 /// whenever the feed has a newer snapshot, the page's rate allows one and its byte budget
-/// covers it.
+/// covers it. Scene, list and frames are those of the simulation this page follows: the
+/// feed's default until the page chooses one (sim=ID), and again when that one closes.
 /// At most one write is in flight: a frame that cannot go now is not kept.
 #include "demlink/server/net/asio.hpp"
 
@@ -54,6 +55,7 @@ class ViewConnection : public std::enable_shared_from_this<ViewConnection> {
   [[nodiscard]] bool isViewer() const { return websocket_; }
   [[nodiscard]] double rate() const { return rate_; }
   [[nodiscard]] ColourField colour() const { return request_.colour; }
+  [[nodiscard]] SimulationId followed() const { return followed_; }
 
  private:
   using Clock = std::chrono::steady_clock;
@@ -71,6 +73,9 @@ class ViewConnection : public std::enable_shared_from_this<ViewConnection> {
   void sendControl(WebSocketOpcode opcode, std::string payload);
   /// Sends the feed's list of simulations; false when it has none.
   bool sendSimulations(Clock::time_point now);
+  /// A live page whose simulation closed follows the default from now on; the list it is
+  /// sent next says which that is, and that one's scene and frames follow.
+  void leaveClosedSimulation();
   void writeNext();
   void writeRawThenClose(std::string bytes);
   /// Calls offerFrame() again after `seconds`, so a capture that came too early for this
@@ -94,6 +99,7 @@ class ViewConnection : public std::enable_shared_from_this<ViewConnection> {
   double rate_ = 10.0;
   FrameRequest request_;
   std::uint32_t wanted_frame_ = 0;  ///< recorded runs
+  SimulationId followed_ = kDefaultSimulation;
 
   // Output: small text/control messages queue (bounded); a frame is only ever the latest.
   std::deque<std::string> pending_;
@@ -104,6 +110,7 @@ class ViewConnection : public std::enable_shared_from_this<ViewConnection> {
   std::uint64_t sent_version_ = 0;
   std::uint64_t sent_scene_version_ = 0;
   std::uint64_t sent_simulations_version_ = 0;
+  std::uint64_t checked_simulations_version_ = 0;  ///< when leaveClosedSimulation() last looked
   Clock::time_point simulations_sent_{};
   Clock::time_point last_frame_{};
   double byte_allowance_ = 0.0;  ///< token bucket [B]

@@ -62,7 +62,7 @@ class ViewServer::Impl final : public ViewHost {
       work_.reset();
     });
     thread_.join();
-    feed_.setDemand(0.0, {});
+    feed_.setDemand({});
   }
 
   ViewFeed& feed() override { return feed_; }
@@ -71,15 +71,19 @@ class ViewServer::Impl final : public ViewHost {
 
   void demandChanged() override {
     std::erase_if(connections_, [](const std::shared_ptr<ViewConnection>& c) { return !c->open(); });
-    double rate = 0.0;
-    CaptureFields fields;
+    // One entry per simulation followed: the highest rate and every colour its pages want.
+    std::vector<SimulationDemand> demands;
     for (const auto& connection : connections_) {
       if (!connection->isViewer()) continue;
-      rate = std::max(rate, connection->rate());
-      fields.speed = fields.speed || connection->colour() == ColourField::kSpeed;
-      fields.force = fields.force || connection->colour() == ColourField::kForce;
+      auto demand = std::find_if(demands.begin(), demands.end(), [&](const SimulationDemand& d) {
+        return d.simulation == connection->followed();
+      });
+      if (demand == demands.end()) demand = demands.insert(demands.end(), {connection->followed(), 0.0, {}});
+      demand->frames_per_second = std::max(demand->frames_per_second, connection->rate());
+      demand->fields.speed = demand->fields.speed || connection->colour() == ColourField::kSpeed;
+      demand->fields.force = demand->fields.force || connection->colour() == ColourField::kForce;
     }
-    feed_.setDemand(rate, fields);
+    feed_.setDemand(demands);
   }
 
   std::uint16_t port() const { return port_; }
@@ -91,8 +95,8 @@ class ViewServer::Impl final : public ViewHost {
     for (const auto& connection : open) connection->offerFrame();
   }
 
-  /// Once a second, whether or not the followed simulation steps: the pages' lists of
-  /// simulations show the others' progress even while the followed one waits.
+  /// Once a second, whether or not the followed simulations step: the pages' lists of
+  /// simulations show the others' progress even while the followed ones wait.
   void tick() {
     heartbeat_.expires_after(std::chrono::seconds(1));
     heartbeat_.async_wait([this](const asio::error_code& error) {

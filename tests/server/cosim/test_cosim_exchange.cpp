@@ -190,7 +190,7 @@ TEST(CosimExchange, SourceAndSinkCountsBalanceTheWorldsMass) {
 TEST(CosimExchange, StepObserverSeesEveryStepAndTheViewsMassBalanceHolds) {
   ScratchDir dir;
   LiveViewHub hub;
-  hub.setDemand(1.0e9, {true, false});  // a capture at every offer
+  hub.setDemand({{kDefaultSimulation, 1.0e9, {true, false}}});  // a capture at every offer
   std::uint64_t calls = 0;
   std::uint64_t lastStep = 0;
   CosimOptions options = CosimHarness::options(dir.path(), {}, {});
@@ -229,11 +229,12 @@ TEST(CosimExchange, StepObserverSeesEveryStepAndTheViewsMassBalanceHolds) {
   // Named once, by its output folder, before its first step was observed.
   EXPECT_EQ(openedAs, "sim_001");
   EXPECT_EQ(callsWhenOpened, 0u);
-  EXPECT_NE(hub.simulationsJson().find(R"("name":"sim_001")"), std::string::npos) << hub.simulationsJson();
+  EXPECT_NE(hub.simulationsJson(kDefaultSimulation).find(R"("name":"sim_001")"), std::string::npos)
+      << hub.simulationsJson(kDefaultSimulation);
   std::uint64_t version = 0;
-  const ViewSnapshot* snapshot = hub.snapshot(0, version);
+  const ViewSnapshot* snapshot = hub.snapshot(kDefaultSimulation, 0, version);
   ASSERT_NE(snapshot, nullptr);
-  EXPECT_EQ(version, calls);
+  EXPECT_EQ(hub.captures(), calls);
   const ViewStatus& status = snapshot->status;
   EXPECT_EQ(status.step, lastStep);
   const v1::SimulationBoxOutput box = h.lastData(1, h.idOf(1, "box"))->simulation_box();

@@ -23,14 +23,14 @@ class RecordedRun final : public ViewFeed {
   /// file that cannot be read.
   RecordedRun(const std::filesystem::path& directory, const std::string& field);
 
-  std::string sceneJson() override { return scene_; }
-  std::uint64_t sceneVersion() override { return 1; }
+  std::string sceneJson(SimulationId /*simulation*/) override { return scene_; }
+  std::uint64_t sceneVersion(SimulationId /*simulation*/) override { return 1; }
   [[nodiscard]] std::uint32_t frameCount() const override { return static_cast<std::uint32_t>(frames_.size()); }
   [[nodiscard]] double frameTime(std::uint32_t index) const override;
   /// Frame `index` (clamped to the last); version = index + 1. Throws core::InputError
   /// when a frame's file is unreadable.
-  const ViewSnapshot* snapshot(std::uint32_t index, std::uint64_t& version) override;
-  void setDemand(double /*framesPerSecond*/, CaptureFields /*fields*/) override {}
+  const ViewSnapshot* snapshot(SimulationId simulation, std::uint32_t index, std::uint64_t& version) override;
+  void setDemand(const std::vector<SimulationDemand>& /*demands*/) override {}
   void setNotify(std::function<void()> /*notify*/) override {}
 
  private:

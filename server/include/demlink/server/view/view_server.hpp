@@ -6,8 +6,8 @@
 ///
 /// Safe by default (docs/server.md, "Live view"): it binds 127.0.0.1 unless told
 /// otherwise; with an access token set, /ws needs "?token=" (compared in constant time);
-/// it is read-only (a page can ask for a rate, a particle budget, a colour field and a
-/// recorded frame, nothing else); connections, frame rate, bytes per second and request
+/// it is read-only (a page can ask for a rate, a particle budget, a colour field, which of
+/// a live server's simulations it follows, and a recorded frame, nothing else); connections, frame rate, bytes per second and request
 /// sizes are capped; each connection has at most one frame in flight and a frame that is
 /// not due or over the byte budget is skipped, never queued.
 #include <cstdint>
