@@ -13,7 +13,7 @@
 # --view PORT serves the live 3D view of the site on 127.0.0.1:PORT and prints its address
 # (docs/view.md); open it in a browser while the demo runs.
 # --backend liggghts runs the server on LIGGGHTS-PUBLIC under `mpirun -np N` (N > 1; one
-# rank: no mpirun) and the truck with --stand-still (LIGGGHTS has no moving room: the truck
+# rank: no mpirun) and the truck with --stand-still (LIGGGHTS has no moving frame: the truck
 # is loaded, then says Bye without driving). --small: the site with a 1.6 m pit (about
 # 1,100 particles instead of 4,400; make_site_scene.py --pit-half-x 0.8), for machines on
 # which the full site is too slow (docs/scale-out.md has the wall times).
@@ -123,7 +123,7 @@ cat "$out/summary.txt"
 echo
 echo "demo_cosim: done in $(($(date +%s) - start)) s. Results in $out:"
 echo "  ParaView:  $out/server/sim_001/particles.pvd and meshes.pvd (VTK)"
-echo "  plots:     $out/excavator.png (bucket fill, cylinder forces), $out/truck.png (load, axle forces, room motion),"
+echo "  plots:     $out/excavator.png (bucket fill, cylinder forces), $out/truck.png (load, axle forces, frame motion),"
 echo "             $out/site.png (the site from above and the side while digging, dumping and at the end)"
 echo "  CSV:       $out/excavator/excavator.csv, $out/truck/truck.csv, $out/server/sim_001/region_sensor_*.csv"
 echo "  summary:   $out/summary.txt; logs: $out/*.log"

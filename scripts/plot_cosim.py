@@ -9,7 +9,7 @@ matplotlib from Debian (python3-matplotlib) with the Agg backend: no display nee
 
     excavator.png: bucket fill mass; cylinder forces            (vs time)
     truck.png:     load mass; axle forces (front/rear) and side forces (left/right, dashed);
-                   room acceleration and yaw rate (vs time)
+                   frame acceleration and yaw rate (vs time)
 
 The CSV column names live in the two tables below (EXCAVATOR_COLUMNS, TRUCK_COLUMNS),
 the one place to change when a model's header changes; --column excavator.bucket_fill=NAME
@@ -113,7 +113,7 @@ def plot_truck(plt, data, mapping, out_dir):
     fig, (load_ax, axle_ax, motion_ax) = plt.subplots(3, 1, sharex=True, figsize=(9, 8.5))
     load_ax.plot(t, data[mapping["load"]], color="tab:brown")
     load_ax.set_ylabel("load mass [kg]")
-    load_ax.set_title("Truck: load, axle forces, room motion")
+    load_ax.set_title("Truck: load, axle forces, frame motion")
     # Front/rear shows the shift when accelerating, left/right the shift when turning.
     for name in as_list(mapping["axle_forces"]):
         axle_ax.plot(t, [f / 1e3 for f in data[name]], label=name)
@@ -123,7 +123,7 @@ def plot_truck(plt, data, mapping, out_dir):
     axle_ax.legend(loc="best", fontsize="small")
     for name, style in zip(as_list(mapping["acceleration"]), ("-", "--", ":")):
         motion_ax.plot(t, data[name], color="tab:blue", linestyle=style, label=name)
-    motion_ax.set_ylabel("room acceleration [m/s²]", color="tab:blue")
+    motion_ax.set_ylabel("frame acceleration [m/s²]", color="tab:blue")
     motion_ax.legend(loc="upper left", fontsize="small")
     yaw_ax = motion_ax.twinx()
     yaw_ax.plot(t, data[mapping["yaw_rate"]], color="tab:red")

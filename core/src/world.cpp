@@ -72,12 +72,12 @@ void World::requireBoundedFrameAccelerations() const {
   const double spin = frame.angular_velocity.squaredNorm();  // |Omega|^2 [rad^2/s^2]
   const double turn = frame.angular_acceleration.norm();     // |alpha| [rad/s^2]
   if (spin == 0.0 && turn == 0.0) return;
-  double farthest = 0.0;  // [m] from the room's origin
+  double farthest = 0.0;  // [m] from the frame's origin
   for (const Vec3& x : particles_.position) farthest = std::max(farthest, (x - frame.origin).norm());
   const auto refuse = [&](const std::string& field, const Vec3& value, double acceleration, const char* what) {
     throw InputError(settings_field_ + ".frame." + field,
                      "(" + formatValue(value.x()) + ", " + formatValue(value.y()) + ", " + formatValue(value.z()) + ")",
-                     std::string(what) + " at the particle farthest from the room's origin (" + formatValue(farthest) +
+                     std::string(what) + " at the particle farthest from the frame's origin (" + formatValue(farthest) +
                          " m) would be " + formatValue(acceleration) + " m/s^2; at most " +
                          formatValue(kMaxAcceleration) + " m/s^2");
   };

@@ -282,15 +282,15 @@ void World::restoreCheckpoint(std::string_view bytes, const std::string& source)
   }
   meshSection.requireEnd();
 
-  StateReader room = file.section("ROOM", "room");
+  StateReader frameSection = file.section("ROOM", "bounds_and_frame");
   DomainBounds bounds;
-  bounds.lower = room.read<Vec3>();
-  bounds.upper = room.read<Vec3>();
+  bounds.lower = frameSection.read<Vec3>();
+  bounds.upper = frameSection.read<Vec3>();
   FrameMotion frame;
-  frame.restore(room);
-  std::vector<char> colliding = room.readVector<char>();
-  room.requireEnd();
-  requireEqual(room, "colliding-flag count", static_cast<std::uint64_t>(colliding.size()),
+  frame.restore(frameSection);
+  std::vector<char> colliding = frameSection.readVector<char>();
+  frameSection.requireEnd();
+  requireEqual(frameSection, "colliding-flag count", static_cast<std::uint64_t>(colliding.size()),
                static_cast<std::uint64_t>(walls_.mesh_colliding.size()));
 
   StateReader clmp = file.section("CLMP", "clumps");

@@ -4,19 +4,19 @@
 ///
 /// Why the C ABI and generic packages: this is the path a Modelica tool takes, and the
 /// example is its executable check at full scale. Generic packages are needed anyway for
-/// what the typed helpers do not carry: the room frame input, expected names, the VTK
+/// what the typed helpers do not carry: the frame motion input, expected names, the VTK
 /// interval, and an STL body whose bytes are sent from the client.
 ///
-/// The client declares the SimulationBox (the room; it must, because it moves the room
+/// The client declares the SimulationBox (it must, because it moves the simulation's frame
 /// while the truck drives), the dump body (RigidBody, LAGGED: the pose sent at sample k is
 /// the model's pose at sample k+1, reached by the mesh over the interval), the load sensor
 /// (RegionSensor attached to the body) and, in the `source` scenario, a ParticleSource over
 /// the bed. One exchange per communication interval; the suspension model (truck_model.hpp)
 /// takes one RK4 step per interval with the DEM wrench of the interval that just ended.
 /// Phases: loading -> settling -> holding (at rest, the static reference) -> accelerating
-/// -> turning -> done (room inertial again, Bye). With --stand-still the truck never drives
-/// (for engines without a moving room, such as the LIGGGHTS backend): holding -> done, and
-/// no package ever carries a room frame; the body still rides on its suspension and the
+/// -> turning -> done (frame inertial again, Bye). With --stand-still the truck never drives
+/// (for engines without a moving frame, such as the LIGGGHTS backend): holding -> done, and
+/// no package ever carries a frame motion; the body still rides on its suspension and the
 /// load is reported as before.
 #include <cerrno>
 #include <cmath>
@@ -73,7 +73,7 @@ struct Options {
   double max_time = 0.0;        ///< [s] start driving at the latest here (0: source 30 s, excavator 600 s)
   double timeout = 300.0;       ///< [s] bound of every wait for the server (the compile may generate a pit)
   double log_interval = 0.5;    ///< [s] simulated time between log lines; 0: every sample
-  bool stand_still = false;     ///< never move the room: holding -> done
+  bool stand_still = false;     ///< never move the frame: holding -> done
   std::string material = "gravel";
 };
 
@@ -136,7 +136,7 @@ std::optional<int> parse(int argc, char** argv, Options& o) {
                  "simulated time between log lines [s] (default 0.5; 0: every sample)")
       ->type_name("S");
   app.add_flag("--stand-still", o.stand_still,
-               "never drive: no room motion is sent (for the LIGGGHTS backend); the body still rides on its "
+               "never drive: no frame motion is sent (for the LIGGGHTS backend); the body still rides on its "
                "suspension, the load is reported, and the truck says Bye after holding");
   if (const std::optional<int> exitCode = cli::parse(app, argc, argv)) return exitCode;
   if (!o.expected_given && !o.source) o.expected = {"bucket", "bucket_fill"};  // demlink-excavator's components
@@ -425,7 +425,7 @@ int run(const Options& o) {
         break;
     }
 
-    // Room motion for this interval (truck frame, origin at the body's centre of gravity).
+    // Frame motion for this interval (truck frame, origin at the body's centre of gravity).
     std::array<double, 3> frameAcc{0.0, 0.0, 0.0};
     double yawAcc = 0.0;
     if (phase == Phase::Accelerating) {
@@ -470,7 +470,7 @@ int run(const Options& o) {
     if (phase == Phase::Done && ++doneSamples > 1) break;
 
     // Advance the model to t + tc and send the pose it reaches (LAGGED: the mesh gets there
-    // over the interval), the room frame and the other components' empty packages.
+    // over the interval), the frame motion and the other components' empty packages.
     model.step(in, tc);
     const auto& n = model.state();
     const auto qn = attitude(n.theta, n.phi);

@@ -12,8 +12,8 @@
 /// at the height of the spring seats. That reaction's moment about the centre of gravity
 /// is what shifts load between the axles when the truck accelerates or turns.
 ///
-/// Frame and signs: the model lives in the truck frame, which is the DEM simulation room
-/// while the truck drives. x forward, y left, z up. Pitch theta is a rotation about +y
+/// Frame and signs: the model lives in the truck frame, which is the DEM simulation's
+/// moving frame while the truck drives. x forward, y left, z up. Pitch theta is a rotation about +y
 /// (positive: nose down), roll phi about +x (positive: left side up). A spring seat at
 /// (x_i, y_i) relative to the centre of gravity rises by s_i = z - x_i theta + y_i phi;
 /// the spring force on the body is F_i = F0_i - k s_i - c ds_i/dt (up positive), F0_i the

@@ -342,7 +342,7 @@ TEST(ClientCAbi, StatusCodesAndMessages) {
 
 // The optional simulation_box entries of the generic layout (VTK interval, restitution
 // tolerance, threads, contact law, integrator, fidelity, impact speed, coarse graining,
-// watchdog overlap limit, expected names, the room frame input) reach the declaration;
+// watchdog overlap limit, expected names, the frame motion input) reach the declaration;
 // omitted ones stay unset.
 TEST(ClientCAbi, GenericSimulationBoxCarriesOutputThreadsAndNames) {
   const std::string log = logFile("generic_box");
@@ -350,9 +350,9 @@ TEST(ClientCAbi, GenericSimulationBoxCarriesOutputThreadsAndNames) {
   ASSERT_NE(server.port(), 0);
   ClientGuard c;
   PackageGuard pkg;
-  ASSERT_EQ(dl_connect_to_host(c.client, "127.0.0.1", server.port(), "room", nullptr), DL_OK) << dl_last_error(c.client);
+  ASSERT_EQ(dl_connect_to_host(c.client, "127.0.0.1", server.port(), "site", nullptr), DL_OK) << dl_last_error(c.client);
   const double nan = std::nan("");
-  const char* boxStrings[] = {"simulation_box", "room", "room", "truck_body"};
+  const char* boxStrings[] = {"simulation_box", "site", "site", "truck_body"};
   const long long boxInts[] = {0, 2, 2, 1, 3};
   const double boxReals[] = {0.001, 2e-4, 1.0, 0.0, 0.0, -9.81, -1.0, -2.0, -3.0, 4.0, 5.0, 6.0, 0.25, 0.05, 3.5, 2.0,
                              0.7};
@@ -366,15 +366,15 @@ TEST(ClientCAbi, GenericSimulationBoxCarriesOutputThreadsAndNames) {
   ASSERT_EQ(dl_send_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
   ASSERT_EQ(dl_recv_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
   const auto lines = finishAndReadLog(c.client, server, log);
-  EXPECT_TRUE(contains(lines, "DECL room", "output { vtk_interval: 0.25 }"));
-  EXPECT_TRUE(contains(lines, "DECL room", "threads: 2"));
-  EXPECT_TRUE(contains(lines, "DECL room", "restitution_tolerance: 0.05"));
-  EXPECT_TRUE(contains(lines, "DECL room", "contact_model: LINEAR_SPRING_DASHPOT integrator: VELOCITY_VERLET"));
-  EXPECT_TRUE(contains(lines, "DECL room", "max_impact_velocity: 3.5"));
-  EXPECT_TRUE(contains(lines, "DECL room", "fidelity: VALIDATION coarse_graining: 2"));
-  EXPECT_TRUE(contains(lines, "DECL room", "watchdog { max_overlap_fraction: 0.7 }"));
-  EXPECT_TRUE(contains(lines, "DECL room", "expected_names: \"room\" expected_names: \"truck_body\""));
-  EXPECT_TRUE(contains(lines, "DECL room", "bounds { lower { x: -1 y: -2 z: -3 } upper { x: 4 y: 5 z: 6 } }"));
+  EXPECT_TRUE(contains(lines, "DECL site", "output { vtk_interval: 0.25 }"));
+  EXPECT_TRUE(contains(lines, "DECL site", "threads: 2"));
+  EXPECT_TRUE(contains(lines, "DECL site", "restitution_tolerance: 0.05"));
+  EXPECT_TRUE(contains(lines, "DECL site", "contact_model: LINEAR_SPRING_DASHPOT integrator: VELOCITY_VERLET"));
+  EXPECT_TRUE(contains(lines, "DECL site", "max_impact_velocity: 3.5"));
+  EXPECT_TRUE(contains(lines, "DECL site", "fidelity: VALIDATION coarse_graining: 2"));
+  EXPECT_TRUE(contains(lines, "DECL site", "watchdog { max_overlap_fraction: 0.7 }"));
+  EXPECT_TRUE(contains(lines, "DECL site", "expected_names: \"site\" expected_names: \"truck_body\""));
+  EXPECT_TRUE(contains(lines, "DECL site", "bounds { lower { x: -1 y: -2 z: -3 } upper { x: 4 y: 5 z: 6 } }"));
 
   // A negative VTK interval is refused by name before anything is sent.
   const double badReals[] = {0.001, 2e-4, 1.0, 0.0, 0.0, -9.81, -1.0, -2.0, -3.0, 4.0, 5.0, 6.0, -0.25};

@@ -4,7 +4,7 @@
 /// accepted steps to finite positions and velocities.
 ///
 /// Seeds: the small valid scene and variants with extreme finite values (1e308, -1e308,
-/// 5e-324, DBL_MAX in gravity, the room's motion, lattice velocity and spacing,
+/// 5e-324, DBL_MAX in gravity, the frame's motion, lattice velocity and spacing,
 /// orientations, time step, client timeout), long names and names with control bytes,
 /// file paths outside the scene's folder, and deep nesting.
 #include <spdlog/spdlog.h>

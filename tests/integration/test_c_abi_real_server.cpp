@@ -229,15 +229,15 @@ TEST_F(CAbiRealServer, EveryTypedCallAgainstTheServerWithDeclarationsDoneAndRunT
   EXPECT_EQ(server_->child.waitForExit(std::chrono::seconds(20)), 0) << "--once: the server exits after the run";
 }
 
-// The typed speed/accuracy declaration and the room's motion as an input: in a room
+// The typed speed/accuracy declaration and the frame's motion as an input: in a frame
 // accelerating upwards at a [m/s^2] with no gravity, a free particle accelerates at -a;
-// the room's acceleration reversed at run time brings its velocity back to zero. The view
+// the frame's acceleration reversed at run time brings its velocity back to zero. The view
 // reports the particle by id with its velocity.
 TEST_F(CAbiRealServer, SettingsDeclarationAndRoomMotionInput) {
   ASSERT_GT(server_->port, 0) << server_->announced;
   ClientGuard g;
   dl_client* c = g.client;
-  ASSERT_EQ(dl_connect_to_host(c, server_->host.c_str(), server_->port, "room", nullptr), DL_OK) << dl_last_error(c);
+  ASSERT_EQ(dl_connect_to_host(c, server_->host.c_str(), server_->port, "site", nullptr), DL_OK) << dl_last_error(c);
   const double nan = std::nan("");
   const double zero[3] = {0.0, 0.0, 0.0};
   constexpr double kA = 5.0;  // [m/s^2]

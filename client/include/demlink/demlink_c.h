@@ -106,7 +106,7 @@
  *  component's next due step (kept by the library). Per kind:
  *   rigid_body     : reals = x y z qw qx qy qz vx vy vz wx wy wz (13) [m, -, m/s, rad/s].
  *   simulation_box : reals[0..2] new gravity [m/s^2] (omitted or NaN: unchanged);
- *                    reals[3..14] room frame: linear acceleration, angular velocity,
+ *                    reals[3..14] frame motion: linear acceleration, angular velocity,
  *                    angular acceleration, origin (when nReals >= 15).
  *   region_sensor  : each omitted or NaN: unchanged; reals[0..2] centre [m], [3..6]
  *                    orientation w x y z, [7..9] box size [m], [10] sphere radius [m].
@@ -246,8 +246,8 @@ DL_API int dl_declare_simulation_box(dl_client* client, const char* name, double
  * (NaN or negative: the server's default 0.01; larger accepts a larger time step, trading
  * accuracy for speed); vtkInterval
  * [s] (NaN or negative: default, 0: first and last frame only); threads (negative: default 1,
- * 0: the usable CPUs less the load average); frame = the room's linear acceleration(3) [m/s^2], angular velocity(3)
- * [rad/s], angular acceleration(3) [rad/s^2], origin(3) [m] (NULL: inertial room). No
+ * 0: the usable CPUs less the load average); frame = the frame's linear acceleration(3) [m/s^2], angular velocity(3)
+ * [rad/s], angular acceleration(3) [rad/s^2], origin(3) [m] (NULL: inertial frame). No
  * expected count: use dl_declarations_done. */
 DL_API int dl_declare_simulation_box_ex(dl_client* client, const char* name, double interval, double timeStep,
                                         double endTime, const double gravity[3], const double boundsLower[3],
@@ -407,7 +407,7 @@ DL_API int dl_deformable_body_exchange(dl_client* client, int component, const d
  * [m] (box only), radius [m] (sphere only). */
 DL_API int dl_region_sensor_set_region(dl_client* client, int component, const double centre[3],
                                        const double orientation[4], const double size[3], double radius);
-/* Simulation box: the room's motion from the next package on (as frame in
+/* Simulation box: the frame's motion from the next package on (as frame in
  * dl_declare_simulation_box_ex; origin may be NULL: (0, 0, 0)). */
 DL_API int dl_simulation_box_set_frame(dl_client* client, int component, const double linearAcceleration[3],
                                        const double angularVelocity[3], const double angularAcceleration[3],

@@ -108,8 +108,8 @@ void requireLiggghtsCompatible(const v1::Scene& scene, const core::World& world)
     if (component.has_simulation_box()) box = componentPath(i) + ".simulation_box";
   }
   const core::SimulationSettings& settings = world.settings();
-  refuseIf(!settings.frame.isInertial(), box + ".frame", "moving room",
-           "LIGGGHTS has no fictitious forces of a moving room; run it on the native backend");
+  refuseIf(!settings.frame.isInertial(), box + ".frame", "moving frame",
+           "LIGGGHTS has no fictitious forces of a moving frame; run it on the native backend");
   refuseIf(settings.contact_model != core::ContactModel::HertzMindlin, box + ".contact_model",
            std::string(core::toString(settings.contact_model)),
            "the LIGGGHTS backend maps the Hertz-Mindlin law only");

@@ -609,7 +609,7 @@ struct CosimHost::Impl {
       // A watchdog stop is the world refusing to go on, not a bug: its own code, the check as the field.
       const auto* fault = dynamic_cast<const core::SimulationFault*>(&error);
       // An input refused by the engine as it is applied, where it depends on the world (the
-      // room's centrifugal acceleration at the farthest particle): the client's, not ours.
+      // frame's centrifugal acceleration at the farthest particle): the client's, not ours.
       const auto* input = dynamic_cast<const core::InputError*>(&error);
       const char* what = fault != nullptr ? "stopped" : input != nullptr ? "input refused" : "internal error";
       spdlog::error("simulation {}: {}: {}", number(), what, core::logText(error.what(), kLogMessageMaxBytes));

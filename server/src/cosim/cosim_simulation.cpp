@@ -177,11 +177,11 @@ std::optional<v1::Error> CosimSimulation::accept(ConnectionId from, const v1::Da
 
 std::optional<v1::Error> CosimSimulation::refusedByEngine(const CosimComponent& c, const v1::DataPackage& package) {
   if (backend_->name() == "native" || !package.has_simulation_box_input()) return std::nullopt;
-  // LIGGGHTS is given the room and gravity once, at the start (liggghts_script.hpp).
+  // LIGGGHTS is given the bounds, the frame and gravity once, at the start (liggghts_script.hpp).
   const v1::SimulationBoxInput& input = package.simulation_box_input();
   if (input.has_frame() && !frameOf(input.frame()).isInertial()) {
     return makeError(v1::Error::INVALID_INPUT,
-                     "component \"" + c.name + "\": the LIGGGHTS backend has no moving room; run it on the native "
+                     "component \"" + c.name + "\": the LIGGGHTS backend has no moving frame; run it on the native "
                      "backend",
                      c.name, "data.simulation_box_input.frame", true);
   }

@@ -1,4 +1,4 @@
-/// Room settings of a SimulationBox (contract in translate_room.hpp). Range
+/// Bounds and frame settings of a SimulationBox (contract in translate_room.hpp). Range
 /// checks are core::SimulationSettings::validate's; this file only maps fields
 /// and rejects fields that make no sense for the chosen mode.
 #include "demlink/server/scene/translate_room.hpp"

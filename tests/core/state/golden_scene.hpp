@@ -2,7 +2,7 @@
 /// The scene behind the golden checkpoint (tests/core/state/golden/): every kind of
 /// state a checkpoint holds is non-trivial when it is saved: free spheres and
 /// clumps in contact, two planes with near lists, a translating and turning mesh
-/// with a near list and a wrench, a translating room, bounds removal, and a seeded
+/// with a near list and a wrench, a translating frame, bounds removal, and a seeded
 /// source, a sink, a flow sensor, a region sensor and a tracker (following a
 /// sphere and the mesh). Self-contained on purpose: changing a shared test scene
 /// must not silently change the golden file's meaning.

@@ -1,5 +1,5 @@
 // Checkpoints of the state that the scene components add to the world: clump bodies
-// (pose, momentum, member slots), the moving room (Omega advanced every step),
+// (pose, momentum, member slots), the moving frame (Omega advanced every step),
 // growing bounds and facet-body collision windows. A run continued from a
 // checkpoint in a freshly built world must equal the run that never stopped, bit
 // for bit, including a gate that opens after the checkpoint was taken.
@@ -63,7 +63,7 @@ TEST(CheckpointRoomClumps, ClumpRunContinuesBitIdentically) {
   EXPECT_LT(a->planes()[0].force.z(), 0.0) << "force on the floor by the clumps points down";
 }
 
-/// A rotating, spinning-up room with growing bounds; spheres rest on a mesh gate
+/// A rotating, spinning-up frame with growing bounds; spheres rest on a mesh gate
 /// that stops colliding at t = 0.03 s (after the checkpoint at 0.02 s).
 std::unique_ptr<World> roomScene() {
   SimulationSettings s = test::fineSettings(2e-5, 1.0);
@@ -99,7 +99,7 @@ TEST(CheckpointRoomClumps, RoomGrowingBoundsAndGateContinueBitIdentically) {
   for (int n = 0; n < 2000; ++n) a->step();  // the gate opens at 0.03 s
 
   const auto b = roomScene();
-  b->restoreCheckpoint(std::string_view(file), "room.bin");
+  b->restoreCheckpoint(std::string_view(file), "frame_clumps.bin");
   for (int n = 0; n < 2000; ++n) b->step();
   EXPECT_EQ(differingColumns(*a, *b), "");
   ASSERT_TRUE(a->currentBounds() && b->currentBounds());

@@ -1,6 +1,6 @@
-/// The simulation room as a moving frame (frame_motion.hpp) and growing domain
+/// The moving frame (frame_motion.hpp) and growing domain
 /// bounds: checked against analytic trajectories seen from a rotating frame, the
-/// stick/slip threshold of a block on the floor of an accelerating room, the
+/// stick/slip threshold of a block on the floor of an accelerating frame, the
 /// equivalence of a frame acceleration with a change of gravity, and the growth
 /// and limit of the bounds box.
 #include <gtest/gtest.h>
@@ -28,10 +28,10 @@ struct FreeFlightError {
   double spin = 0.0;      ///< [rad/s]
 };
 
-/// A free sphere (no gravity, no contacts) seen from a room turning about z with
+/// A free sphere (no gravity, no contacts) seen from a frame turning about z with
 /// Omega(t) = w0 + alpha t, over T = 1 s with time step dt. Inertially it flies
 /// straight and keeps its spin: x_I = x0 + (v0 + Omega0 x x0) t, omega_abs = omega0 + Omega0;
-/// in the room x = R(-theta) x_I with theta = w0 t + alpha t^2 / 2, and the
+/// in the frame x = R(-theta) x_I with theta = w0 t + alpha t^2 / 2, and the
 /// relative spin is R(-theta) omega_abs - Omega(t).
 FreeFlightError freeFlightInTurningRoom(double dt, double w0, double alpha) {
   SimulationSettings settings = test::fineSettings(dt, 1.0);
@@ -64,7 +64,7 @@ TEST(MovingRoom, FreeParticleInUniformlyRotatingRoomFollowsTheRotatedStraightLin
   const FreeFlightError coarse = freeFlightInTurningRoom(1.0e-2, 2.0, 0.0);
   const FreeFlightError mid = freeFlightInTurningRoom(5.0e-3, 2.0, 0.0);
   const FreeFlightError fine = freeFlightInTurningRoom(2.5e-3, 2.0, 0.0);
-  EXPECT_LT(fine.position, 1.0e-5);  // over a path of ~0.5 m and two turns of the room
+  EXPECT_LT(fine.position, 1.0e-5);  // over a path of ~0.5 m and two turns of the frame
   EXPECT_NEAR(coarse.position / mid.position, 4.0, 0.2);
   EXPECT_NEAR(mid.position / fine.position, 4.0, 0.2);
   // The spin transport is an exact rotation with a constant Omega.
@@ -88,8 +88,8 @@ struct SlidingRun {
 };
 
 /// A sphere that cannot turn (a block: inverse inertia 0, so the friction alone
-/// must hold it; a free sphere would roll) rests on the floor of a room under
-/// gravity 9.81 m/s^2. The room's x acceleration ramps from 0 to `ratio` mu g
+/// must hold it; a free sphere would roll) rests on the floor of a frame under
+/// gravity 9.81 m/s^2. The frame's x acceleration ramps from 0 to `ratio` mu g
 /// over 0.05 s (quasi-static, so the tangential spring does not overshoot), then
 /// stays for 0.1 s.
 SlidingRun blockInAcceleratingRoom(double ratio) {
@@ -129,7 +129,7 @@ TEST(MovingRoom, BlockOnFloorSticksBelowMuGAndSlidesAbove) {
   EXPECT_NEAR(fast.acceleration, -kMuG, 1.0e-3 * kMuG);
 }
 
-/// A sphere thrown with spin onto a rough floor; gravity and the room's linear
+/// A sphere thrown with spin onto a rough floor; gravity and the frame's linear
 /// acceleration as given.
 World bouncingSphere(const Vec3& gravity, const Vec3& roomAcceleration) {
   SimulationSettings settings = test::fineSettings(2.0e-6, 2.0);
@@ -164,7 +164,7 @@ TEST(MovingRoom, ConstantRoomAccelerationEqualsChangedGravity) {
                               (a.angular_velocity[0] - b.angular_velocity[0]).norm()});
     if (moving.planes()[0].force.norm() > 0.0) ++contactSteps;
   }
-  // Bitwise: a purely translating room runs the plain kick with gravity g - a_f.
+  // Bitwise: a purely translating frame runs the plain kick with gravity g - a_f.
   EXPECT_EQ(maxDifference, 0.0);
   EXPECT_GT(contactSteps, 500);  // the sphere bounced and rolled (measured 985 contact steps)
 }

@@ -179,7 +179,7 @@ TEST(CosimRuntimeLimits, EveryRunTimeInputObeysTheDeclarationsBound) {
     }
     if (f.bound > 0.0 && f.field.find("frame.angular") == std::string::npos) {
       // At the bound: not refused by the bound (the world may still stop on its watchdog, and
-      // this scene's deformable bodies refuse any moving room; never INTERNAL).
+      // this scene's deformable bodies refuse any moving frame; never INTERNAL).
       for (const double value : {f.bound, f.field.find("rate") == std::string::npos ? -f.bound : 0.0}) {
         const std::optional<v1::Error> error = sendAt(f, value);
         if (!error) continue;

@@ -1,5 +1,5 @@
-/// Facet bodies (facets.proto, translate_facets.cpp) and the room settings of a
-/// SimulationBox (translate_room.cpp): geometry sources agree with each other,
+/// Facet bodies (facets.proto, translate_facets.cpp) and the bounds and frame settings
+/// of a SimulationBox (translate_room.cpp): geometry sources agree with each other,
 /// roles and collision windows act as declared, bad input names its field.
 #include <gtest/gtest.h>
 

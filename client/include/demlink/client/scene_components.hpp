@@ -1,7 +1,7 @@
 #pragma once
 /// Components that set up the simulation: SimulationBox (the one mandatory scene-wide
 /// component; it may also be exchanged to read the world's totals and to change gravity
-/// or the room's motion at run time), Material, Plane, SingleParticle, ParticleSystem.
+/// or the frame's motion at run time), Material, Plane, SingleParticle, ParticleSystem.
 /// Units are SI throughout; each setter names its unit.
 #include <cstdint>
 #include <string>
@@ -29,7 +29,7 @@ class SimulationBox : public Component {
 
   // Inputs: one-shot, sent with the box's next package only ("omitted: unchanged").
   void setGravity(const Vec3& g);  ///< [m/s^2]
-  /// Room motion (docs/room_and_facets.md): [m/s^2], [rad/s], [rad/s^2], [m].
+  /// Frame motion (docs/frame_and_facets.md): [m/s^2], [rad/s], [rad/s^2], [m].
   void setFrame(const Vec3& linearAcceleration, const Vec3& angularVelocity, const Vec3& angularAcceleration,
                 const Vec3& origin = {});
 

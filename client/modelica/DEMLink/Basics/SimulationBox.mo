@@ -34,19 +34,19 @@ model SimulationBox "Server address, communication interval and the DEM run's se
   parameter String expectedNames[:] = fill("", 0)
     "Names of components the server waits for besides the count (e.g. those of another tool's clients)"
     annotation (Dialog(group = "Coupling"));
-  parameter Boolean useGravityInput = false "Gravity from the input gravityIn (a tilting or accelerating room)";
+  parameter Boolean useGravityInput = false "Gravity from the input gravityIn (a tilting or accelerating frame)";
   Modelica.Blocks.Interfaces.RealInput gravityIn[3](each unit = "m/s2") if useGravityInput
     "Gravity, world frame, sent at every sample" annotation (Placement(transformation(extent = {{-140, -20}, {-100, 20}})));
   parameter Boolean useFrameInput = false
-    "Room motion from the inputs frameAcceleration, frameAngularVelocity, frameAngularAcceleration (a moving room)";
-  parameter Modelica.Units.SI.Position frameOrigin[3] = {0, 0, 0} "Point the room rotates about (useFrameInput)"
+    "Frame motion from the inputs frameAcceleration, frameAngularVelocity, frameAngularAcceleration (a moving frame)";
+  parameter Modelica.Units.SI.Position frameOrigin[3] = {0, 0, 0} "Point the frame rotates about (useFrameInput)"
     annotation (Dialog(enable = useFrameInput));
   Modelica.Blocks.Interfaces.RealInput frameAcceleration[3](each unit = "m/s2") if useFrameInput
-    "Linear acceleration of the room frame, sent at every sample" annotation (Placement(transformation(extent = {{-140, 40}, {-100, 80}})));
+    "Linear acceleration of the moving frame, sent at every sample" annotation (Placement(transformation(extent = {{-140, 40}, {-100, 80}})));
   Modelica.Blocks.Interfaces.RealInput frameAngularVelocity[3](each unit = "rad/s") if useFrameInput
-    "Angular velocity of the room frame" annotation (Placement(transformation(extent = {{-140, -60}, {-100, -20}})));
+    "Angular velocity of the moving frame" annotation (Placement(transformation(extent = {{-140, -60}, {-100, -20}})));
   Modelica.Blocks.Interfaces.RealInput frameAngularAcceleration[3](each unit = "rad/s2") if useFrameInput
-    "Angular acceleration of the room frame" annotation (Placement(transformation(extent = {{-140, -100}, {-100, -60}})));
+    "Angular acceleration of the moving frame" annotation (Placement(transformation(extent = {{-140, -100}, {-100, -60}})));
   Modelica.Blocks.Interfaces.IntegerOutput particleCount(start = 0, fixed = true) "Particles in the DEM world"
     annotation (Placement(transformation(extent = {{100, 50}, {120, 70}})));
   Modelica.Blocks.Interfaces.RealOutput totalMass(unit = "kg", start = 0, fixed = true) "Mass of all particles"
@@ -123,11 +123,11 @@ speed, coarse graining) and the names of components the server waits for besides
 model's own (<code>expectedNames</code>, e.g. another tool's clients). The model's own components are not counted: each says at the end of its
 initialisation that its declarations are done, and the server compiles once every
 connected client has said so. With <code>useGravityInput</code> the gravity follows the input
-<code>gravityIn</code> at every sample (the paper's accelerated and tilting rooms, section
-6.2, as far as a gravity vector expresses them). With <code>useFrameInput</code> the room
+<code>gravityIn</code> at every sample (the paper's accelerated and tilting frames, section
+6.2, as far as a gravity vector expresses them). With <code>useFrameInput</code> the frame
 itself moves: its linear acceleration, angular velocity and angular acceleration (about
 <code>frameOrigin</code>) follow the frame inputs at every sample, and the particles feel the
-fictitious forces of that frame (docs/room_and_facets.md).</p>
+fictitious forces of that frame (docs/frame_and_facets.md).</p>
 <p>With <code>endTime = 0</code> (the default) the DEM run lasts exactly as long as the
 model's run: it ends when every component has said Bye at <code>terminal()</code>.</p></html>"));
 end SimulationBox;

@@ -198,7 +198,7 @@ package External "The C functions of libdemlink_c (demlink/demlink_c.h) and of R
       size, radius) annotation (Library = "demlink_c", Include = "#include \"demlink_modelica.h\"");
   end regionSensorSetRegion;
 
-  impure function simulationBoxSetFrame "dl_simulation_box_set_frame: the room's motion from the next package on"
+  impure function simulationBoxSetFrame "dl_simulation_box_set_frame: the frame's motion from the next package on"
     extends Modelica.Icons.Function;
     input Client client;
     input Integer handle;

@@ -14,7 +14,7 @@
 ///   sections, each: 4-byte tag, u64 length, payload (state_stream.hpp):
 ///     SETT settings   MATL materials   CLOK step count, next id, tallies, pending slot map
 ///     PART particle columns   NBRL neighbour list   PLAN planes   MESH meshes
-///     ROOM bounds and room motion   CLMP clumps   COMP component states
+///     ROOM bounds and frame motion   CLMP clumps   COMP component states
 ///     END  (marks a complete file)
 #include <cstdint>
 #include <filesystem>

@@ -53,7 +53,7 @@ struct SimulationSettings {
   /// Accept a time step above the critical limit (a warning instead of an error).
   bool allow_unsafe_time_step = false;
   std::optional<DomainBounds> bounds;
-  /// Initial motion of the frame (the "room" of the docs); default inertial. The
+  /// Initial motion of the frame (docs/frame_and_facets.md); default inertial. The
   /// world runs a copy (WorldState::frame) that World::setFrameMotion replaces.
   /// Planes and meshes are at rest in the frame unless moved.
   FrameMotion frame;

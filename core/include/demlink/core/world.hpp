@@ -100,7 +100,7 @@ class World final : public ComponentWorld {
   /// The bond rules and every bond made so far.
   [[nodiscard]] const BondSet& bonds() const override { return bonds_; }
 
-  /// Changes the motion of the frame (the "room" of the docs) from the next step
+  /// Changes the motion of the frame (docs/frame_and_facets.md) from the next step
   /// on (validated; names "frame.<field>"): a change of the world's state, the
   /// settings keep the initial motion. An inertial motion returns the step to the
   /// plain integrator (the stage list is selected again).

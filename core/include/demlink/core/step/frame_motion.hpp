@@ -1,9 +1,8 @@
 #pragma once
-/// The simulation frame: the reference frame particles are integrated in. It may
-/// accelerate and rotate with everything at rest in it (planes, meshes), which
-/// is the coupling paper's "accelerated, rotating simulation rooms" (a truck bed
-/// that brakes and turns). The docs and the scene schema's users call this frame
-/// "the room"; in code it is always "the frame" (FrameMotion, scene field `frame`).
+/// The moving frame: the reference frame particles are integrated in. It may
+/// accelerate and rotate with everything at rest in it (planes, meshes), as the
+/// coupling paper's accelerated, rotating simulation domain does (a truck bed that
+/// brakes and turns); docs/frame_and_facets.md describes it for users.
 ///
 /// Equations (all vectors in frame coordinates; r = x - origin, v and omega_p the
 /// particle's velocity and spin RELATIVE to the frame):
@@ -22,7 +21,7 @@
 /// rotate exactly (Rodrigues) by -2|Omega|h about Omega (spin: -|Omega|h), add the
 /// other half. The half kick is time-symmetric and exact for the rotation, so the
 /// kick-drift-kick step stays second order and speeds are not changed by the
-/// Coriolis part at all. See docs/room_and_facets.md for measured accuracy.
+/// Coriolis part at all. See docs/frame_and_facets.md for measured accuracy.
 ///
 /// Cost: the world calls these routines only when the frame is not inertial; an
 /// inertial frame runs the plain integrator (one branch per step, outside the loop).

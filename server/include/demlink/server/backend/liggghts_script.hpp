@@ -47,7 +47,7 @@ namespace demlink::server {
 /// Refuses, naming the component and the reason, what the LIGGGHTS backend cannot run:
 /// component kinds it does not map (clumps, deformable bodies, trackers), facet bodies
 /// that are not FIXED or have a collision window, pit generators of clumps, a moving
-/// room, and in the compiled world the linear law, explicit Euler,
+/// frame, and in the compiled world the linear law, explicit Euler,
 /// cohesion, missing or growing bounds and
 /// planes that are not axis-aligned. Throws core::InputError.
 void requireLiggghtsCompatible(const v1::Scene& scene, const core::World& world);

@@ -33,7 +33,7 @@ namespace demlink::server {
 /// source (particle_source_input) or sink (particle_sink_input) to its engine component,
 /// from the world's current step on; other packages are left alone.
 void applyComponentInput(const CosimComponent& component, const v1::DataPackage& package, core::World& world);
-/// The room motion of a checked SimulationBox.Frame.
+/// The frame motion of a checked SimulationBox.Frame.
 [[nodiscard]] core::FrameMotion frameOf(const v1::SimulationBox::Frame& frame);
 
 }  // namespace demlink::server

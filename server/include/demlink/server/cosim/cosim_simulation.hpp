@@ -88,7 +88,7 @@ class CosimSimulation {
   void stepWorld();
   /// Restores the world from `checkpoint` and starts the grid at its step.
   void restoreFrom(const std::filesystem::path& checkpoint);
-  /// An input the engine cannot apply (LIGGGHTS: a moving room, a change of gravity).
+  /// An input the engine cannot apply (LIGGGHTS: a moving frame, a change of gravity).
   std::optional<v1::Error> refusedByEngine(const CosimComponent& c, const v1::DataPackage& package);
   /// options.before_engine, if set.
   void beforeEngine() const;

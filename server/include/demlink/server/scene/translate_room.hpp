@@ -1,7 +1,7 @@
 #pragma once
-/// Translation of the simulation room's settings in a SimulationBox: the bounds
-/// mode (fixed or growing up to a limit box) and the room's frame motion
-/// (acceleration, rotation). See docs/room_and_facets.md.
+/// Translation of the domain and frame settings in a SimulationBox: the bounds
+/// mode (fixed or growing up to a limit box) and the frame's motion
+/// (acceleration, rotation). See docs/frame_and_facets.md.
 #include <string>
 
 #include "demlink/core/simulation_settings.hpp"
