@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "demlink/cli/command_line.hpp"
-#include "demlink/core/components/random.hpp"
+#include "demlink/core/base/random.hpp"
 #include "demlink/core/world.hpp"
 
 namespace {

@@ -681,12 +681,14 @@ InProcessResult runInProcess(const OverheadOptions& o, const BedScene& bed) {
   const Clock::time_point begin = Clock::now();
   for (std::uint64_t k = 0; k < bed.exchanges; ++k) {
     const double t0 = static_cast<double>(k * bed.interval_steps) * bed.time_step;
-    motion.beginInterval(world, poseAt(start, t0), twist, bed.interval_steps);
+    core::MeshBody& body = world.mesh(motion.meshIndex());
+    const double dt = world.settings().time_step;
+    motion.beginInterval(body, dt, poseAt(start, t0), twist, bed.interval_steps);
     for (std::uint64_t s = 0; s < bed.interval_steps; ++s) {
       world.step();
-      motion.afterStep(world);
+      motion.afterStep(body, dt);
     }
-    checksum += motion.endInterval(world).mean_force.x();
+    checksum += motion.endInterval(body, dt).mean_force.x();
   }
   InProcessResult r;
   r.seconds = secondsOf(Clock::now() - begin);

@@ -56,7 +56,7 @@
 
 #include "demlink/cli/command_line.hpp"
 #include "demlink/core/particles/sphere.hpp"
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/core/world.hpp"
 
 namespace {

@@ -33,7 +33,7 @@
 #include "calibration_targets.hpp"
 #include "command_line_main.hpp"
 #include "demlink/cli/command_line.hpp"
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 
 namespace {
 

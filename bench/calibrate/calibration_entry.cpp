@@ -3,7 +3,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 
 namespace demlink::calibrate {
 

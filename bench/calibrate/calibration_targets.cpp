@@ -4,9 +4,9 @@
 #include <limits>
 
 #include "calibration_scenes.hpp"
-#include "demlink/core/input_error.hpp"
-#include "demlink/core/input_file.hpp"
-#include "demlink/core/log_text.hpp"
+#include "demlink/core/base/input_error.hpp"
+#include "demlink/core/base/input_file.hpp"
+#include "demlink/core/base/log_text.hpp"
 #include "demlink/server/scene/scene_loader.hpp"
 #include "demlink/v1/calibration.pb.h"
 

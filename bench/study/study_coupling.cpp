@@ -75,9 +75,10 @@ CouplingResult runCase(const Knobs& knobs, std::size_t grains, const std::string
   SceneResult cost;
   while (world.time() < t0 + duration - 0.5 * dt) {
     const core::RigidPose pose{Vec3(0.5 * kSide, 0.5 * kSide, z), core::Quat::Identity()};
-    motion.beginInterval(world, pose, core::RigidTwist{Vec3(0.0, 0.0, v), Vec3::Zero()}, c.interval_steps);
-    advance(world, world.time() + interval, cost, cpuLimit, [&] { motion.afterStep(world); });
-    const double received = motion.endInterval(world).mean_force.z();
+    core::MeshBody& mesh = world.mesh(motion.meshIndex());
+    motion.beginInterval(mesh, dt, pose, core::RigidTwist{Vec3(0.0, 0.0, v), Vec3::Zero()}, c.interval_steps);
+    advance(world, world.time() + interval, cost, cpuLimit, [&] { motion.afterStep(mesh, dt); });
+    const double received = motion.endInterval(mesh, dt).mean_force.z();
     const double force = c.order == ClientOrder::SendFirst ? received : heldForce;
     heldForce = received;
     const double a = force / c.mass + g;

@@ -2,8 +2,8 @@
 
 #include <thread>
 
-#include "demlink/core/input_bounds.hpp"
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_bounds.hpp"
+#include "demlink/core/base/input_error.hpp"
 
 namespace demlink::core {
 

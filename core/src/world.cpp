@@ -10,12 +10,12 @@
 
 #include "demlink/core/contact/contact_law_registry.hpp"
 #include "demlink/core/contact/contact_stage.hpp"
-#include "demlink/core/input_bounds.hpp"
-#include "demlink/core/input_error.hpp"
-#include "demlink/core/unit_quaternion.hpp"
+#include "demlink/core/base/input_bounds.hpp"
+#include "demlink/core/base/input_error.hpp"
+#include "demlink/core/base/unit_quaternion.hpp"
 #include "demlink/core/step/integrator.hpp"
 #include "demlink/core/step/frame_motion.hpp"
-#include "demlink/core/step/parallel.hpp"
+#include "demlink/core/parallel/parallel_loops.hpp"
 
 namespace demlink::core {
 namespace {
@@ -41,7 +41,7 @@ std::size_t World::addBondRule(BondRule rule, const std::string& fieldPrefix) {
                        "no such material");
     }
   }
-  if (rule.region) rule.placement.resolve(*this, fieldPrefix + ".region");
+  if (rule.region) rule.placement.resolve(walls_.meshes.size(), fieldPrefix + ".region");
   return bonds_.addRule(std::move(rule));
 }
 
@@ -507,7 +507,7 @@ void World::runStage(Stage stage, StepContext& context) {
     case Stage::kDeformableForces: return finishDeformables(context);
     case Stage::kNeighbourList: return updateNeighbours(context);
     case Stage::kForces: return (this->*compute_forces_)(context);
-    case Stage::kParallelBonds: return bonds_.step(*this, particles_, context.dt, context.force_step);
+    case Stage::kParallelBonds: return bonds_.step(walls_.meshes, time(), particles_, context.dt, context.force_step);
     case Stage::kClumpForceSum: return gatherClumpForces();
     case Stage::kSecondHalfKick: return secondHalfKick(context);
     case Stage::kClumpHalfKick: return integrateClumps(0.5 * context.dt, 0.0, false);
@@ -1016,7 +1016,7 @@ namespace {
 
 /// One chunk's share of a watchdog reading (World::watch): sums, and the first extreme with
 /// the slots it came from. Shares are combined in chunk order, and the chunks depend on the
-/// particle count alone (parallel.hpp), so a reading does not depend on the thread count and
+/// particle count alone (parallel_loops.hpp), so a reading does not depend on the thread count and
 /// names the particle a serial scan would.
 struct WatchShare {
   static constexpr std::size_t kNone = std::numeric_limits<std::size_t>::max();

@@ -1,5 +1,5 @@
 /// The world's checkpoint: the order of the sections, the world's own counters
-/// and the settings check (format in checkpoint.hpp and
+/// and the settings check (format in checkpoint_file.hpp and
 /// docs/state.md). Each stateful object writes and reads its own section payload
 /// (ParticleArrays, NeighbourList, PlaneWall, MeshBody, MeshNearList, FrameMotion,
 /// ClumpBody, the components), checking what it reads.
@@ -44,8 +44,8 @@
 
 #include "demlink/core/components/component_state.hpp"
 #include "demlink/core/deformable/deformable_body.hpp"
-#include "demlink/core/input_error.hpp"
-#include "demlink/core/state/checkpoint.hpp"
+#include "demlink/core/base/input_error.hpp"
+#include "demlink/core/checkpoint_file.hpp"
 #include "demlink/core/state/state_stream.hpp"
 #include "demlink/core/world.hpp"
 

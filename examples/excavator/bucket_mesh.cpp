@@ -7,7 +7,7 @@
 #include <fstream>
 #include <stdexcept>
 
-#include "demlink/core/walls/stl_reader.hpp"
+#include "demlink/core/geometry/stl_reader.hpp"
 
 namespace demlink::examples::excavator {
 

@@ -8,7 +8,7 @@
 
 #include "calibration_entry.hpp"
 #include "calibration_targets.hpp"
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/server/scene/scene_loader.hpp"
 #include "demlink/server/scene/scene_translator.hpp"
 #include "test_support.hpp"

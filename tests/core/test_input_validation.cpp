@@ -3,7 +3,7 @@
 
 #include <gtest/gtest.h>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "test_scenes.hpp"
 
 namespace demlink::core {

@@ -4,9 +4,9 @@
 
 #include <string>
 
-#include "demlink/core/input_error.hpp"
-#include "demlink/core/log_text.hpp"
-#include "demlink/core/names.hpp"
+#include "demlink/core/base/input_error.hpp"
+#include "demlink/core/base/log_text.hpp"
+#include "demlink/core/base/names.hpp"
 
 namespace demlink::core {
 namespace {

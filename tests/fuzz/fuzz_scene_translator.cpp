@@ -18,7 +18,7 @@
 #include <string_view>
 #include <vector>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/server/scene/scene_loader.hpp"
 #include "demlink/server/scene/scene_translator.hpp"
 #include "fuzz_seeds.hpp"

@@ -184,12 +184,12 @@ TEST(LoopbackCoupling, ThreeClientsOverTcpMatchInProcessCouplingBitForBit) {
   core::CoupledMotion motion(0, core::MotionMode::Predicted);
   for (std::uint64_t k = 0; k < kExchanges; ++k) {
     const auto [pose, twist] = blade(k);
-    motion.beginInterval(world, pose, twist, kInterval);
+    motion.beginInterval(world.mesh(motion.meshIndex()), world.settings().time_step, pose, twist, kInterval);
     for (std::uint64_t s = 0; s < kInterval; ++s) {
       world.step();
-      motion.afterStep(world);
+      motion.afterStep(world.meshes()[motion.meshIndex()], world.settings().time_step);
     }
-    (void)motion.endInterval(world);
+    (void)motion.endInterval(world.mesh(motion.meshIndex()), world.settings().time_step);
   }
   std::ostringstream bytes;
   world.saveCheckpoint(bytes);

@@ -2,10 +2,14 @@
 """Fails when a project include points against the layers.
 
 The layers, each allowed to include only itself and what it lists (core includes no
-server, client or protocol header at all):
+server, client or protocol header at all). Inside core, a folder includes only itself and
+the folders before it in CORE_ORDER (the top-level files belong to "settings" or "world"):
+
+    parallel base geometry state materials particles step walls contact deformable
+    settings regions bonds output components world setup
 
     apps -> cosim -> backend -> run -> scene -> core
-    net  -> core's top-level headers and core/parallel only (never the engine's folders)
+    net  -> core/base and core/parallel only (never the engine)
     view -> net's transport helpers (asio.hpp, same_token.hpp) and core; apps include it
     client -> core/parallel only
     cli  -> nothing of the server
@@ -35,6 +39,49 @@ SERVER_ALLOWED = {
 }
 
 
+# core's layers, lowest first.
+CORE_ORDER = ["parallel", "base", "geometry", "state", "materials", "particles", "step", "walls", "contact",
+              "deformable", "settings", "regions", "bonds", "output", "components", "world", "setup"]
+# core's top-level files and the layer each belongs to.
+CORE_TOP = {"simulation_settings": "settings", "world_state": "settings", "world": "world",
+            "world_checkpoint": "world", "checkpoint_file": "world"}
+
+
+def core_layer_of_file(path: pathlib.Path, root: pathlib.Path) -> str | None:
+    """The core layer a file under core/ belongs to."""
+    parts = path.relative_to(root / "core").parts
+    if parts[0] == "parallel":
+        return "parallel"
+    if parts[:3] == ("include", "demlink", "core"):
+        parts = parts[3:]
+    elif parts[0] == "src":
+        parts = parts[1:]
+    else:
+        return None
+    if len(parts) == 1:
+        return CORE_TOP.get(pathlib.Path(parts[0]).name.split(".")[0])
+    return parts[0] if parts[0] in CORE_ORDER else None
+
+
+def core_layer_of_include(target: str) -> str | None:
+    """The core layer of an include "demlink/core/..."."""
+    pieces = target.split("/")
+    if len(pieces) == 3:
+        return CORE_TOP.get(pieces[2].split(".")[0])
+    return pieces[2] if pieces[2] in CORE_ORDER else None
+
+
+def core_offence(root: pathlib.Path, path: pathlib.Path, target: str) -> str | None:
+    """Why a file of core may not include the core header `target`, or None when it may."""
+    own = core_layer_of_file(path, root)
+    other = core_layer_of_include(target)
+    if own is None or other is None:
+        return f"{path.relative_to(root)} or {target} is in no core layer (add it to CORE_ORDER or CORE_TOP)"
+    if CORE_ORDER.index(other) > CORE_ORDER.index(own):
+        return f"core/{own} may not include core/{other} (it is a higher layer)"
+    return None
+
+
 def server_folder(path: pathlib.Path, root: pathlib.Path) -> str | None:
     """The server layer a file belongs to (src/<folder>/... or include/demlink/server/<folder>/...)."""
     parts = path.relative_to(root / "server").parts
@@ -57,7 +104,7 @@ def offence(root: pathlib.Path, path: pathlib.Path, target: str) -> str | None:
             return "core/parallel includes only itself"
         if area in ("server", "client", "v1", "wire", "cli"):
             return "core includes no server, client or protocol header"
-        return None
+        return core_offence(root, path, target) if area == "core" else None
     if relative.parts[0] == "client":
         if area == "core" and not target.startswith("demlink/core/parallel/"):
             return "the client reaches core only through core/parallel"
@@ -70,8 +117,8 @@ def offence(root: pathlib.Path, path: pathlib.Path, target: str) -> str | None:
     if folder == "cli":
         return "cli includes nothing of the server" if area in ("server", "core") else None
     if area == "core":
-        if folder == "net" and len(pieces) > 3 and pieces[2] != "parallel":
-            return "net uses core's top-level headers and core/parallel only"
+        if folder == "net" and pieces[2] not in ("base", "parallel"):
+            return "net uses core/base and core/parallel only"
         return None
     if area == "cli":
         return None if "cli" in SERVER_ALLOWED.get(folder, set()) else f"{folder} may not include cli"

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "fake_session_handler.hpp"
 
 namespace demlink::server::test {

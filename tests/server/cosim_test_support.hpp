@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "demlink/core/state/checkpoint.hpp"
+#include "demlink/core/checkpoint_file.hpp"
 #include "demlink/server/cosim/cosim_host.hpp"
 #include "demlink/server/scene/proto_convert.hpp"
 #include "scene_test_support.hpp"

@@ -4,7 +4,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/core/output/vtk_writer.hpp"
 #include "demlink/server/view/recorded_run.hpp"
 

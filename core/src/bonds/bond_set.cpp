@@ -9,12 +9,12 @@
 #include <unordered_map>
 #include <utility>
 
-#include "demlink/core/components/random.hpp"
+#include "demlink/core/base/random.hpp"
 #include "demlink/core/contact/critical_time_step.hpp"
 #include "demlink/core/materials/material.hpp"
 #include "demlink/core/particles/sphere.hpp"
 #include "demlink/core/state/state_stream.hpp"
-#include "demlink/core/world.hpp"
+#include "demlink/core/walls/mesh_body.hpp"
 
 namespace demlink::core {
 
@@ -80,7 +80,8 @@ BondSection BondSet::section(const ParallelBond& bond, const ParticleArrays& par
                          particles.radius[bond.slot_b]);
 }
 
-void BondSet::step(World& world, ParticleArrays& p, double dt, std::uint64_t stepCount) {
+void BondSet::step(const std::vector<MeshBody>& meshes, double time, ParticleArrays& p, double dt,
+                   std::uint64_t stepCount) {
   for (ParallelBond& bond : bonds_) {
     if (bond.broken) continue;
     const std::uint32_t a = bond.slot_a;
@@ -99,15 +100,16 @@ void BondSet::step(World& world, ParticleArrays& p, double dt, std::uint64_t ste
     p.torque[b] += load.torque_b;
   }
   for (std::size_t r = 0; r < rules_.size(); ++r) {
-    if (made_[r] == 0 && stepCount >= rules_[r].create_step) make(world, p, r);
+    if (made_[r] == 0 && stepCount >= rules_[r].create_step) make(meshes, time, p, r);
   }
 }
 
-void BondSet::make(World& world, const ParticleArrays& p, std::size_t ruleIndex) {
+void BondSet::make(const std::vector<MeshBody>& meshes, double time, const ParticleArrays& p,
+                   std::size_t ruleIndex) {
   made_[ruleIndex] = 1;
   const BondRule& rule = rules_[ruleIndex];
   std::vector<char> eligible(p.size(), 1);
-  const RegionPose pose = rule.region ? rule.placement.poseAt(world) : RegionPose{};
+  const RegionPose pose = rule.region ? rule.placement.poseAt(meshes, time) : RegionPose{};
   for (std::size_t i = 0; i < p.size(); ++i) {
     if (rule.groups && !rule.groups->contains(p.id[i])) {
       eligible[i] = 0;

@@ -6,7 +6,7 @@
 #include <cstddef>
 
 #include "demlink/core/bonds/bond_set.hpp"
-#include "demlink/core/components/random.hpp"
+#include "demlink/core/base/random.hpp"
 
 namespace demlink::core {
 

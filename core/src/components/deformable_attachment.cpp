@@ -2,16 +2,16 @@
 #include "demlink/core/components/deformable_attachment.hpp"
 
 #include "demlink/core/deformable/deformable_body.hpp"
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/core/walls/coupled_motion.hpp"
-#include "demlink/core/world.hpp"
+#include "demlink/core/components/component_world.hpp"
 
 namespace demlink::core {
 
 DeformableAttachment::DeformableAttachment(std::string name, std::size_t bodyIndex, std::size_t meshIndex)
     : WorldComponent(std::move(name)), body_(bodyIndex), mesh_(meshIndex) {}
 
-void DeformableAttachment::initialize(World& world) {
+void DeformableAttachment::initialize(ComponentWorld& world) {
   if (mesh_ >= world.meshes().size()) {
     throw InputError(name() + ".attached_to", std::to_string(mesh_), "no mesh body of that index");
   }
@@ -21,7 +21,7 @@ void DeformableAttachment::initialize(World& world) {
   initial_orientation_ = world.meshes()[mesh_].orientation();
 }
 
-void DeformableAttachment::insertAndRemove(World& world) {
+void DeformableAttachment::insertAndRemove(ComponentWorld& world) {
   const MeshBody& mesh = world.meshes()[mesh_];
   const RigidTwist twist{mesh.linearVelocity(), mesh.angularVelocity()};
   // The mesh is at t + dt already; the body takes the pose at t and moves it by the twist.

@@ -13,7 +13,7 @@
 
 #include "demlink/core/components/component_state.hpp"
 #include "demlink/core/state/state_stream.hpp"
-#include "demlink/core/world.hpp"
+#include "demlink/core/components/component_world.hpp"
 
 namespace demlink::core {
 
@@ -25,8 +25,8 @@ FlowSensor::FlowSensor(std::string name, SurfaceShape shape, RegionPlacement pla
   placement_.validate(this->fieldPrefix() + ".surface");
 }
 
-void FlowSensor::initialize(World& world) {
-  placement_.resolve(world, fieldPrefix() + ".surface");
+void FlowSensor::initialize(ComponentWorld& world) {
+  placement_.resolve(world.meshes().size(), fieldPrefix() + ".surface");
   resolveSchedule(world);
   previous_.clear();
   band_ = 0.0;
@@ -35,7 +35,7 @@ void FlowSensor::initialize(World& world) {
   publish(world, {world.time(), 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0});
 }
 
-void FlowSensor::observe(const World& world) {
+void FlowSensor::observe(const ComponentWorld& world) {
   scan(world, true);
   if (!sampleDue(world)) return;
   last_interval_ = since_sample_;
@@ -48,8 +48,8 @@ void FlowSensor::observe(const World& world) {
            static_cast<double>(t.netCount()), t.positive_mass, t.negative_mass, t.netMass()});
 }
 
-void FlowSensor::scan(const World& world, bool count) {
-  const RegionPose pose = placement_.poseAt(world);
+void FlowSensor::scan(const ComponentWorld& world, bool count) {
+  const RegionPose pose = placement_.poseAt(world.meshes(), world.time());
   const Vec3 normal = pose.rotation.col(2);
   const double reach = shape_.boundingRadius() + band_;  // in-plane distance that can matter [m]
   const ParticleArrays& p = world.particles();
@@ -71,7 +71,7 @@ void FlowSensor::scan(const World& world, bool count) {
   }
   std::swap(previous_, current_);
   const double dt = world.settings().time_step * static_cast<double>(observation_spacing_);  // between observations
-  const double speed = std::sqrt(fastest) + placement_.speedBound(world, shape_.boundingRadius());
+  const double speed = std::sqrt(fastest) + placement_.speedBound(world.meshes(), world.time(), shape_.boundingRadius());
   band_ = std::max(0.5 * largest, 4.0 * speed * dt + world.settings().gravity.norm() * dt * dt);
 }
 

@@ -5,9 +5,9 @@
 #include <cmath>
 
 #include "demlink/core/deformable/deformable_body.hpp"
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/core/step/watchdog.hpp"
-#include "demlink/core/world.hpp"
+#include "demlink/core/components/component_world.hpp"
 
 namespace demlink::core {
 namespace {
@@ -30,7 +30,7 @@ NodeTracker::NodeTracker(std::string name, std::vector<TrackedNode> nodes, Sampl
   }
 }
 
-void NodeTracker::initialize(World& world) {
+void NodeTracker::initialize(ComponentWorld& world) {
   labels_.clear();
   for (std::size_t k = 0; k < nodes_.size(); ++k) {
     const std::string field = fieldPrefix() + ".nodes[" + std::to_string(k) + "]";
@@ -52,7 +52,7 @@ void NodeTracker::initialize(World& world) {
   sample(world);
 }
 
-void NodeTracker::observe(const World& world) {
+void NodeTracker::observe(const ComponentWorld& world) {
   if (sampleDue(world)) sample(world);
 }
 
@@ -66,7 +66,7 @@ std::vector<std::string> NodeTracker::columns() const {
   return out;
 }
 
-void NodeTracker::sample(const World& world) {
+void NodeTracker::sample(const ComponentWorld& world) {
   std::vector<double> row{world.time()};
   for (const TrackedNode& tracked : nodes_) {
     const DeformableBody& body = *world.deformableBodies()[tracked.body];

@@ -17,13 +17,13 @@ ParticleSink::ParticleSink(std::string name, VolumeShape shape, RegionPlacement 
   placement_.validate(this->fieldPrefix() + ".region");
 }
 
-void ParticleSink::initialize(World& world) {
-  placement_.resolve(world, fieldPrefix() + ".region");
+void ParticleSink::initialize(ComponentWorld& world) {
+  placement_.resolve(world.meshes().size(), fieldPrefix() + ".region");
   resolveSchedule(world);
   publish(world, {world.time(), 0.0, 0.0, 0.0, 0.0});
 }
 
-void ParticleSink::changeRegion(const World& world, const RegionChange& change, const std::string& fieldPrefix) {
+void ParticleSink::changeRegion(const ComponentWorld& world, const RegionChange& change, const std::string& fieldPrefix) {
   applyRegionChange(change, world.time(), shape_, placement_, fieldPrefix);
   inputs_changed_ = true;
 }
@@ -44,19 +44,19 @@ void ParticleSink::loadInputs(StateReader& in) {
   inputs_changed_ = true;
 }
 
-void ParticleSink::insertAndRemove(World& world) {
+void ParticleSink::insertAndRemove(ComponentWorld& world) {
   if (!enabled_) return;
-  const RegionPose pose = placement_.poseAt(world);
+  const RegionPose pose = placement_.poseAt(world.meshes(), world.time());
   const std::vector<Vec3>& position = world.particles().position;
   RemovalTally removed;
-  world.removeParticlesIf([&](std::size_t i) { return shape_.contains(pose, position[i]); }, removed);
+  world.removeParticles([&](std::size_t i) { return shape_.contains(pose, position[i]); }, removed);
   total_.count += removed.count;
   total_.mass += removed.mass;
   since_sample_.count += removed.count;
   since_sample_.mass += removed.mass;
 }
 
-void ParticleSink::observe(const World& world) {
+void ParticleSink::observe(const ComponentWorld& world) {
   if (!sampleDue(world)) return;
   last_interval_ = since_sample_;
   since_sample_ = {};

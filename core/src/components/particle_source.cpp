@@ -18,13 +18,13 @@
 #include <unordered_map>
 
 #include "demlink/core/components/component_state.hpp"
-#include "demlink/core/input_bounds.hpp"
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_bounds.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/core/particles/sphere.hpp"
-#include "demlink/core/unit_quaternion.hpp"
+#include "demlink/core/base/unit_quaternion.hpp"
 #include "demlink/core/state/state_stream.hpp"
-#include "demlink/core/walls/triangle_geometry.hpp"
-#include "demlink/core/world.hpp"
+#include "demlink/core/geometry/triangle_geometry.hpp"
+#include "demlink/core/components/component_world.hpp"
 
 namespace demlink::core {
 namespace {
@@ -131,7 +131,7 @@ void ParticleSourceSpec::validate(const std::string& prefix, double clumpBoundin
 /// Everything a new sphere in this step's region could touch (see the file comment).
 class ParticleSource::Placement {
  public:
-  Placement(const World& world, const Vec3& regionCentre, double regionRadius, double newRadiusMax)
+  Placement(const ComponentWorld& world, const Vec3& regionCentre, double regionRadius, double newRadiusMax)
       : origin_(regionCentre) {
     const ParticleArrays& p = world.particles();
     double largest = newRadiusMax;
@@ -220,7 +220,7 @@ ParticleSource::ParticleSource(std::string name, ParticleSourceSpec spec, std::s
   spec_.region.orientation = Quat(spec_.region.orientation.coeffs() / quaternionNorm(spec_.region.orientation));
 }
 
-void ParticleSource::initialize(World& world) {
+void ParticleSource::initialize(ComponentWorld& world) {
   if (spec_.material >= world.materials().size()) {
     throw InputError(field_prefix_ + ".material", std::to_string(spec_.material), "no such material");
   }
@@ -248,7 +248,7 @@ void ParticleSource::initialize(World& world) {
   }
 }
 
-std::pair<Vec3, Quat> ParticleSource::regionPose(const World& world) const {
+std::pair<Vec3, Quat> ParticleSource::regionPose(const ComponentWorld& world) const {
   if (!mesh_index_) return {Vec3::Zero(), Quat::Identity()};
   const MeshBody& mesh = world.meshes()[*mesh_index_];
   return {mesh.position(), mesh.orientation()};
@@ -260,7 +260,7 @@ ParticleSource::Drawn ParticleSource::draw() {
   return {r, sphereMass(r, density_)};
 }
 
-void ParticleSource::insertAndRemove(World& world) {
+void ParticleSource::insertAndRemove(ComponentWorld& world) {
   const double dt = world.settings().time_step;
   const double active = activeTime(world.time() + dt, spec_.start_time, spec_.stop_time);
   if (active <= 0.0 || world.time() >= spec_.stop_time) return;
@@ -328,14 +328,14 @@ void ParticleSource::countInsertedElsewhere(std::uint64_t count, double mass) {
   report_.inserted_mass += mass;
 }
 
-void ParticleSource::setEnabled(const World& world, bool enabled) {
+void ParticleSource::setEnabled(const ComponentWorld& world, bool enabled) {
   if (enabled == enabled_) return;
   closeSegment(world.time());
   enabled_ = enabled;
   inputs_changed_ = true;
 }
 
-void ParticleSource::setRate(const World& world, double rate, const std::string& field) {
+void ParticleSource::setRate(const ComponentWorld& world, double rate, const std::string& field) {
   requireSourceRate(field, rate, spec_.rate_particles_per_s.has_value());
   closeSegment(world.time());
   if (spec_.rate_particles_per_s) {
@@ -373,7 +373,7 @@ void ParticleSource::loadInputs(StateReader& in) {
   inputs_changed_ = true;
 }
 
-bool ParticleSource::place(World& world, Placement& placement, const Drawn& shape) {
+bool ParticleSource::place(ComponentWorld& world, Placement& placement, const Drawn& shape) {
   const auto [bodyPosition, bodyOrientation] = regionPose(world);
   for (std::uint32_t attempt = 0; attempt < spec_.max_attempts; ++attempt) {
     const Vec3 x = bodyPosition + bodyOrientation * spec_.region.samplePoint(rng_, shape.radius);
@@ -391,7 +391,7 @@ bool ParticleSource::place(World& world, Placement& placement, const Drawn& shap
   return false;
 }
 
-void ParticleSource::insertSphere(World& world, const Vec3& position, const Vec3& velocity, double radius) {
+void ParticleSource::insertSphere(ComponentWorld& world, const Vec3& position, const Vec3& velocity, double radius) {
   ParticleSpec sphere;
   sphere.position = position;
   sphere.velocity = velocity;
@@ -407,7 +407,7 @@ double ParticleSource::maxNewRadius() const {
   return spec_.shape == SourceShape::ClumpTemplate ? clump_radius_ : spec_.sizes.maxRadius();
 }
 
-void ParticleSource::insertClump(World& world, const Vec3& position, const Vec3& velocity) {
+void ParticleSource::insertClump(ComponentWorld& world, const Vec3& position, const Vec3& velocity) {
   // The orientation is drawn after the place is found: the bounding sphere does not
   // depend on it, and a rotation composed with a uniform one is uniform.
   ClumpSpec clump;
@@ -497,7 +497,7 @@ std::string ParticleSource::summaryLine() const {
                      unit, report_.requested_mass, report_.shortfall_count, unit, report_.shortfall_mass);
 }
 
-ParticleSource& addParticleSource(World& world, const std::string& name, ParticleSourceSpec spec,
+ParticleSource& addParticleSource(ComponentWorld& world, const std::string& name, ParticleSourceSpec spec,
                                   const std::string& fieldPrefix) {
   auto source = std::make_unique<ParticleSource>(name, std::move(spec), fieldPrefix);
   const ParticleSourceSpec& validated = source->spec();
@@ -517,7 +517,7 @@ ParticleSource& addParticleSource(World& world, const std::string& name, Particl
   return static_cast<ParticleSource&>(world.addComponent(std::move(source)));
 }
 
-std::optional<double> ParticleSource::largestSpeed(const World& world) const {
+std::optional<double> ParticleSource::largestSpeed(const ComponentWorld& world) const {
   const double rim = spec_.shape == SourceShape::Sphere ? spec_.sizes.maxRadius()
                                                         : world.clumpTemplates()[spec_.clump_template].boundingRadius();
   double speed = spec_.velocity.norm() + spec_.angular_velocity.norm() * rim;

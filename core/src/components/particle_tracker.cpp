@@ -8,9 +8,9 @@
 #include <limits>
 
 #include "demlink/core/components/component_state.hpp"
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/core/state/state_stream.hpp"
-#include "demlink/core/world.hpp"
+#include "demlink/core/components/component_world.hpp"
 
 namespace demlink::core {
 namespace {
@@ -57,7 +57,7 @@ ParticleTracker::ParticleTracker(std::string name, std::vector<std::uint64_t> pa
   }
 }
 
-void ParticleTracker::initialize(World& world) {
+void ParticleTracker::initialize(ComponentWorld& world) {
   mesh_labels_.clear();
   for (std::size_t k = 0; k < meshes_.size(); ++k) {
     const std::size_t index = meshes_[k].index;
@@ -71,11 +71,11 @@ void ParticleTracker::initialize(World& world) {
   sample(world);
 }
 
-void ParticleTracker::observe(const World& world) {
+void ParticleTracker::observe(const ComponentWorld& world) {
   if (sampleDue(world)) sample(world);
 }
 
-void ParticleTracker::sample(const World& world) {
+void ParticleTracker::sample(const ComponentWorld& world) {
   std::vector<bool> seen(particles_.size(), false);
   const ParticleArrays& p = world.particles();
   for (std::size_t i = 0; i < p.size() && !column_of_id_.empty(); ++i) {

@@ -11,7 +11,7 @@
 
 #include "demlink/core/components/component_state.hpp"
 #include "demlink/core/state/state_stream.hpp"
-#include "demlink/core/world.hpp"
+#include "demlink/core/components/component_world.hpp"
 
 namespace demlink::core {
 
@@ -23,14 +23,14 @@ RegionSensor::RegionSensor(std::string name, VolumeShape shape, RegionPlacement 
   placement_.validate(this->fieldPrefix() + ".region");
 }
 
-void RegionSensor::initialize(World& world) {
-  placement_.resolve(world, fieldPrefix() + ".region");
+void RegionSensor::initialize(ComponentWorld& world) {
+  placement_.resolve(world.meshes().size(), fieldPrefix() + ".region");
   resolveSchedule(world);
   counts_bonds_ = world.bonds().hasRules();
   sample(world);
 }
 
-void RegionSensor::changeRegion(const World& world, const RegionChange& change, const std::string& fieldPrefix) {
+void RegionSensor::changeRegion(const ComponentWorld& world, const RegionChange& change, const std::string& fieldPrefix) {
   applyRegionChange(change, world.time(), shape_, placement_, fieldPrefix);
   inputs_changed_ = true;
 }
@@ -48,12 +48,12 @@ void RegionSensor::loadInputs(StateReader& in) {
   inputs_changed_ = true;
 }
 
-void RegionSensor::observe(const World& world) {
+void RegionSensor::observe(const ComponentWorld& world) {
   if (sampleDue(world)) sample(world);
 }
 
-RegionReading RegionSensor::measure(const World& world) const {
-  const RegionPose pose = placement_.poseAt(world);
+RegionReading RegionSensor::measure(const ComponentWorld& world) const {
+  const RegionPose pose = placement_.poseAt(world.meshes(), world.time());
   const ParticleArrays& p = world.particles();
   RegionReading reading;
   reading.time = world.time();
@@ -79,7 +79,7 @@ RegionReading RegionSensor::measure(const World& world) const {
   return reading;
 }
 
-void RegionSensor::sample(const World& world) {
+void RegionSensor::sample(const ComponentWorld& world) {
   latest_ = measure(world);
   const RegionReading& r = latest_;
   std::vector<double> row{r.time,

@@ -9,10 +9,10 @@
 #include <set>
 
 #include "demlink/core/components/component_state.hpp"
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/core/step/interval_steps.hpp"
+#include "demlink/core/components/component_world.hpp"
 #include "demlink/core/step/watchdog.hpp"
-#include "demlink/core/world.hpp"
 
 namespace demlink::core {
 
@@ -21,7 +21,7 @@ SampledComponent::SampledComponent(std::string name, SampleSchedule schedule, st
   if (schedule_.every_steps == 0) requirePositive(field_prefix_ + ".sample_interval", schedule_.interval);
 }
 
-void SampledComponent::resolveSchedule(const World& world) {
+void SampledComponent::resolveSchedule(const ComponentWorld& world) {
   if (schedule_.every_steps > 0) {
     every_ = schedule_.every_steps;
     return;
@@ -34,11 +34,11 @@ void SampledComponent::resolveSchedule(const World& world) {
   schedule_warning_ = std::move(steps.warning);
 }
 
-bool SampledComponent::sampleDue(const World& world) const {
+bool SampledComponent::sampleDue(const ComponentWorld& world) const {
   return every_ > 0 && world.stepCount() % every_ == 0;
 }
 
-void SampledComponent::publish(const World& world, std::vector<double> row) {
+void SampledComponent::publish(const ComponentWorld& world, std::vector<double> row) {
   // NaN is a missing value (an empty cell); an infinity can only come from a state that is
   // no longer finite, which stops the run as the watchdog would, before anything is recorded.
   for (std::size_t k = 0; k < row.size(); ++k) {
@@ -87,19 +87,20 @@ void SampledComponent::writeCsvTo(const std::filesystem::path& path) {
   if (!latest_.empty()) csv_->writeRow(latest_);
 }
 
-std::vector<std::string> sampleScheduleWarnings(const World& world) {
+std::vector<std::string> sampleScheduleWarnings(const std::vector<std::unique_ptr<WorldComponent>>& components) {
   std::vector<std::string> warnings;
-  for (const auto& component : world.components()) {
+  for (const auto& component : components) {
     const auto* sampled = dynamic_cast<const SampledComponent*>(component.get());
     if (sampled != nullptr && !sampled->scheduleWarning().empty()) warnings.push_back(sampled->scheduleWarning());
   }
   return warnings;
 }
 
-std::vector<std::filesystem::path> writeSamplesToCsv(World& world, const std::filesystem::path& directory) {
+std::vector<std::filesystem::path> writeSamplesToCsv(const std::vector<std::unique_ptr<WorldComponent>>& components,
+                                                     const std::filesystem::path& directory) {
   std::vector<std::filesystem::path> paths;
   std::set<std::string> used;
-  for (const auto& component : world.components()) {
+  for (const auto& component : components) {
     auto* sampled = dynamic_cast<SampledComponent*>(component.get());
     if (sampled == nullptr) continue;
     std::string stem = std::string(sampled->kind()) + "_" + sampled->name();

@@ -10,7 +10,7 @@
 #include <numbers>
 #include <numeric>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 
 namespace demlink::core {
 namespace {

@@ -4,7 +4,7 @@
 #include <string>
 
 #include "demlink/core/contact/restitution_calibration.hpp"
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 
 namespace demlink::core {
 namespace {

@@ -6,7 +6,7 @@
 #include <numeric>
 
 #include "demlink/core/contact/contact_law_registry.hpp"
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 
 namespace demlink::core {
 

@@ -1,6 +1,6 @@
 #include "demlink/core/contact/restitution_calibration.hpp"
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 
 namespace demlink::core {
 

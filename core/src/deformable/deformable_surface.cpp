@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/core/state/state_stream.hpp"
 
 namespace demlink::core {

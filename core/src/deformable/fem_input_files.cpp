@@ -6,7 +6,7 @@
 #include <fstream>
 
 #include "demlink/core/deformable/text_lines.hpp"
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 
 namespace demlink::core {
 namespace {

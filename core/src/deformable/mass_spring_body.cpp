@@ -22,7 +22,7 @@
 #include <limits>
 #include <map>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/core/state/state_stream.hpp"
 #include "mass_spring_builders.hpp"
 

@@ -7,8 +7,8 @@
 #include <map>
 #include <utility>
 
-#include "demlink/core/input_error.hpp"
-#include "demlink/core/walls/stl_reader.hpp"
+#include "demlink/core/base/input_error.hpp"
+#include "demlink/core/geometry/stl_reader.hpp"
 
 namespace demlink::core {
 namespace {

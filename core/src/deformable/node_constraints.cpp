@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/core/state/state_stream.hpp"
 
 namespace demlink::core {

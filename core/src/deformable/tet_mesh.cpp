@@ -6,7 +6,7 @@
 #include <map>
 #include <stdexcept>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 
 namespace demlink::core {
 namespace {

@@ -6,8 +6,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "demlink/core/input_error.hpp"
-#include "demlink/core/input_file.hpp"
+#include "demlink/core/base/input_error.hpp"
+#include "demlink/core/base/input_file.hpp"
 
 namespace demlink::core {
 

@@ -10,8 +10,8 @@
 #include <map>
 #include <sstream>
 
-#include "demlink/core/input_error.hpp"
-#include "demlink/core/input_file.hpp"
+#include "demlink/core/base/input_error.hpp"
+#include "demlink/core/base/input_file.hpp"
 
 namespace demlink::core {
 

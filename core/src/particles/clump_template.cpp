@@ -15,8 +15,8 @@
 #include <cmath>
 #include <numbers>
 
-#include "demlink/core/input_error.hpp"
-#include "demlink/core/principal_axes.hpp"
+#include "demlink/core/base/input_error.hpp"
+#include "demlink/core/geometry/principal_axes.hpp"
 
 namespace demlink::core {
 namespace {

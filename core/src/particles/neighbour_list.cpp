@@ -5,7 +5,7 @@
 #include <utility>
 
 #include "demlink/core/state/state_stream.hpp"
-#include "demlink/core/step/parallel.hpp"
+#include "demlink/core/parallel/parallel_loops.hpp"
 
 namespace demlink::core {
 

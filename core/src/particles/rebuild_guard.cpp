@@ -6,7 +6,7 @@
 #include <cmath>
 #include <limits>
 
-#include "demlink/core/step/parallel.hpp"
+#include "demlink/core/parallel/parallel_loops.hpp"
 
 namespace demlink::core {
 namespace {

@@ -5,11 +5,11 @@
 
 #include <cmath>
 
-#include "demlink/core/input_bounds.hpp"
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_bounds.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/core/state/state_stream.hpp"
 #include "demlink/core/step/integrator.hpp"
-#include "demlink/core/step/parallel.hpp"
+#include "demlink/core/parallel/parallel_loops.hpp"
 
 namespace demlink::core {
 namespace {

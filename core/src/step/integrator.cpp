@@ -1,6 +1,6 @@
 #include "demlink/core/step/integrator.hpp"
 
-#include "demlink/core/step/parallel.hpp"
+#include "demlink/core/parallel/parallel_loops.hpp"
 
 namespace demlink::core {
 

@@ -8,7 +8,7 @@
 
 #include <cmath>
 
-#include "demlink/core/world.hpp"
+#include "demlink/core/walls/mesh_body.hpp"
 
 namespace demlink::core {
 
@@ -43,10 +43,9 @@ RigidTwist twistBetween(const RigidPose& from, const RigidPose& to, double secon
   return out;
 }
 
-void CoupledMotion::beginInterval(World& world, const RigidPose& sample, const RigidTwist& twist,
+void CoupledMotion::beginInterval(MeshBody& mesh, double timeStep, const RigidPose& sample, const RigidTwist& twist,
                                   std::uint64_t steps) {
-  const double seconds = static_cast<double>(steps) * world.settings().time_step;
-  MeshBody& mesh = world.mesh(mesh_);
+  const double seconds = static_cast<double>(steps) * timeStep;
   target_ = targetPose(mode_, sample, twist, seconds);
   has_target_ = true;
   const RigidTwist motion = twistBetween({mesh.position(), mesh.orientation()}, target_, seconds);
@@ -56,21 +55,18 @@ void CoupledMotion::beginInterval(World& world, const RigidPose& sample, const R
   steps_ = 0;
 }
 
-void CoupledMotion::hold(World& world) {
-  world.mesh(mesh_).setVelocity(Vec3::Zero(), Vec3::Zero());
+void CoupledMotion::hold(MeshBody& mesh) {
+  mesh.setVelocity(Vec3::Zero(), Vec3::Zero());
   has_target_ = false;
 }
 
-void CoupledMotion::afterStep(const World& world) {
-  const double dt = world.settings().time_step;
-  const MeshBody& mesh = world.meshes()[mesh_];
-  impulse_ += mesh.force() * dt;
-  angular_impulse_ += mesh.torque() * dt;
+void CoupledMotion::afterStep(const MeshBody& mesh, double timeStep) {
+  impulse_ += mesh.force() * timeStep;
+  angular_impulse_ += mesh.torque() * timeStep;
   ++steps_;
 }
 
-IntervalWrench CoupledMotion::endInterval(World& world) {
-  MeshBody& mesh = world.mesh(mesh_);
+IntervalWrench CoupledMotion::endInterval(MeshBody& mesh, double timeStep) {
   if (has_target_) {
     snap_distance_ = (mesh.position() - target_.position).norm();
     snap_angle_ = mesh.orientation().angularDistance(target_.orientation);
@@ -78,7 +74,7 @@ IntervalWrench CoupledMotion::endInterval(World& world) {
   }
   IntervalWrench out;
   if (steps_ > 0) {
-    const double seconds = static_cast<double>(steps_) * world.settings().time_step;
+    const double seconds = static_cast<double>(steps_) * timeStep;
     out.mean_force = impulse_ / seconds;
     out.mean_torque = angular_impulse_ / seconds;
   }

@@ -10,10 +10,10 @@
 #include <algorithm>
 #include <cmath>
 
-#include "demlink/core/input_error.hpp"
-#include "demlink/core/unit_quaternion.hpp"
+#include "demlink/core/base/input_error.hpp"
+#include "demlink/core/base/unit_quaternion.hpp"
 #include "demlink/core/state/state_stream.hpp"
-#include "demlink/core/walls/stl_reader.hpp"
+#include "demlink/core/geometry/stl_reader.hpp"
 
 namespace demlink::core {
 namespace {

@@ -6,7 +6,7 @@
 #include <utility>
 
 #include "demlink/core/state/state_stream.hpp"
-#include "demlink/core/walls/triangle_geometry.hpp"
+#include "demlink/core/geometry/triangle_geometry.hpp"
 
 namespace demlink::core {
 

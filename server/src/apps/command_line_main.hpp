@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <exception>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/core/step/watchdog.hpp"
 
 namespace demlink::server {

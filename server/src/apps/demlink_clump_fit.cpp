@@ -19,10 +19,10 @@
 
 #include "command_line_main.hpp"
 #include "demlink/cli/command_line.hpp"
-#include "demlink/core/input_error.hpp"
-#include "demlink/core/names.hpp"
+#include "demlink/core/base/input_error.hpp"
+#include "demlink/core/base/names.hpp"
 #include "demlink/core/particles/clump_fit.hpp"
-#include "demlink/core/walls/closed_surface.hpp"
+#include "demlink/core/geometry/closed_surface.hpp"
 #include "demlink/server/scene/scene_loader.hpp"
 #include "demlink/v1/scene.pb.h"
 

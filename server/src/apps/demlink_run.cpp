@@ -25,7 +25,7 @@
 #include "command_line_main.hpp"
 #include "view_caps_command_line.hpp"
 #include "demlink/cli/command_line.hpp"
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/server/backend/liggghts_script.hpp"
 #include "demlink/server/backend/simulation_backend.hpp"
 #include "demlink/server/run/headless_runner.hpp"

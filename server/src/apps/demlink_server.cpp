@@ -31,8 +31,8 @@
 #include <string>
 #include <thread>
 
-#include "demlink/core/input_error.hpp"
-#include "demlink/core/input_file.hpp"
+#include "demlink/core/base/input_error.hpp"
+#include "demlink/core/base/input_file.hpp"
 #include "demlink/server/backend/simulation_backend.hpp"
 #ifdef DEMLINK_HAS_LIGGGHTS
 #include "demlink/server/cosim/cosim_lockstep.hpp"

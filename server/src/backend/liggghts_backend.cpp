@@ -24,8 +24,8 @@
 #include <stdexcept>
 #include <vector>
 
-#include "demlink/core/input_error.hpp"
-#include "demlink/core/state/checkpoint.hpp"
+#include "demlink/core/base/input_error.hpp"
+#include "demlink/core/checkpoint_file.hpp"
 #include "demlink/core/state/state_stream.hpp"
 #include "demlink/server/backend/liggghts_flows.hpp"
 #include "demlink/server/backend/liggghts_motion.hpp"

@@ -13,7 +13,7 @@
 #include "demlink/core/components/particle_sink.hpp"
 #include "demlink/core/components/particle_source.hpp"
 #include "demlink/core/components/sampled_component.hpp"
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 
 namespace demlink::server {
 namespace {

@@ -10,7 +10,7 @@
 #include <tuple>
 
 #include "demlink/core/particles/sphere.hpp"
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/server/scene/proto_convert.hpp"
 
 namespace demlink::server {

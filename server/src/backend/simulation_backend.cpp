@@ -4,8 +4,8 @@
 #include <algorithm>
 #include <cctype>
 
-#include "demlink/core/input_error.hpp"
-#include "demlink/core/state/checkpoint.hpp"
+#include "demlink/core/base/input_error.hpp"
+#include "demlink/core/checkpoint_file.hpp"
 #include "demlink/server/scene/proto_convert.hpp"
 
 namespace demlink::server {

@@ -19,9 +19,9 @@
 #include <map>
 
 #include "demlink/core/components/sampled_component.hpp"
-#include "demlink/core/input_error.hpp"
-#include "demlink/core/log_text.hpp"
-#include "demlink/core/names.hpp"
+#include "demlink/core/base/input_error.hpp"
+#include "demlink/core/base/log_text.hpp"
+#include "demlink/core/base/names.hpp"
 #include "demlink/core/step/interval_steps.hpp"
 #include "demlink/server/run/deformable_series.hpp"
 #include "demlink/server/scene/translate_deformables.hpp"
@@ -449,7 +449,7 @@ CompiledSimulation CosimCompiler::compile(const std::filesystem::path& sceneDire
   for (const std::string& warning : out.plan.warnings) {
     out.report.add_warnings(nameDeclaredField(warning, declared_).field);
   }
-  for (const std::string& warning : core::sampleScheduleWarnings(world)) {
+  for (const std::string& warning : core::sampleScheduleWarnings(world.components())) {
     out.report.add_warnings(nameDeclaredField(warning, declared_).field);
   }
   for (const std::string& stage : world.activeStages()) out.report.add_active_stages(stage);

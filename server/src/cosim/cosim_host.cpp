@@ -19,9 +19,9 @@
 #include <cmath>
 #include <map>
 
-#include "demlink/core/log_text.hpp"
-#include "demlink/core/names.hpp"
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/log_text.hpp"
+#include "demlink/core/base/names.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/server/backend/liggghts_script.hpp"
 #include "demlink/server/cosim/cosim_compiler.hpp"
 #include "demlink/server/cosim/cosim_simulation.hpp"

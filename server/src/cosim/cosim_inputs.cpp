@@ -9,10 +9,10 @@
 #include "demlink/core/components/particle_sink.hpp"
 #include "demlink/core/components/particle_source.hpp"
 #include "demlink/core/components/region_sensor.hpp"
-#include "demlink/core/input_bounds.hpp"
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_bounds.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/core/world.hpp"
-#include "demlink/core/unit_quaternion.hpp"
+#include "demlink/core/base/unit_quaternion.hpp"
 #include "demlink/server/scene/proto_convert.hpp"
 
 namespace demlink::server {

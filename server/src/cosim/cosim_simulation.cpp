@@ -19,8 +19,8 @@
 
 #include <fstream>
 
-#include "demlink/core/input_error.hpp"
-#include "demlink/core/state/checkpoint.hpp"
+#include "demlink/core/base/input_error.hpp"
+#include "demlink/core/checkpoint_file.hpp"
 #include "demlink/server/cosim/cosim_inputs.hpp"
 #include "demlink/server/run/run_log.hpp"
 
@@ -199,7 +199,7 @@ void CosimSimulation::retire(ConnectionId owner) {
     if (compiled_.components[i].owner != owner) continue;
     scheduler_.retire(i);
     inputs_.erase(i);
-    if (auto it = couplings_.find(i); it != couplings_.end()) it->second.hold(world());
+    if (auto it = couplings_.find(i); it != couplings_.end()) it->second.hold(world().mesh(it->second.meshIndex()));
     if (auto it = drives_.find(i); it != drives_.end()) {
       // The nodes stop where they are.
       DeformableDrive& drive = it->second;
@@ -220,7 +220,7 @@ void CosimSimulation::stepWorld() {
         .setDrivenPose(pose.position, pose.orientation, drive.twist.linear, drive.twist.angular);
   }
   backend_->advanceTo(w.stepCount() + 1);  // couplings and outputs see every step
-  for (auto& [index, coupling] : couplings_) coupling.afterStep(w);
+  for (auto& [index, coupling] : couplings_) coupling.afterStep(w.meshes()[coupling.meshIndex()], w.settings().time_step);
   if (step_observer_) step_observer_(w);
 }
 
@@ -230,8 +230,9 @@ CosimSimulation::Advance CosimSimulation::advance() {
   for (const auto& [index, package] : inputs_) {
     const CosimComponent& c = compiled_.components[index];
     if (package.has_rigid_body_input()) {
-      couplings_.at(index).beginInterval(w, poseOf(package.rigid_body_input()), twistOf(package.rigid_body_input()),
-                                         c.interval_steps);
+      core::CoupledMotion& coupling = couplings_.at(index);
+      coupling.beginInterval(w.mesh(coupling.meshIndex()), w.settings().time_step, poseOf(package.rigid_body_input()),
+                             twistOf(package.rigid_body_input()), c.interval_steps);
     } else if (package.has_deformable_body_input()) {
       drives_[index] = {poseOf(package.deformable_body_input()), twistOf(package.deformable_body_input()),
                         w.stepCount()};
@@ -273,7 +274,7 @@ CosimSimulation::Advance CosimSimulation::advance() {
   for (const std::size_t index : scheduler_.advanceTo(*stop)) {
     const CosimComponent& c = compiled_.components[index];
     core::IntervalWrench wrench;
-    if (auto it = couplings_.find(index); it != couplings_.end()) wrench = it->second.endInterval(w);
+    if (auto it = couplings_.find(index); it != couplings_.end()) wrench = it->second.endInterval(w.mesh(it->second.meshIndex()), w.settings().time_step);
     out.answers.emplace_back(*c.owner, outputs_.outputOf(index, c, w, wrench));
   }
   // The stop's frame and checkpoint, with the meshes on their targets.

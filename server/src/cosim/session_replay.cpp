@@ -7,9 +7,9 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "demlink/core/input_error.hpp"
-#include "demlink/core/input_file.hpp"
-#include "demlink/core/log_text.hpp"
+#include "demlink/core/base/input_error.hpp"
+#include "demlink/core/base/input_file.hpp"
+#include "demlink/core/base/log_text.hpp"
 #include "demlink/v1/recording.pb.h"
 #include "demlink/wire/frame_codec.hpp"
 

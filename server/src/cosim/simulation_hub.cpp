@@ -9,7 +9,7 @@
 #include <limits>
 #include <utility>
 
-#include "demlink/core/log_text.hpp"
+#include "demlink/core/base/log_text.hpp"
 #include "demlink/server/cosim/cosim_compiler.hpp"
 #include "demlink/server/cosim/session_recorder.hpp"
 #include "demlink/server/cosim/simulation_worker.hpp"

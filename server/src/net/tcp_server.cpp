@@ -9,8 +9,8 @@
 #include <utility>
 
 #include "connection.hpp"
-#include "demlink/core/input_error.hpp"
-#include "demlink/core/log_text.hpp"
+#include "demlink/core/base/input_error.hpp"
+#include "demlink/core/base/log_text.hpp"
 #include "demlink/core/parallel/spin_history.hpp"
 #include "demlink/server/net/same_token.hpp"
 

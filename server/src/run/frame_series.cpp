@@ -16,7 +16,7 @@
 #include <limits>
 #include <system_error>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/core/output/csv_table.hpp"
 
 namespace demlink::server {

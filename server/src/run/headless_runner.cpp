@@ -15,8 +15,8 @@
 #include <cmath>
 #include <limits>
 
-#include "demlink/core/state/checkpoint.hpp"
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/checkpoint_file.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/core/components/particle_source.hpp"
 #include "demlink/core/components/sampled_component.hpp"
 #include "demlink/server/run/contact_output_plan.hpp"
@@ -122,7 +122,7 @@ void checkHeadless(TranslatedScene& scene) {
   if (!scene.world.initialized()) scene.world.initialize();
   const RunPlan plan = planRun(run, scene.world.settings().time_step, true);
   for (const std::string& warning : plan.warnings) spdlog::warn("{}", warning);
-  for (const std::string& warning : core::sampleScheduleWarnings(scene.world)) spdlog::warn("{}", warning);
+  for (const std::string& warning : core::sampleScheduleWarnings(scene.world.components())) spdlog::warn("{}", warning);
 }
 
 RunSummary runHeadless(TranslatedScene& scene, const StepObserver& observer) {
@@ -149,7 +149,7 @@ RunSummary runHeadless(TranslatedScene& scene, const StepObserver& observer) {
   const double initialiseSeconds = secondsSince(initStart);
   const RunPlan plan = planRun(run, world.settings().time_step, true);
   for (const std::string& warning : plan.warnings) spdlog::warn("{}", warning);
-  for (const std::string& warning : core::sampleScheduleWarnings(world)) spdlog::warn("{}", warning);
+  for (const std::string& warning : core::sampleScheduleWarnings(world.components())) spdlog::warn("{}", warning);
   for (const std::string& warning : world.warnings()) spdlog::warn("{}", warning);
   const std::uint64_t endStep = plan.end_step;
   if (world.stepCount() >= endStep) {

@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <system_error>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 
 namespace demlink::server {
 namespace {

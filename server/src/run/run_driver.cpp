@@ -9,7 +9,7 @@
 #include <spdlog/fmt/fmt.h>
 
 #include "demlink/core/components/sampled_component.hpp"
-#include "demlink/core/state/checkpoint.hpp"
+#include "demlink/core/checkpoint_file.hpp"
 #include "demlink/core/step/interval_steps.hpp"
 #include "demlink/server/run/contact_output_plan.hpp"
 #include "demlink/server/run/output_directory.hpp"
@@ -93,7 +93,7 @@ RunDriver::RunDriver(core::World& world, const RunOptions& run, RunPlan plan, co
   const core::ContactOutputSettings contacts = contactOutputOf(run_, plan_);
   if (contacts.active()) world.setContactOutput(contacts);
   log_.writeConfiguration(world, run_, plan_.end_step);
-  sensor_files_ = core::writeSamplesToCsv(world, directory);
+  sensor_files_ = core::writeSamplesToCsv(world.components(), directory);
 }
 
 double RunDriver::wallSeconds() const { return secondsSince(start_); }

@@ -2,7 +2,7 @@
 
 #include <fmt/format.h>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/core/world.hpp"
 
 namespace demlink::server {

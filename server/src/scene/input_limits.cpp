@@ -10,8 +10,8 @@
 #include <spdlog/fmt/fmt.h>
 
 #include "demlink/core/components/sampled_component.hpp"
-#include "demlink/core/input_error.hpp"
-#include "demlink/core/log_text.hpp"
+#include "demlink/core/base/input_error.hpp"
+#include "demlink/core/base/log_text.hpp"
 #include "demlink/core/world.hpp"
 
 namespace demlink::server {

@@ -13,8 +13,8 @@
 #include <system_error>
 #include <unordered_map>
 
-#include "demlink/core/input_error.hpp"
-#include "demlink/core/input_file.hpp"
+#include "demlink/core/base/input_error.hpp"
+#include "demlink/core/base/input_file.hpp"
 
 namespace demlink::server {
 namespace {

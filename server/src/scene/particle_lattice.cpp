@@ -8,7 +8,7 @@
 
 #include <random>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 
 namespace demlink::server {
 namespace {

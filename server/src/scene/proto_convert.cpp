@@ -5,9 +5,9 @@
 
 #include <google/protobuf/descriptor.h>
 
-#include "demlink/core/input_error.hpp"
-#include "demlink/core/unit_quaternion.hpp"
-#include "demlink/core/log_text.hpp"
+#include "demlink/core/base/input_error.hpp"
+#include "demlink/core/base/unit_quaternion.hpp"
+#include "demlink/core/base/log_text.hpp"
 
 namespace demlink::server {
 

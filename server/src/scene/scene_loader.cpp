@@ -12,8 +12,8 @@
 #include <sstream>
 #include <system_error>
 
-#include "demlink/core/input_error.hpp"
-#include "demlink/core/input_file.hpp"
+#include "demlink/core/base/input_error.hpp"
+#include "demlink/core/base/input_file.hpp"
 
 namespace demlink::server {
 

@@ -25,10 +25,10 @@
 #include <fmt/format.h>
 
 #include "demlink/core/contact/contact_law_registry.hpp"
-#include "demlink/core/input_error.hpp"
-#include "demlink/core/log_text.hpp"
-#include "demlink/core/names.hpp"
-#include "demlink/core/step/thread_pool.hpp"
+#include "demlink/core/base/input_error.hpp"
+#include "demlink/core/base/log_text.hpp"
+#include "demlink/core/base/names.hpp"
+#include "demlink/core/parallel/thread_pool.hpp"
 #include "demlink/server/scene/fidelity_preset.hpp"
 #include "demlink/server/scene/input_limits.hpp"
 #include "demlink/server/scene/particle_file_reader.hpp"

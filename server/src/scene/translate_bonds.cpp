@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/core/step/interval_steps.hpp"
 #include "demlink/server/scene/proto_convert.hpp"
 #include "demlink/server/scene/translate_sensors.hpp"

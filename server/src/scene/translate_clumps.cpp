@@ -9,10 +9,10 @@
 
 #include <vector>
 
-#include "demlink/core/input_error.hpp"
-#include "demlink/core/log_text.hpp"
+#include "demlink/core/base/input_error.hpp"
+#include "demlink/core/base/log_text.hpp"
 #include "demlink/server/scene/input_limits.hpp"
-#include "demlink/core/components/random.hpp"
+#include "demlink/core/base/random.hpp"
 #include "demlink/server/scene/particle_lattice.hpp"
 #include "demlink/server/scene/proto_convert.hpp"
 

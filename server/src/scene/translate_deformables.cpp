@@ -10,7 +10,7 @@
 #include <memory>
 
 #include "demlink/core/components/deformable_attachment.hpp"
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/server/scene/input_limits.hpp"
 #include "demlink/server/scene/proto_convert.hpp"
 

@@ -11,7 +11,7 @@
 
 #include <limits>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 
 namespace demlink::server {
 namespace {

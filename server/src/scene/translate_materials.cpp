@@ -8,9 +8,9 @@
 #include <map>
 #include <utility>
 
-#include "demlink/core/input_error.hpp"
-#include "demlink/core/log_text.hpp"
-#include "demlink/core/names.hpp"
+#include "demlink/core/base/input_error.hpp"
+#include "demlink/core/base/log_text.hpp"
+#include "demlink/core/base/names.hpp"
 #include "demlink/core/materials/material_database.hpp"
 #include "demlink/server/scene/proto_convert.hpp"
 

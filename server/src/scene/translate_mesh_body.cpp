@@ -13,7 +13,7 @@
 #include <map>
 #include <utility>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 
 namespace demlink::server {
 

@@ -3,7 +3,7 @@
 /// and rejects fields that make no sense for the chosen mode.
 #include "demlink/server/scene/translate_room.hpp"
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/server/scene/proto_convert.hpp"
 
 namespace demlink::server {

@@ -12,8 +12,8 @@
 #include <string>
 
 #include "demlink/core/components/flow_sensor.hpp"
-#include "demlink/core/input_error.hpp"
-#include "demlink/core/log_text.hpp"
+#include "demlink/core/base/input_error.hpp"
+#include "demlink/core/base/log_text.hpp"
 #include "demlink/core/components/particle_sink.hpp"
 #include "demlink/core/components/node_tracker.hpp"
 #include "demlink/core/components/particle_tracker.hpp"

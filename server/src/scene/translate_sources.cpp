@@ -6,8 +6,8 @@
 #include <cmath>
 #include <optional>
 
-#include "demlink/core/input_error.hpp"
-#include "demlink/core/log_text.hpp"
+#include "demlink/core/base/input_error.hpp"
+#include "demlink/core/base/log_text.hpp"
 #include "demlink/core/components/particle_source.hpp"
 #include "demlink/server/scene/proto_convert.hpp"
 

@@ -10,9 +10,9 @@
 
 #include <vector>
 
-#include "demlink/core/state/checkpoint.hpp"
-#include "demlink/core/input_error.hpp"
-#include "demlink/core/log_text.hpp"
+#include "demlink/core/checkpoint_file.hpp"
+#include "demlink/core/base/input_error.hpp"
+#include "demlink/core/base/log_text.hpp"
 #include "demlink/server/scene/particle_csv.hpp"
 #include "demlink/server/scene/proto_convert.hpp"
 

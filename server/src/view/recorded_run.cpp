@@ -7,7 +7,7 @@
 #include <cmath>
 #include <limits>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "json_text.hpp"
 
 namespace demlink::server {

@@ -9,7 +9,7 @@
 #include <thread>
 #include <vector>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "view_connection.hpp"
 
 namespace demlink::server {

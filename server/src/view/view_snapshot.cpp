@@ -27,7 +27,7 @@ ViewPose poseOf(const core::Vec3& position, const core::Quat& orientation) {
 
 ViewRegion volumeRegion(const core::World& world, const core::VolumeShape& shape,
                         const core::RegionPlacement& placement) {
-  const core::RegionPose pose = placement.poseAt(world);
+  const core::RegionPose pose = placement.poseAt(world.meshes(), world.time());
   ViewRegion region;
   region.pose = poseOf(pose.centre, core::Quat(pose.rotation));
   if (shape.kind() == core::VolumeShape::Kind::Box) {
@@ -43,7 +43,7 @@ ViewRegion volumeRegion(const core::World& world, const core::VolumeShape& shape
 
 ViewRegion surfaceRegion(const core::World& world, const core::SurfaceShape& shape,
                          const core::RegionPlacement& placement) {
-  const core::RegionPose pose = placement.poseAt(world);
+  const core::RegionPose pose = placement.poseAt(world.meshes(), world.time());
   ViewRegion region;
   region.pose = poseOf(pose.centre, core::Quat(pose.rotation));
   if (shape.kind() == core::SurfaceShape::Kind::Rectangle) {

@@ -10,7 +10,7 @@
 #include <optional>
 #include <sstream>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 
 namespace demlink::server {
 namespace {

@@ -15,7 +15,7 @@
 
 #include "bonds/bond_test_scenes.hpp"
 #include "demlink/core/components/region_sensor.hpp"
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 
 namespace demlink::core {
 namespace {

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "bonds/bond_test_scenes.hpp"
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 
 namespace demlink::core {
 namespace {

@@ -12,8 +12,8 @@
 #include <unordered_map>
 #include <vector>
 
-#include "demlink/core/components/pit_generator.hpp"
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/setup/pit_generator.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/core/world.hpp"
 #include "test_scenes.hpp"
 

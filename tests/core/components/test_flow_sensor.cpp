@@ -8,7 +8,7 @@
 #include <memory>
 
 #include "demlink/core/components/flow_sensor.hpp"
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "sensor_test_support.hpp"
 
 namespace demlink::core {

@@ -67,11 +67,11 @@ class ForgetfulSink final : public WorldComponent {
   ForgetfulSink(Vec3 centre, double radius) : WorldComponent("forgetful"), centre_(centre), radius_(radius) {}
   [[nodiscard]] std::string_view kind() const override { return "forgetful_sink"; }
   [[nodiscard]] StageSet stages() const override { return stageBit(Stage::kInsertRemove); }
-  void insertAndRemove(World& world) override {
+  void insertAndRemove(ComponentWorld& world) override {
     const ParticleArrays& p = world.particles();
     double forgottenMass = 0.0;  // [kg]
     RemovalTally removed;
-    world.removeParticlesIf(
+    world.removeParticles(
         [&](std::size_t i) {
           const bool inside = (p.position[i] - centre_).norm() <= radius_;
           if (inside && !forgot_) {

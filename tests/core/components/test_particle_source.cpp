@@ -7,10 +7,10 @@
 #include <cmath>
 #include <numbers>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/core/walls/mesh_body.hpp"
 #include "demlink/core/components/particle_source.hpp"
-#include "demlink/core/walls/triangle_geometry.hpp"
+#include "demlink/core/geometry/triangle_geometry.hpp"
 #include "demlink/core/world.hpp"
 #include "test_scenes.hpp"
 

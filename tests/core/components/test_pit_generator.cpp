@@ -4,8 +4,8 @@
 
 #include <cmath>
 
-#include "demlink/core/input_error.hpp"
-#include "demlink/core/components/pit_generator.hpp"
+#include "demlink/core/base/input_error.hpp"
+#include "demlink/core/setup/pit_generator.hpp"
 #include "demlink/core/world.hpp"
 #include "test_scenes.hpp"
 

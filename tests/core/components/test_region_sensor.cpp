@@ -10,7 +10,7 @@
 #include <numbers>
 #include <unistd.h>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/core/components/region_sensor.hpp"
 #include "csv_test_support.hpp"
 #include "sensor_test_support.hpp"
@@ -134,7 +134,7 @@ TEST(RegionSensor, EmptyRegionWritesEmptyCells) {
   const std::filesystem::path dir =
       std::filesystem::temp_directory_path() / ("demlink_empty_region_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
-  const std::vector<std::filesystem::path> files = writeSamplesToCsv(world, dir);
+  const std::vector<std::filesystem::path> files = writeSamplesToCsv(world.components(), dir);
   ASSERT_EQ(files.size(), 2u);
   for (int n = 0; n < 30; ++n) world.step();
 

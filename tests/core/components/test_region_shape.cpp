@@ -6,8 +6,8 @@
 #include <cmath>
 #include <numbers>
 
-#include "demlink/core/input_error.hpp"
-#include "demlink/core/components/region_shape.hpp"
+#include "demlink/core/base/input_error.hpp"
+#include "demlink/core/regions/region_shape.hpp"
 #include "sensor_test_support.hpp"
 
 namespace demlink::core {
@@ -130,15 +130,15 @@ TEST(RegionShape, PlacementMovesAndFollowsAMesh) {
   attached.centre = Vec3(0.5, 0.0, 0.0);  // body frame
   attached.attached_mesh = 0;
   attached.validate("r");
-  attached.resolve(world, "r");
-  const RegionPose pose = attached.poseAt(world);
+  attached.resolve(world.meshes().size(), "r");
+  const RegionPose pose = attached.poseAt(world.meshes(), world.time());
   EXPECT_LT((pose.centre - Vec3(1.0, 0.5, 0.0)).norm(), 1e-14);
   EXPECT_LT((pose.rotation * Vec3::UnitX() - Vec3::UnitY()).norm(), 1e-14);
 
   RegionPlacement missing;
   missing.attached_mesh = 3;
   try {
-    missing.resolve(world, "components[2].region_sensor.region");
+    missing.resolve(world.meshes().size(), "components[2].region_sensor.region");
     ADD_FAILURE() << "expected an InputError";
   } catch (const InputError& e) {
     EXPECT_EQ(e.field(), "components[2].region_sensor.region.attached_to");

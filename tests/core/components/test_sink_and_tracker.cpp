@@ -15,7 +15,7 @@
 #include <set>
 #include <unistd.h>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/core/components/particle_sink.hpp"
 #include "demlink/core/components/particle_tracker.hpp"
 #include "demlink/core/step/watchdog.hpp"
@@ -109,7 +109,7 @@ TEST(ParticleTracker, CsvRowsMatchTheStateAndRemovalIsNoted) {
   const std::filesystem::path dir =
       std::filesystem::temp_directory_path() / ("demlink_tracker_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
-  const std::vector<std::filesystem::path> files = writeSamplesToCsv(world, dir);
+  const std::vector<std::filesystem::path> files = writeSamplesToCsv(world.components(), dir);
   ASSERT_EQ(files.size(), 1u);
   EXPECT_EQ(files[0].filename(), "tracker_track.csv");
 
@@ -197,7 +197,7 @@ TEST(ParticleTracker, InfiniteValueStopsTheRunAndIsNeverWritten) {
   const std::filesystem::path dir =
       std::filesystem::temp_directory_path() / ("demlink_tracker_inf_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
-  const std::vector<std::filesystem::path> files = writeSamplesToCsv(world, dir);
+  const std::vector<std::filesystem::path> files = writeSamplesToCsv(world.components(), dir);
   world.step();
   world.particles().angular_velocity[test::slotOf(world, id)].x() = std::numeric_limits<double>::infinity();
   try {

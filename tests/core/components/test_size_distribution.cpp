@@ -6,8 +6,8 @@
 #include <numbers>
 #include <vector>
 
-#include "demlink/core/input_error.hpp"
-#include "demlink/core/components/random.hpp"
+#include "demlink/core/base/input_error.hpp"
+#include "demlink/core/base/random.hpp"
 #include "demlink/core/components/size_distribution.hpp"
 
 namespace demlink::core {

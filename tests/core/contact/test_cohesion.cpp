@@ -11,7 +11,7 @@
 #include <random>
 
 #include "demlink/core/contact/contact_stage.hpp"
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "test_scenes.hpp"
 
 namespace demlink::core {

@@ -11,7 +11,7 @@
 
 #include "demlink/core/contact/contact_law_registry.hpp"
 #include "demlink/core/contact/critical_time_step.hpp"
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "test_scenes.hpp"
 
 namespace demlink::core {

@@ -5,7 +5,7 @@
 // overrides are refused naming the field.
 #include <gtest/gtest.h>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "test_scenes.hpp"
 
 namespace demlink::core {

@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "demlink/core/deformable/deformable_surface.hpp"
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 
 namespace demlink::core {
 namespace {

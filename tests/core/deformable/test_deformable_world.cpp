@@ -8,7 +8,7 @@
 
 #include "checkpoint_test_support.hpp"
 #include "deformable/deformable_test_scenes.hpp"
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "test_scenes.hpp"
 
 namespace demlink::core {

@@ -10,7 +10,7 @@
 
 #include "deformable/fem_test_support.hpp"
 #include "demlink/core/deformable/fem_input_files.hpp"
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/core/state/state_stream.hpp"
 
 namespace demlink::core {

@@ -10,7 +10,7 @@
 #include "demlink/core/deformable/fem_assembly.hpp"
 #include "demlink/core/deformable/fem_input_files.hpp"
 #include "demlink/core/deformable/gmsh_reader.hpp"
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 
 namespace demlink::core {
 namespace {

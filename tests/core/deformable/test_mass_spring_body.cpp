@@ -9,9 +9,9 @@
 
 #include "deformable/deformable_test_scenes.hpp"
 #include "demlink/core/deformable/mass_spring_body.hpp"
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/core/state/state_stream.hpp"
-#include "demlink/core/walls/stl_reader.hpp"
+#include "demlink/core/geometry/stl_reader.hpp"
 
 namespace demlink::core {
 namespace {

@@ -7,7 +7,7 @@
 
 #include <string>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/core/materials/material_database.hpp"
 
 namespace demlink::core {

@@ -7,7 +7,7 @@
 
 #include <cmath>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/core/world.hpp"
 #include "test_scenes.hpp"
 

@@ -6,7 +6,7 @@
 #include <numbers>
 
 #include "demlink/core/particles/clump_fit.hpp"
-#include "demlink/core/walls/closed_surface.hpp"
+#include "demlink/core/geometry/closed_surface.hpp"
 #include "walls/closed_meshes.hpp"
 
 namespace demlink::core {

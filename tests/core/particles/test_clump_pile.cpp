@@ -11,7 +11,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "demlink/core/components/random.hpp"
+#include "demlink/core/base/random.hpp"
 #include "demlink/core/world.hpp"
 #include "test_scenes.hpp"
 

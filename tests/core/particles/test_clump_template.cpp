@@ -10,7 +10,7 @@
 #include <numbers>
 
 #include "demlink/core/particles/clump_template.hpp"
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 
 namespace demlink::core {
 namespace {

@@ -7,7 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "demlink/core/contact/contact_stage.hpp"
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/core/particles/coarse_graining.hpp"
 
 namespace demlink::core {

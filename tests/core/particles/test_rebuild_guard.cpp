@@ -14,7 +14,7 @@
 #include "demlink/core/particles/neighbour_list.hpp"
 #include "demlink/core/world.hpp"
 #include "demlink/core/particles/rebuild_guard.hpp"
-#include "demlink/core/step/thread_pool.hpp"
+#include "demlink/core/parallel/thread_pool.hpp"
 #include "demlink/core/walls/plane_wall.hpp"
 
 namespace demlink::core {

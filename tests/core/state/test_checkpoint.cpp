@@ -10,8 +10,8 @@
 
 #include <gtest/gtest.h>
 
-#include "demlink/core/state/checkpoint.hpp"
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/checkpoint_file.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/core/state/state_stream.hpp"
 #include "checkpoint_test_support.hpp"
 #include "test_scenes.hpp"
@@ -25,7 +25,7 @@ class StepCounter final : public WorldComponent {
   StepCounter() : WorldComponent("counter") {}
   [[nodiscard]] std::string_view kind() const override { return "step_counter"; }
   [[nodiscard]] StageSet stages() const override { return stageBit(Stage::kObserve); }
-  void observe(const World& /*world*/) override { ++count_; }
+  void observe(const ComponentWorld& /*world*/) override { ++count_; }
   void saveState(StateWriter& out) const override { out.write(count_); }
   void loadState(StateReader& in) override { count_ = in.read<std::uint64_t>(); }
   [[nodiscard]] std::uint64_t count() const { return count_; }

@@ -15,7 +15,7 @@
 
 #include "checkpoint_test_support.hpp"
 #include "component_scene.hpp"
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 
 namespace demlink::core {
 namespace {
@@ -90,7 +90,7 @@ TEST(CheckpointComponents, RestoredWorldWithComponentsContinuesBitIdentically) {
   std::filesystem::create_directories(dir.path() / "a");
   std::filesystem::create_directories(dir.path() / "b");
   test::ComponentScene a = test::buildComponentScene();
-  const std::vector<std::filesystem::path> csvA = writeSamplesToCsv(*a.world, dir.path() / "a");
+  const std::vector<std::filesystem::path> csvA = writeSamplesToCsv(a.world->components(), dir.path() / "a");
   for (int n = 0; n < kBefore; ++n) a.world->step();
   // Every component must have state worth saving at the checkpoint.
   ASSERT_GT(a.source->report().inserted_count, 0u);
@@ -105,7 +105,7 @@ TEST(CheckpointComponents, RestoredWorldWithComponentsContinuesBitIdentically) {
   test::ComponentScene b = test::buildComponentScene();
   b.world->restoreCheckpoint(std::string_view(file), "a.bin");
   EXPECT_TRUE(save(*b.world) == file) << "restoring and saving again reproduces the file";
-  const std::vector<std::filesystem::path> csvB = writeSamplesToCsv(*b.world, dir.path() / "b");
+  const std::vector<std::filesystem::path> csvB = writeSamplesToCsv(b.world->components(), dir.path() / "b");
   for (int n = 0; n < kAfter; ++n) b.world->step();
 
   ASSERT_EQ(a.world->particles().size(), b.world->particles().size());

@@ -9,8 +9,8 @@
 
 #include <gtest/gtest.h>
 
-#include "demlink/core/input_error.hpp"
-#include "demlink/core/state/checkpoint.hpp"
+#include "demlink/core/base/input_error.hpp"
+#include "demlink/core/checkpoint_file.hpp"
 #include "demlink/core/state/state_stream.hpp"
 #include "checkpoint_test_support.hpp"
 #include "state/golden_scene.hpp"

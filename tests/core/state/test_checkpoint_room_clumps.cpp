@@ -8,7 +8,7 @@
 
 #include <gtest/gtest.h>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/core/world.hpp"
 #include "checkpoint_test_support.hpp"
 #include "test_scenes.hpp"

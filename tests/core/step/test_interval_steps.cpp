@@ -4,7 +4,7 @@
 
 #include <limits>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/core/step/interval_steps.hpp"
 
 namespace demlink::core {

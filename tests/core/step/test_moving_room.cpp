@@ -8,7 +8,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "test_scenes.hpp"
 
 namespace demlink::core {

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "demlink/core/step/pair_loop_partition.hpp"
-#include "demlink/core/step/thread_pool.hpp"
+#include "demlink/core/parallel/thread_pool.hpp"
 
 namespace demlink::core {
 namespace {

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "demlink/core/walls/mesh_body.hpp"
-#include "demlink/core/walls/stl_reader.hpp"
+#include "demlink/core/geometry/stl_reader.hpp"
 
 namespace demlink::core::test {
 

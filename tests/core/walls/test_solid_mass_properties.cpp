@@ -5,9 +5,9 @@
 #include <cmath>
 #include <numbers>
 
-#include "demlink/core/input_error.hpp"
-#include "demlink/core/walls/closed_surface.hpp"
-#include "demlink/core/walls/solid_mass_properties.hpp"
+#include "demlink/core/base/input_error.hpp"
+#include "demlink/core/geometry/closed_surface.hpp"
+#include "demlink/core/geometry/solid_mass_properties.hpp"
 #include "walls/closed_meshes.hpp"
 
 namespace demlink::core {

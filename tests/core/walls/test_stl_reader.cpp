@@ -10,9 +10,9 @@
 #include <random>
 #include <sstream>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/core/walls/mesh_body.hpp"
-#include "demlink/core/walls/stl_reader.hpp"
+#include "demlink/core/geometry/stl_reader.hpp"
 
 namespace demlink::core {
 namespace {

@@ -9,7 +9,7 @@
 #include <random>
 #include <utility>
 
-#include "demlink/core/walls/triangle_geometry.hpp"
+#include "demlink/core/geometry/triangle_geometry.hpp"
 
 namespace demlink::core {
 namespace {

@@ -7,7 +7,7 @@
 #include <cstdlib>
 
 #include "demlink/core/particles/clump_fit.hpp"
-#include "demlink/core/walls/closed_surface.hpp"
+#include "demlink/core/geometry/closed_surface.hpp"
 #include "scene_test_support.hpp"
 #include "test_support.hpp"
 

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "demlink/core/components/particle_tracker.hpp"
-#include "demlink/core/state/checkpoint.hpp"
+#include "demlink/core/checkpoint_file.hpp"
 #include "demlink/server/backend/liggghts_backend.hpp"
 #include "demlink/server/backend/liggghts_flows.hpp"
 #include "demlink/server/backend/liggghts_script.hpp"

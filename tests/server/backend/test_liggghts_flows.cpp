@@ -21,7 +21,7 @@
 #include "demlink/core/components/particle_sink.hpp"
 #include "demlink/core/components/particle_source.hpp"
 #include "demlink/core/components/region_sensor.hpp"
-#include "demlink/core/state/checkpoint.hpp"
+#include "demlink/core/checkpoint_file.hpp"
 #include "demlink/server/backend/liggghts_backend.hpp"
 #include "demlink/server/backend/liggghts_flows.hpp"
 #include "demlink/server/backend/liggghts_script.hpp"

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/server/backend/liggghts_motion.hpp"
 #include "demlink/server/backend/liggghts_script.hpp"
 #include "demlink/server/backend/simulation_backend.hpp"

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/server/backend/liggghts_flows.hpp"
 #include "scene_test_support.hpp"
 #include "test_support.hpp"

@@ -138,7 +138,7 @@ TEST(CosimExchange, SceneFileAndRemoteComponentsMixAndSensorsFollowTheBody) {
   EXPECT_NEAR(mesh.position().x(), 0.004, 1e-15);
   const auto* sensor = dynamic_cast<const core::RegionSensor*>(sim->components()[fill - 1].engine);
   ASSERT_NE(sensor, nullptr);
-  const core::RegionPose pose = sensor->placement().poseAt(world);
+  const core::RegionPose pose = sensor->placement().poseAt(world.meshes(), world.time());
   EXPECT_NEAR((pose.centre - (mesh.position() + mesh.orientation() * core::Vec3(0, 0, 0.005))).norm(), 0.0, 1e-15);
   const std::optional<v1::DataPackage> last = h.lastData(1, fill);
   ASSERT_TRUE(last);

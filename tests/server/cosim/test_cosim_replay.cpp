@@ -95,14 +95,14 @@ TEST(CosimEquivalence, ClientDrivenBodyMatchesInProcessPrescribedMotion) {
   core::CoupledMotion motion(0, core::MotionMode::Predicted);
   for (std::uint64_t k = 0; k < kSamples; ++k) {
     const auto [pose, twist] = blade(k);
-    motion.beginInterval(world, pose, twist, kInterval);
+    motion.beginInterval(world.mesh(motion.meshIndex()), world.settings().time_step, pose, twist, kInterval);
     for (std::uint64_t s = 0; s < kInterval; ++s) {
       world.step();
-      motion.afterStep(world);
+      motion.afterStep(world.meshes()[motion.meshIndex()], world.settings().time_step);
     }
-    (void)motion.endInterval(world);
+    (void)motion.endInterval(world.mesh(motion.meshIndex()), world.settings().time_step);
   }
-  motion.hold(world);  // the client said Bye: the body stops where it is
+  motion.hold(world.mesh(motion.meshIndex()));  // the client said Bye: the body stops where it is
   // The blade really pushed particles.
   double fastest = 0.0;
   for (const core::Vec3& v : world.particles().velocity) fastest = std::max(fastest, v.x());

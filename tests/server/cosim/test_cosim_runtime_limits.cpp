@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "cosim_test_support.hpp"
-#include "demlink/core/input_bounds.hpp"
+#include "demlink/core/base/input_bounds.hpp"
 
 namespace demlink::server::test {
 namespace {

@@ -12,7 +12,7 @@
 #include <sstream>
 #include <string>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/core/output/vtk_writer.hpp"
 #include "demlink/server/run/frame_series.hpp"
 #include "demlink/server/run/headless_runner.hpp"

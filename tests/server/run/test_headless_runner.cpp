@@ -4,8 +4,8 @@
 
 #include <cmath>
 
-#include "demlink/core/input_error.hpp"
-#include "demlink/core/state/checkpoint.hpp"
+#include "demlink/core/base/input_error.hpp"
+#include "demlink/core/checkpoint_file.hpp"
 #include "demlink/core/step/watchdog.hpp"
 #include "demlink/server/run/headless_runner.hpp"
 #include "demlink/server/scene/scene_loader.hpp"

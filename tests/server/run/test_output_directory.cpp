@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "cosim_test_support.hpp"
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/server/run/headless_runner.hpp"
 #include "demlink/server/run/output_directory.hpp"
 #include "demlink/server/scene/scene_loader.hpp"

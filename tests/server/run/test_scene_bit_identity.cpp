@@ -11,7 +11,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "demlink/core/state/checkpoint.hpp"
+#include "demlink/core/checkpoint_file.hpp"
 #include "demlink/core/simulation_settings.hpp"
 #include "demlink/server/run/headless_runner.hpp"
 #include "demlink/server/scene/scene_loader.hpp"

@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/server/scene/scene_translator.hpp"
 #include "scene_test_support.hpp"
 

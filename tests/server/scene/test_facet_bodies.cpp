@@ -5,9 +5,9 @@
 
 #include <cmath>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/core/walls/mesh_body.hpp"
-#include "demlink/core/walls/stl_reader.hpp"
+#include "demlink/core/geometry/stl_reader.hpp"
 #include "demlink/server/scene/scene_translator.hpp"
 #include "test_support.hpp"
 

@@ -14,8 +14,8 @@
 #include <limits>
 #include <string>
 
-#include "demlink/core/input_bounds.hpp"
-#include "demlink/core/names.hpp"
+#include "demlink/core/base/input_bounds.hpp"
+#include "demlink/core/base/names.hpp"
 #include "demlink/core/simulation_settings.hpp"
 #include "demlink/core/world.hpp"
 #include "demlink/server/scene/input_limits.hpp"

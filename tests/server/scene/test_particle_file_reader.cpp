@@ -2,7 +2,7 @@
 /// the line for every kind of malformed line.
 #include <gtest/gtest.h>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/server/scene/particle_file_reader.hpp"
 #include "test_support.hpp"
 

@@ -3,7 +3,7 @@
 
 #include <random>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/server/scene/particle_lattice.hpp"
 
 namespace demlink::server {

@@ -10,8 +10,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "demlink/core/state/checkpoint.hpp"
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/checkpoint_file.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/core/components/particle_source.hpp"
 #include "demlink/server/scene/particle_csv.hpp"
 #include "demlink/server/scene/scene_loader.hpp"

@@ -3,7 +3,7 @@
 /// headless run writes the bond network beside the particle frames.
 #include <gtest/gtest.h>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/server/run/headless_runner.hpp"
 #include "demlink/server/scene/scene_translator.hpp"
 #include "scene_test_support.hpp"

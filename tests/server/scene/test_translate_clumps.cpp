@@ -6,8 +6,8 @@
 #include <set>
 #include <sstream>
 
-#include "demlink/core/input_error.hpp"
-#include "demlink/core/components/random.hpp"
+#include "demlink/core/base/input_error.hpp"
+#include "demlink/core/base/random.hpp"
 #include "demlink/core/output/vtk_writer.hpp"
 #include "demlink/server/scene/scene_loader.hpp"
 #include "demlink/server/scene/scene_translator.hpp"

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <limits>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/server/scene/proto_convert.hpp"
 #include "demlink/server/scene/translate_mesh_body.hpp"
 #include "scene_test_support.hpp"

@@ -3,7 +3,7 @@
 // mistakes name the field.
 #include <gtest/gtest.h>
 
-#include "demlink/core/walls/stl_reader.hpp"
+#include "demlink/core/geometry/stl_reader.hpp"
 #include "scene_test_support.hpp"
 #include "test_support.hpp"
 

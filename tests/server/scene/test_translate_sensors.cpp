@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "demlink/core/components/flow_sensor.hpp"
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/core/components/particle_sink.hpp"
 #include "demlink/core/components/particle_tracker.hpp"
 #include "demlink/core/components/region_sensor.hpp"

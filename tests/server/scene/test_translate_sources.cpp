@@ -2,7 +2,7 @@
 /// translate to the engine objects, and every bad field is named by its scene path.
 #include <gtest/gtest.h>
 
-#include "demlink/core/input_error.hpp"
+#include "demlink/core/base/input_error.hpp"
 #include "demlink/core/components/particle_source.hpp"
 #include "demlink/server/scene/scene_loader.hpp"
 #include "demlink/server/scene/scene_translator.hpp"

@@ -9,7 +9,7 @@
 #include <string>
 
 #include "demlink/core/contact/contact_model.hpp"
-#include "demlink/core/math_types.hpp"
+#include "demlink/core/base/math_types.hpp"
 #include "demlink/core/step/frame_motion.hpp"
 #include "demlink/core/step/watchdog.hpp"
 

@@ -7,6 +7,7 @@
 /// is in WorldState (world_state.hpp).
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <iosfwd>
 #include <memory>
 #include <optional>
@@ -17,6 +18,7 @@
 
 #include "demlink/core/bonds/bond_set.hpp"
 #include "demlink/core/components/component_list.hpp"
+#include "demlink/core/components/component_world.hpp"
 #include "demlink/core/contact/contact_recorder.hpp"
 #include "demlink/core/contact/contact_setup.hpp"
 #include "demlink/core/contact/critical_time_step.hpp"
@@ -29,7 +31,7 @@
 #include "demlink/core/step/pair_loop_partition.hpp"
 #include "demlink/core/step/stage_table.hpp"
 #include "demlink/core/step/stepper.hpp"
-#include "demlink/core/step/thread_pool.hpp"
+#include "demlink/core/parallel/thread_pool.hpp"
 #include "demlink/core/step/watchdog.hpp"
 #include "demlink/core/walls/walls.hpp"
 #include "demlink/core/world_state.hpp"
@@ -40,7 +42,8 @@ namespace demlink::core {
 /// in use, 88 bytes a pair: 5.8 MB when all are used) and its set-up time.
 inline constexpr std::size_t kMaxMaterials = 256;
 
-class World {
+/// The facade over the world's subsystems; components see it as a ComponentWorld.
+class World final : public ComponentWorld {
  public:
   /// `settingsField` is the name errors give the settings ("settings.time_step"); a
   /// translator passes the settings' path in its scene ("components[0].simulation_box").
@@ -55,7 +58,7 @@ class World {
   void setPairOverride(std::uint32_t materialA, std::uint32_t materialB, const PairOverride& values,
                        const std::string& fieldPrefix = "pair_override");
   /// Adds a validated sphere; returns its stable id. fieldPrefix names it in errors.
-  std::uint64_t addParticle(const ParticleSpec& spec, const std::string& fieldPrefix = "particle");
+  std::uint64_t addParticle(const ParticleSpec& spec, const std::string& fieldPrefix = "particle") override;
   /// Adds a validated plane (normal is normalised); returns its index.
   std::size_t addPlane(PlaneSpec plane, const std::string& fieldPrefix = "plane");
 
@@ -68,11 +71,11 @@ class World {
   /// carry it in ParticleArrays::clump_id). Works before and after initialize();
   /// a source that adds clumps later must declareFutureParticles(material,
   /// template.minRadius(), ...) before initialize(). See docs/clumps.md.
-  std::uint64_t addClump(const ClumpSpec& spec, const std::string& fieldPrefix = "clump");
-  [[nodiscard]] const std::vector<ClumpTemplate>& clumpTemplates() const { return clumps_.templates; }
+  std::uint64_t addClump(const ClumpSpec& spec, const std::string& fieldPrefix = "clump") override;
+  [[nodiscard]] const std::vector<ClumpTemplate>& clumpTemplates() const override { return clumps_.templates; }
   [[nodiscard]] std::optional<std::uint32_t> findClumpTemplate(const std::string& name) const;
   /// Live clumps (order changes when clumps are removed).
-  [[nodiscard]] const std::vector<ClumpBody>& clumps() const { return clumps_.bodies; }
+  [[nodiscard]] const std::vector<ClumpBody>& clumps() const override { return clumps_.bodies; }
 
   /// Adds a mesh body under prescribed motion (its material index must exist);
   /// returns its index. Set its pose and velocity through mesh(index).
@@ -83,9 +86,11 @@ class World {
   /// (errors name "<fieldPrefix>.material" / "<fieldPrefix>.name"); the frame must be
   /// inertial. Returns its index. Its criticalTimeStep() joins the time-step check.
   std::size_t addDeformableBody(std::unique_ptr<DeformableBody> body, const std::string& fieldPrefix = "deformable");
-  [[nodiscard]] const std::vector<std::unique_ptr<DeformableBody>>& deformableBodies() const { return deformables_.bodies; }
+  [[nodiscard]] const std::vector<std::unique_ptr<DeformableBody>>& deformableBodies() const override {
+    return deformables_.bodies;
+  }
   /// The body at `index` (std::out_of_range otherwise), e.g. to set a driven pose.
-  [[nodiscard]] DeformableBody& deformableBody(std::size_t index) { return *deformables_.bodies.at(index); }
+  [[nodiscard]] DeformableBody& deformableBody(std::size_t index) override { return *deformables_.bodies.at(index); }
 
   /// Adds a rule that makes parallel bonds (bonds/bond_set.hpp) before initialize():
   /// validates its properties, fraction and materials (errors name "<fieldPrefix>.<field>")
@@ -93,7 +98,7 @@ class World {
   /// Returns the rule's index.
   std::size_t addBondRule(BondRule rule, const std::string& fieldPrefix = "parallel_bonds");
   /// The bond rules and every bond made so far.
-  [[nodiscard]] const BondSet& bonds() const { return bonds_; }
+  [[nodiscard]] const BondSet& bonds() const override { return bonds_; }
 
   /// Changes the motion of the frame (the "room" of the docs) from the next step
   /// on (validated; names "frame.<field>"): a change of the world's state, the
@@ -114,11 +119,11 @@ class World {
   /// Declares that particles of `material` down to `minRadius` [m] will appear
   /// after initialize() (inserted by a source): the critical time step, the
   /// default skin and the linear law's matched stiffness take them into account.
-  void declareFutureParticles(std::uint32_t material, double minRadius, const std::string& fieldPrefix);
+  void declareFutureParticles(std::uint32_t material, double minRadius, const std::string& fieldPrefix) override;
 
   /// Adds a scene component (source, sink, sensor, tracker); the world owns it and
   /// runs it in the stages it declares. Returns a reference that stays valid.
-  WorldComponent& addComponent(std::unique_ptr<WorldComponent> component);
+  WorldComponent& addComponent(std::unique_ptr<WorldComponent> component) override;
   [[nodiscard]] const std::vector<std::unique_ptr<WorldComponent>>& components() const { return components_.all; }
 
   /// Removes every particle for which `remove(slot)` is true (evaluated once per
@@ -127,6 +132,10 @@ class World {
   /// in part: when any member is flagged, the whole clump is removed.
   template <class RemovePredicate>
   void removeParticlesIf(RemovePredicate remove, RemovalTally& tally);
+  /// removeParticlesIf for a component (one call through the interface per removal pass).
+  void removeParticles(const std::function<bool(std::size_t)>& remove, RemovalTally& tally) override {
+    removeParticlesIf(remove, tally);
+  }
   /// removeParticlesIf into removedAtBounds(): for another engine (LIGGGHTS) whose box
   /// lost particles, so every output reads the one tally our engine's bounds fill.
   template <class RemovePredicate>
@@ -157,7 +166,7 @@ class World {
 
   /// Writes everything the next step depends on (settings, materials, particle
   /// columns, neighbour and near lists with histories, planes, meshes, counters,
-  /// component states, deformable bodies) to `out` (format: checkpoint.hpp,
+  /// component states, deformable bodies) to `out` (format: checkpoint_file.hpp,
   /// docs/state.md). Defined in checkpoint.cpp. Throws std::runtime_error if `out` fails.
   void saveCheckpoint(std::ostream& out) const;
   /// Restores a checkpoint written by a world built from the same scene (same
@@ -169,23 +178,23 @@ class World {
   void restoreCheckpoint(std::string_view bytes, const std::string& source);
 
   /// What the user chose; unchanged by initialize(), step() and the setters.
-  [[nodiscard]] const SimulationSettings& settings() const { return settings_; }
+  [[nodiscard]] const SimulationSettings& settings() const override { return settings_; }
   /// What evolves: clock, frame motion, gravity, skin, bounds, counters.
   [[nodiscard]] const WorldState& state() const { return state_; }
-  [[nodiscard]] std::uint64_t stepCount() const { return state_.step_count; }
+  [[nodiscard]] std::uint64_t stepCount() const override { return state_.step_count; }
   /// Moves the clock to `stepCount` (>= the current count) without stepping: for a world
   /// another engine advances (the LIGGGHTS backend copies its particles in and then runs
   /// the components' stages on this world at that time). Throws std::invalid_argument
   /// for a step count behind the clock.
   void advanceClockTo(std::uint64_t stepCount);
-  [[nodiscard]] double time() const { return static_cast<double>(state_.step_count) * settings_.time_step; }
+  [[nodiscard]] double time() const override { return static_cast<double>(state_.step_count) * settings_.time_step; }
   /// Verlet-list skin in force [m] (the default is chosen at initialize()).
   [[nodiscard]] double neighbourSkin() const { return state_.neighbour_skin; }
   [[nodiscard]] ParticleArrays& particles() { return particles_; }
-  [[nodiscard]] const ParticleArrays& particles() const { return particles_; }
-  [[nodiscard]] const std::vector<Material>& materials() const { return materials_; }
-  [[nodiscard]] const std::vector<PlaneWall>& planes() const { return walls_.planes; }
-  [[nodiscard]] const std::vector<MeshBody>& meshes() const { return walls_.meshes; }
+  [[nodiscard]] const ParticleArrays& particles() const override { return particles_; }
+  [[nodiscard]] const std::vector<Material>& materials() const override { return materials_; }
+  [[nodiscard]] const std::vector<PlaneWall>& planes() const override { return walls_.planes; }
+  [[nodiscard]] const std::vector<MeshBody>& meshes() const override { return walls_.meshes; }
   [[nodiscard]] MeshBody& mesh(std::size_t index) { return walls_.meshes.at(index); }
   [[nodiscard]] const TimeStepReport& timeStepReport() const { return time_step_.report; }
   /// The index of the rigid twin of `material` (Material::rigid, named "<name> (rigid)"),

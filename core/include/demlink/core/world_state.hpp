@@ -7,7 +7,7 @@
 /// changes this state (World::setFrameMotion, World::setGravity).
 #include <cstdint>
 
-#include "demlink/core/math_types.hpp"
+#include "demlink/core/base/math_types.hpp"
 #include "demlink/core/simulation_settings.hpp"
 #include "demlink/core/step/frame_motion.hpp"
 

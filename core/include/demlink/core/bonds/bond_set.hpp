@@ -23,12 +23,12 @@
 #include <vector>
 
 #include "demlink/core/bonds/parallel_bond.hpp"
-#include "demlink/core/components/region_shape.hpp"
+#include "demlink/core/regions/region_shape.hpp"
 #include "demlink/core/particles/particle_arrays.hpp"
 
 namespace demlink::core {
 
-class World;
+class MeshBody;
 class StateWriter;
 class StateReader;
 struct Material;
@@ -74,7 +74,8 @@ class BondSet {
   /// The bond stage: advances every intact bond by dt with the particles' state at the
   /// step's end and adds its load to their force and torque; then makes the bonds of
   /// every rule whose creation step `stepCount` has reached.
-  void step(World& world, ParticleArrays& particles, double dt, std::uint64_t stepCount);
+  void step(const std::vector<MeshBody>& meshes, double time, ParticleArrays& particles, double dt,
+            std::uint64_t stepCount);
   /// Follows a slot mapping (new slot of old slot, kRemovedSlot for removed particles).
   void remapSlots(std::span<const std::uint32_t> newSlotOfOld);
   /// Elastic energy stored in the intact bonds [J].
@@ -100,7 +101,7 @@ class BondSet {
   void restore(StateReader& in, const ParticleArrays& particles);
 
  private:
-  void make(World& world, const ParticleArrays& particles, std::size_t rule);
+  void make(const std::vector<MeshBody>& meshes, double time, const ParticleArrays& particles, std::size_t rule);
 
   std::vector<BondRule> rules_;
   std::vector<char> made_;  ///< per rule

@@ -13,10 +13,11 @@
 #include <string>
 #include <vector>
 
-#include "demlink/core/components/random.hpp"
-#include "demlink/core/components/region_shape.hpp"
+#include "demlink/core/base/random.hpp"
+#include "demlink/core/regions/region_shape.hpp"
 #include "demlink/core/state/state_stream.hpp"
-#include "demlink/core/world.hpp"
+#include "demlink/core/components/world_component.hpp"
+#include "demlink/core/world_state.hpp"
 
 namespace demlink::core {
 

@@ -14,7 +14,7 @@
 #include <string>
 
 #include "demlink/core/components/world_component.hpp"
-#include "demlink/core/math_types.hpp"
+#include "demlink/core/base/math_types.hpp"
 
 namespace demlink::core {
 
@@ -26,8 +26,8 @@ class DeformableAttachment final : public WorldComponent {
 
   [[nodiscard]] std::string_view kind() const override { return "deformable_attachment"; }
   [[nodiscard]] StageSet stages() const override { return stageBit(Stage::kInsertRemove); }
-  void initialize(World& world) override;
-  void insertAndRemove(World& world) override;
+  void initialize(ComponentWorld& world) override;
+  void insertAndRemove(ComponentWorld& world) override;
 
   [[nodiscard]] std::size_t bodyIndex() const { return body_; }
   [[nodiscard]] std::size_t meshIndex() const { return mesh_; }

@@ -24,7 +24,7 @@
 #include <cstdint>
 #include <unordered_map>
 
-#include "demlink/core/components/region_shape.hpp"
+#include "demlink/core/regions/region_shape.hpp"
 #include "demlink/core/components/sampled_component.hpp"
 
 namespace demlink::core {
@@ -53,8 +53,8 @@ class FlowSensor final : public SampledComponent {
 
   [[nodiscard]] std::string_view kind() const override { return "flow_sensor"; }
   [[nodiscard]] StageSet stages() const override { return stageBit(Stage::kObserve); }
-  void initialize(World& world) override;
-  void observe(const World& world) override;
+  void initialize(ComponentWorld& world) override;
+  void observe(const ComponentWorld& world) override;
   /// time_s, then for the interval and the total: positive, negative and net count, and
   /// positive, negative and net mass [kg].
   [[nodiscard]] std::vector<std::string> columns() const override;
@@ -83,7 +83,7 @@ class FlowSensor final : public SampledComponent {
  private:
   /// Scans the particles, counts crossings against previous_ (when `count`), refills the
   /// remembered band and updates its width.
-  void scan(const World& world, bool count);
+  void scan(const ComponentWorld& world, bool count);
   void countCrossing(const Vec3& before, const Vec3& after, double mass);
 
   SurfaceShape shape_;

@@ -25,13 +25,13 @@ class NodeTracker final : public SampledComponent {
 
   [[nodiscard]] std::string_view kind() const override { return "node_tracker"; }
   [[nodiscard]] StageSet stages() const override { return stageBit(Stage::kObserve); }
-  void initialize(World& world) override;
-  void observe(const World& world) override;
+  void initialize(ComponentWorld& world) override;
+  void observe(const ComponentWorld& world) override;
   /// time_s; per node <body>_<node>_{x,y,z}_m, _{ux,uy,uz}_m, _{vx,vy,vz}_m_s.
   [[nodiscard]] std::vector<std::string> columns() const override;
 
  private:
-  void sample(const World& world);
+  void sample(const ComponentWorld& world);
 
   std::vector<TrackedNode> nodes_;
   std::vector<std::string> labels_;

@@ -7,9 +7,9 @@
 /// contacts, and the world compacts its arrays once for the sink and the domain bounds.
 /// The tally is what the world lost: the test MassBalance checks that the world's mass
 /// drop equals the sink's removed mass.
-#include "demlink/core/components/region_shape.hpp"
+#include "demlink/core/regions/region_shape.hpp"
 #include "demlink/core/components/sampled_component.hpp"
-#include "demlink/core/world.hpp"
+#include "demlink/core/components/component_world.hpp"
 
 namespace demlink::core {
 
@@ -22,9 +22,9 @@ class ParticleSink final : public SampledComponent {
 
   [[nodiscard]] std::string_view kind() const override { return "particle_sink"; }
   [[nodiscard]] StageSet stages() const override { return stageBit(Stage::kInsertRemove) | stageBit(Stage::kObserve); }
-  void initialize(World& world) override;
-  void insertAndRemove(World& world) override;
-  void observe(const World& world) override;
+  void initialize(ComponentWorld& world) override;
+  void insertAndRemove(ComponentWorld& world) override;
+  void observe(const ComponentWorld& world) override;
   /// time_s, removed_interval, removed_mass_interval_kg, removed_total, removed_mass_total_kg
   [[nodiscard]] std::vector<std::string> columns() const override;
   /// Schedule, then a "SINK" section: total, since-last-sample and last-interval tallies.
@@ -42,7 +42,7 @@ class ParticleSink final : public SampledComponent {
     inputs_changed_ = true;
   }
   [[nodiscard]] bool enabled() const { return enabled_; }
-  void changeRegion(const World& world, const RegionChange& change, const std::string& fieldPrefix);
+  void changeRegion(const ComponentWorld& world, const RegionChange& change, const std::string& fieldPrefix);
   [[nodiscard]] bool inputsChanged() const override { return inputs_changed_; }
   /// On/off and the region (shape and placement).
   void saveInputs(StateWriter& out) const override;

@@ -31,14 +31,14 @@
 #include <string>
 #include <vector>
 
-#include "demlink/core/math_types.hpp"
-#include "demlink/core/components/random.hpp"
+#include "demlink/core/base/math_types.hpp"
+#include "demlink/core/base/random.hpp"
 #include "demlink/core/components/size_distribution.hpp"
 #include "demlink/core/components/world_component.hpp"
 
 namespace demlink::core {
 
-class World;
+class ComponentWorld;
 
 /// Where new particles appear, in the region's own frame (the world frame for a
 /// fixed region, the mesh body's frame when attached).
@@ -111,10 +111,10 @@ class ParticleSource final : public WorldComponent {
 
   [[nodiscard]] std::string_view kind() const override { return "particle_source"; }
   [[nodiscard]] StageSet stages() const override { return stageBit(Stage::kInsertRemove); }
-  void initialize(World& world) override;
-  void insertAndRemove(World& world) override;
+  void initialize(ComponentWorld& world) override;
+  void insertAndRemove(ComponentWorld& world) override;
   /// Insertion speed plus the spin at the rim (and the attached body's speed when added).
-  [[nodiscard]] std::optional<double> largestSpeed(const World& world) const override;
+  [[nodiscard]] std::optional<double> largestSpeed(const ComponentWorld& world) const override;
   /// A "SRCE" section: generator state, the drawn particle waiting for its mass (kg/s),
   /// the consumed mass, the report and the shortfall log mark.
   void saveState(StateWriter& out) const override;
@@ -125,8 +125,8 @@ class ParticleSource final : public WorldComponent {
   /// the new state applies to the active time that follows: an off source requests
   /// nothing. The rate is in the declared unit (particles/s or kg/s), >= 0; throws
   /// InputError naming `field` otherwise.
-  void setEnabled(const World& world, bool enabled);
-  void setRate(const World& world, double rate, const std::string& field);
+  void setEnabled(const ComponentWorld& world, bool enabled);
+  void setRate(const ComponentWorld& world, double rate, const std::string& field);
   [[nodiscard]] bool enabled() const { return enabled_; }
   [[nodiscard]] bool inputsChanged() const override { return inputs_changed_; }
   /// On/off, the rate and the request accumulated before the current rate segment.
@@ -143,7 +143,7 @@ class ParticleSource final : public WorldComponent {
   /// One line for logs: inserted count and mass, shortfall, requested.
   [[nodiscard]] std::string summaryLine() const;
   /// World pose of the region frame at the current step: x_world = position + R x_region.
-  [[nodiscard]] std::pair<Vec3, Quat> regionPose(const World& world) const;
+  [[nodiscard]] std::pair<Vec3, Quat> regionPose(const ComponentWorld& world) const;
 
  private:
   struct Drawn {
@@ -155,10 +155,10 @@ class ParticleSource final : public WorldComponent {
   Drawn draw();
   /// Largest radius a new shape occupies (sphere radius or clump bounding radius) [m].
   [[nodiscard]] double maxNewRadius() const;
-  bool place(World& world, Placement& placement, const Drawn& shape);
-  void insertSphere(World& world, const Vec3& position, const Vec3& velocity, double radius);
+  bool place(ComponentWorld& world, Placement& placement, const Drawn& shape);
+  void insertSphere(ComponentWorld& world, const Vec3& position, const Vec3& velocity, double radius);
   /// Adds one clump of the template, COM at `position`, random orientation.
-  void insertClump(World& world, const Vec3& position, const Vec3& velocity);
+  void insertClump(ComponentWorld& world, const Vec3& position, const Vec3& velocity);
   void noteShortfall(const Drawn& shape, double time);
   /// `count` particles owed beyond kMaxSourcePlacementsPerStep in one step, not tried.
   void noteBulkShortfall(double count, double time);
@@ -189,7 +189,7 @@ class ParticleSource final : public WorldComponent {
 /// a future particle size (the time step check then covers inserted particles) and
 /// adds the source to the world. Clump templates must be registered before.
 /// Call before World::initialize(). Throws InputError naming fieldPrefix + ".<field>".
-ParticleSource& addParticleSource(World& world, const std::string& name, ParticleSourceSpec spec,
+ParticleSource& addParticleSource(ComponentWorld& world, const std::string& name, ParticleSourceSpec spec,
                                   const std::string& fieldPrefix);
 
 }  // namespace demlink::core

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "demlink/core/components/sampled_component.hpp"
-#include "demlink/core/math_types.hpp"
+#include "demlink/core/base/math_types.hpp"
 
 namespace demlink::core {
 
@@ -48,8 +48,8 @@ class ParticleTracker final : public SampledComponent {
 
   [[nodiscard]] std::string_view kind() const override { return "tracker"; }
   [[nodiscard]] StageSet stages() const override { return stageBit(Stage::kObserve); }
-  void initialize(World& world) override;
-  void observe(const World& world) override;
+  void initialize(ComponentWorld& world) override;
+  void observe(const ComponentWorld& world) override;
   /// time_s; per particle p<id>_status (1 present, 0 not yet present, -1 removed),
   /// p<id>_{x,y,z}_m, _{vx,vy,vz}_m_s, _{wx,wy,wz}_rad_s, _{fx,fy,fz}_N; per mesh body
   /// <name>_{x,y,z}_m, _{qw,qx,qy,qz}, _{vx,vy,vz}_m_s, _{wx,wy,wz}_rad_s, _{fx,fy,fz}_N,
@@ -66,7 +66,7 @@ class ParticleTracker final : public SampledComponent {
   [[nodiscard]] const std::vector<TrackedMesh>& meshes() const { return meshes_; }
 
  private:
-  void sample(const World& world);
+  void sample(const ComponentWorld& world);
 
   std::vector<TrackedParticle> particles_;
   std::vector<TrackedMesh> meshes_;

@@ -15,7 +15,7 @@
 /// Bonds lost with a removed particle are no longer counted anywhere.
 #include <cstdint>
 
-#include "demlink/core/components/region_shape.hpp"
+#include "demlink/core/regions/region_shape.hpp"
 #include "demlink/core/components/sampled_component.hpp"
 
 namespace demlink::core {
@@ -39,8 +39,8 @@ class RegionSensor final : public SampledComponent {
 
   [[nodiscard]] std::string_view kind() const override { return "region_sensor"; }
   [[nodiscard]] StageSet stages() const override { return stageBit(Stage::kObserve); }
-  void initialize(World& world) override;
-  void observe(const World& world) override;
+  void initialize(ComponentWorld& world) override;
+  void observe(const ComponentWorld& world) override;
   /// time_s, count, mass_kg, mean_vx_m_s, mean_vy_m_s, mean_vz_m_s, com_x_m, com_y_m, com_z_m,
   /// and, in a world with bond rules (known from initialize() on), bonds_intact, bonds_broken.
   /// Why only then: the sensors of scenes without bonds keep their columns and checkpoints.
@@ -52,13 +52,13 @@ class RegionSensor final : public SampledComponent {
   void loadState(StateReader& in) override;
 
   /// Measures the world's current state (does not record a sample).
-  [[nodiscard]] RegionReading measure(const World& world) const;
+  [[nodiscard]] RegionReading measure(const ComponentWorld& world) const;
   /// The last sample.
   [[nodiscard]] const RegionReading& latest() const { return latest_; }
   /// Moves or resizes the region from the world's current time on (checkpoints keep it
   /// through saveInputs).
   /// Throws InputError naming `fieldPrefix`.<field>; nothing changes then.
-  void changeRegion(const World& world, const RegionChange& change, const std::string& fieldPrefix);
+  void changeRegion(const ComponentWorld& world, const RegionChange& change, const std::string& fieldPrefix);
   [[nodiscard]] bool inputsChanged() const override { return inputs_changed_; }
   /// The region (shape and placement).
   void saveInputs(StateWriter& out) const override;
@@ -67,7 +67,7 @@ class RegionSensor final : public SampledComponent {
   [[nodiscard]] const RegionPlacement& placement() const { return placement_; }
 
  private:
-  void sample(const World& world);
+  void sample(const ComponentWorld& world);
 
   VolumeShape shape_;
   RegionPlacement placement_;

@@ -63,13 +63,13 @@ class SampledComponent : public WorldComponent {
   /// Converts the schedule to steps with the world's time step (intervalSteps, 0 refused).
   /// Throws InputError naming fieldPrefix + ".sample_interval" when the interval is shorter
   /// than half a step or spans too many steps.
-  void resolveSchedule(const World& world);
+  void resolveSchedule(const ComponentWorld& world);
   /// True when the world's step count is a multiple of the sample period.
-  [[nodiscard]] bool sampleDue(const World& world) const;
+  [[nodiscard]] bool sampleDue(const ComponentWorld& world) const;
   /// Records a sample (row laid out as columns(); NaN for a value that does not exist)
   /// and writes it to the CSV file. Throws SimulationFault "non_finite_output" naming
   /// the column for an infinite value; nothing is recorded then.
-  void publish(const World& world, std::vector<double> row);
+  void publish(const ComponentWorld& world, std::vector<double> row);
 
  private:
   SampleSchedule schedule_;
@@ -81,12 +81,14 @@ class SampledComponent : public WorldComponent {
   std::unique_ptr<CsvTable> csv_;
 };
 
-/// The scheduleWarning() of every sampled component of the world that has one.
-[[nodiscard]] std::vector<std::string> sampleScheduleWarnings(const World& world);
+/// The scheduleWarning() of every sampled component among `components` that has one.
+[[nodiscard]] std::vector<std::string> sampleScheduleWarnings(
+    const std::vector<std::unique_ptr<WorldComponent>>& components);
 
-/// Opens a CSV file "<kind>_<name>.csv" in `directory` for every sampled component of
-/// the world (characters other than letters, digits, '-', '_' and '.' in the name become
+/// Opens a CSV file "<kind>_<name>.csv" in `directory` for every sampled component among
+/// `components` (World::components(); characters other than letters, digits, '-', '_' and '.' in the name become
 /// '_'); returns the paths. Throws std::runtime_error if a file cannot be written.
-std::vector<std::filesystem::path> writeSamplesToCsv(World& world, const std::filesystem::path& directory);
+std::vector<std::filesystem::path> writeSamplesToCsv(const std::vector<std::unique_ptr<WorldComponent>>& components,
+                                                     const std::filesystem::path& directory);
 
 }  // namespace demlink::core

@@ -23,7 +23,7 @@
 #include <string>
 #include <vector>
 
-#include "demlink/core/components/random.hpp"
+#include "demlink/core/base/random.hpp"
 
 namespace demlink::core {
 

@@ -15,7 +15,7 @@
 
 namespace demlink::core {
 
-class World;
+class ComponentWorld;
 class StateWriter;
 class StateReader;
 
@@ -42,15 +42,15 @@ class WorldComponent {
   /// Called once by World::initialize(), after materials are mixed and before the
   /// first force evaluation; throw InputError for a reference that does not
   /// resolve (e.g. a mesh body index).
-  virtual void initialize(World& /*world*/) {}
+  virtual void initialize(ComponentWorld& /*world*/) {}
   /// Stage insert_remove. `world.time()` is the time at the start of the step.
-  virtual void insertAndRemove(World& /*world*/) {}
+  virtual void insertAndRemove(ComponentWorld& /*world*/) {}
   /// Stage observe. `world.time()` is the time at the end of the step.
-  virtual void observe(const World& /*world*/) {}
+  virtual void observe(const ComponentWorld& /*world*/) {}
 
   /// The largest speed [m/s] the component gives particles (a source's insertion
   /// speed), for the time-step limit; nullopt: none.
-  [[nodiscard]] virtual std::optional<double> largestSpeed(const World& /*world*/) const { return std::nullopt; }
+  [[nodiscard]] virtual std::optional<double> largestSpeed(const ComponentWorld& /*world*/) const { return std::nullopt; }
 
   /// Writes whatever the component's future behaviour depends on (random
   /// generator state, accumulated counts, next insertion time) into a

@@ -23,7 +23,7 @@
 #include <type_traits>
 
 #include "demlink/core/contact/contact_model.hpp"
-#include "demlink/core/math_types.hpp"
+#include "demlink/core/base/math_types.hpp"
 
 namespace demlink::core {
 

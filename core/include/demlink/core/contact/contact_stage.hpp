@@ -22,7 +22,7 @@
 #include "demlink/core/particles/neighbour_list.hpp"
 #include "demlink/core/particles/particle_arrays.hpp"
 #include "demlink/core/step/pair_loop_partition.hpp"
-#include "demlink/core/step/parallel.hpp"
+#include "demlink/core/parallel/parallel_loops.hpp"
 #include "demlink/core/walls/plane_wall.hpp"
 
 namespace demlink::core {

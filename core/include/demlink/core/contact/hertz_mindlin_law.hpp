@@ -18,7 +18,7 @@
 #include "demlink/core/contact/contact_kernel.hpp"
 #include "demlink/core/contact/contact_model.hpp"
 #include "demlink/core/materials/material.hpp"
-#include "demlink/core/math_types.hpp"
+#include "demlink/core/base/math_types.hpp"
 
 namespace demlink::core {
 

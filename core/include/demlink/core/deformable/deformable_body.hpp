@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "demlink/core/deformable/deformable_surface.hpp"
-#include "demlink/core/math_types.hpp"
+#include "demlink/core/base/math_types.hpp"
 
 namespace demlink::core {
 

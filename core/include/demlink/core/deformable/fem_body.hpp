@@ -20,7 +20,7 @@
 
 #include "demlink/core/deformable/deformable_body.hpp"
 #include "demlink/core/deformable/node_constraints.hpp"
-#include "demlink/core/math_types.hpp"
+#include "demlink/core/base/math_types.hpp"
 
 namespace demlink::core {
 

@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "demlink/core/deformable/deformable_body.hpp"
-#include "demlink/core/math_types.hpp"
+#include "demlink/core/base/math_types.hpp"
 
 namespace demlink::core {
 

@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "demlink/core/math_types.hpp"
+#include "demlink/core/base/math_types.hpp"
 #include "demlink/core/particles/particle_arrays.hpp"
 
 #include "demlink/core/bonds/bond_set.hpp"

@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "demlink/core/particles/clump_template.hpp"
-#include "demlink/core/math_types.hpp"
+#include "demlink/core/base/math_types.hpp"
 #include "demlink/core/particles/particle_arrays.hpp"
 
 namespace demlink::core {

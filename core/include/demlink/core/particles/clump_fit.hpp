@@ -22,11 +22,11 @@
 #include <cstddef>
 #include <vector>
 
-#include "demlink/core/math_types.hpp"
+#include "demlink/core/base/math_types.hpp"
 #include "demlink/core/particles/clump_template.hpp"
-#include "demlink/core/walls/solid_mass_properties.hpp"
-#include "demlink/core/walls/solid_samples.hpp"
-#include "demlink/core/walls/stl_reader.hpp"
+#include "demlink/core/geometry/solid_mass_properties.hpp"
+#include "demlink/core/geometry/solid_samples.hpp"
+#include "demlink/core/geometry/stl_reader.hpp"
 
 namespace demlink::core {
 

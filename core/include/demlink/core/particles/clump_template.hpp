@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "demlink/core/math_types.hpp"
+#include "demlink/core/base/math_types.hpp"
 
 namespace demlink::core {
 

@@ -11,9 +11,9 @@
 #include <vector>
 
 #include "demlink/core/particles/cell_grid.hpp"
-#include "demlink/core/math_types.hpp"
+#include "demlink/core/base/math_types.hpp"
 #include "demlink/core/particles/particle_arrays.hpp"
-#include "demlink/core/step/thread_pool.hpp"
+#include "demlink/core/parallel/thread_pool.hpp"
 
 namespace demlink::core {
 

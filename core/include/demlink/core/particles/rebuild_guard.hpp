@@ -24,8 +24,8 @@
 #include <span>
 #include <vector>
 
-#include "demlink/core/math_types.hpp"
-#include "demlink/core/step/thread_pool.hpp"
+#include "demlink/core/base/math_types.hpp"
+#include "demlink/core/parallel/thread_pool.hpp"
 
 namespace demlink::core {
 

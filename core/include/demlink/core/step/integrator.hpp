@@ -4,9 +4,9 @@
 ///   Explicit Euler (solver paper eqs. 14-17): x += v_old dt; v += a_old dt.
 /// Gravity enters as an acceleration here, not as a stored force, so
 /// ParticleArrays::force holds contact forces only.
-#include "demlink/core/math_types.hpp"
+#include "demlink/core/base/math_types.hpp"
 #include "demlink/core/particles/particle_arrays.hpp"
-#include "demlink/core/step/thread_pool.hpp"
+#include "demlink/core/parallel/thread_pool.hpp"
 
 namespace demlink::core {
 

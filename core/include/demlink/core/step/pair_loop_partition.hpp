@@ -41,8 +41,8 @@
 #include <utility>
 #include <vector>
 
-#include "demlink/core/math_types.hpp"
-#include "demlink/core/step/parallel.hpp"
+#include "demlink/core/base/math_types.hpp"
+#include "demlink/core/parallel/parallel_loops.hpp"
 
 namespace demlink::core {
 

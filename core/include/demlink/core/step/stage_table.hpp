@@ -23,7 +23,7 @@
 #include <string_view>
 #include <vector>
 
-#include "demlink/core/step/thread_pool.hpp"
+#include "demlink/core/parallel/thread_pool.hpp"
 
 namespace demlink::core {
 

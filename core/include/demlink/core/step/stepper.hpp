@@ -17,7 +17,7 @@
 
 #include "demlink/core/step/stage_sampling.hpp"
 #include "demlink/core/step/stage_table.hpp"
-#include "demlink/core/step/thread_pool.hpp"
+#include "demlink/core/parallel/thread_pool.hpp"
 
 namespace demlink::core {
 

@@ -23,11 +23,11 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "demlink/core/math_types.hpp"
+#include "demlink/core/base/math_types.hpp"
 
 namespace demlink::core {
 
-class World;
+class MeshBody;
 
 /// How the target pose of an interval follows from the sample sent at its start.
 enum class MotionMode : std::uint8_t {
@@ -64,7 +64,8 @@ struct IntervalWrench {
 /// The constant twist that carries `from` to `to` in `seconds` (> 0), rotating the shorter way.
 [[nodiscard]] RigidTwist twistBetween(const RigidPose& from, const RigidPose& to, double seconds);
 
-/// Drives one mesh of a world through successive sample intervals.
+/// Drives one mesh of a world through successive sample intervals. The caller passes the
+/// mesh (World::mesh(meshIndex())) and the world's time step [s] to each call.
 class CoupledMotion {
  public:
   CoupledMotion(std::size_t meshIndex, MotionMode mode) : mesh_(meshIndex), mode_(mode) {}
@@ -72,14 +73,15 @@ class CoupledMotion {
   /// Starts an interval of `steps` (>= 1) world steps at the world's current step: the
   /// target follows from the sample (mode), the mesh gets the constant twist that reaches
   /// it. Resets the wrench accumulators.
-  void beginInterval(World& world, const RigidPose& sample, const RigidTwist& twist, std::uint64_t steps);
+  void beginInterval(MeshBody& mesh, double timeStep, const RigidPose& sample, const RigidTwist& twist,
+                     std::uint64_t steps);
   /// Stops the mesh where it is (no target): for a body whose client has left.
-  void hold(World& world);
+  void hold(MeshBody& mesh);
   /// Adds the last step's force and torque times dt to the impulses. Call after every step.
-  void afterStep(const World& world);
+  void afterStep(const MeshBody& mesh, double timeStep);
   /// Ends the interval: sets the pose exactly to the target (if an interval was begun) and
   /// returns the wrench over the steps since beginInterval (or since the last endInterval).
-  IntervalWrench endInterval(World& world);
+  IntervalWrench endInterval(MeshBody& mesh, double timeStep);
 
   [[nodiscard]] std::size_t meshIndex() const { return mesh_; }
   [[nodiscard]] MotionMode mode() const { return mode_; }

@@ -49,8 +49,8 @@
 #include <span>
 #include <vector>
 
-#include "demlink/core/math_types.hpp"
-#include "demlink/core/walls/triangle_geometry.hpp"
+#include "demlink/core/base/math_types.hpp"
+#include "demlink/core/geometry/triangle_geometry.hpp"
 
 namespace demlink::core {
 

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "demlink/core/particles/cell_grid.hpp"
-#include "demlink/core/math_types.hpp"
+#include "demlink/core/base/math_types.hpp"
 #include "demlink/core/walls/mesh_body.hpp"
 #include "demlink/core/particles/particle_arrays.hpp"
 

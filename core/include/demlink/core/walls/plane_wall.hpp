@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "demlink/core/math_types.hpp"
+#include "demlink/core/base/math_types.hpp"
 #include "demlink/core/particles/particle_arrays.hpp"
 
 namespace demlink::core {

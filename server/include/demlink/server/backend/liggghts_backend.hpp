@@ -85,7 +85,7 @@ class LiggghtsBackend final : public SimulationBackend {
   void command(const std::string& line);
   /// Writes a checkpoint after a syncParticles() (a collective): `<base>.bin`, our
   /// checkpoint of the compiled world (its particles as LIGGGHTS holds them, the sinks'
-  /// and sensors' state, the clock, the meshes; core/state/checkpoint.hpp), by rank 0;
+  /// and sensors' state, the clock, the meshes; core/checkpoint_file.hpp), by rank 0;
   /// `<base>.liggghts`, LIGGGHTS's write_restart (atoms, contact histories, fix states);
   /// `<base>.liggghts_ids`, the tag-to-id map and the inserted tally, by rank 0.
   void writeCheckpoint(const std::filesystem::path& base) override;

@@ -14,7 +14,7 @@
 #include <string_view>
 #include <vector>
 
-#include "demlink/core/math_types.hpp"
+#include "demlink/core/base/math_types.hpp"
 
 namespace demlink::server {
 

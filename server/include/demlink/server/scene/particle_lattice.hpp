@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "demlink/core/math_types.hpp"
+#include "demlink/core/base/math_types.hpp"
 #include "demlink/core/particles/particle_arrays.hpp"
 
 namespace demlink::server {

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "demlink/core/math_types.hpp"
+#include "demlink/core/base/math_types.hpp"
 #include "demlink/v1/geometry.pb.h"
 #include "demlink/v1/scene.pb.h"
 

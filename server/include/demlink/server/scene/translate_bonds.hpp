@@ -10,7 +10,7 @@
 #include <string>
 #include <unordered_map>
 
-#include "demlink/core/components/pit_generator.hpp"
+#include "demlink/core/setup/pit_generator.hpp"
 #include "demlink/core/world.hpp"
 #include "demlink/server/scene/translate_mesh_body.hpp"
 #include "demlink/v1/scene.pb.h"

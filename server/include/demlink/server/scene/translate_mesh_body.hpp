@@ -15,7 +15,7 @@
 #include <limits>
 #include <string>
 
-#include "demlink/core/math_types.hpp"
+#include "demlink/core/base/math_types.hpp"
 #include "demlink/core/walls/mesh_body.hpp"
 #include "demlink/server/scene/proto_convert.hpp"
 #include "demlink/v1/facets.pb.h"

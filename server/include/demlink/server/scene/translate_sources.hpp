@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <string>
 
-#include "demlink/core/components/pit_generator.hpp"
+#include "demlink/core/setup/pit_generator.hpp"
 #include "demlink/core/components/size_distribution.hpp"
 #include "demlink/core/particles/coarse_graining.hpp"
 #include "demlink/core/world.hpp"

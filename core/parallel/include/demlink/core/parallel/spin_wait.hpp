@@ -180,8 +180,8 @@ class SpinGate {
   /// How long an estimate stands [ns]: kRefreshPeriodNs once measured; while it is still the
   /// load average's, kFirstRefreshPeriodNs. Why shorter: the load average counts this
   /// process's own recent work (and that of runs just before it), so it often sees a CPU
-  /// busy that is free; standing for a full period, it kept a 2-thread pool's workers asleep
-  /// through the first 0.3 s of a run, 40 % of a 1,000-step benchmark at 50,000 particles.
+  /// busy that is free; standing for a full period, it would keep a pool's workers asleep
+  /// through a large part of a short run.
   [[nodiscard]] std::int64_t refreshPeriodNs() const { return measured() ? kRefreshPeriodNs : kFirstRefreshPeriodNs; }
   /// Whether the estimate was measured (/proc/stat), not taken from the load average.
   [[nodiscard]] bool measured() const { return measured_.load(std::memory_order_relaxed); }
