@@ -139,10 +139,16 @@ const std::map<std::string, std::vector<FieldSpec>>& table() {
            {"radius_multiplier", T::kReal, A::kReals, 6, 1, ""},
            {"create_time", T::kReal, A::kReals, 7, 1, "s"},
            {"fraction", T::kReal, A::kReals, 8, 1, ""},
-           {"region_centre", T::kReal, A::kReals, 9, 3, "m"},
-           {"region_size", T::kReal, A::kReals, 12, 3, "m"},
            {"seed", T::kInteger, A::kInts, 0},
-           {"materials", T::kTextList, A::kStrings, 2},
+           // Always written (its default, everywhere, when unset): the layout whose
+           // strings[2] is the attached body and whose materials follow it.
+           {"region", T::kChoice, A::kInts, 1, 1, "", {{"none", 0}, {"box", 1}, {"sphere", 2}}, {}, {0.0}},
+           {"region_centre", T::kReal, A::kReals, 9, 3, "m"},
+           {"region_size", T::kReal, A::kReals, 12, 3, "m", {}, {"region", "box"}},
+           {"region_orientation", T::kReal, A::kReals, 15, 4, "", {}, {"region", "box"}},
+           {"region_radius", T::kReal, A::kReals, 12, 1, "m", {}, {"region", "sphere"}},
+           {"region_attached_to", T::kText, A::kStrings, 2},
+           {"materials", T::kTextList, A::kStrings, 3},
        }},
       {"rigid_body",
        {

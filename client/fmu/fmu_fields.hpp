@@ -32,7 +32,9 @@ struct FieldSpec {
   /// The field needs this choice field to have this value, e.g. a sphere's radius needs
   /// shape = sphere ({"shape", "sphere"}); {nullptr, nullptr}: no condition.
   std::pair<const char*, const char*> requires_choice = {nullptr, nullptr};
-  std::vector<double> defaults = {};  ///< of a real field when unset (empty: NaN, "not given")
+  /// Of a real field when unset (empty: NaN, "not given"); a choice field with any default
+  /// is written even when unset, as its first choice.
+  std::vector<double> defaults = {};
   bool required = false;
 };
 

@@ -54,6 +54,10 @@ ParallelBonds& ParallelBonds::setSphere(const Vec3& centre, double radius) {
   sphere->set_radius(radius);
   return *this;
 }
+ParallelBonds& ParallelBonds::attachTo(const std::string& meshComponent) {
+  message().mutable_region()->set_attached_to(meshComponent);
+  return *this;
+}
 v1::ParallelBonds& ParallelBonds::message() { return *declaration().mutable_parallel_bonds(); }
 
 }  // namespace demlink::client

@@ -210,8 +210,31 @@ std::unique_ptr<Component> componentFromPackage(const Package& p) {
     if (r.hasReal(6)) c->setRadiusMultiplier(r.real(6));
     if (r.hasReal(7)) c->setCreateTime(r.real(7));
     c->setFraction(r.hasReal(8) ? r.real(8) : 1.0, static_cast<std::uint64_t>(r.integer(0, 0)));
-    if (r.hasReal(9)) c->setBox(r.vec(9), r.vec(12));
-    for (std::size_t k = 2; k < p.strings.size(); ++k) {
+    // ints[1] (the region kind) selects the layout with any region; without it reals[9..14]
+    // are a box and every string from strings[2] a material (demlink_c.h).
+    std::size_t firstMaterial = 2;
+    if (p.ints.size() >= 2) {
+      const long long region = r.integer(1, DL_REGION_EVERYWHERE);
+      if (region == DL_REGION_BOX) {
+        c->setBox(r.vec(9), r.vec(12), r.hasReal(15) ? r.quat(15) : Quat{});
+      } else if (region == DL_REGION_SPHERE) {
+        c->setSphere(r.vec(9), r.real(12));
+      } else if (region != DL_REGION_EVERYWHERE) {
+        throw ArgumentError("parallel_bonds: ints[1] (region) = " + std::to_string(region) +
+                            ": must be 0 (everywhere), 1 (box) or 2 (sphere)");
+      }
+      if (!r.text(2).empty()) {
+        if (region == DL_REGION_EVERYWHERE) {
+          throw ArgumentError("parallel_bonds: strings[2] (attached body) = \"" + r.text(2) +
+                              "\": a rule without a region (ints[1] = 0) has nothing to attach");
+        }
+        c->attachTo(r.text(2));
+      }
+      firstMaterial = 3;
+    } else if (r.hasReal(9)) {
+      c->setBox(r.vec(9), r.vec(12));
+    }
+    for (std::size_t k = firstMaterial; k < p.strings.size(); ++k) {
       if (!p.strings[k].empty()) c->addMaterial(p.strings[k]);
     }
     out = std::move(c);

@@ -527,18 +527,49 @@ int dl_declare_pit_generator(dl_client* client, const char* name, const char* ma
   });
 }
 
+/// The rule's law, fraction and materials from dl_declare_parallel_bonds' arguments.
+std::unique_ptr<ParallelBonds> parallelBonds(const char* name, const double* properties, const char* materials,
+                                             uint64_t seed) {
+  if (properties == nullptr) throw ArgumentError("properties is NULL (8 values expected)");
+  auto b = std::make_unique<ParallelBonds>(str(name));
+  b->setStiffnessPerArea(properties[0], properties[1]).setStrength(properties[2], properties[3]);
+  b->setGapTolerance(properties[4]).setCreateTime(properties[6]);
+  if (!std::isnan(properties[5])) b->setRadiusMultiplier(properties[5]);
+  b->setFraction(std::isnan(properties[7]) ? 1.0 : properties[7], seed);
+  std::istringstream names(str(materials));
+  for (std::string material; names >> material;) b->addMaterial(material);
+  return b;
+}
+
 int dl_declare_parallel_bonds(dl_client* client, const char* name, const double properties[8], const double box[6],
                               const char* materials, uint64_t seed, int* component) {
   return guarded(client, [&](Client& c) -> int {
-    if (properties == nullptr) throw ArgumentError("properties is NULL (8 values expected)");
-    auto b = std::make_unique<ParallelBonds>(str(name));
-    b->setStiffnessPerArea(properties[0], properties[1]).setStrength(properties[2], properties[3]);
-    b->setGapTolerance(properties[4]).setCreateTime(properties[6]);
-    if (!std::isnan(properties[5])) b->setRadiusMultiplier(properties[5]);
-    b->setFraction(std::isnan(properties[7]) ? 1.0 : properties[7], seed);
+    auto b = parallelBonds(name, properties, materials, seed);
     if (box != nullptr) b->setBox(vec(box, "box"), vec(box + 3, "box size"));
-    std::istringstream names(str(materials));
-    for (std::string material; names >> material;) b->addMaterial(material);
+    return declareComponent(c, std::move(b), 0.0, component);
+  });
+}
+
+int dl_declare_parallel_bonds_region(dl_client* client, const char* name, const double properties[8], int regionKind,
+                                     const double centre[3], const double size[3], const double orientation[4],
+                                     double radius, const char* attachedTo, const char* materials, uint64_t seed,
+                                     int* component) {
+  return guarded(client, [&](Client& c) -> int {
+    auto b = parallelBonds(name, properties, materials, seed);
+    if (regionKind == DL_REGION_BOX) {
+      b->setBox(vec(centre, "centre"), vec(size, "size"), quat(orientation));
+    } else if (regionKind == DL_REGION_SPHERE) {
+      b->setSphere(vec(centre, "centre"), radius);
+    } else if (regionKind != DL_REGION_EVERYWHERE) {
+      throw ArgumentError("regionKind = " + std::to_string(regionKind) +
+                          ": must be DL_REGION_EVERYWHERE (0), DL_REGION_BOX (1) or DL_REGION_SPHERE (2)");
+    }
+    if (!str(attachedTo).empty()) {
+      if (regionKind == DL_REGION_EVERYWHERE) {
+        throw ArgumentError("attachedTo = \"" + str(attachedTo) + "\": a rule without a region has nothing to attach");
+      }
+      b->attachTo(attachedTo);
+    }
     return declareComponent(c, std::move(b), 0.0, component);
   });
 }

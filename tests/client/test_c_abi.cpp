@@ -494,6 +494,83 @@ TEST(ClientCAbi, GenericParticleSourceCarriesDiscRegionAndSizeDistributions) {
   EXPECT_NE(std::string(dl_last_error(other.client)).find("ints[2]"), std::string::npos) << dl_last_error(other.client);
 }
 
+// Parallel-bond regions in the generic layout: ints[1] selects the region as the Modelica
+// ParallelBonds fills it (19 reals, the attached body at strings[2], the materials after it);
+// without ints[1] reals[9..14] stay a box and the materials start at strings[2].
+TEST(ClientCAbi, GenericParallelBondsCarryEveryRegionKind) {
+  const std::string log = logFile("generic_bonds");
+  FakeServerProcess server(1, 4, log);
+  ASSERT_NE(server.port(), 0);
+  ClientGuard c;
+  PackageGuard pkg;
+  ASSERT_EQ(dl_connect_to_host(c.client, "127.0.0.1", server.port(), "bonds", nullptr), DL_OK) << dl_last_error(c.client);
+  const double nan = std::nan("");
+  // interval, kn, ks, tensile, shear, gap, multiplier, create time, fraction, centre, size | radius, orientation
+  const double sphereReals[] = {0.0, 1e9, 2e9, 1e5, 2e5, 1e-3, nan, 0.0, nan, 0.1, 0.2, 0.3,
+                                0.05, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0};
+  const char* sphereStrings[] = {"parallel_bonds", "lump", "bucket", "gravel", "sand"};
+  const long long sphereInts[] = {4, DL_REGION_SPHERE};
+  ASSERT_EQ(dl_set_data(pkg.package, sphereInts, 2, sphereReals, 19, sphereStrings, 5), DL_OK);
+  ASSERT_EQ(dl_send_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
+  const double boxReals[] = {0.0, 1e9, 2e9, 1e5, 2e5, 1e-3, nan, 0.0, nan, 0.1, 0.2, 0.3,
+                             0.4, 0.5, 0.6, 0.0, 0.0, 0.0, 1.0};
+  const char* boxStrings[] = {"parallel_bonds", "slab", "", ""};
+  const long long boxInts[] = {0, DL_REGION_BOX};
+  ASSERT_EQ(dl_set_data(pkg.package, boxInts, 2, boxReals, 19, boxStrings, 4), DL_OK);
+  ASSERT_EQ(dl_send_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
+  const char* everywhereStrings[] = {"parallel_bonds", "all", "", "gravel"};
+  const long long everywhereInts[] = {0, DL_REGION_EVERYWHERE};
+  ASSERT_EQ(dl_set_data(pkg.package, everywhereInts, 2, boxReals, 19, everywhereStrings, 4), DL_OK);
+  ASSERT_EQ(dl_send_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
+  const char* legacyStrings[] = {"parallel_bonds", "legacy", "gravel"};
+  const long long legacyInts[] = {0};
+  ASSERT_EQ(dl_set_data(pkg.package, legacyInts, 1, boxReals, 15, legacyStrings, 3), DL_OK);
+  ASSERT_EQ(dl_send_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
+  ASSERT_EQ(dl_wait_compiled(c.client), DL_OK) << dl_last_error(c.client);
+  EXPECT_EQ(dl_finish(c.client, "done"), DL_OK);
+  ASSERT_EQ(server.wait(), 0);
+
+  const auto lines = readLines(log);
+  EXPECT_TRUE(contains(lines, "DECL lump",
+                       "region { sphere { centre { x: 0.1 y: 0.2 z: 0.3 } radius: 0.05 } attached_to: \"bucket\" } "
+                       "materials: \"gravel\" materials: \"sand\""));
+  EXPECT_TRUE(contains(lines, "DECL slab",
+                       "region { box { centre { x: 0.1 y: 0.2 z: 0.3 } orientation { z: 1 } size { x: 0.4 y: 0.5 z: 0.6 } "
+                       "} }"));
+  EXPECT_TRUE(contains(lines, "DECL all", "parallel_bonds { materials: \"gravel\""));
+  EXPECT_FALSE(contains(lines, "DECL all", "region"));
+  EXPECT_TRUE(contains(lines, "DECL legacy",
+                       "region { box { centre { x: 0.1 y: 0.2 z: 0.3 } orientation { w: 1 } size { x: 0.4 y: 0.5 z: 0.6 } } } "
+                       "materials: \"gravel\""));
+
+  // An unknown region kind, and a body to ride on without a region, are refused by name.
+  ClientGuard other;
+  const long long badKind[] = {0, 3};
+  ASSERT_EQ(dl_set_data(pkg.package, badKind, 2, boxReals, 19, boxStrings, 4), DL_OK);
+  EXPECT_EQ(dl_send_package(other.client, pkg.package), DL_ERR_ARGUMENT);
+  EXPECT_NE(std::string(dl_last_error(other.client)).find("ints[1] (region) = 3"), std::string::npos)
+      << dl_last_error(other.client);
+  ASSERT_EQ(dl_set_data(pkg.package, everywhereInts, 2, boxReals, 19, sphereStrings, 5), DL_OK);
+  EXPECT_EQ(dl_send_package(other.client, pkg.package), DL_ERR_ARGUMENT);
+  EXPECT_NE(std::string(dl_last_error(other.client)).find("strings[2] (attached body) = \"bucket\""),
+            std::string::npos)
+      << dl_last_error(other.client);
+  // The typed call refuses the same, naming the argument.
+  const double properties[8] = {1e9, 2e9, 1e5, 2e5, 1e-3, nan, 0.0, nan};
+  const double centre[3] = {0.0, 0.0, 0.0};
+  int handle = -1;
+  EXPECT_EQ(dl_declare_parallel_bonds_region(other.client, "odd", properties, 7, centre, nullptr, nullptr, 0.1, "",
+                                             "", 0, &handle),
+            DL_ERR_ARGUMENT);
+  EXPECT_NE(std::string(dl_last_error(other.client)).find("regionKind = 7"), std::string::npos)
+      << dl_last_error(other.client);
+  EXPECT_EQ(dl_declare_parallel_bonds_region(other.client, "odd", properties, DL_REGION_EVERYWHERE, nullptr, nullptr,
+                                             nullptr, 0.0, "bucket", "", 0, &handle),
+            DL_ERR_ARGUMENT);
+  EXPECT_NE(std::string(dl_last_error(other.client)).find("attachedTo = \"bucket\""), std::string::npos)
+      << dl_last_error(other.client);
+}
+
 // The C program that makes the Modelica package's calls, against the fake scheduler with
 // one connection per component.
 TEST(ClientCAbi, ModelicaSequenceProgramRunsAgainstTheFakeServer) {

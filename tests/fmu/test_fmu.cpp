@@ -153,11 +153,42 @@ TEST(FmuConfig, ParallelBondsAndClodsFillTheGenericLayout) {
   const ComponentSpec& clay = config.components[2];
   ASSERT_EQ(clay.reals.size(), 5u);  // kn, ks, strengths, gap: reals[1..5]; the rest defaults
   EXPECT_EQ(clay.reals, (std::vector<double>{1e9, 2e9, 1e5, 2e5, 0.001}));
-  EXPECT_EQ(clay.ints, (std::vector<long long>{4}));
+  // The seed, and the region (none when unset): always written, so strings[2] is the
+  // (empty) attached body and the materials follow.
+  EXPECT_EQ(clay.ints, (std::vector<long long>{4, 0}));
   // A name list follows its field's own (empty) slot, as expected_names does; the layout
   // skips empty material names.
-  EXPECT_EQ(clay.strings, (std::vector<std::string>{"", "gravel", "sand"}));
+  EXPECT_EQ(clay.strings, (std::vector<std::string>{"", "", "gravel", "sand"}));
   EXPECT_FALSE(isExchanged("parallel_bonds"));
+}
+
+TEST(FmuConfig, ParallelBondsRegionsFillTheGenericLayout) {
+  const std::string head = "model = M\ninterval = 0.01\n[parallel_bonds clay]\nnormal_stiffness_per_area = 1e9\n"
+                           "shear_stiffness_per_area = 2e9\ntensile_strength = 1e5\nshear_strength = 2e5\n"
+                           "gap_tolerance = 0.001\n";
+  const FmuConfig sphere = parseConfig(head + "region = sphere\nregion_centre = 0.1 0.2 0.3\nregion_radius = 0.05\n"
+                                              "region_attached_to = bucket\nmaterials = gravel\n");
+  const ComponentSpec& lump = sphere.components[0];
+  EXPECT_EQ(lump.ints, (std::vector<long long>{0, 2}));
+  ASSERT_EQ(lump.reals.size(), 12u);  // reals[1..12]: the radius is the last
+  EXPECT_EQ(lump.reals[8], 0.1);
+  EXPECT_EQ(lump.reals[10], 0.3);
+  EXPECT_EQ(lump.reals[11], 0.05);
+  EXPECT_EQ(lump.strings, (std::vector<std::string>{"bucket", "", "gravel"}));
+  const FmuConfig box =
+      parseConfig(head + "region = box\nregion_centre = 0 0 1\nregion_size = 1 2 3\nregion_orientation = 0 0 0 1\n");
+  const ComponentSpec& slab = box.components[0];
+  EXPECT_EQ(slab.ints, (std::vector<long long>{0, 1}));
+  ASSERT_EQ(slab.reals.size(), 18u);  // reals[1..18]
+  EXPECT_EQ(slab.reals[11], 1.0);     // size
+  EXPECT_EQ(slab.reals[13], 3.0);
+  EXPECT_EQ(slab.reals[17], 1.0);  // orientation z
+  // A box's size needs region = box; a sphere's radius region = sphere.
+  const std::string noKind = rejection(head + "region_centre = 0 0 0\nregion_size = 1 1 1\n");
+  EXPECT_NE(noKind.find("line 10: clay.region_size = '1 1 1': is a field of region = box"), std::string::npos) << noKind;
+  const std::string otherKind = rejection(head + "region = box\nregion_centre = 0 0 0\nregion_radius = 1\n");
+  EXPECT_NE(otherKind.find("clay.region_radius = '1': is a field of region = sphere"), std::string::npos) << otherKind;
+  EXPECT_NE(rejection(head + "region = cylinder\n").find("must be one of none, box, sphere"), std::string::npos);
 }
 
 TEST(FmuConfig, GuidChangesWithTheText) {

@@ -431,5 +431,81 @@ TEST_F(CAbiRealServer, ParallelBondsAndClodsDeclaredThroughTheCAbiAreCounted) {
   EXPECT_EQ(server_->child.waitForExit(std::chrono::seconds(20)), 0);
 }
 
+// Two rows of five touching spheres, each under a parallel-bond rule limited to a sphere
+// around its second particle that holds the centres of the first three only: the typed call
+// (dl_declare_parallel_bonds_region) on one row, the generic layout as the Modelica
+// ParallelBonds fills it on the other. Each row has exactly its two pairs inside bonded
+// (four without the region), counted by a region sensor over the row.
+TEST_F(CAbiRealServer, ASphereLimitedBondRuleBondsOnlyThePairsInsideIt) {
+  ASSERT_GT(server_->port, 0) << server_->announced;
+  ClientGuard g;
+  dl_client* c = g.client;
+  ASSERT_EQ(dl_connect_to_host(c, server_->host.c_str(), server_->port, "bond_regions", nullptr), DL_OK)
+      << dl_last_error(c);
+  const double nan = std::nan("");
+  const double none[3] = {0.0, 0.0, 0.0};
+  const double lower[3] = {-0.1, -0.1, -0.1};
+  const double upper[3] = {0.1, 0.1, 0.1};
+  int handle = -1;
+  ASSERT_EQ(dl_declare_simulation_box(c, "box", 0.0, kDt, nan, none, lower, upper, 0, &handle), DL_OK)
+      << dl_last_error(c);
+  ASSERT_EQ(dl_declare_material(c, "glass", "", kDensity, 5e6, 0.3, 0.5, 0.5, 0.0, &handle), DL_OK) << dl_last_error(c);
+  constexpr double kRadius = 0.005;     // [m]
+  constexpr double kSpacing = 0.01001;  // centre distance: a 10 um gap [m]
+  constexpr double kRows[2] = {0.0, 0.05};  // y of each row [m]
+  for (int row = 0; row < 2; ++row) {
+    for (int i = 0; i < 5; ++i) {
+      char name[16];
+      std::snprintf(name, sizeof name, "r%ds%d", row, i);
+      const double position[3] = {kSpacing * (i - 2), kRows[row], 0.0};
+      ASSERT_EQ(dl_declare_single_particle(c, name, "glass", position, none, 2.0 * kRadius, &handle), DL_OK)
+          << dl_last_error(c);
+    }
+  }
+  // Centred on the second sphere; 1.2 spacings holds the centres of the first three only.
+  const double radius = 1.2 * kSpacing;
+  const double properties[8] = {1e8, 1e8, 1e6, 1e6, 2e-5, nan, 0.0, nan};
+  const double typedCentre[3] = {-kSpacing, kRows[0], 0.0};
+  ASSERT_EQ(dl_declare_parallel_bonds_region(c, "typed", properties, DL_REGION_SPHERE, typedCentre, nullptr, nullptr,
+                                             radius, "", "glass", 0, &handle),
+            DL_OK)
+      << dl_last_error(c);
+  {
+    dl_package* pkg = dl_package_create();
+    const double reals[19] = {0.0, 1e8, 1e8, 1e6, 1e6, 2e-5, nan, 0.0, nan, -kSpacing, kRows[1], 0.0,
+                              radius, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0};
+    const long long ints[2] = {0, DL_REGION_SPHERE};
+    const char* strings[4] = {"parallel_bonds", "generic", "", "glass"};
+    ASSERT_EQ(dl_set_data(pkg, ints, 2, reals, 19, strings, 4), DL_OK);
+    ASSERT_EQ(dl_send_package(c, pkg), DL_OK) << dl_last_error(c);
+    dl_package_destroy(pkg);
+  }
+  int probes[2] = {-1, -1};
+  const double size[3] = {0.08, 0.02, 0.02};
+  for (int row = 0; row < 2; ++row) {
+    const double centre[3] = {0.0, kRows[row], 0.0};
+    char name[16];
+    std::snprintf(name, sizeof name, "row%d", row);
+    ASSERT_EQ(dl_declare_region_sensor_box(c, name, kInterval, centre, size, "", &probes[row]), DL_OK)
+        << dl_last_error(c);
+  }
+  ASSERT_EQ(dl_declarations_done(c), DL_OK) << dl_last_error(c);
+
+  int count = 0;
+  double out[7];
+  for (int k = 0; k < 2; ++k) {
+    for (int row = 0; row < 2; ++row) {
+      int bonds[2] = {-1, -1};
+      ASSERT_EQ(dl_region_sensor_read_bonds(c, probes[row], &count, out, bonds), DL_OK) << dl_last_error(c);
+      if (k == 0) continue;  // receive first: the initial state, before the bonds are made
+      EXPECT_EQ(count, 5) << "row " << row;
+      EXPECT_EQ(bonds[0], 2) << "row " << row << ": the two pairs inside the sphere, not the four of the row";
+      EXPECT_EQ(bonds[1], 0) << "row " << row;
+    }
+  }
+  EXPECT_EQ(dl_finish(c, "done"), DL_OK);
+  EXPECT_EQ(server_->child.waitForExit(std::chrono::seconds(20)), 0);
+}
+
 }  // namespace
 }  // namespace demlink::integration

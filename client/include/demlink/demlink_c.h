@@ -91,9 +91,13 @@
  *                    parallel_bonds that join them.
  *   parallel_bonds : reals[1] kn, [2] ks [Pa/m], [3] tensile, [4] shear strength [Pa],
  *                    [5] gap tolerance [m], [6] radius multiplier, [7] create time [s],
- *                    [8] fraction (each NaN or omitted: default), [9..11] centre,
- *                    [12..14] size [m] of the region box (omitted: everywhere);
- *                    strings[2..] material names (none: any); ints[0] seed.
+ *                    [8] fraction (each NaN or omitted: default); ints[0] seed; ints[1]
+ *                    region as dl_region_kind: 0 everywhere, 1 box (reals[9..11] centre,
+ *                    [12..14] size [m], [15..18] orientation w x y z, optional), 2 sphere
+ *                    (reals[9..11] centre, [12] radius [m]); with ints[1], strings[2] is
+ *                    the mesh body the region rides on ("" fixed) and strings[3..] the
+ *                    material names (none: any). Without ints[1]: reals[9..14] a box's
+ *                    centre and size (omitted: everywhere), strings[2..] the materials.
  *   rigid_body     : strings[2] material, strings[3] geometry text; ints[0] geometry:
  *                    0 STL file on the server (strings[3] = path), 1 box (reals[11..13]
  *                    size [m]), 2 STL file on the client (strings[3] = path; its bytes are
@@ -333,6 +337,21 @@ DL_API int dl_declare_particle_view(dl_client* client, const char* name, double 
  * The server checks the values when the scene compiles and names the bad field. */
 DL_API int dl_declare_parallel_bonds(dl_client* client, const char* name, const double properties[8],
                                      const double box[6], const char* materials, uint64_t seed, int* component);
+/* Where a parallel-bond rule bonds (dl_declare_parallel_bonds_region). */
+enum dl_region_kind {
+  DL_REGION_EVERYWHERE = 0, /* every pair */
+  DL_REGION_BOX = 1,        /* pairs with both centres in the box */
+  DL_REGION_SPHERE = 2      /* pairs with both centres in the sphere */
+};
+/* dl_declare_parallel_bonds with any region the scene accepts: regionKind a dl_region_kind;
+ * centre [m] (unused for DL_REGION_EVERYWHERE); a box's size [m] and orientation w x y z
+ * (NULL: unrotated); a sphere's radius [m]; attachedTo: a mesh body the region rides on, its
+ * centre then in that body's frame ("" or NULL: fixed). Other arguments as
+ * dl_declare_parallel_bonds. */
+DL_API int dl_declare_parallel_bonds_region(dl_client* client, const char* name, const double properties[8],
+                                            int regionKind, const double centre[3], const double size[3],
+                                            const double orientation[4], double radius, const char* attachedTo,
+                                            const char* materials, uint64_t seed, int* component);
 /* dl_declare_pit_generator with clods: clods = fraction [-] of the bed's spheres grouped into
  * clods, clod radius [m]; bondsName = the parallel bonds that join them
  * (docs/reference/pit_generator.md). */

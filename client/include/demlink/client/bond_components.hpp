@@ -28,6 +28,8 @@ class ParallelBonds : public Component {
   /// Pairs with both centres inside (none: everywhere) [m].
   ParallelBonds& setBox(const Vec3& centre, const Vec3& size, const Quat& orientation = {});
   ParallelBonds& setSphere(const Vec3& centre, double radius);
+  /// The region rides on this mesh body (its centre in the body's frame).
+  ParallelBonds& attachTo(const std::string& meshComponent);
   [[nodiscard]] v1::ParallelBonds& message();
 };
 

@@ -3,6 +3,8 @@ package Types "Choices of the DEMLink components"
   extends Modelica.Icons.TypesPackage;
   type RegionShape = enumeration(Box "Box (centre, size, orientation)", Sphere "Sphere (centre, radius)")
     "Shape of a region sensor or particle sink";
+  type BondRegion = enumeration(Everywhere "Every pair", Box "Pairs with both centres in a box (centre, size, orientation)",
+    Sphere "Pairs with both centres in a sphere (centre, radius)") "Where a ParallelBonds rule bonds";
   type FlowShape = enumeration(Rectangle "Rectangle (centre, normal, length, width, length axis)", Disc "Disc (centre, normal, radius)")
     "Shape of a flow sensor's surface";
   type SourceRegion = enumeration(Box "Box (centre, half extents)", Disc "Disc or cylinder (centre, normal, radius, thickness)")
