@@ -326,6 +326,24 @@ TEST(LiggghtsCosim, FinalCheckpointRestoresInDemlinkRun) {
   }
 }
 
+TEST(LiggghtsCosim, HeadlessRunRefusesAViewNamingTheOption) {
+  // demlink-run --backend liggghts steps LIGGGHTS without our stepping loop, so it has no
+  // live view: --view is refused (exit 2) before anything runs, not ignored.
+  const std::filesystem::path out =
+      std::filesystem::temp_directory_path() / ("demlink_e2e_liggghts_view_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(out);
+  std::filesystem::create_directories(out);
+  {
+    std::ofstream scene(out / "bed.json");
+    scene << kBedScene;
+  }
+  EXPECT_EQ(runHeadless(1, {(out / "bed.json").string(), "--backend", "liggghts", "--view", "127.0.0.1:0",
+                            "--output", (out / "run").string()}),
+            2);
+  EXPECT_FALSE(std::filesystem::exists(out / "run" / "particles_final.csv"));
+  std::filesystem::remove_all(out);
+}
+
 TEST(LiggghtsCosim, RestoredBladeRunContinuesAsTheUnbrokenRun) {
   // The blade pushes into the bed for 150 exchanges, checkpointed every 400 steps (an
   // exchange; at step 400 the blade is pushing the bed, which it leaves at step 650 and

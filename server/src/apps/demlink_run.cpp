@@ -94,6 +94,11 @@ int run(int argc, char** argv) {
   spdlog::set_pattern("[%H:%M:%S] %^%l%$: %v");
   if (line.quiet) spdlog::set_level(spdlog::level::warn);
   const demlink::server::BackendKind backend = demlink::server::parseBackendKind("--backend", line.backend);
+  if (backend == demlink::server::BackendKind::Liggghts && line.view) {
+    throw demlink::core::InputError("--view", *line.view,
+                                    "a headless LIGGGHTS run has no live view; run the scene on the native backend, "
+                                    "or serve it with demlink-server --backend liggghts --view");
+  }
 #ifdef DEMLINK_HAS_LIGGGHTS
   // Every rank runs the same calls; rank 0 alone reports progress.
   if (backend == demlink::server::BackendKind::Liggghts && demlink::server::ensureMpi() != 0) {
