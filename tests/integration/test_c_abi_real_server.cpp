@@ -233,7 +233,7 @@ TEST_F(CAbiRealServer, EveryTypedCallAgainstTheServerWithDeclarationsDoneAndRunT
 // accelerating upwards at a [m/s^2] with no gravity, a free particle accelerates at -a;
 // the frame's acceleration reversed at run time brings its velocity back to zero. The view
 // reports the particle by id with its velocity.
-TEST_F(CAbiRealServer, SettingsDeclarationAndRoomMotionInput) {
+TEST_F(CAbiRealServer, SettingsDeclarationAndFrameMotionInput) {
   ASSERT_GT(server_->port, 0) << server_->announced;
   ClientGuard g;
   dl_client* c = g.client;

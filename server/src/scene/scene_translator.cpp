@@ -40,7 +40,7 @@
 #include "demlink/server/scene/translate_sources.hpp"
 #include "demlink/server/scene/translate_state.hpp"
 #include "demlink/server/scene/translate_facets.hpp"
-#include "demlink/server/scene/translate_room.hpp"
+#include "demlink/server/scene/translate_frame.hpp"
 #include "demlink/server/scene/translate_clumps.hpp"
 #include "demlink/server/scene/translate_deformables.hpp"
 #include "demlink/server/scene/translate_rigid_body.hpp"
@@ -141,7 +141,7 @@ core::SimulationSettings toSettings(const v1::SimulationBox& box, const std::str
     if (!bounds.has_upper()) throw InputError(prefix + ".bounds.upper", "(missing)", "required when bounds is given");
     settings.bounds = core::DomainBounds{toVec3(bounds.lower()), toVec3(bounds.upper())};
   }
-  translateRoom(box, prefix, settings);
+  translateFrame(box, prefix, settings);
   if (box.has_watchdog()) {
     const v1::SimulationBox::Watchdog& w = box.watchdog();
     core::WatchdogSettings& out = settings.watchdog;

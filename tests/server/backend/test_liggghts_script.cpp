@@ -234,7 +234,7 @@ TEST(LiggghtsScript, FixedFacetBodyIsAMeshAtRest) {
   EXPECT_TRUE(has(stl, "vertex 0.089999999999999997 0.089999999999999997 0.02")) << stl;
 }
 
-TEST(LiggghtsRefusals, MovingRoomNamed) {
+TEST(LiggghtsRefusals, MovingFrameNamed) {
   std::vector<std::string> components = base();
   components[0] = R"({"name": "box", "simulation_box": {"time_step": 1e-5, "end_time": 0.01,
       "frame": {"linear_acceleration": {"x": 1.0}},

@@ -1,5 +1,5 @@
 /// Facet bodies (facets.proto, translate_facets.cpp) and the bounds and frame settings
-/// of a SimulationBox (translate_room.cpp): geometry sources agree with each other,
+/// of a SimulationBox (translate_frame.cpp): geometry sources agree with each other,
 /// roles and collision windows act as declared, bad input names its field.
 #include <gtest/gtest.h>
 
@@ -213,7 +213,7 @@ TEST(FacetBody, BadInputNamesTheField) {
   }
 }
 
-TEST(RoomSettings, GrowingBoundsAndFrameAreTranslated) {
+TEST(FrameSettings, GrowingBoundsAndFrameAreTranslated) {
   v1::Scene s = baseScene(core::Vec3::Zero(), core::Vec3::Zero(), core::Vec3::Zero());
   v1::SimulationBox* box = s.mutable_components(0)->mutable_simulation_box();
   setVec(box->mutable_bounds()->mutable_lower(), -1.0, -1.0, -1.0);

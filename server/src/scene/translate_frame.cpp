@@ -1,13 +1,13 @@
-/// Bounds and frame settings of a SimulationBox (contract in translate_room.hpp). Range
+/// Bounds and frame settings of a SimulationBox (contract in translate_frame.hpp). Range
 /// checks are core::SimulationSettings::validate's; this file only maps fields
 /// and rejects fields that make no sense for the chosen mode.
-#include "demlink/server/scene/translate_room.hpp"
+#include "demlink/server/scene/translate_frame.hpp"
 
 #include "demlink/core/base/input_error.hpp"
 #include "demlink/server/scene/proto_convert.hpp"
 
 namespace demlink::server {
-void translateRoom(const v1::SimulationBox& box, const std::string& prefix, core::SimulationSettings& settings) {
+void translateFrame(const v1::SimulationBox& box, const std::string& prefix, core::SimulationSettings& settings) {
   if (box.has_bounds()) {
     const v1::SimulationBox::Bounds& bounds = box.bounds();
     const std::string b = prefix + ".bounds";

@@ -33,7 +33,7 @@ struct FreeFlightError {
 /// straight and keeps its spin: x_I = x0 + (v0 + Omega0 x x0) t, omega_abs = omega0 + Omega0;
 /// in the frame x = R(-theta) x_I with theta = w0 t + alpha t^2 / 2, and the
 /// relative spin is R(-theta) omega_abs - Omega(t).
-FreeFlightError freeFlightInTurningRoom(double dt, double w0, double alpha) {
+FreeFlightError freeFlightInTurningFrame(double dt, double w0, double alpha) {
   SimulationSettings settings = test::fineSettings(dt, 1.0);
   settings.allow_unsafe_time_step = true;  // no contacts: the contact limit does not apply
   settings.frame.angular_velocity = Vec3(0.0, 0.0, w0);
@@ -59,11 +59,11 @@ FreeFlightError freeFlightInTurningRoom(double dt, double w0, double alpha) {
           (world.particles().angular_velocity[0] - expectedSpin).norm()};
 }
 
-TEST(MovingRoom, FreeParticleInUniformlyRotatingRoomFollowsTheRotatedStraightLine) {
+TEST(MovingFrame, FreeParticleInUniformlyRotatingFrameFollowsTheRotatedStraightLine) {
   // Second order: halving dt divides the error by 4 (measured: 1.6e-4, 4.0e-5, 1.0e-5 m).
-  const FreeFlightError coarse = freeFlightInTurningRoom(1.0e-2, 2.0, 0.0);
-  const FreeFlightError mid = freeFlightInTurningRoom(5.0e-3, 2.0, 0.0);
-  const FreeFlightError fine = freeFlightInTurningRoom(2.5e-3, 2.0, 0.0);
+  const FreeFlightError coarse = freeFlightInTurningFrame(1.0e-2, 2.0, 0.0);
+  const FreeFlightError mid = freeFlightInTurningFrame(5.0e-3, 2.0, 0.0);
+  const FreeFlightError fine = freeFlightInTurningFrame(2.5e-3, 2.0, 0.0);
   EXPECT_LT(fine.position, 1.0e-5);  // over a path of ~0.5 m and two turns of the frame
   EXPECT_NEAR(coarse.position / mid.position, 4.0, 0.2);
   EXPECT_NEAR(mid.position / fine.position, 4.0, 0.2);
@@ -71,10 +71,10 @@ TEST(MovingRoom, FreeParticleInUniformlyRotatingRoomFollowsTheRotatedStraightLin
   EXPECT_LT(coarse.spin, 1.0e-12);
 }
 
-TEST(MovingRoom, FreeParticleInAngularlyAcceleratingRoomConvergesAtSecondOrder) {
-  const FreeFlightError coarse = freeFlightInTurningRoom(1.0e-2, 1.0, 3.0);
-  const FreeFlightError mid = freeFlightInTurningRoom(5.0e-3, 1.0, 3.0);
-  const FreeFlightError fine = freeFlightInTurningRoom(2.5e-3, 1.0, 3.0);
+TEST(MovingFrame, FreeParticleInAngularlyAcceleratingFrameConvergesAtSecondOrder) {
+  const FreeFlightError coarse = freeFlightInTurningFrame(1.0e-2, 1.0, 3.0);
+  const FreeFlightError mid = freeFlightInTurningFrame(5.0e-3, 1.0, 3.0);
+  const FreeFlightError fine = freeFlightInTurningFrame(2.5e-3, 1.0, 3.0);
   EXPECT_LT(fine.position, 1.0e-4);
   EXPECT_NEAR(coarse.position / mid.position, 4.0, 0.3);
   EXPECT_NEAR(mid.position / fine.position, 4.0, 0.3);
@@ -92,7 +92,7 @@ struct SlidingRun {
 /// gravity 9.81 m/s^2. The frame's x acceleration ramps from 0 to `ratio` mu g
 /// over 0.05 s (quasi-static, so the tangential spring does not overshoot), then
 /// stays for 0.1 s.
-SlidingRun blockInAcceleratingRoom(double ratio) {
+SlidingRun blockInAcceleratingFrame(double ratio) {
   constexpr double kMu = 0.5;
   constexpr double kG = 9.81;  // [m/s^2]
   constexpr double kDt = 1.0e-5;
@@ -115,17 +115,17 @@ SlidingRun blockInAcceleratingRoom(double ratio) {
   return {world.particles().position[0].x() - x0, (v2 - v1) / (5000 * kDt)};
 }
 
-TEST(MovingRoom, BlockOnFloorSticksBelowMuGAndSlidesAbove) {
+TEST(MovingFrame, BlockOnFloorSticksBelowMuGAndSlidesAbove) {
   constexpr double kMuG = 0.5 * 9.81;
-  const SlidingRun stick = blockInAcceleratingRoom(0.98);
-  const SlidingRun slip = blockInAcceleratingRoom(1.02);
+  const SlidingRun stick = blockInAcceleratingFrame(0.98);
+  const SlidingRun slip = blockInAcceleratingFrame(1.02);
   // Sticking: only the elastic tangential spring gives (~2e-6 m), no drift.
   EXPECT_LT(std::abs(stick.displacement), 1.0e-5);
   EXPECT_LT(std::abs(stick.acceleration), 1.0e-3 * kMuG);
   // Slipping: it slides backwards, relative acceleration -(a - mu g) = -0.02 mu g.
   EXPECT_LT(slip.displacement, -1.0e-4);
   EXPECT_NEAR(slip.acceleration, -0.02 * kMuG, 1.0e-3 * kMuG);
-  const SlidingRun fast = blockInAcceleratingRoom(2.0);
+  const SlidingRun fast = blockInAcceleratingFrame(2.0);
   EXPECT_NEAR(fast.acceleration, -kMuG, 1.0e-3 * kMuG);
 }
 
@@ -147,7 +147,7 @@ World bouncingSphere(const Vec3& gravity, const Vec3& roomAcceleration) {
   return world;
 }
 
-TEST(MovingRoom, ConstantRoomAccelerationEqualsChangedGravity) {
+TEST(MovingFrame, ConstantFrameAccelerationEqualsChangedGravity) {
   const Vec3 gravity(0.0, 0.0, -9.81);
   const Vec3 roomAcceleration(1.5, -0.7, 2.0);
   World moving = bouncingSphere(gravity, roomAcceleration);
@@ -169,7 +169,7 @@ TEST(MovingRoom, ConstantRoomAccelerationEqualsChangedGravity) {
   EXPECT_GT(contactSteps, 500);  // the sphere bounced and rolled (measured 985 contact steps)
 }
 
-TEST(MovingRoom, InertialRoomRunsThePlainIntegrator) {
+TEST(MovingFrame, InertialFrameRunsThePlainIntegrator) {
   SimulationSettings settings = test::fineSettings(1.0e-5, 1.0);
   World world(settings);
   world.addMaterial(testMaterial(0.5));
@@ -184,7 +184,7 @@ TEST(MovingRoom, InertialRoomRunsThePlainIntegrator) {
   EXPECT_FALSE(has("moving_frame"));
 }
 
-TEST(MovingRoom, BadFrameMotionNamesTheField) {
+TEST(MovingFrame, BadFrameMotionNamesTheField) {
   World world(test::fineSettings(1.0e-5, 1.0));
   try {
     world.setFrameMotion({Vec3::Zero(), Vec3(0.0, std::nan(""), 0.0), Vec3::Zero()});

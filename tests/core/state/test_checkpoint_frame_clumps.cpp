@@ -47,7 +47,7 @@ std::unique_ptr<World> clumpScene() {
   return world;
 }
 
-TEST(CheckpointRoomClumps, ClumpRunContinuesBitIdentically) {
+TEST(CheckpointFrameClumps, ClumpRunContinuesBitIdentically) {
   const auto a = clumpScene();
   for (int n = 0; n < 1500; ++n) a->step();
   const std::string file = save(*a);
@@ -92,7 +92,7 @@ std::unique_ptr<World> roomScene() {
   return world;
 }
 
-TEST(CheckpointRoomClumps, RoomGrowingBoundsAndGateContinueBitIdentically) {
+TEST(CheckpointFrameClumps, FrameGrowingBoundsAndGateContinueBitIdentically) {
   const auto a = roomScene();
   for (int n = 0; n < 1000; ++n) a->step();  // t = 0.02 s: still on the gate
   const std::string file = save(*a);
@@ -113,7 +113,7 @@ TEST(CheckpointRoomClumps, RoomGrowingBoundsAndGateContinueBitIdentically) {
   EXPECT_LT(a->currentBounds()->lower.z(), -0.001);
 }
 
-TEST(CheckpointRoomClumps, ClumpsInARotatingRoomAreRefused) {
+TEST(CheckpointFrameClumps, ClumpsInARotatingFrameAreRefused) {
   SimulationSettings s = test::fineSettings(2e-5, 1.0);
   s.frame.angular_velocity = Vec3(0.0, 0.0, 1.0);
   World world(s);

@@ -12,6 +12,6 @@ namespace demlink::server {
 /// Sets settings.bounds (mode and limit box; lower/upper are already set by the
 /// caller) and settings.frame from `box`. Throws core::InputError naming
 /// `prefix + ".bounds.<field>"` or `prefix + ".frame.<field>"`.
-void translateRoom(const v1::SimulationBox& box, const std::string& prefix, core::SimulationSettings& settings);
+void translateFrame(const v1::SimulationBox& box, const std::string& prefix, core::SimulationSettings& settings);
 
 }  // namespace demlink::server
