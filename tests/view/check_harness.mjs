@@ -1,5 +1,13 @@
 // What every browser check of the view shares: its command line, its tally of checks,
-// the children it started (stopped at the end) and its overall deadline.
+// the children it started (stopped at the end), its overall deadline, and starting the
+// view fixture and a headless Chromium on a fresh profile.
+import { spawn } from 'node:child_process';
+import fs from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
+
+import { DevTools, chromiumArguments } from './devtools_pipe.mjs';
+
 
 /// `--name value` pairs of the command line.
 export const args = Object.fromEntries(process.argv.slice(2).reduce((pairs, arg, i, all) => {
@@ -23,4 +31,27 @@ export function finish() {
 /// Fails and finishes the check if it has not finished within `seconds`.
 export function deadline(seconds) {
   setTimeout(() => { check(false, `finished within ${seconds} s`); finish(); }, seconds * 1000).unref();
+}
+/// Starts the view fixture with `fixtureArguments`; resolves to the view's URL once the
+/// fixture prints it (at most 60 s), and throws with its output if it exits first.
+export async function startFixture(fixtureArguments) {
+  let log = '';
+  const fixture = spawn(args.fixture, fixtureArguments, { stdio: ['ignore', 'pipe', 'pipe'] });
+  children.push(fixture);
+  fixture.stdout.on('data', (d) => { log += d; });
+  fixture.stderr.on('data', (d) => { log += d; });
+  for (let k = 0; k < 600 && !/view: (\S+)/.test(log); ++k) {
+    if (fixture.exitCode !== null) throw new Error(`the fixture exited (${fixture.exitCode}): ${log}`);
+    await sleep(100);
+  }
+  return log.match(/view: (\S+)/)[1];
+}
+/// Starts headless Chromium (--chromium, else /usr/bin/chromium) on a fresh profile named
+/// after `profilePrefix`; returns its DevTools connection.
+export function startBrowser(profilePrefix) {
+  const profile = fs.mkdtempSync(path.join(os.tmpdir(), profilePrefix));
+  const browser = spawn(args.chromium ?? '/usr/bin/chromium', chromiumArguments(profile),
+    { stdio: ['ignore', 'ignore', 'ignore', 'pipe', 'pipe'] });
+  children.push(browser);
+  return new DevTools(browser);
 }

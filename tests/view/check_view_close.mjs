@@ -7,13 +7,10 @@
 //
 //   node check_view_close.mjs --fixture DEMLINK_VIEW_FIXTURE --scenes LASTING,BRIEF [--chromium PATH]
 // Prints "N passed, M failed"; exits 1 on any failure.
-import { spawn } from 'node:child_process';
-import fs from 'node:fs';
-import os from 'node:os';
 import path from 'node:path';
 
-import { DevTools, chromiumArguments, evaluate } from './devtools_pipe.mjs';
-import { args, check, children, deadline, finish, sleep } from './check_harness.mjs';
+import { evaluate } from './devtools_pipe.mjs';
+import { args, check, deadline, finish, sleep, startBrowser, startFixture } from './check_harness.mjs';
 
 const scenes = args.scenes.split(',');
 const lasting = { name: path.basename(scenes[0], '.json'), particles: 9 };
@@ -22,21 +19,8 @@ const brief = { name: path.basename(scenes[1], '.json'), particles: 4 };
 deadline(100);
 
 async function main() {
-  let log = '';
-  const fixture = spawn(args.fixture, ['90', ...scenes], { stdio: ['ignore', 'pipe', 'pipe'] });
-  children.push(fixture);
-  fixture.stdout.on('data', (d) => { log += d; });
-  fixture.stderr.on('data', (d) => { log += d; });
-  for (let k = 0; k < 600 && !/view: (\S+)/.test(log); ++k) {
-    if (fixture.exitCode !== null) throw new Error(`the fixture exited (${fixture.exitCode}): ${log}`);
-    await sleep(100);
-  }
-  const url = log.match(/view: (\S+)/)[1];
-
-  const profile = fs.mkdtempSync(path.join(os.tmpdir(), 'demlink-view-close-'));
-  const browser = spawn(args.chromium ?? '/usr/bin/chromium', chromiumArguments(profile), { stdio: ['ignore', 'ignore', 'ignore', 'pipe', 'pipe'] });
-  children.push(browser);
-  const devtools = new DevTools(browser);
+  const url = await startFixture(['90', ...scenes]);
+  const devtools = startBrowser('demlink-view-close-');
   const page = await devtools.openPage('about:blank');
   const errors = [];
   devtools.listeners.push((message) => {
