@@ -18,6 +18,7 @@
 #include <array>
 #include <atomic>
 #include <chrono>
+#include <csignal>
 #include <cstring>
 #include <cmath>
 #include <cstdio>
@@ -68,8 +69,10 @@ std::vector<std::string> launcher(int ranks) {
 
 /// demlink-server --backend liggghts on `ranks` MPI ranks (1: started directly; 0: the
 /// native backend, for comparison).
-Child startServer(int ranks, const std::filesystem::path& out, const std::vector<std::string>& extra = {}) {
+Child startServer(int ranks, const std::filesystem::path& out, const std::vector<std::string>& extra = {},
+                  const std::vector<std::string>& launcherFlags = {}) {
   std::vector<std::string> line = launcher(ranks);
+  if (ranks > 1) line.insert(line.end(), launcherFlags.begin(), launcherFlags.end());
   line.push_back(DEMLINK_SERVER_EXE);
   for (const std::string& argument :
        std::vector<std::string>{"--port", "0", "--backend", ranks > 0 ? "liggghts" : "native", "--output",
@@ -506,6 +509,82 @@ TEST(LiggghtsCosim, ServerAnswersAHelloWhileAnIntervalSteps) {
   EXPECT_LT(probed.back(), answered) << "the probes waited for the interval";
   EXPECT_LT(waits[1], 0.5);
   if (!::testing::Test::HasFailure()) std::filesystem::remove_all(out);
+}
+
+/// Who a test's SIGTERM goes to.
+enum class SignalTarget : std::uint8_t { Server, Mpirun };
+
+/// The process id rank 0 announced ("rank 0 (this server) is process N"); 0 if none.
+pid_t rankZeroProcess(const std::string& announced) {
+  const std::string marker = "is process ";
+  const std::size_t at = announced.find(marker);
+  return at == std::string::npos ? 0 : static_cast<pid_t>(std::atol(announced.c_str() + at + marker.size()));
+}
+
+TEST(LiggghtsCosim, SigtermCutsALongIntervalShortOnEveryRank) {
+  // An interval far longer than the test under way; SIGTERM ends it at a step all ranks
+  // agree on: the client is told SERVER_SHUTDOWN, the final checkpoint (ours and
+  // LIGGGHTS's, a collective) is written, and every rank exits 0. Sent to mpirun, the
+  // signal reaches the ranks about a second later and mpirun kills them a second after
+  // that (its odls_base_sigkill_timeout), reporting exit 1 whatever they did: enough time
+  // for this world's shutdown, which is what is checked there.
+  for (const auto& [ranks, target] : std::vector<std::pair<int, SignalTarget>>{
+           {1, SignalTarget::Server}, {2, SignalTarget::Server}, {2, SignalTarget::Mpirun}}) {
+    const std::string run = std::to_string(ranks) + " rank(s), SIGTERM to " +
+                            (target == SignalTarget::Server ? "the server" : "mpirun");
+    const std::filesystem::path out = scratch("sigterm_" + std::to_string(ranks));
+    Child server = startServer(ranks, out, {"--once"});
+    std::string announced;
+    const int port = announcedPort(server, announced);
+    ASSERT_GT(port, 0) << announced;
+    const pid_t rankZero = ranks > 1 && target == SignalTarget::Server ? rankZeroProcess(announced) : server.pid();
+    ASSERT_GT(rankZero, 0) << announced;
+    client::Connection connection;
+    connectTo(connection, port, "long");
+    client::Session session(connection);
+    constexpr std::uint64_t kHugeInterval = 100000000;  // steps: hours of LIGGGHTS
+    client::SimulationBox& box = declareBed(session, static_cast<double>(kHugeInterval) * kDt, 4);
+    box.setCommunicationInterval(static_cast<double>(kHugeInterval) * kDt);
+    session.declare();
+    session.waitCompiled();
+    std::string told;
+    std::thread stepping([&] {
+      try {
+        session.exchange();
+        told = "an answer";
+      } catch (const client::ServerError& error) {
+        told = v1::Error_Code_Name(error.code());
+      } catch (const std::exception& error) {
+        told = error.what();
+      }
+    });
+    std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // the interval is under way
+    const auto signalled = std::chrono::steady_clock::now();
+    ::kill(rankZero, SIGTERM);
+    const std::string said = server.readOutput(std::chrono::seconds(60));  // until the server closes it
+    const int exitCode = server.waitForExit(std::chrono::seconds(10));
+    const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - signalled).count();
+    stepping.join();
+    std::printf("SIGTERM during a %llu-step LIGGGHTS interval, %s: exit %d after %.2f s\n",
+                static_cast<unsigned long long>(kHugeInterval), run.c_str(), exitCode, took);
+    if (target == SignalTarget::Server) {
+      EXPECT_EQ(exitCode, 0) << run << ":\n" << said;
+    }
+    EXPECT_LT(took, 10.0) << run << ": 2 s is the promise; the bound leaves room for a loaded machine";
+    EXPECT_EQ(told, "SERVER_SHUTDOWN") << run;
+    // Cut short inside the interval, after it stepped: not at its start, not at its end.
+    const std::string ended = "ended at step ";
+    const std::size_t at = said.find(ended);
+    ASSERT_NE(at, std::string::npos) << run << ":\n" << said;
+    const unsigned long long step = std::strtoull(said.c_str() + at + ended.size(), nullptr, 10);
+    EXPECT_GT(step, 0U) << run;
+    EXPECT_LT(step, kHugeInterval) << run;
+    for (const char* extension : {".bin", ".liggghts", ".liggghts_ids"}) {
+      EXPECT_TRUE(std::filesystem::is_regular_file(out / "sim_001" / (std::string("checkpoint_final") + extension)))
+          << extension << ", " << run;
+    }
+    if (!::testing::Test::HasFailure()) std::filesystem::remove_all(out);
+  }
 }
 
 /// What a switched source inserted, read by its client at the three switches.

@@ -16,6 +16,7 @@
 /// address that cannot be bound), printed as "error: <option> = <value>: <reason>";
 /// 1 any other failure. Only 127.0.0.1 unless --listen says otherwise (security).
 #include <spdlog/spdlog.h>
+#include <unistd.h>
 
 #include "demlink/server/net/asio.hpp"
 #include <algorithm>
@@ -269,7 +270,10 @@ int run(int argc, char** argv) {
     auto leader = std::make_shared<demlink::server::LockstepLeader>();
     leader->attach(options);
     stopMirrors = [leader] { leader->close(); };
-    spdlog::info("LIGGGHTS backend on {} MPI rank(s)", demlink::server::mpiRanks());
+    // Under mpirun a signal for the server goes to this process: mpirun forwards one late
+    // and kills the ranks a second after (docs/scale-out.md).
+    spdlog::info("LIGGGHTS backend on {} MPI rank(s); rank 0 (this server) is process {}", demlink::server::mpiRanks(),
+                 static_cast<long>(::getpid()));
     stepsOffTheNetworkThread = demlink::server::mpiCallsFromAnyThread();
     if (!stepsOffTheNetworkThread) {
       spdlog::warn("this MPI library keeps MPI calls on the thread that started it: the simulation steps on the "
@@ -311,9 +315,9 @@ int run(int argc, char** argv) {
     view->start();
   }
   // Every simulation steps on its own thread (SimulationHub), so the network loop answers
-  // whatever a simulation does. LIGGGHTS under MPI: one simulation at a time (the mirrors
-  // follow one host's events), whose intervals always run to their stop; only an MPI
-  // library without thread support keeps it on the network thread.
+  // whatever a simulation does and a signal cuts an interval short. LIGGGHTS under MPI: one
+  // simulation at a time (the mirrors follow one host's events); only an MPI library
+  // without thread support keeps it on the network thread.
   const std::uint64_t maxSimulations = line.once ? 1 : line.max_simulations;
   std::optional<std::chrono::nanoseconds> spinBudget;
   if (line.spin_wait_us) {
@@ -327,7 +331,6 @@ int run(int argc, char** argv) {
     demlink::server::SimulationHubOptions hubOptions;
     hubOptions.spin_wait = demlink::core::defaultSpinBudget();  // the network loop's
     hubOptions.max_open = native ? line.max_open : 1;
-    hubOptions.interruptible_intervals = native;
     hubOptions.max_stepping = line.max_stepping;
     hubOptions.max_total = maxSimulations;
     auto hub = std::make_unique<demlink::server::SimulationHub>(options, hubOptions);

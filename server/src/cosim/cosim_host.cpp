@@ -160,10 +160,10 @@ struct CosimHost::Impl {
       } catch (const std::exception& error) {
         spdlog::error("simulation {}: final output failed: {}", number(), error.what());
       }
-      spdlog::info("simulation {} ended at step {} (t = {:.6g} s): {}; output in {}", number(),
-                   sim->scheduler().currentStep(),
-                   static_cast<double>(sim->scheduler().currentStep()) * sim->compiled().time_step, reason,
-                   sim->outputDirectory().string());
+      // The world's step: a shutdown may cut an interval short past the last exchange.
+      const core::World& w = sim->compiled().scene->world;
+      spdlog::info("simulation {} ended at step {} (t = {:.6g} s): {}; output in {}", number(), w.stepCount(),
+                   w.time(), reason, sim->outputDirectory().string());
     } else {
       spdlog::info("simulation {} ended before it was compiled: {}", number(), reason);
     }

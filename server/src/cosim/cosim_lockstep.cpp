@@ -9,6 +9,7 @@
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
+#include <csignal>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -24,6 +25,14 @@ constexpr std::int64_t kStop = -1;
 
 void broadcastSize(std::int64_t& size) { MPI_Bcast(&size, 1, MPI_INT64_T, 0, MPI_COMM_WORLD); }
 
+/// Rank 0's wish to stop, taken by every rank (CosimOptions::stop_consensus). One int per
+/// step: LIGGGHTS's own step makes several collectives of that size.
+bool broadcastStop(bool stop) {
+  int flag = stop ? 1 : 0;
+  MPI_Bcast(&flag, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  return flag != 0;
+}
+
 }  // namespace
 
 LockstepLeader::~LockstepLeader() {
@@ -37,6 +46,7 @@ LockstepLeader::~LockstepLeader() {
 void LockstepLeader::attach(CosimOptions& options) {
   options.on_event = [this](const v1::SessionEvent& event) { add(event); };
   options.before_engine = [this] { flush(); };
+  options.stop_consensus = broadcastStop;
 }
 
 void LockstepLeader::add(const v1::SessionEvent& event) {
@@ -74,6 +84,12 @@ void runLockstepMirror(CosimOptions options) {
   options.record_file.clear();
   options.on_event = nullptr;
   options.before_engine = nullptr;
+  // Rank 0 decides when an interval is cut short (its server's shutdown); a signal here
+  // is rank 0's too (mpirun forwards SIGTERM to every rank), which tells this rank.
+  options.stop_stepping = nullptr;
+  options.stop_consensus = [](bool) { return broadcastStop(false); };
+  std::signal(SIGINT, SIG_IGN);
+  std::signal(SIGTERM, SIG_IGN);
   options.progress_interval_s = 0.0;
   std::uint64_t batches = 0;
   {

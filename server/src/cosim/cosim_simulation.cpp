@@ -41,6 +41,7 @@ CosimSimulation::CosimSimulation(CompiledSimulation compiled, const std::filesys
       before_engine_(options.before_engine),
       stop_stepping_(options.stop_stepping),
       turns_(options.turns),
+      stop_consensus_(options.stop_consensus),
       step_observer_(options.step_observer),
       close_observer_(options.close_observer) {
   core::World& w = world();
@@ -256,7 +257,9 @@ CosimSimulation::Advance CosimSimulation::advance() {
   if (turns_) turn.emplace(*turns_, stop_stepping_.get());
   while (w.stepCount() < *stop) {
     // Between two steps, the one place an interval of any length can end early.
-    if (turn ? !turn->mayStep() : stop_stepping_ && stop_stepping_->load(std::memory_order_relaxed)) {
+    bool halt = turn ? !turn->mayStep() : stop_stepping_ && stop_stepping_->load(std::memory_order_relaxed);
+    if (stop_consensus_) halt = stop_consensus_(halt);
+    if (halt) {
       backend_->syncParticles();
       outputs_.addStepping(w.stepCount() - first, secondsSince(begin));
       out.stepped = w.stepCount() > first;

@@ -83,10 +83,10 @@ SimulationHub::Slot& SimulationHub::open() {
   CosimOptions options = host_options_;
   host_options_.restore_file.clear();  // the first simulation only
   options.first_simulation_number = slot->number;
-  if (options_.interruptible_intervals) {
-    options.stop_stepping = slot->stop;
-    options.turns = turns_;
-  }
+  // A stop (shutdown) or another simulation's turn ends an interval at a step boundary;
+  // on LIGGGHTS under MPI every rank stops at that step (CosimOptions::stop_consensus).
+  options.stop_stepping = slot->stop;
+  options.turns = turns_;
   if (recorder_) {
     options.on_event = [this, forward = host_options_.on_event](const v1::SessionEvent& event) {
       if (forward) forward(event);

@@ -104,6 +104,10 @@ struct CosimOptions {
   /// an interval of any length is cut short; the host then ends on shutdown(). Another
   /// thread sets it while this host steps.
   std::shared_ptr<const std::atomic<bool>> stop_stepping;
+  /// Set (LIGGGHTS under MPI): called between every two steps of an interval with this
+  /// rank's wish to stop (stop_stepping or the turns); returns the decision every rank
+  /// takes, rank 0's (cosim_lockstep.hpp), so all ranks cut an interval at the same step.
+  std::function<bool(bool)> stop_consensus;
   /// Set: the simulation steps only while it holds a turn (stepping_turns.hpp), shared by
   /// every simulation of the server.
   std::shared_ptr<SteppingTurns> turns;

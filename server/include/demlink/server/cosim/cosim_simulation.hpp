@@ -111,6 +111,7 @@ class CosimSimulation {
   std::function<void()> before_engine_;
   std::shared_ptr<const std::atomic<bool>> stop_stepping_;  ///< CosimOptions::stop_stepping
   std::shared_ptr<SteppingTurns> turns_;                    ///< CosimOptions::turns
+  std::function<bool(bool)> stop_consensus_;                ///< CosimOptions::stop_consensus
   std::function<void(const core::World&)> step_observer_;   ///< options.step_observer
   std::function<void(const core::World&)> close_observer_;  ///< options.close_observer
   std::unique_ptr<SimulationBackend> backend_;  ///< steps the compiled world (native or LIGGGHTS)

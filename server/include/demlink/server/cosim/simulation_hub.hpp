@@ -51,10 +51,6 @@ struct SimulationHubOptions {
   /// Spin budget of each simulation thread's wait for its next call (SimulationWorker;
   /// demlink-server passes its --spin-wait-us, the network loop's); zero: block at once.
   std::chrono::nanoseconds spin_wait = core::defaultSpinBudget();
-  /// Whether a stop (shutdown, a fault) or another simulation's turn may end an interval
-  /// early at a step boundary. False for LIGGGHTS under MPI: every rank must step the same
-  /// steps, and the mirrors learn only the events, so an interval always runs to its stop.
-  bool interruptible_intervals = true;
 };
 
 class SimulationHub final : public SessionHandler {
