@@ -336,13 +336,10 @@ void writeOutputs(const Component& component, int handle, Package& p) {
       p.ints.push_back(static_cast<long long>(std::min<std::uint64_t>(o.bonds_intact(), LLONG_MAX)));
       p.ints.push_back(static_cast<long long>(std::min<std::uint64_t>(o.bonds_broken(), LLONG_MAX)));
       p.reals.push_back(o.mass());
-      // An empty region sends no centre of mass or mean velocity: NaN here, as documented.
-      if (o.has_centre_of_mass()) {
-        pushVec(p, o.centre_of_mass());
-        pushVec(p, o.mean_velocity());
-      } else {
-        for (int k = 0; k < 6; ++k) p.reals.push_back(std::numeric_limits<double>::quiet_NaN());
-      }
+      // An empty region is sent no centre of mass or mean velocity: zeros here (the unset
+      // fields' values), never NaN, which FMI masters and Modelica solvers stop on.
+      pushVec(p, o.centre_of_mass());
+      pushVec(p, o.mean_velocity());
       break;
     }
     case v1::DataPackage::kFlowSensor: {

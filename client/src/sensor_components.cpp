@@ -58,22 +58,10 @@ std::uint64_t RegionSensor::count() const { return outputs().region_sensor().cou
 double RegionSensor::mass() const { return outputs().region_sensor().mass(); }
 std::uint64_t RegionSensor::bondsIntact() const { return outputs().region_sensor().bonds_intact(); }
 std::uint64_t RegionSensor::bondsBroken() const { return outputs().region_sensor().bonds_broken(); }
-// An empty region sends no centre of mass or mean velocity: NaN here, as before.
-namespace {
-Vec3 nanVec() {
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-  return {nan, nan, nan};
-}
-}  // namespace
-
-Vec3 RegionSensor::centreOfMass() const {
-  const auto& o = outputs().region_sensor();
-  return o.has_centre_of_mass() ? fromProto(o.centre_of_mass()) : nanVec();
-}
-Vec3 RegionSensor::meanVelocity() const {
-  const auto& o = outputs().region_sensor();
-  return o.has_mean_velocity() ? fromProto(o.mean_velocity()) : nanVec();
-}
+// An empty region is sent no centre of mass or mean velocity: zeros here (the unset
+// fields' values), never NaN; count() tells an empty region apart.
+Vec3 RegionSensor::centreOfMass() const { return fromProto(outputs().region_sensor().centre_of_mass()); }
+Vec3 RegionSensor::meanVelocity() const { return fromProto(outputs().region_sensor().mean_velocity()); }
 
 FlowSensor::FlowSensor(std::string name) : Component(std::move(name)) { declaration().mutable_flow_sensor(); }
 FlowSensor& FlowSensor::setRectangle(const Vec3& centre, const Vec3& normal, double length, double width,

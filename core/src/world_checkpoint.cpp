@@ -206,7 +206,7 @@ void World::saveCheckpoint(std::ostream& out) const {
       walls_.mesh_near[m].save(w);
     }
   });
-  w.section("ROOM", [&] {
+  w.section("FRAM", [&] {
     w.write(state_.bounds.lower);
     w.write(state_.bounds.upper);
     state_.frame.save(w);
@@ -282,7 +282,7 @@ void World::restoreCheckpoint(std::string_view bytes, const std::string& source)
   }
   meshSection.requireEnd();
 
-  StateReader frameSection = file.section("ROOM", "bounds_and_frame");
+  StateReader frameSection = file.section("FRAM", "bounds_and_frame");
   DomainBounds bounds;
   bounds.lower = frameSection.read<Vec3>();
   bounds.upper = frameSection.read<Vec3>();

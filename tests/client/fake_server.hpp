@@ -203,8 +203,10 @@ inline void fillFakeOutputs(const std::string& kind, std::uint32_t id, std::uint
     auto* o = d.mutable_region_sensor();
     o->set_count(step * 10 + id);
     o->set_mass(s * 0.25);
-    vec(o->mutable_centre_of_mass(), s, 0.0, 1.0);
-    vec(o->mutable_mean_velocity(), 0.0, -s, 0.0);
+    if (step > 0) {  // at step 0 none, as the server sends an empty region's
+      vec(o->mutable_centre_of_mass(), s, 0.0, 1.0);
+      vec(o->mutable_mean_velocity(), 0.0, -s, 0.0);
+    }
     o->set_bonds_intact(step * 100 + 7);
     o->set_bonds_broken(step * 100 + 3);
   } else if (kind == "simulation_box") {

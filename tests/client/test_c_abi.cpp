@@ -99,6 +99,8 @@ TEST(ClientCAbi, GenericPackagesFollowTheDocumentedLayout) {
   EXPECT_EQ(strings(pkg.package), (std::vector<std::string>{"region_sensor", "fill"}));
   // handle, step 0, count = 0*10 + id 2, bonds intact and broken = 0*100 + 7, + 3
   EXPECT_EQ(ints(pkg.package), (std::vector<long long>{1, 0, 2, 7, 3}));
+  // Sent without centre of mass and mean velocity (as an empty region is): zeros, not NaN.
+  EXPECT_EQ(reals(pkg.package), (std::vector<double>{0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0}));
 
   // Inputs at step 0: the body's 13 reals, the sensor's empty package.
   const long long bodyHandle[] = {0};

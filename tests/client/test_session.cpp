@@ -52,6 +52,13 @@ TEST(ClientSession, TwoIntervalsSendExactlyTheDueComponents) {
   EXPECT_EQ(sensor.intervalSteps(), 3U);
   EXPECT_EQ(session.report().text(), "fake compile report");
   EXPECT_EQ(body.outputStep(), 0U);  // initial outputs from Compiled
+  // The step-0 sensor output has no centre of mass or mean velocity (an empty region's):
+  // zeros, never NaN.
+  for (const Vec3& v : {sensor.centreOfMass(), sensor.meanVelocity()}) {
+    EXPECT_EQ(v.x, 0.0);
+    EXPECT_EQ(v.y, 0.0);
+    EXPECT_EQ(v.z, 0.0);
+  }
   EXPECT_EQ(session.due().size(), 2U);
 
   std::vector<std::uint64_t> returnedAt;

@@ -129,7 +129,7 @@
  *                    step 0 (sources only); reals = the corresponding masses [kg].
  *   region_sensor  : ints[2] count, ints[3] intact and ints[4] broken parallel bonds whose
  *                    midpoint is inside; reals = mass [kg], centre of mass(3) [m],
- *                    mean velocity(3) [m/s] (NaN when empty).
+ *                    mean velocity(3) [m/s] (zeros when empty: ints[2] is 0).
  *   flow_sensor    : ints[2..5] crossings: positive interval, negative interval, positive
  *                    total, negative total; reals = the corresponding masses [kg].
  *   particle_view  : ints[2] particles in the world, ints[3] stride, ints[4..] ids (the

@@ -14,6 +14,13 @@
 #include "demlink/core/components/component_world.hpp"
 
 namespace demlink::core {
+namespace {
+
+/// An empty region's mean velocity and centre of mass: missing (NaN in memory, an empty
+/// CSV cell; a client is sent no value).
+Vec3 emptyRegionMean() { return Vec3::Constant(std::numeric_limits<double>::quiet_NaN()); }
+
+}  // namespace
 
 RegionSensor::RegionSensor(std::string name, VolumeShape shape, RegionPlacement placement, SampleSchedule schedule,
                            std::string fieldPrefix)
@@ -67,7 +74,7 @@ RegionReading RegionSensor::measure(const ComponentWorld& world) const {
     moment += p.mass[i] * p.position[i];
   }
   if (reading.count == 0) {
-    reading.mean_velocity = reading.centre_of_mass = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
+    reading.mean_velocity = reading.centre_of_mass = emptyRegionMean();
   } else {
     reading.mean_velocity = momentum / reading.mass;
     reading.centre_of_mass = moment / reading.mass;
@@ -101,8 +108,11 @@ void RegionSensor::saveState(StateWriter& out) const {
   out.write(latest_.time);
   out.write(latest_.count);
   out.write(latest_.mass);
-  out.write(latest_.mean_velocity);
-  out.write(latest_.centre_of_mass);
+  // An empty region has no mean velocity or centre of mass (NaN in memory): zeros here,
+  // told apart by the count.
+  const bool empty = latest_.count == 0;
+  out.write(empty ? Vec3(Vec3::Zero()) : latest_.mean_velocity);
+  out.write(empty ? Vec3(Vec3::Zero()) : latest_.centre_of_mass);
   out.endSection(section);
 }
 
@@ -125,10 +135,13 @@ void RegionSensor::loadState(StateReader& in) {
   r.time = readFinite(s, "time of the latest reading");
   r.count = s.read<std::uint64_t>();
   r.mass = readNonNegative(s, "mass of the latest reading");
-  // NaN is the documented value of an empty region's mean velocity and centre of mass.
   r.mean_velocity = s.read<Vec3>();
   r.centre_of_mass = s.read<Vec3>();
   s.requireEnd();
+  if (!r.mean_velocity.allFinite() || !r.centre_of_mass.allFinite()) {
+    s.fail("non-finite", "mean velocity or centre of mass of the latest reading");
+  }
+  if (r.count == 0) r.mean_velocity = r.centre_of_mass = emptyRegionMean();
   if (counts_bonds_) {
     // REGN has no bond counts (so checkpoints of scenes without bonds keep their bytes);
     // the latest row restored by SampledComponent holds them as they were sampled.

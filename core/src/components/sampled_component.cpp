@@ -58,7 +58,7 @@ void SampledComponent::saveState(StateWriter& out) const {
   const std::size_t section = out.beginSection("SMPL");
   out.write(every_);
   out.write(samples_);
-  out.writeVector(latest_);
+  writeWithMissing(out, latest_);
   out.endSection(section);
 }
 
@@ -70,7 +70,7 @@ void SampledComponent::loadState(StateReader& in) {
                                       " (restore into a world built from the same scene)");
   }
   const auto samples = s.read<std::uint64_t>();
-  std::vector<double> latest = s.readVector<double>();
+  std::vector<double> latest = readWithMissing(s, "latest sample");
   s.requireEnd();
   const std::size_t width = columns().size();
   if (latest.size() != width) {

@@ -1,6 +1,8 @@
 #include "demlink/core/state/state_stream.hpp"
 
+#include <cmath>
 #include <limits>
+#include <stdexcept>
 
 #include "demlink/core/base/input_error.hpp"
 
@@ -36,12 +38,49 @@ std::size_t StateWriter::beginSection(std::string_view tag) {
   writeBytes(padded.data(), kTagBytes);
   const std::size_t handle = buffer_.size();
   write<std::uint64_t>(0);
+  open_.push_back(handle);
   return handle;
 }
 
 void StateWriter::endSection(std::size_t handle) {
   const std::uint64_t length = buffer_.size() - handle - sizeof(std::uint64_t);
   std::memcpy(buffer_.data() + handle, &length, sizeof length);
+  if (!open_.empty() && open_.back() == handle) open_.pop_back();
+}
+
+void writeWithMissing(StateWriter& out, const std::vector<double>& values) {
+  std::vector<double> numbers(values);
+  std::vector<std::uint8_t> missing(values.size(), 0);
+  for (std::size_t i = 0; i < numbers.size(); ++i) {
+    if (std::isnan(numbers[i])) {
+      numbers[i] = 0.0;
+      missing[i] = 1;
+    }
+  }
+  out.writeVector(numbers);
+  out.writeVector(missing);
+}
+
+std::vector<double> readWithMissing(StateReader& in, const std::string& what) {
+  std::vector<double> values = in.readVector<double>();
+  const std::vector<std::uint8_t> missing = in.readVector<std::uint8_t>();
+  requireSameLength(in, values, missing, what + ": values and missing flags");
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (missing[i] > 1) in.fail(std::to_string(missing[i]), what + ": a missing flag must be 0 or 1");
+    if (missing[i] == 1) values[i] = std::numeric_limits<double>::quiet_NaN();
+    if (std::isnan(values[i]) && missing[i] == 0) in.fail("NaN", what + ": a value that is not missing is NaN");
+  }
+  return values;
+}
+
+void StateWriter::refuseNaN() const {
+  std::string path;
+  for (const std::size_t handle : open_) {
+    if (!path.empty()) path += '/';
+    path += buffer_.substr(handle - kTagBytes, kTagBytes);
+  }
+  throw std::logic_error("checkpoint: a NaN value in section " + (path.empty() ? std::string("(none)") : path) +
+                         " (a missing value must be written as a flag)");
 }
 
 StateReader::StateReader(std::string_view bytes, std::string source, std::string section)

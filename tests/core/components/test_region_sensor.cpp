@@ -1,7 +1,8 @@
 // Region sensors: count, mass, mean velocity and centre of mass of a random set
 // against sums computed directly (relative 1e-12); a sensor attached to a rotating
 // mesh body and one moving with a constant velocity follow their carrier (1e-9 m); an
-// empty region writes empty CSV cells with the header's column count.
+// empty region writes empty CSV cells with the header's column count, and its checkpoint
+// carries the missing values as flags, never as NaN.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -12,6 +13,7 @@
 
 #include "demlink/core/base/input_error.hpp"
 #include "demlink/core/components/region_sensor.hpp"
+#include "checkpoint_test_support.hpp"
 #include "csv_test_support.hpp"
 #include "sensor_test_support.hpp"
 
@@ -114,6 +116,42 @@ TEST(RegionSensor, EmptyRegionReportsNaNCentre) {
   EXPECT_EQ(sensor.latest().count, 0u);
   EXPECT_EQ(sensor.latest().mass, 0.0);
   EXPECT_TRUE(std::isnan(sensor.latest().centre_of_mass.x()));
+}
+
+/// The checkpoint of an empty region holds no NaN (the writer refuses one): its missing
+/// values travel as flags, and the restored sensor has them missing again, in its reading
+/// and in its latest row, while a sensor holding the sphere restores its numbers exactly.
+TEST(RegionSensor, EmptyRegionCheckpointHoldsNoNaNAndRestoresTheMissingValues) {
+  auto build = [] {
+    auto world = std::make_unique<World>(test::sensorSettings());
+    world->addMaterial(test::testMaterial(0.5));
+    test::addSphere(*world, Vec3::Zero(), 0.003, Vec3(0.1, 0.0, 0.0));
+    RegionPlacement far;
+    far.centre = Vec3(1.0, 0.0, 0.0);
+    world->addComponent(std::make_unique<RegionSensor>("far", VolumeShape::sphere(0.1, "far"), far,
+                                                       SampleSchedule{.every_steps = 10}, "far"));
+    world->addComponent(std::make_unique<RegionSensor>("near", VolumeShape::sphere(0.1, "near"), RegionPlacement{},
+                                                       SampleSchedule{.every_steps = 10}, "near"));
+    world->initialize();
+    return world;
+  };
+  const auto a = build();
+  for (int n = 0; n < 25; ++n) a->step();
+  const std::string bytes = test::saveToBytes(*a);  // throws on a NaN
+  const auto b = build();
+  b->restoreCheckpoint(std::string_view(bytes), "empty.bin");
+  const auto& far = static_cast<const RegionSensor&>(*b->components()[0]);
+  const auto& near = static_cast<const RegionSensor&>(*b->components()[1]);
+  EXPECT_EQ(far.latest().count, 0u);
+  EXPECT_TRUE(far.latest().mean_velocity.hasNaN() && far.latest().centre_of_mass.hasNaN());
+  const std::vector<double>& row = far.latestRow();
+  ASSERT_EQ(row.size(), 9u);
+  EXPECT_EQ(row[1], 0.0) << "count";
+  for (std::size_t k = 3; k < 9; ++k) EXPECT_TRUE(std::isnan(row[k])) << "column " << k << " stays missing";
+  const auto& nearA = static_cast<const RegionSensor&>(*a->components()[1]);
+  EXPECT_EQ(near.latest().mean_velocity, nearA.latest().mean_velocity);
+  EXPECT_EQ(near.latestRow(), nearA.latestRow());
+  EXPECT_EQ(test::saveToBytes(*b), bytes) << "a restored world saves the same bytes";
 }
 
 /// In its CSV file an empty region's mean velocity and centre of mass, which do not exist,

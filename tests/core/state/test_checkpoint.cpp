@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
+#include <stdexcept>
 #include <sstream>
 
 #include <gtest/gtest.h>
@@ -200,6 +202,58 @@ TEST(Checkpoint, RejectsWrongMagicAndVersion) {
   std::string order = file;
   std::swap(order[12], order[15]);
   expectRejected(order, "byte order");
+}
+
+TEST(Checkpoint, TheWriterRefusesNaNNamingTheSections) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (int kind = 0; kind < 3; ++kind) {
+    StateWriter out;
+    std::string message;
+    try {
+      out.section("OUTR", [&] {
+        out.section("INNR", [&] {
+          out.write(1.5);
+          if (kind == 0) out.write(nan);
+          if (kind == 1) out.write(Vec3(0.0, nan, 0.0));
+          if (kind == 2) out.write(Quat(nan, 0.0, 0.0, 1.0));
+        });
+      });
+    } catch (const std::logic_error& error) {
+      message = error.what();
+    }
+    EXPECT_NE(message.find("NaN value in section OUTR/INNR"), std::string::npos) << kind << ": " << message;
+  }
+  StateWriter finite;
+  finite.write(std::numeric_limits<double>::infinity());  // "no limit" is a value, not a missing one
+  EXPECT_EQ(finite.bytes().size(), sizeof(double));
+}
+
+TEST(Checkpoint, MissingValuesTravelAsFlags) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  StateWriter out;
+  writeWithMissing(out, {1.0, nan, -2.5, nan});
+  EXPECT_EQ(out.bytes().find(std::string("\x7f\xf8", 2)), std::string::npos);
+  StateReader in(out.bytes(), "row.bin", "SMPL");
+  const std::vector<double> back = readWithMissing(in, "latest sample");
+  ASSERT_EQ(back.size(), 4u);
+  EXPECT_EQ(back[0], 1.0);
+  EXPECT_TRUE(std::isnan(back[1]));
+  EXPECT_EQ(back[2], -2.5);
+  EXPECT_TRUE(std::isnan(back[3]));
+  // A flag other than 0 or 1, and a NaN not flagged missing, are refused.
+  std::string bad = out.bytes();
+  bad[bad.size() - 1] = 2;
+  StateReader badFlag(bad, "row.bin", "SMPL");
+  EXPECT_THROW((void)readWithMissing(badFlag, "latest sample"), InputError);
+  StateWriter raw;
+  raw.writeVector(std::vector<double>{1.0});
+  std::string unflagged = raw.bytes();
+  std::memcpy(unflagged.data() + sizeof(std::uint64_t), &nan, sizeof nan);
+  unflagged += std::string(sizeof(std::uint64_t), '\0');
+  unflagged[unflagged.size() - sizeof(std::uint64_t)] = 1;  // one flag
+  unflagged += '\0';
+  StateReader hidden(unflagged, "row.bin", "SMPL");
+  EXPECT_THROW((void)readWithMissing(hidden, "latest sample"), InputError);
 }
 
 TEST(Checkpoint, RejectsCorruptLengthsWithoutHugeAllocations) {

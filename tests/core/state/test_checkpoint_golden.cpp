@@ -18,7 +18,7 @@
 namespace demlink::core {
 namespace {
 
-const std::string kGoldenPath = std::string(DEMLINK_SOURCE_DIR) + "/tests/core/state/golden/checkpoint_v2.bin";
+const std::string kGoldenPath = std::string(DEMLINK_SOURCE_DIR) + "/tests/core/state/golden/checkpoint_v3.bin";
 
 std::string goldenBytes() {
   std::ifstream in(kGoldenPath, std::ios::binary);

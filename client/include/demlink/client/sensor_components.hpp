@@ -33,8 +33,8 @@ class RegionSensor : public Component {
 
   [[nodiscard]] std::uint64_t count() const;   ///< particles inside [-]
   [[nodiscard]] double mass() const;           ///< [kg]
-  [[nodiscard]] Vec3 centreOfMass() const;     ///< [m]; NaN when empty
-  [[nodiscard]] Vec3 meanVelocity() const;     ///< mass-weighted [m/s]; NaN when empty
+  [[nodiscard]] Vec3 centreOfMass() const;     ///< [m]; zero when empty (count() == 0)
+  [[nodiscard]] Vec3 meanVelocity() const;     ///< mass-weighted [m/s]; zero when empty
   /// Parallel bonds whose midpoint is inside, intact and broken [-] (0 without bonds).
   [[nodiscard]] std::uint64_t bondsIntact() const;
   [[nodiscard]] std::uint64_t bondsBroken() const;

@@ -14,7 +14,7 @@
 ///   sections, each: 4-byte tag, u64 length, payload (state_stream.hpp):
 ///     SETT settings   MATL materials   CLOK step count, next id, tallies, pending slot map
 ///     PART particle columns   NBRL neighbour list   PLAN planes   MESH meshes
-///     ROOM bounds and frame motion   CLMP clumps   COMP component states
+///     FRAM bounds and frame motion   CLMP clumps   COMP component states
 ///     END  (marks a complete file)
 #include <cstdint>
 #include <filesystem>
@@ -32,7 +32,7 @@ class StateReader;
 
 inline constexpr char kCheckpointMagic[9] = "DEMLCKPT";
 /// Bumped whenever a section changes; a file of another version is refused.
-inline constexpr std::uint32_t kCheckpointVersion = 2;
+inline constexpr std::uint32_t kCheckpointVersion = 3;
 inline constexpr std::uint32_t kCheckpointByteOrderMark = 0x01020304u;
 
 /// The name of a run's checkpoint number `number`: "checkpoint_NNNNNN.bin" (six digits

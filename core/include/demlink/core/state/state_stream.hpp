@@ -64,8 +64,13 @@ class StateWriter {
 
   [[nodiscard]] const std::string& bytes() const { return buffer_; }
 
+  /// A checkpoint never holds NaN (a missing value is written as its own flag): throws
+  /// std::logic_error naming the open sections. The codecs call it for each NaN.
+  [[noreturn]] void refuseNaN() const;
+
  private:
   std::string buffer_;
+  std::vector<std::size_t> open_;  ///< handles of the sections begun and not yet ended
 };
 
 class StateReader {
@@ -146,24 +151,41 @@ void requireSameLength(const StateReader& in, const A& a, const B& b, const std:
   if (a.size() != b.size()) in.fail(std::to_string(a.size()) + " vs " + std::to_string(b.size()), what);
 }
 
+/// Numbers in which NaN marks a missing value (a sampled row: an empty CSV cell): written
+/// as the values with 0 in place of each missing one, then a flag byte per value (1:
+/// missing), so the file holds no NaN; read back with the NaNs in place.
+void writeWithMissing(StateWriter& out, const std::vector<double>& values);
+[[nodiscard]] std::vector<double> readWithMissing(StateReader& in, const std::string& what);
+
 template <class T>
 struct StateCodec<T, std::enable_if_t<std::is_arithmetic_v<T>>> {
   static constexpr std::size_t kBytes = sizeof(T);
-  static void write(StateWriter& out, const T& value) { out.writeBytes(&value, sizeof(T)); }
+  static void write(StateWriter& out, const T& value) {
+    if constexpr (std::is_floating_point_v<T>) {
+      if (value != value) out.refuseNaN();
+    }
+    out.writeBytes(&value, sizeof(T));
+  }
   static void read(StateReader& in, T& value) { in.readBytes(&value, sizeof(T)); }
 };
 
 template <>
 struct StateCodec<Vec3> {
   static constexpr std::size_t kBytes = 3 * sizeof(double);
-  static void write(StateWriter& out, const Vec3& value) { out.writeBytes(value.data(), kBytes); }
+  static void write(StateWriter& out, const Vec3& value) {
+    if (value.hasNaN()) out.refuseNaN();
+    out.writeBytes(value.data(), kBytes);
+  }
   static void read(StateReader& in, Vec3& value) { in.readBytes(value.data(), kBytes); }
 };
 
 template <>
 struct StateCodec<Quat> {
   static constexpr std::size_t kBytes = 4 * sizeof(double);
-  static void write(StateWriter& out, const Quat& value) { out.writeBytes(value.coeffs().data(), kBytes); }
+  static void write(StateWriter& out, const Quat& value) {
+    if (value.coeffs().hasNaN()) out.refuseNaN();
+    out.writeBytes(value.coeffs().data(), kBytes);
+  }
   static void read(StateReader& in, Quat& value) { in.readBytes(value.coeffs().data(), kBytes); }
 };
 

@@ -55,7 +55,7 @@ struct FrameMotion {
   /// Throws InputError naming `fieldPrefix + ".<field>[k]"` for a non-finite component.
   void validate(const std::string& fieldPrefix) const;
 
-  /// Checkpoint payload (in the checkpoint section ROOM): the four vectors in declaration order
+  /// Checkpoint payload (in the checkpoint section FRAM): the four vectors in declaration order
   /// (angular_velocity as advanced so far).
   void save(StateWriter& out) const;
   /// Replaces the motion with what save() wrote (unchanged if the data ends early).
