@@ -41,7 +41,7 @@ TRUCK_COLUMNS = {
     "load": "load_mass_kg",
     "axle_forces": ["axle_front_N", "axle_rear_N"],
     "side_forces": ["side_left_N", "side_right_N"],
-    "acceleration": ["room_ax_m_s2", "room_ay_m_s2"],
+    "acceleration": ["frame_ax_m_s2", "frame_ay_m_s2"],
     "yaw_rate": "yaw_rate_rad_s",
 }
 

@@ -49,7 +49,7 @@ using demlink::examples::truck::TruckParameters;
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 
 // Component names (the excavator and the scene file use others).
-constexpr const char* kRoomName = "truck_room";
+constexpr const char* kFrameName = "truck_frame";
 constexpr const char* kBodyName = "truck_body";
 constexpr const char* kLoadName = "truck_load";
 constexpr const char* kFeederName = "truck_feeder";
@@ -283,7 +283,7 @@ int run(const Options& o) {
   // and the pit carries tens of kN (0.5 of a 60 mm radius is ~35 kN); whether one jams
   // that hard depends on round-off (one summation order of the pair forces reached 0.534,
   // the run then went on normally). The energy check still stops a blow-up.
-  std::vector<std::string> boxStrings{"simulation_box", kRoomName, kRoomName, kBodyName, kLoadName};
+  std::vector<std::string> boxStrings{"simulation_box", kFrameName, kFrameName, kBodyName, kLoadName};
   if (o.source) boxStrings.emplace_back(kFeederName);
   for (const auto& n : o.expected) boxStrings.push_back(n);
   link.send({0, 2},
@@ -310,9 +310,9 @@ int run(const Options& o) {
                o.source_rate, 0.0, 0.0, -0.5, 0.0, sourceStop},
               {"particle_source", kFeederName, o.material, ""}, "declare particle_source");
   }
-  const int kRoom = 0, kBody = 1, kLoad = 2, kFeeder = 3;
+  const int kFrame = 0, kBody = 1, kLoad = 2, kFeeder = 3;
   const int components = o.source ? 4 : 3;
-  std::printf("demlink-truck: declared %s, %s, %s%s%s; waiting for compile (expected:", kRoomName, kBodyName, kLoadName,
+  std::printf("demlink-truck: declared %s, %s, %s%s%s; waiting for compile (expected:", kFrameName, kBodyName, kLoadName,
               o.source ? ", " : "", o.source ? kFeederName : "");
   for (std::size_t i = 2; i < boxStrings.size(); ++i) std::printf(" %s", boxStrings[i].c_str());
   std::printf(")\n");
@@ -331,7 +331,7 @@ int run(const Options& o) {
                "time_s,phase,load_mass_kg,load_count,load_com_x_m,load_com_y_m,load_com_z_m,inserted_mass_kg,"
                "spring_fl_N,spring_fr_N,spring_rl_N,spring_rr_N,axle_front_N,axle_rear_N,side_left_N,side_right_N,"
                "heave_m,pitch_rad,roll_rad,dem_fx_N,dem_fy_N,dem_fz_N,dem_mx_Nm,dem_my_Nm,dem_mz_Nm,"
-               "room_ax_m_s2,room_ay_m_s2,room_az_m_s2,yaw_rate_rad_s,speed_m_s\n");
+               "frame_ax_m_s2,frame_ay_m_s2,frame_az_m_s2,yaw_rate_rad_s,speed_m_s\n");
 
   // Latest outputs per component.
   std::vector<double> reals;
@@ -482,12 +482,12 @@ int run(const Options& o) {
                                          n.z_rate + omegaBody[0] * armN[1] - omegaBody[1] * armN[0]};
     const double yawNext = yawRate + yawAcc * tc;
     if (!o.stand_still && (phase == Phase::Accelerating || phase == Phase::Turning || phase == Phase::Done)) {
-      link.send({kRoom},
+      link.send({kFrame},
                 {kNan, kNan, kNan, frameAcc[0], frameAcc[1], frameAcc[2], 0.0, 0.0, phase == Phase::Done ? 0.0 : yawRate,
                  0.0, 0.0, phase == Phase::Done ? 0.0 : yawAcc, cgRest[0], cgRest[1], 0.0},
                 {}, "send simulation_box");
     } else {
-      link.send({kRoom}, {}, {}, "send simulation_box");
+      link.send({kFrame}, {}, {}, "send simulation_box");
     }
     link.send({kBody},
               {position[0], position[1], position[2], qn[0], qn[1], qn[2], qn[3], velocity[0], velocity[1], velocity[2],

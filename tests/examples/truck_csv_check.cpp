@@ -138,7 +138,7 @@ int main(int argc, char** argv) {
 
   // 3. Load transfer to the rear axle while accelerating.
   const double hLoadRest = t.mean("holding", "load_com_z_m") - seatZ;
-  const double ax = t.mean("accelerating", "room_ax_m_s2");
+  const double ax = t.mean("accelerating", "frame_ax_m_s2");
   const double hLoadAcc = t.mean("accelerating", "load_com_z_m") - seatZ;
   const double rearGain = t.mean("accelerating", "axle_rear_N") - t.mean("holding", "axle_rear_N");
   const double rearExpected = ax * (bodyMass * hBody + load * 0.5 * (hLoadRest + hLoadAcc)) / wheelbase;
@@ -153,7 +153,7 @@ int main(int argc, char** argv) {
   }
 
   // 4. Roll transfer to the outer (right) side while turning left.
-  const double ay = t.mean("turning", "room_ay_m_s2");
+  const double ay = t.mean("turning", "frame_ay_m_s2");
   const double hLoadTurn = t.mean("turning", "load_com_z_m") - seatZ;
   const double sideRest = t.mean("holding", "side_right_N") - t.mean("holding", "side_left_N");
   const double sideTurn = t.mean("turning", "side_right_N") - t.mean("turning", "side_left_N");

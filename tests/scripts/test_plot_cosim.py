@@ -57,7 +57,7 @@ def truck_rows(n=200):
 
 
 EXCAVATOR_HEADER = ["time", "fill_mass", "boom_force", "stick_force", "bucket_force"]
-TRUCK_HEADER = ["time_s", "load_mass_kg", "axle_front_N", "axle_rear_N", "room_ax_m_s2", "room_ay_m_s2",
+TRUCK_HEADER = ["time_s", "load_mass_kg", "axle_front_N", "axle_rear_N", "frame_ax_m_s2", "frame_ay_m_s2",
                 "yaw_rate_rad_s", "side_left_N", "side_right_N"]
 
 
@@ -133,7 +133,7 @@ class PlotCosimTest(unittest.TestCase):
                 f.write(",".join(values) + "\n")
         r = self.run_script("--truck", self.truck, "--output-dir", self.out)
         self.assertEqual(r.returncode, 2)
-        self.assertIn("'room_ax_m_s2' has a value that is not a number", r.stderr)
+        self.assertIn("'frame_ax_m_s2' has a value that is not a number", r.stderr)
         self.assertNotIn("Traceback", r.stderr)
 
 
