@@ -19,6 +19,7 @@ std::vector<FieldSpec> regionFields() {
       {"size", T::kReal, A::kReals, 4, 3, "m", {}, {"shape", "box"}},
       {"orientation", T::kReal, A::kReals, 7, 4, "", {}, {"shape", "box"}},
       {"radius", T::kReal, A::kReals, 4, 1, "m", {}, {"shape", "sphere"}},
+      {"velocity", T::kReal, A::kReals, 11, 3, "m/s"},
       {"attached_to", T::kText, A::kStrings, 2},
   };
 }
@@ -114,6 +115,7 @@ const std::map<std::string, std::vector<FieldSpec>>& table() {
            {"width", T::kReal, A::kReals, 8, 1, "m", {}, {"shape", "rectangle"}},
            {"length_axis", T::kReal, A::kReals, 9, 3, "", {}, {"shape", "rectangle"}},
            {"radius", T::kReal, A::kReals, 7, 1, "m", {}, {"shape", "disc"}},
+           {"velocity", T::kReal, A::kReals, 12, 3, "m/s"},
            {"attached_to", T::kText, A::kStrings, 2},
        }},
       {"pit_generator",

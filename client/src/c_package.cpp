@@ -172,31 +172,34 @@ std::unique_ptr<Component> componentFromPackage(const Package& p) {
   } else if (kind == "particle_sink" || kind == "region_sensor") {
     const long long shape = r.integer(0, 0);
     if (shape != 0 && shape != 1) throw ArgumentError(kind + ": ints[0] (shape) must be 0 (box) or 1 (sphere)");
-    const Quat q = p.reals.size() >= 11 ? r.quat(7) : Quat{};
+    const Quat q = r.hasReal(7) ? r.quat(7) : Quat{};
+    auto place = [&](auto& c) {
+      if (shape == 0) c.setBox(r.vec(1), r.vec(4), q);
+      else c.setSphere(r.vec(1), r.real(4));
+      if (!r.text(2).empty()) c.attachTo(r.text(2));
+      if (r.hasReal(11)) c.setVelocity(r.vec(11));
+    };
     if (kind == "particle_sink") {
       auto c = std::make_unique<ParticleSink>(name);
-      if (shape == 0) c->setBox(r.vec(1), r.vec(4), q);
-      else c->setSphere(r.vec(1), r.real(4));
-      if (!r.text(2).empty()) c->attachTo(r.text(2));
+      place(*c);
       out = std::move(c);
     } else {
       auto c = std::make_unique<RegionSensor>(name);
-      if (shape == 0) c->setBox(r.vec(1), r.vec(4), q);
-      else c->setSphere(r.vec(1), r.real(4));
-      if (!r.text(2).empty()) c->attachTo(r.text(2));
+      place(*c);
       out = std::move(c);
     }
   } else if (kind == "flow_sensor") {
     auto c = std::make_unique<FlowSensor>(name);
     const long long shape = r.integer(0, 0);
     if (shape == 0) {
-      c->setRectangle(r.vec(1), r.vec(4), r.real(7), r.real(8), p.reals.size() >= 12 ? r.vec(9) : Vec3{});
+      c->setRectangle(r.vec(1), r.vec(4), r.real(7), r.real(8), r.hasReal(9) ? r.vec(9) : Vec3{});
     } else if (shape == 1) {
       c->setDisc(r.vec(1), r.vec(4), r.real(7));
     } else {
       throw ArgumentError("flow_sensor: ints[0] (shape) must be 0 (rectangle) or 1 (disc)");
     }
     if (!r.text(2).empty()) c->attachTo(r.text(2));
+    if (r.hasReal(12)) c->setVelocity(r.vec(12));
     out = std::move(c);
   } else if (kind == "pit_generator") {
     auto c = std::make_unique<PitGenerator>(name);

@@ -139,6 +139,10 @@ ParticleSink& ParticleSink::attachTo(const std::string& meshComponent) {
   message().mutable_region()->set_attached_to(meshComponent);
   return *this;
 }
+ParticleSink& ParticleSink::setVelocity(const Vec3& velocity) {
+  *message().mutable_region()->mutable_velocity() = toProto(velocity);
+  return *this;
+}
 ParticleSink& ParticleSink::setSampleInterval(double seconds) {
   message().set_sample_interval(seconds);
   return *this;

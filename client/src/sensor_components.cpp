@@ -33,6 +33,10 @@ RegionSensor& RegionSensor::attachTo(const std::string& bodyComponent) {
   message().mutable_region()->set_attached_to(bodyComponent);
   return *this;
 }
+RegionSensor& RegionSensor::setVelocity(const Vec3& velocity) {
+  *message().mutable_region()->mutable_velocity() = toProto(velocity);
+  return *this;
+}
 RegionSensor& RegionSensor::setSampleInterval(double seconds) {
   message().set_sample_interval(seconds);
   return *this;
@@ -86,6 +90,10 @@ FlowSensor& FlowSensor::setDisc(const Vec3& centre, const Vec3& normal, double r
 }
 FlowSensor& FlowSensor::attachTo(const std::string& bodyComponent) {
   message().mutable_surface()->set_attached_to(bodyComponent);
+  return *this;
+}
+FlowSensor& FlowSensor::setVelocity(const Vec3& velocity) {
+  *message().mutable_surface()->mutable_velocity() = toProto(velocity);
   return *this;
 }
 FlowSensor& FlowSensor::setSampleInterval(double seconds) {

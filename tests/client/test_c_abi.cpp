@@ -496,6 +496,47 @@ TEST(ClientCAbi, GenericParticleSourceCarriesDiscRegionAndSizeDistributions) {
   EXPECT_NE(std::string(dl_last_error(other.client)).find("ints[2]"), std::string::npos) << dl_last_error(other.client);
 }
 
+// Moving regions in the generic layout: reals[11..13] (sink, region sensor) and [12..14]
+// (flow sensor) are a constant velocity, as the Modelica models fill them; NaN there, or a
+// NaN orientation or length axis, means "not given".
+TEST(ClientCAbi, GenericRegionsCarryAConstantVelocity) {
+  const std::string log = logFile("generic_velocity");
+  FakeServerProcess server(1, 3, log);
+  ASSERT_NE(server.port(), 0);
+  ClientGuard c;
+  PackageGuard pkg;
+  ASSERT_EQ(dl_connect_to_host(c.client, "127.0.0.1", server.port(), "moving", nullptr), DL_OK) << dl_last_error(c.client);
+  const double nan = std::nan("");
+  // interval, centre, radius and two unused, orientation (none), velocity
+  const double sensorReals[] = {0.001, 0.1, 0.2, 0.3, 0.05, 0.0, 0.0, nan, nan, nan, nan, 0.5, 0.0, -0.25};
+  const char* sensorStrings[] = {"region_sensor", "scan", ""};
+  const long long sphere[] = {1};
+  ASSERT_EQ(dl_set_data(pkg.package, sphere, 1, sensorReals, 14, sensorStrings, 3), DL_OK);
+  ASSERT_EQ(dl_send_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
+  const double sinkReals[] = {0.0, 0.0, 0.0, 1.0, 0.2, 0.2, 0.2, 1.0, 0.0, 0.0, 0.0, nan, nan, nan};
+  const char* sinkStrings[] = {"particle_sink", "still", ""};
+  const long long box[] = {0};
+  ASSERT_EQ(dl_set_data(pkg.package, box, 1, sinkReals, 14, sinkStrings, 3), DL_OK);
+  ASSERT_EQ(dl_send_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
+  // interval, centre, normal, radius and an unused value, length axis (none), velocity
+  const double flowReals[] = {0.0, 0.0, 0.0, 0.5, 0.0, 0.0, 1.0, 0.3, 0.0, nan, nan, nan, 0.0, 0.0, 2.0};
+  const char* flowStrings[] = {"flow_sensor", "lift", ""};
+  const long long disc[] = {1};
+  ASSERT_EQ(dl_set_data(pkg.package, disc, 1, flowReals, 15, flowStrings, 3), DL_OK);
+  ASSERT_EQ(dl_send_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
+  ASSERT_EQ(dl_wait_compiled(c.client), DL_OK) << dl_last_error(c.client);
+  EXPECT_EQ(dl_finish(c.client, "done"), DL_OK);
+  ASSERT_EQ(server.wait(), 0);
+
+  const auto lines = readLines(log);
+  EXPECT_TRUE(contains(lines, "DECL scan", "velocity { x: 0.5 z: -0.25 }"));
+  EXPECT_FALSE(contains(lines, "DECL scan", "orientation"));
+  EXPECT_TRUE(contains(lines, "DECL still", "particle_sink { region { box {"));
+  EXPECT_FALSE(contains(lines, "DECL still", "velocity"));
+  EXPECT_TRUE(contains(lines, "DECL lift", "velocity { z: 2 }"));
+  EXPECT_FALSE(contains(lines, "DECL lift", "length_axis"));
+}
+
 // Parallel-bond regions in the generic layout: ints[1] selects the region as the Modelica
 // ParallelBonds fills it (19 reals, the attached body at strings[2], the materials after it);
 // without ints[1] reals[9..14] stay a box and the materials start at strings[2].

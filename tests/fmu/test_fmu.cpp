@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <stdexcept>
@@ -189,6 +190,23 @@ TEST(FmuConfig, ParallelBondsRegionsFillTheGenericLayout) {
   const std::string otherKind = rejection(head + "region = box\nregion_centre = 0 0 0\nregion_radius = 1\n");
   EXPECT_NE(otherKind.find("clay.region_radius = '1': is a field of region = sphere"), std::string::npos) << otherKind;
   EXPECT_NE(rejection(head + "region = cylinder\n").find("must be one of none, box, sphere"), std::string::npos);
+}
+
+TEST(FmuConfig, MovingRegionsFillTheGenericLayout) {
+  const FmuConfig config = parseConfig(
+      "model = M\ninterval = 0.01\n[region_sensor scan]\nshape = sphere\ncentre = 0 0 1\nradius = 0.2\n"
+      "velocity = 0.5 0 -0.25\n[particle_sink drop]\ncentre = 0 0 0\nsize = 1 1 1\n"
+      "[flow_sensor lift]\nshape = disc\ncentre = 0 0 0\nnormal = 0 0 1\nradius = 0.3\nvelocity = 0 0 2\n");
+  const ComponentSpec& scan = config.components[0];
+  ASSERT_EQ(scan.reals.size(), 13u);  // reals[1..13]: the velocity is last, the orientation not given
+  EXPECT_EQ(scan.reals[3], 0.2);
+  for (std::size_t i = 4; i < 10; ++i) EXPECT_TRUE(std::isnan(scan.reals[i])) << i;
+  EXPECT_EQ((std::vector<double>{scan.reals[10], scan.reals[11], scan.reals[12]}),
+            (std::vector<double>{0.5, 0.0, -0.25}));
+  EXPECT_EQ(config.components[1].reals.size(), 6u) << "no velocity: the layout ends with the size";
+  const ComponentSpec& lift = config.components[2];
+  ASSERT_EQ(lift.reals.size(), 14u);
+  EXPECT_EQ(lift.reals[13], 2.0);
 }
 
 TEST(FmuConfig, GuidChangesWithTheText) {

@@ -507,5 +507,61 @@ TEST_F(CAbiRealServer, ASphereLimitedBondRuleBondsOnlyThePairsInsideIt) {
   EXPECT_EQ(server_->child.waitForExit(std::chrono::seconds(20)), 0);
 }
 
+TEST_F(CAbiRealServer, ARegionSensorMovingAtAConstantVelocityPassesThreeSpheres) {
+  // Three spheres at rest 5 cm apart, no gravity; a sensor sphere declared through the
+  // generic layout (as the Modelica RegionSensor fills it) starts 5 cm before the first and
+  // moves at 5 m/s, so at each 10 ms reading it holds the next sphere alone. At t = 0 it
+  // is empty: count 0 and zeros, never NaN.
+  ASSERT_GT(server_->port, 0) << server_->announced;
+  ClientGuard g;
+  dl_client* c = g.client;
+  ASSERT_EQ(dl_connect_to_host(c, server_->host.c_str(), server_->port, "moving_region", nullptr), DL_OK)
+      << dl_last_error(c);
+  const double nan = std::nan("");
+  constexpr double kRadius = 0.005;   // [m]
+  constexpr double kApart = 0.05;     // [m]
+  constexpr double kSpeed = 5.0;      // [m/s]
+  constexpr double kReading = 0.01;   // [s]: the sensor moves kApart per reading
+  {
+    dl_package* pkg = dl_package_create();
+    // interval, centre, radius and two unused, orientation (not given), velocity
+    const double reals[14] = {kReading, -kApart, 0.0, 0.0, 0.01, 0.0, 0.0, nan, nan, nan, nan, kSpeed, 0.0, 0.0};
+    const long long ints[1] = {1};  // sphere
+    const char* strings[3] = {"region_sensor", "scan", ""};
+    ASSERT_EQ(dl_set_data(pkg, ints, 1, reals, 14, strings, 3), DL_OK);
+    ASSERT_EQ(dl_send_package(c, pkg), DL_OK) << dl_last_error(c);
+    dl_package_destroy(pkg);
+  }
+  const int sensor = 0;  // the handle of this client's first component
+  const double none[3] = {0.0, 0.0, 0.0};
+  const double lower[3] = {-0.2, -0.1, -0.1};
+  const double upper[3] = {0.3, 0.1, 0.1};
+  int handle = -1;
+  ASSERT_EQ(dl_declare_simulation_box(c, "box", 0.0, kDt, nan, none, lower, upper, 0, &handle), DL_OK)
+      << dl_last_error(c);
+  ASSERT_EQ(dl_declare_material(c, "glass", "", kDensity, 5e6, 0.3, 0.5, 0.5, 0.0, &handle), DL_OK) << dl_last_error(c);
+  for (int i = 0; i < 3; ++i) {
+    char name[8];
+    std::snprintf(name, sizeof name, "s%d", i);
+    const double position[3] = {kApart * i, 0.0, 0.0};
+    ASSERT_EQ(dl_declare_single_particle(c, name, "glass", position, none, 2.0 * kRadius, &handle), DL_OK)
+        << dl_last_error(c);
+  }
+  ASSERT_EQ(dl_declarations_done(c), DL_OK) << dl_last_error(c);
+  int count = -1;
+  double out[7];
+  ASSERT_EQ(dl_region_sensor_read(c, sensor, &count, out), DL_OK) << dl_last_error(c);
+  EXPECT_EQ(count, 0) << "t = 0: the region is 5 cm before the first sphere";
+  for (const double value : out) EXPECT_EQ(value, 0.0) << "an empty region reads zeros";
+  for (int k = 1; k <= 3; ++k) {
+    ASSERT_EQ(dl_region_sensor_read(c, sensor, &count, out), DL_OK) << dl_last_error(c);
+    EXPECT_EQ(count, 1) << "reading " << k;
+    EXPECT_NEAR(out[0], sphereMass(kRadius), 1e-12 * sphereMass(kRadius)) << "reading " << k;
+    EXPECT_NEAR(out[1], kApart * (k - 1), 1e-9) << "reading " << k << ": the centre of sphere " << k - 1;
+  }
+  EXPECT_EQ(dl_finish(c, "done"), DL_OK);
+  EXPECT_EQ(server_->child.waitForExit(std::chrono::seconds(20)), 0);
+}
+
 }  // namespace
 }  // namespace demlink::integration

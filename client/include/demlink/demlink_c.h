@@ -80,11 +80,14 @@
  *                    [15] stop time [s] (NaN: never); ints[0] seed.
  *   particle_sink,
  *   region_sensor  : ints[0] shape: 0 box, 1 sphere; box: reals[1..3] centre, [4..6] size [m],
- *                    [7..10] orientation w x y z (optional); sphere: reals[1..3] centre,
- *                    [4] radius [m]; strings[2] attached body ("" none).
+ *                    [7..10] orientation w x y z (optional, NaN: none); sphere: reals[1..3]
+ *                    centre, [4] radius [m]; both: [11..13] constant velocity [m/s] of a
+ *                    region not attached (optional, NaN: fixed; centre is then at t = 0);
+ *                    strings[2] attached body ("" none).
  *   flow_sensor    : ints[0] shape: 0 rectangle, 1 disc; reals[1..3] centre, [4..6] normal;
- *                    rectangle: [7] length, [8] width [m], [9..11] length axis (optional);
- *                    disc: [7] radius [m]; strings[2] attached body ("" none).
+ *                    rectangle: [7] length, [8] width [m], [9..11] length axis (optional,
+ *                    NaN: any); disc: [7] radius [m]; both: [12..14] constant velocity
+ *                    [m/s] (optional, NaN: fixed); strings[2] attached body ("" none).
  *   pit_generator  : strings[2] material; reals[1..3] lower, [4..6] upper corner [m],
  *                    [7] r_min, [8] r_max, [9] target height [m]; ints[0] seed; clods
  *                    (optional): reals[10] fraction [-], [11] radius [m], strings[3] the

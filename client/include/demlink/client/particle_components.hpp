@@ -70,6 +70,8 @@ class ParticleSink : public Component {
   ParticleSink& setBox(const Vec3& centre, const Vec3& size, const Quat& orientation = {});  ///< [m]
   ParticleSink& setSphere(const Vec3& centre, double radius);  ///< [m]
   ParticleSink& attachTo(const std::string& meshComponent);
+  /// A region not attached to a body moves at this constant velocity [m/s] (centre at t = 0).
+  ParticleSink& setVelocity(const Vec3& velocity);
   /// Report interval of the server's CSV [s]; unset: the communication interval.
   ParticleSink& setSampleInterval(double seconds);
   [[nodiscard]] v1::ParticleSink& message();

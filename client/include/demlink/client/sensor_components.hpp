@@ -21,6 +21,9 @@ class RegionSensor : public Component {
   RegionSensor& setSphere(const Vec3& centre, double radius);  ///< [m]
   /// Follow a rigid/mesh body; centre and orientation are then in its frame.
   RegionSensor& attachTo(const std::string& bodyComponent);
+  /// A region not attached to a body moves at this constant velocity [m/s]; `centre` is
+  /// then where it is at t = 0.
+  RegionSensor& setVelocity(const Vec3& velocity);
   RegionSensor& setSampleInterval(double seconds);  ///< [s]
   [[nodiscard]] v1::RegionSensor& message();
 
@@ -57,6 +60,8 @@ class FlowSensor : public Component {
                            const Vec3& lengthAxis = {});
   FlowSensor& setDisc(const Vec3& centre, const Vec3& normal, double radius);  ///< [m]
   FlowSensor& attachTo(const std::string& bodyComponent);
+  /// A surface not attached to a body moves at this constant velocity [m/s] (centre at t = 0).
+  FlowSensor& setVelocity(const Vec3& velocity);
   FlowSensor& setSampleInterval(double seconds);  ///< [s]
   [[nodiscard]] v1::FlowSensor& message();
 

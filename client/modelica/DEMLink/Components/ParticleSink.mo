@@ -2,12 +2,15 @@ within DEMLink.Components;
 model ParticleSink "Removes the particles that enter a box or sphere"
   extends DEMLink.Interfaces.PartialComponent(name = "sink", final kind = "particle_sink", final exchanged = true,
     final declInts = {Integer(shape) - 1}, final declReals = cat(1, centre,
-    if shape == DEMLink.Types.RegionShape.Box then size else {radius, 0, 0}, orientation), final declStrings = {attachedTo});
+    if shape == DEMLink.Types.RegionShape.Box then size else {radius, 0, 0}, orientation, velocity),
+    final declStrings = {attachedTo});
   parameter DEMLink.Types.RegionShape shape = DEMLink.Types.RegionShape.Box "Region shape";
   parameter Modelica.Units.SI.Position centre[3] = {0, 0, 0} "Centre (body frame when attached)";
   parameter Modelica.Units.SI.Length size[3] = {1, 1, 1} "Box edge lengths" annotation (Dialog(enable = shape == DEMLink.Types.RegionShape.Box));
   parameter Real orientation[4](each unit = "1") = {1, 0, 0, 0} "Box orientation, quaternion w x y z" annotation (Dialog(enable = shape == DEMLink.Types.RegionShape.Box));
   parameter Modelica.Units.SI.Radius radius = 0.5 "Sphere radius" annotation (Dialog(enable = shape == DEMLink.Types.RegionShape.Sphere));
+  parameter Modelica.Units.SI.Velocity velocity[3] = {0, 0, 0}
+    "Constant velocity of a region that is not attached (centre: where it is at t = 0)";
   parameter String attachedTo = "" "Rigid body the region follows (empty: fixed)";
   parameter Boolean use_on_in = false "Removal switched on and off by the input on_in"
     annotation (Evaluate = true, choices(checkBox = true), Dialog(group = "Run-time inputs"));

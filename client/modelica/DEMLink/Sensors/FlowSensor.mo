@@ -2,7 +2,7 @@ within DEMLink.Sensors;
 model FlowSensor "Count and mass of the particles crossing a rectangle or disc"
   extends DEMLink.Interfaces.PartialComponent(name = "flow", final kind = "flow_sensor", final exchanged = true,
     final declInts = {Integer(shape) - 1}, final declReals = cat(1, centre, normal,
-    if shape == DEMLink.Types.FlowShape.Rectangle then {length, width} else {radius, 0}, lengthAxis),
+    if shape == DEMLink.Types.FlowShape.Rectangle then {length, width} else {radius, 0}, lengthAxis, velocity),
     final declStrings = {attachedTo});
   parameter DEMLink.Types.FlowShape shape = DEMLink.Types.FlowShape.Disc "Surface shape";
   parameter Modelica.Units.SI.Position centre[3] = {0, 0, 0} "Centre (body frame when attached)";
@@ -12,6 +12,8 @@ model FlowSensor "Count and mass of the particles crossing a rectangle or disc"
   parameter Modelica.Units.SI.Length width = 1 "Rectangle width" annotation (Dialog(enable = shape == DEMLink.Types.FlowShape.Rectangle));
   parameter Real lengthAxis[3](each unit = "1") = {1, 0, 0} "Direction of the rectangle's length (perpendicular to normal)"
     annotation (Dialog(enable = shape == DEMLink.Types.FlowShape.Rectangle));
+  parameter Modelica.Units.SI.Velocity velocity[3] = {0, 0, 0}
+    "Constant velocity of a surface that is not attached (centre: where it is at t = 0)";
   parameter String attachedTo = "" "Rigid body the surface follows (empty: fixed)";
   Modelica.Blocks.Interfaces.IntegerOutput positiveCountTotal(start = 0, fixed = true) "Crossings along the normal since the start"
     annotation (Placement(transformation(extent = {{100, 50}, {120, 70}})));

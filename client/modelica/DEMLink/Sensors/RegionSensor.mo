@@ -2,12 +2,15 @@ within DEMLink.Sensors;
 model RegionSensor "Count, mass, centre of mass and mean velocity of the particles in a box or sphere"
   extends DEMLink.Interfaces.PartialComponent(name = "sensor", final kind = "region_sensor", final exchanged = true,
     final declInts = {Integer(shape) - 1}, final declReals = cat(1, centre,
-    if shape == DEMLink.Types.RegionShape.Box then size else {radius, 0, 0}, orientation), final declStrings = {attachedTo});
+    if shape == DEMLink.Types.RegionShape.Box then size else {radius, 0, 0}, orientation, velocity),
+    final declStrings = {attachedTo});
   parameter DEMLink.Types.RegionShape shape = DEMLink.Types.RegionShape.Box "Region shape";
   parameter Modelica.Units.SI.Position centre[3] = {0, 0, 0} "Centre (body frame when attached)";
   parameter Modelica.Units.SI.Length size[3] = {1, 1, 1} "Box edge lengths" annotation (Dialog(enable = shape == DEMLink.Types.RegionShape.Box));
   parameter Real orientation[4](each unit = "1") = {1, 0, 0, 0} "Box orientation, quaternion w x y z" annotation (Dialog(enable = shape == DEMLink.Types.RegionShape.Box));
   parameter Modelica.Units.SI.Radius radius = 0.5 "Sphere radius" annotation (Dialog(enable = shape == DEMLink.Types.RegionShape.Sphere));
+  parameter Modelica.Units.SI.Velocity velocity[3] = {0, 0, 0}
+    "Constant velocity of a region that is not attached (centre: where it is at t = 0)";
   parameter String attachedTo = "" "Rigid body the region follows, e.g. a bucket (empty: fixed)";
   parameter Boolean use_pose_in = false "Centre and orientation from the inputs centre_in, orientation_in"
     annotation (Evaluate = true, choices(checkBox = true), Dialog(group = "Run-time inputs"));
@@ -26,9 +29,9 @@ model RegionSensor "Count, mass, centre of mass and mean velocity of the particl
   Modelica.Blocks.Interfaces.RealOutput mass(unit = "kg", start = 0, fixed = true) "Their mass"
     annotation (Placement(transformation(extent = {{100, 10}, {120, 30}})));
   Modelica.Blocks.Interfaces.RealOutput centreOfMass[3](each unit = "m", each start = 0, each fixed = true)
-    "Their centre of mass (NaN when empty)" annotation (Placement(transformation(extent = {{100, -30}, {120, -10}})));
+    "Their centre of mass (0 when empty)" annotation (Placement(transformation(extent = {{100, -30}, {120, -10}})));
   Modelica.Blocks.Interfaces.RealOutput meanVelocity[3](each unit = "m/s", each start = 0, each fixed = true)
-    "Their mean velocity (NaN when empty)" annotation (Placement(transformation(extent = {{100, -70}, {120, -50}})));
+    "Their mean velocity (0 when empty)" annotation (Placement(transformation(extent = {{100, -70}, {120, -50}})));
   Modelica.Blocks.Interfaces.IntegerOutput bondsIntact(start = 0, fixed = true)
     "Intact parallel bonds whose midpoint is inside" annotation (Placement(transformation(extent = {{100, -100}, {120, -80}})));
   Modelica.Blocks.Interfaces.IntegerOutput bondsBroken(start = 0, fixed = true)
