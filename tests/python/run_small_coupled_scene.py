@@ -247,7 +247,8 @@ def run(args):
                 sensor_answers += 1
                 sensor = outputs["left_columns"].region_sensor
                 values = (sensor.mass, sensor.centre_of_mass.x, sensor.mean_velocity.z)
-                checks.expect(finite(*values) if sensor.count > 0 else all(math.isnan(v) for v in values[1:]),
+                # An empty region is sent no centre of mass or mean velocity (never NaN).
+                checks.expect(finite(*values) and sensor.HasField("centre_of_mass") == (sensor.count > 0),
                               f"step {step}: region sensor count {sensor.count} with {values}")
         finished = client.bye("run_small_coupled_scene.py done")
         print(f"finished at step {finished.step} (t = {finished.time} s): {finished.reason}; "
