@@ -20,13 +20,9 @@ Usage: run_bonded_row.py --host 127.0.0.1 --port PORT [--token T]
 with PYTHONPATH holding the generated demlink/v1/*_pb2.py (or --generated DIR).
 """
 
-import argparse
-import os
 import sys
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, HERE)
-from run_small_coupled_scene import Checks  # noqa: E402
+from script_support import Checks, client_arguments, finish, import_client, run_guarded
 
 TIME_STEP = 1e-5            # [s]
 INTERVAL = 5e-4             # [s]
@@ -85,17 +81,10 @@ def declarations(pb):
 
 
 def run(args):
-    if args.generated:
-        sys.path.insert(0, args.generated)
-    sys.path.insert(0, os.path.join(HERE, "..", "..", "client", "python"))
-    try:
-        import demlink_client as dc
-        from demlink.v1 import bonds_pb2, coupling_pb2, geometry_pb2, scene_pb2
-    except ImportError as e:
-        print(f"cannot import the client or the generated classes ({e}); set PYTHONPATH or --generated",
-              file=sys.stderr)
+    imported = import_client(args.generated, ("scene", "coupling", "geometry", "bonds"))
+    if imported is None:
         return 1
-    pb = {"scene": scene_pb2, "coupling": coupling_pb2, "geometry": geometry_pb2, "bonds": bonds_pb2}
+    dc, pb = imported
     checks = Checks()
     made = COUNT - 1
     history = []  # (time, blade touching, intact, broken)
@@ -122,26 +111,11 @@ def run(args):
     checks.expect(final_broken >= 1, f"the blade broke no bond ({history[-1]})")
     print(f"bonds: {made} made; broken by the blade: {final_broken}; "
           f"first break at t = {next((t for t, _, _, b in history if b > 0), float('nan')):.4f} s")
-    if checks.failures:
-        print(f"run_bonded_row: {len(checks.failures)} check(s) FAILED", file=sys.stderr)
-        return 1
-    print("run_bonded_row: all checks passed")
-    return 0
+    return finish("run_bonded_row", checks, "")
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--host", default="127.0.0.1")
-    parser.add_argument("--port", type=int, required=True)
-    parser.add_argument("--token", default="", help="access token, if the server requires one")
-    parser.add_argument("--timeout", type=float, default=30.0, help="longest wait for one answer [s]")
-    parser.add_argument("--generated", help="directory holding demlink/v1/*_pb2.py")
-    args = parser.parse_args()
-    try:
-        return run(args)
-    except Exception as e:  # a refused declaration, a timeout, a closed connection
-        print(f"run_bonded_row: FAILED: {type(e).__name__}: {e}", file=sys.stderr)
-        return 1
+    return run_guarded("run_bonded_row", run, client_arguments(__doc__.splitlines()[0]).parse_args())
 
 
 if __name__ == "__main__":

@@ -27,12 +27,10 @@ Usage: run_small_coupled_scene.py --host 127.0.0.1 --port PORT [--token T] [--sa
 with PYTHONPATH holding the generated demlink/v1/*_pb2.py (or --generated DIR).
 """
 
-import argparse
 import math
-import os
 import sys
 
-HERE = os.path.dirname(os.path.abspath(__file__))
+from script_support import Checks, client_arguments, finish, import_client, run_guarded
 
 # Scene [SI units].
 TIME_STEP = 1e-5                 # [s]
@@ -102,18 +100,6 @@ def vec_finite(v):
     return finite(v.x, v.y, v.z)
 
 
-class Checks:
-    def __init__(self):
-        self.failures = []
-
-    def expect(self, condition, what):
-        if not condition:
-            self.failures.append(what)
-            if len(self.failures) <= 20:
-                print(f"FAIL: {what}", file=sys.stderr)
-        return condition
-
-
 def declarations(pb, expected_count):
     scene, coupling, geometry = pb["scene"], pb["coupling"], pb["geometry"]
     vec = lambda v: geometry.Vector3(x=v[0], y=v[1], z=v[2])
@@ -163,17 +149,10 @@ def declarations(pb, expected_count):
 
 
 def run(args):
-    if args.generated:
-        sys.path.insert(0, args.generated)
-    sys.path.insert(0, os.path.join(HERE, "..", "..", "client", "python"))
-    try:
-        import demlink_client as dc
-        from demlink.v1 import coupling_pb2, geometry_pb2, scene_pb2
-    except ImportError as e:
-        print(f"cannot import the client or the generated classes ({e}); set PYTHONPATH or --generated",
-              file=sys.stderr)
+    imported = import_client(args.generated, ("scene", "coupling", "geometry"))
+    if imported is None:
         return 1
-    pb = {"scene": scene_pb2, "coupling": coupling_pb2, "geometry": geometry_pb2}
+    dc, pb = imported
     checks = Checks()
     centres = lattice_centres()
     sphere_mass = DENSITY * 4.0 / 3.0 * math.pi * RADIUS ** 3
@@ -275,29 +254,16 @@ def run(args):
     checks.expect(all(abs(fx) < 1e-3 * expected and abs(fy) < 1e-3 * expected for _, _, fx, fy in held),
                   "lateral force on the box while squeezing a symmetric layer")
 
-    if checks.failures:
-        print(f"run_small_coupled_scene: {len(checks.failures)} check(s) FAILED", file=sys.stderr)
-        return 1
-    print(f"run_small_coupled_scene: all checks passed ({args.samples} samples)")
-    return 0
+    return finish("run_small_coupled_scene", checks, f" ({args.samples} samples)")
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--host", default="127.0.0.1")
-    parser.add_argument("--port", type=int, required=True)
-    parser.add_argument("--token", default="", help="access token, if the server requires one")
+    parser = client_arguments(__doc__.splitlines()[0])
     parser.add_argument("--samples", type=int, default=200, help="exchanges of the rigid body [-]")
-    parser.add_argument("--timeout", type=float, default=30.0, help="longest wait for one answer [s]")
-    parser.add_argument("--generated", help="directory holding demlink/v1/*_pb2.py")
     args = parser.parse_args()
     if args.samples < 100 or args.samples % 2:
         parser.error("--samples must be even and >= 100 (the box needs 50 samples to reach the layer)")
-    try:
-        return run(args)
-    except Exception as e:  # a refused declaration, a timeout, a closed connection
-        print(f"run_small_coupled_scene: FAILED: {type(e).__name__}: {e}", file=sys.stderr)
-        return 1
+    return run_guarded("run_small_coupled_scene", run, args)
 
 
 if __name__ == "__main__":
