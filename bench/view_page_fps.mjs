@@ -1,8 +1,10 @@
 // The view page's drawing rate in headless Chromium (SwiftShader, no GPU) at a given
 // particle count: starts `demlink-bench-view --serve`, opens the page, lets it draw for
 // `--seconds`, and prints the median of the page's once-a-second frame-rate readings.
+// With `--orbit 1` a mouse drags across the page all the while (the camera orbits, as a
+// user turning the view does): the rate is then the page's interactivity.
 //   node bench/view_page_fps.mjs --bench build/release/bench/demlink-bench-view --particles 100000
-//        [--seconds 20] [--chromium /usr/bin/chromium]
+//        [--seconds 20] [--orbit 1] [--chromium /usr/bin/chromium]
 import { spawn } from 'node:child_process';
 import fs from 'node:fs';
 import os from 'node:os';
@@ -36,17 +38,34 @@ try {
     await sleep(100);
   }
   await sleep(3000);  // past the first frames' uploads
+  const orbit = args.orbit === '1';
+  let dragging = orbit;
+  const drag = (async () => {
+    if (!dragging) return;
+    const mouse = (type, x) => page('Input.dispatchMouseEvent', { type, x, y: 350, button: 'left', buttons: 1, clickCount: 1 });
+    await mouse('mousePressed', 300);
+    for (let x = 300; dragging; x = x >= 600 ? 300 : x + 4) {
+      await mouse('mouseMoved', x);
+      await sleep(15);
+    }
+    await mouse('mouseReleased', 300);
+  })();
   const readings = [];
+  const drawnSplats = [];
   for (let k = 0; k < seconds; ++k) {
     await sleep(1000);
     readings.push(await evaluate(page, 'window.demlinkView.fps'));
+    drawnSplats.push(await evaluate(page, 'window.demlinkView.splatsDrawn ?? -1'));
   }
+  dragging = false;
+  await drag;
   const state = await evaluate(page, `({ shown: window.demlinkView.status.shown, near: window.demlinkView.nearCount,
     received: window.demlinkView.framesReceived, bytes: window.demlinkView.bytes })`);
   readings.sort((a, b) => a - b);
   console.log(`particles ${args.particles}: page draws ${readings[Math.floor(readings.length / 2)].toFixed(1)} frames/s ` +
     `(median of ${readings.length} readings, range ${readings[0].toFixed(1)}-${readings[readings.length - 1].toFixed(1)}); ` +
-    `${state.shown} shown, ${state.near} as spheres, ${state.received} frames received, last ${state.bytes} bytes`);
+    `${state.shown} shown, ${state.near} as spheres, ${state.received} frames received, last ${state.bytes} bytes` +
+    (orbit ? `; orbiting, splats drawn (median) ${drawnSplats.sort((a, b) => a - b)[Math.floor(drawnSplats.length / 2)]}` : ''));
 } finally {
   browser.kill('SIGTERM');
   server.kill('SIGTERM');

@@ -5,7 +5,10 @@
 //
 // Level of detail: every particle is a point splat (a disc shaded like a sphere); those
 // that cover more than kNearPixels on screen, up to kNearBudget of them, are drawn as
-// instanced sphere meshes instead, so a million particles stay interactive.
+// instanced sphere meshes instead. While the camera moves, the spheres are not chosen
+// again (the choice waits until it stops) and the splats drawn are every k-th particle,
+// k set by the measured frame time, so a million particles stay interactive on any
+// graphics hardware; when the camera stops, all are drawn.
 import * as THREE from '/three/build/three.module.js';
 import { OrbitControls } from '/three/examples/jsm/controls/OrbitControls.js';
 
@@ -14,6 +17,9 @@ const kMagic = 0x46564c44;
 const kVersion = 2;
 const kNearPixels = 6;       // projected radius above which a particle is drawn as a sphere [px]
 const kNearBudget = 8000;    // most sphere instances
+const kMovingFrameMs = 40;   // frame time aimed at while the camera moves [ms]
+const kMovingMin = 20000;    // fewest splats drawn while the camera moves
+const kStillAfterMs = 200;   // the camera counts as still this long after its last move [ms]
 const kColourNames = ['speed', 'force', 'material', 'id'];
 const kColourUnits = ['m/s', 'N', '', ''];
 
@@ -102,6 +108,13 @@ const splatGeometry = new THREE.BufferGeometry();
 const splats = new THREE.Points(splatGeometry, splatMaterial);
 splats.frustumCulled = false;
 scene.add(splats);
+// While the camera moves: the same attributes, every k-th particle through an index.
+const coarseGeometry = new THREE.BufferGeometry();
+const coarseSplats = new THREE.Points(coarseGeometry, splatMaterial);
+coarseSplats.frustumCulled = false;
+coarseSplats.visible = false;
+scene.add(coarseSplats);
+let coarseStride = 0;
 let capacity = 0;
 let positionQ = null, radiusQ = null, colourQ = null, nearFlags = null;
 
@@ -133,6 +146,20 @@ function ensureCapacity(count) {
   splatGeometry.setAttribute('qradius', new THREE.BufferAttribute(radiusQ, 1, true));
   splatGeometry.setAttribute('qcolour', new THREE.BufferAttribute(colourQ, 1, true));
   splatGeometry.setAttribute('near', new THREE.BufferAttribute(nearFlags, 1, false));
+  coarseGeometry.dispose();
+  for (const name of ['position', 'qradius', 'qcolour', 'near']) coarseGeometry.setAttribute(name, splatGeometry.getAttribute(name));
+  coarseStride = 0;  // the index is made again for the new arrays
+  sizeRatio = new Float32Array(capacity);
+}
+
+/// Draws every `stride`-th of the frame's `count` particles as coarse splats.
+function setCoarseStride(stride, count) {
+  if (stride === coarseStride && coarseGeometry.userData.count === count) return;
+  const index = new Uint32Array(Math.ceil(count / stride));
+  for (let k = 0; k < index.length; ++k) index[k] = k * stride;
+  coarseGeometry.setIndex(new THREE.BufferAttribute(index, 1));
+  coarseGeometry.userData.count = count;
+  coarseStride = stride;
 }
 
 // ---- scene geometry: planes, meshes, surfaces, regions ----
@@ -216,7 +243,7 @@ function regionObject(kind, half) {
 // ---- frames ----
 const state = {
   status: null, framesReceived: 0, fps: 0, paused: false, fitted: false, live: true,
-  frames: 0, times: [], frameIndex: 0, playing: false, nearCount: 0, shown: 0, bytes: 0,
+  frames: 0, times: [], frameIndex: 0, playing: false, nearCount: 0, shown: 0, bytes: 0, moving: false, splatsDrawn: 0,
   simulations: [], followed: 0, maxRate: 30, surfaces: [],
 };
 window.demlinkView = state;
@@ -413,51 +440,106 @@ function hueRgb(h) {
 
 // ---- level of detail ----
 const cameraPosition = new THREE.Vector3();
-let lastCameraKey = '';
+const lastCameraPosition = new THREE.Vector3(Infinity, Infinity, Infinity);
+const lastCameraQuaternion = new THREE.Quaternion();
+let lastCanvasWidth = 0;
+let lastMove = -Infinity;  // when the camera last moved [ms]
+let lodStale = false;      // the camera moved since the spheres were chosen
+let sizeRatio = null;          // per particle: quantised radius over camera distance
+const kRatioBins = 64;          // histogram bins per factor of 2 ... over 2^16 in all
+const ratioHistogram = new Uint32Array(kRatioBins);
+
+/// Whether the camera moved since the last call. OrbitControls recomputes the camera from
+/// spherical coordinates every frame, which moves it by round-off while it stands still:
+/// a change below 1e-7 of the distance to the target (or of a turn) is none.
+function cameraMoved() {
+  const distance = Math.max(camera.position.distanceTo(controls.target), 1e-9);
+  const moved = camera.position.distanceTo(lastCameraPosition) > 1e-7 * distance ||
+    1 - Math.abs(camera.quaternion.dot(lastCameraQuaternion)) > 1e-14 || canvas.width !== lastCanvasWidth;
+  if (moved) {
+    lastCameraPosition.copy(camera.position);
+    lastCameraQuaternion.copy(camera.quaternion);
+    lastCanvasWidth = canvas.width;
+  }
+  return moved;
+}
+
+/// Picks the particles drawn as spheres: those whose projected radius exceeds a
+/// threshold, kNearPixels or raised (through a histogram of log2 sizes, one pass) until
+/// at most kNearBudget pass it.
 function updateLevelOfDetail() {
-  const cameraKey = camera.matrixWorld.elements.join(',') + canvas.width;
-  if (!lastFrame || (!nearDirty && cameraKey === lastCameraKey)) return;
-  lastCameraKey = cameraKey;
+  const now = performance.now();
+  if (cameraMoved()) lastMove = now;
+  state.moving = now - lastMove < kStillAfterMs;
+  if (!lastFrame || !nearDirty && !lodStale || state.moving) {
+    lodStale = lodStale || (state.moving && lastFrame !== null);
+    return;
+  }
   nearDirty = false;
+  lodStale = false;
   const f = lastFrame;
   const m = f.count;
   const lower = f.lower, size = [f.upper[0] - f.lower[0], f.upper[1] - f.lower[1], f.upper[2] - f.lower[2]];
   cameraPosition.setFromMatrixPosition(camera.matrixWorld);
   const scale = uniforms.pixelScale.value * f.radiusMax / 65535;
+  const base = kNearPixels / scale;  // a size ratio above this is a sphere at kNearPixels
   nearFlags.fill(0, 0, m);
-  // Raise the threshold until the spheres fit the budget.
-  let threshold = kNearPixels;
-  let count = 0;
-  for (let attempt = 0; attempt < 12; ++attempt, threshold *= 1.6) {
-    count = 0;
-    for (let i = 0; i < m && count <= kNearBudget; ++i) {
-      const x = lower[0] + f.positions[3 * i] / 65535 * size[0] - cameraPosition.x;
-      const y = lower[1] + f.positions[3 * i + 1] / 65535 * size[1] - cameraPosition.y;
-      const z = lower[2] + f.positions[3 * i + 2] / 65535 * size[2] - cameraPosition.z;
-      if (f.radii[i] * scale > threshold * Math.sqrt(x * x + y * y + z * z)) ++count;
+  ratioHistogram.fill(0);
+  let candidates = 0;
+  for (let i = 0; i < m; ++i) {
+    const x = lower[0] + f.positions[3 * i] / 65535 * size[0] - cameraPosition.x;
+    const y = lower[1] + f.positions[3 * i + 1] / 65535 * size[1] - cameraPosition.y;
+    const z = lower[2] + f.positions[3 * i + 2] / 65535 * size[2] - cameraPosition.z;
+    const ratio = f.radii[i] / Math.sqrt(x * x + y * y + z * z);
+    sizeRatio[i] = ratio;
+    if (ratio > base) {
+      ++candidates;
+      ratioHistogram[Math.min(kRatioBins - 1, Math.floor(4 * Math.log2(ratio / base)))] += 1;
     }
-    if (count <= kNearBudget) break;
   }
-  count = 0;
+  // The lowest bin edge above which at most kNearBudget remain.
+  let threshold = base;
+  if (candidates > kNearBudget) {
+    let above = 0;
+    let bin = kRatioBins;
+    while (bin > 0 && above + ratioHistogram[bin - 1] <= kNearBudget) above += ratioHistogram[--bin];
+    threshold = base * Math.pow(2, bin / 4);
+  }
+  let count = 0;
   for (let i = 0; i < m && count < kNearBudget; ++i) {
-    const px = lower[0] + f.positions[3 * i] / 65535 * size[0];
-    const py = lower[1] + f.positions[3 * i + 1] / 65535 * size[1];
-    const pz = lower[2] + f.positions[3 * i + 2] / 65535 * size[2];
-    const dx = px - cameraPosition.x, dy = py - cameraPosition.y, dz = pz - cameraPosition.z;
-    if (f.radii[i] * scale > threshold * Math.sqrt(dx * dx + dy * dy + dz * dz)) {
-      nearFlags[i] = 1;
-      sphereOffset.array[3 * count] = px;
-      sphereOffset.array[3 * count + 1] = py;
-      sphereOffset.array[3 * count + 2] = pz;
-      sphereRadius.array[count] = f.radii[i] / 65535 * f.radiusMax;
-      sphereColour.array[count] = f.colours[i] / 65535;
-      ++count;
-    }
+    if (sizeRatio[i] <= threshold) continue;
+    nearFlags[i] = 1;
+    sphereOffset.array[3 * count] = lower[0] + f.positions[3 * i] / 65535 * size[0];
+    sphereOffset.array[3 * count + 1] = lower[1] + f.positions[3 * i + 1] / 65535 * size[1];
+    sphereOffset.array[3 * count + 2] = lower[2] + f.positions[3 * i + 2] / 65535 * size[2];
+    sphereRadius.array[count] = f.radii[i] / 65535 * f.radiusMax;
+    sphereColour.array[count] = f.colours[i] / 65535;
+    ++count;
   }
   sphereGeometry.maxInstancedCount = count;
   sphereOffset.needsUpdate = sphereRadius.needsUpdate = sphereColour.needsUpdate = true;
   splatGeometry.getAttribute('near').needsUpdate = true;
   state.nearCount = count;
+}
+
+/// While the camera moves, every k-th splat: k grows when a frame took longer than
+/// kMovingFrameMs and shrinks when it took well under; all of them once it is still.
+let movingBudget = 250000;
+function chooseSplats(frameMs) {
+  const m = lastFrame ? lastFrame.count : 0;
+  if (!state.moving || m <= kMovingMin) {
+    splats.visible = true;
+    coarseSplats.visible = false;
+    state.splatsDrawn = m;
+    return;
+  }
+  if (frameMs > kMovingFrameMs) movingBudget = Math.max(kMovingMin, Math.floor(movingBudget * 0.6));
+  else if (frameMs < 0.5 * kMovingFrameMs) movingBudget = Math.min(m, Math.ceil(movingBudget * 1.25));
+  const stride = Math.max(1, Math.ceil(m / movingBudget));
+  setCoarseStride(stride, m);
+  splats.visible = stride === 1;
+  coarseSplats.visible = stride > 1;
+  state.splatsDrawn = Math.ceil(m / stride);
 }
 
 // ---- connection ----
@@ -571,13 +653,19 @@ state.project = (x, y, z) => {
   const p = new THREE.Vector3(x, y, z).project(camera);
   return { x: (p.x + 1) / 2 * canvas.clientWidth, y: (1 - p.y) / 2 * canvas.clientHeight, visible: Math.abs(p.z) <= 1 };
 };
-let drawn = 0, fpsStart = performance.now();
+let drawn = 0, fpsStart = performance.now(), lastDraw = performance.now();
+// For benchmarks and tests: turn the camera about its target, as a user orbiting would.
+state.orbit = (on) => { controls.autoRotate = on; controls.autoRotateSpeed = 30; };
 function animate() {
   requestAnimationFrame(animate);
+  const start = performance.now();
+  const frameMs = start - lastDraw;
+  lastDraw = start;
   resize();
   controls.update();
   camera.updateMatrixWorld();
   updateLevelOfDetail();
+  chooseSplats(frameMs);
   renderer.render(scene, camera);
   drawn += 1;
   const now = performance.now();
