@@ -446,6 +446,8 @@ let lastCanvasWidth = 0;
 let lastMove = -Infinity;  // when the camera last moved [ms]
 let lodStale = false;      // the camera moved since the spheres were chosen
 let sizeRatio = null;          // per particle: quantised radius over camera distance
+const nearIndex = new Uint32Array(kNearBudget);  // the particles drawn as spheres
+let nearCount = 0;
 const kRatioBins = 64;          // histogram bins per factor of 2 ... over 2^16 in all
 const ratioHistogram = new Uint32Array(kRatioBins);
 
@@ -471,10 +473,13 @@ function updateLevelOfDetail() {
   const now = performance.now();
   if (cameraMoved()) lastMove = now;
   state.moving = now - lastMove < kStillAfterMs;
-  if (!lastFrame || !nearDirty && !lodStale || state.moving) {
-    lodStale = lodStale || (state.moving && lastFrame !== null);
+  if (lastFrame && state.moving) {
+    lodStale = true;
+    if (nearDirty) placeSpheres(lastFrame);  // a new frame: the same particles, where they are now
+    nearDirty = false;
     return;
   }
+  if (!lastFrame || !nearDirty && !lodStale) return;
   nearDirty = false;
   lodStale = false;
   const f = lastFrame;
@@ -509,6 +514,20 @@ function updateLevelOfDetail() {
   for (let i = 0; i < m && count < kNearBudget; ++i) {
     if (sizeRatio[i] <= threshold) continue;
     nearFlags[i] = 1;
+    nearIndex[count++] = i;
+  }
+  nearCount = count;
+  placeSpheres(f);
+  splatGeometry.getAttribute('near').needsUpdate = true;
+}
+
+/// The sphere instances of the chosen particles (nearIndex) at frame `f`.
+function placeSpheres(f) {
+  const lower = f.lower, size = [f.upper[0] - f.lower[0], f.upper[1] - f.lower[1], f.upper[2] - f.lower[2]];
+  let count = 0;
+  for (let k = 0; k < nearCount; ++k) {
+    const i = nearIndex[k];
+    if (i >= f.count) continue;  // the frame holds fewer particles than the chosen one's place
     sphereOffset.array[3 * count] = lower[0] + f.positions[3 * i] / 65535 * size[0];
     sphereOffset.array[3 * count + 1] = lower[1] + f.positions[3 * i + 1] / 65535 * size[1];
     sphereOffset.array[3 * count + 2] = lower[2] + f.positions[3 * i + 2] / 65535 * size[2];
@@ -518,7 +537,6 @@ function updateLevelOfDetail() {
   }
   sphereGeometry.maxInstancedCount = count;
   sphereOffset.needsUpdate = sphereRadius.needsUpdate = sphereColour.needsUpdate = true;
-  splatGeometry.getAttribute('near').needsUpdate = true;
   state.nearCount = count;
 }
 

@@ -37,10 +37,11 @@ async function main() {
   const mouse = (type, x) => page('Input.dispatchMouseEvent', { type, x, y: 350, button: 'left', buttons: 1, clickCount: 1 });
   await mouse('mousePressed', 300);
   const whileMoving = [];
-  for (let x = 300; x < 600; x += 3) {
+  // Each move waits for the page to take it (a frame of 50,000 splats in SwiftShader).
+  for (let x = 300; x < 600; x += 10) {
     await mouse('mouseMoved', x);
     await sleep(20);
-    if (x % 30 === 0) {
+    if (x % 50 === 0) {
       whileMoving.push(await evaluate(page, `({ moving: window.demlinkView.moving, drawn: window.demlinkView.splatsDrawn })`));
     }
   }
