@@ -46,6 +46,19 @@ export async function startFixture(fixtureArguments) {
   }
   return log.match(/view: (\S+)/)[1];
 }
+/// The errors of the pages whose DevTools session ids are in `sessions` (a Set; more may be
+/// added): exceptions, console.error calls and error log entries, collected as they come
+/// (the pages need Runtime.enable and Log.enable).
+export function collectPageErrors(devtools, sessions) {
+  const errors = [];
+  devtools.listeners.push((message) => {
+    if (!sessions.has(message.sessionId)) return;
+    if (message.method === 'Runtime.exceptionThrown') errors.push(`${message.params.exceptionDetails.text} ${message.params.exceptionDetails.exception?.description ?? ''}`);
+    if (message.method === 'Runtime.consoleAPICalled' && message.params.type === 'error') errors.push(JSON.stringify(message.params.args));
+    if (message.method === 'Log.entryAdded' && message.params.entry.level === 'error') errors.push(message.params.entry.text);
+  });
+  return errors;
+}
 /// Starts headless Chromium (--chromium, else /usr/bin/chromium) on a fresh profile named
 /// after `profilePrefix`; returns its DevTools connection.
 export function startBrowser(profilePrefix) {

@@ -12,7 +12,7 @@
 import path from 'node:path';
 
 import { evaluate } from './devtools_pipe.mjs';
-import { args, check, deadline, finish, sleep, startBrowser, startFixture } from './check_harness.mjs';
+import { args, check, collectPageErrors, deadline, finish, sleep, startBrowser, startFixture } from './check_harness.mjs';
 
 const scenes = args.scenes.split(',');
 const kExpected = {
@@ -27,14 +27,8 @@ async function main() {
   const url = await startFixture(['140', ...scenes]);
   const devtools = startBrowser('demlink-view-choice-');
   const page = await devtools.openPage('about:blank');
-  const errors = [];
   const sessions = new Set([page.sessionId]);
-  devtools.listeners.push((message) => {
-    if (!sessions.has(message.sessionId)) return;
-    if (message.method === 'Runtime.exceptionThrown') errors.push(`${message.params.exceptionDetails.text} ${message.params.exceptionDetails.exception?.description ?? ''}`);
-    if (message.method === 'Runtime.consoleAPICalled' && message.params.type === 'error') errors.push(JSON.stringify(message.params.args));
-    if (message.method === 'Log.entryAdded' && message.params.entry.level === 'error') errors.push(message.params.entry.text);
-  });
+  const errors = collectPageErrors(devtools, sessions);
   await page('Runtime.enable');
   await page('Log.enable');
   await page('Page.navigate', { url });

@@ -10,7 +10,7 @@
 import path from 'node:path';
 
 import { evaluate } from './devtools_pipe.mjs';
-import { args, check, deadline, finish, sleep, startBrowser, startFixture } from './check_harness.mjs';
+import { args, check, collectPageErrors, deadline, finish, sleep, startBrowser, startFixture } from './check_harness.mjs';
 
 const scenes = args.scenes.split(',');
 const lasting = { name: path.basename(scenes[0], '.json'), particles: 9 };
@@ -22,13 +22,7 @@ async function main() {
   const url = await startFixture(['90', ...scenes]);
   const devtools = startBrowser('demlink-view-close-');
   const page = await devtools.openPage('about:blank');
-  const errors = [];
-  devtools.listeners.push((message) => {
-    if (message.sessionId !== page.sessionId) return;
-    if (message.method === 'Runtime.exceptionThrown') errors.push(`${message.params.exceptionDetails.text} ${message.params.exceptionDetails.exception?.description ?? ''}`);
-    if (message.method === 'Runtime.consoleAPICalled' && message.params.type === 'error') errors.push(JSON.stringify(message.params.args));
-    if (message.method === 'Log.entryAdded' && message.params.entry.level === 'error') errors.push(message.params.entry.text);
-  });
+  const errors = collectPageErrors(devtools, new Set([page.sessionId]));
   await page('Runtime.enable');
   await page('Log.enable');
   await page('Page.navigate', { url });

@@ -14,7 +14,7 @@ import path from 'node:path';
 import zlib from 'node:zlib';
 
 import { DevTools, chromiumArguments } from './devtools_pipe.mjs';
-import { args, check, children, deadline, finish, sleep } from './check_harness.mjs';
+import { args, check, children, collectPageErrors, deadline, finish, sleep } from './check_harness.mjs';
 
 const chromiumPath = args.chromium ?? '/usr/bin/chromium';
 const outDir = path.resolve(args.out);
@@ -116,13 +116,7 @@ async function main() {
   const { targetId } = await devtools.send('Target.createTarget', { url: 'about:blank' });
   const { sessionId } = await devtools.send('Target.attachToTarget', { targetId, flatten: true });
   const page = (method, params) => devtools.send(method, params, sessionId);
-  const errors = [];
-  devtools.listeners.push((message) => {
-    if (message.sessionId !== sessionId) return;
-    if (message.method === 'Runtime.exceptionThrown') errors.push(message.params.exceptionDetails.text + ' ' + JSON.stringify(message.params.exceptionDetails.exception?.description ?? ''));
-    if (message.method === 'Runtime.consoleAPICalled' && message.params.type === 'error') errors.push(JSON.stringify(message.params.args));
-    if (message.method === 'Log.entryAdded' && message.params.entry.level === 'error') errors.push(message.params.entry.text);
-  });
+  const errors = collectPageErrors(devtools, new Set([sessionId]));
   await page('Runtime.enable');
   await page('Log.enable');
   await page('Page.enable');

@@ -7,7 +7,7 @@
 //   node check_view_orbit.mjs --fixture DEMLINK_BENCH_VIEW [--chromium PATH]
 // Prints "N passed, M failed"; exits 1 on any failure.
 import { evaluate } from './devtools_pipe.mjs';
-import { args, check, deadline, finish, sleep, startBrowser, startFixture } from './check_harness.mjs';
+import { args, check, collectPageErrors, deadline, finish, sleep, startBrowser, startFixture } from './check_harness.mjs';
 
 const kParticles = 50000;
 deadline(150);
@@ -16,13 +16,9 @@ async function main() {
   const url = await startFixture(['--particles', String(kParticles), '--serve', '120']);
   const devtools = startBrowser('demlink-view-orbit-');
   const page = await devtools.openPage('about:blank');
-  const errors = [];
-  devtools.listeners.push((message) => {
-    if (message.sessionId !== page.sessionId) return;
-    if (message.method === 'Runtime.exceptionThrown') errors.push(`${message.params.exceptionDetails.text} ${message.params.exceptionDetails.exception?.description ?? ''}`);
-    if (message.method === 'Runtime.consoleAPICalled' && message.params.type === 'error') errors.push(JSON.stringify(message.params.args));
-  });
+  const errors = collectPageErrors(devtools, new Set([page.sessionId]));
   await page('Runtime.enable');
+  await page('Log.enable');
   await page('Page.navigate', { url });
   let shown = false;
   for (let k = 0; k < 600 && !shown; ++k) {
