@@ -59,6 +59,14 @@ std::vector<double> reals(dl_package* p) {
   EXPECT_EQ(dl_get_reals(p, out.data(), n, &n), DL_OK);
   return out;
 }
+/// Sends one generic package: dl_set_data, then dl_send_package.
+void sendGeneric(dl_client* client, dl_package* package, const std::vector<long long>& ints,
+                 const std::vector<double>& reals, const std::vector<const char*>& texts) {
+  ASSERT_EQ(dl_set_data(package, ints.data(), static_cast<int>(ints.size()), reals.data(),
+                        static_cast<int>(reals.size()), texts.data(), static_cast<int>(texts.size())),
+            DL_OK);
+  ASSERT_EQ(dl_send_package(client, package), DL_OK) << dl_last_error(client);
+}
 std::vector<std::string> strings(dl_package* p) {
   int n = 0;
   EXPECT_EQ(dl_get_strings(p, nullptr, 0, &n), DL_OK);
@@ -508,22 +516,13 @@ TEST(ClientCAbi, GenericRegionsCarryAConstantVelocity) {
   ASSERT_EQ(dl_connect_to_host(c.client, "127.0.0.1", server.port(), "moving", nullptr), DL_OK) << dl_last_error(c.client);
   const double nan = std::nan("");
   // interval, centre, radius and two unused, orientation (none), velocity
-  const double sensorReals[] = {0.001, 0.1, 0.2, 0.3, 0.05, 0.0, 0.0, nan, nan, nan, nan, 0.5, 0.0, -0.25};
-  const char* sensorStrings[] = {"region_sensor", "scan", ""};
-  const long long sphere[] = {1};
-  ASSERT_EQ(dl_set_data(pkg.package, sphere, 1, sensorReals, 14, sensorStrings, 3), DL_OK);
-  ASSERT_EQ(dl_send_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
-  const double sinkReals[] = {0.0, 0.0, 0.0, 1.0, 0.2, 0.2, 0.2, 1.0, 0.0, 0.0, 0.0, nan, nan, nan};
-  const char* sinkStrings[] = {"particle_sink", "still", ""};
-  const long long box[] = {0};
-  ASSERT_EQ(dl_set_data(pkg.package, box, 1, sinkReals, 14, sinkStrings, 3), DL_OK);
-  ASSERT_EQ(dl_send_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
+  sendGeneric(c.client, pkg.package, {1}, {0.001, 0.1, 0.2, 0.3, 0.05, 0.0, 0.0, nan, nan, nan, nan, 0.5, 0.0, -0.25},
+              {"region_sensor", "scan", ""});
+  sendGeneric(c.client, pkg.package, {0}, {0.0, 0.0, 0.0, 1.0, 0.2, 0.2, 0.2, 1.0, 0.0, 0.0, 0.0, nan, nan, nan},
+              {"particle_sink", "still", ""});
   // interval, centre, normal, radius and an unused value, length axis (none), velocity
-  const double flowReals[] = {0.0, 0.0, 0.0, 0.5, 0.0, 0.0, 1.0, 0.3, 0.0, nan, nan, nan, 0.0, 0.0, 2.0};
-  const char* flowStrings[] = {"flow_sensor", "lift", ""};
-  const long long disc[] = {1};
-  ASSERT_EQ(dl_set_data(pkg.package, disc, 1, flowReals, 15, flowStrings, 3), DL_OK);
-  ASSERT_EQ(dl_send_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
+  sendGeneric(c.client, pkg.package, {1}, {0.0, 0.0, 0.0, 0.5, 0.0, 0.0, 1.0, 0.3, 0.0, nan, nan, nan, 0.0, 0.0, 2.0},
+              {"flow_sensor", "lift", ""});
   ASSERT_EQ(dl_wait_compiled(c.client), DL_OK) << dl_last_error(c.client);
   EXPECT_EQ(dl_finish(c.client, "done"), DL_OK);
   ASSERT_EQ(server.wait(), 0);
@@ -549,26 +548,15 @@ TEST(ClientCAbi, GenericParallelBondsCarryEveryRegionKind) {
   ASSERT_EQ(dl_connect_to_host(c.client, "127.0.0.1", server.port(), "bonds", nullptr), DL_OK) << dl_last_error(c.client);
   const double nan = std::nan("");
   // interval, kn, ks, tensile, shear, gap, multiplier, create time, fraction, centre, size | radius, orientation
-  const double sphereReals[] = {0.0, 1e9, 2e9, 1e5, 2e5, 1e-3, nan, 0.0, nan, 0.1, 0.2, 0.3,
-                                0.05, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0};
-  const char* sphereStrings[] = {"parallel_bonds", "lump", "bucket", "gravel", "sand"};
-  const long long sphereInts[] = {4, DL_REGION_SPHERE};
-  ASSERT_EQ(dl_set_data(pkg.package, sphereInts, 2, sphereReals, 19, sphereStrings, 5), DL_OK);
-  ASSERT_EQ(dl_send_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
-  const double boxReals[] = {0.0, 1e9, 2e9, 1e5, 2e5, 1e-3, nan, 0.0, nan, 0.1, 0.2, 0.3,
-                             0.4, 0.5, 0.6, 0.0, 0.0, 0.0, 1.0};
-  const char* boxStrings[] = {"parallel_bonds", "slab", "", ""};
-  const long long boxInts[] = {0, DL_REGION_BOX};
-  ASSERT_EQ(dl_set_data(pkg.package, boxInts, 2, boxReals, 19, boxStrings, 4), DL_OK);
-  ASSERT_EQ(dl_send_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
-  const char* everywhereStrings[] = {"parallel_bonds", "all", "", "gravel"};
-  const long long everywhereInts[] = {0, DL_REGION_EVERYWHERE};
-  ASSERT_EQ(dl_set_data(pkg.package, everywhereInts, 2, boxReals, 19, everywhereStrings, 4), DL_OK);
-  ASSERT_EQ(dl_send_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
-  const char* legacyStrings[] = {"parallel_bonds", "legacy", "gravel"};
-  const long long legacyInts[] = {0};
-  ASSERT_EQ(dl_set_data(pkg.package, legacyInts, 1, boxReals, 15, legacyStrings, 3), DL_OK);
-  ASSERT_EQ(dl_send_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
+  const std::vector<double> sphereReals{0.0, 1e9, 2e9, 1e5, 2e5, 1e-3, nan, 0.0, nan, 0.1, 0.2, 0.3,
+                                        0.05, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0};
+  sendGeneric(c.client, pkg.package, {4, DL_REGION_SPHERE}, sphereReals,
+              {"parallel_bonds", "lump", "bucket", "gravel", "sand"});
+  const std::vector<double> boxReals{0.0, 1e9, 2e9, 1e5, 2e5, 1e-3, nan, 0.0, nan, 0.1, 0.2, 0.3,
+                                     0.4, 0.5, 0.6, 0.0, 0.0, 0.0, 1.0};
+  sendGeneric(c.client, pkg.package, {0, DL_REGION_BOX}, boxReals, {"parallel_bonds", "slab", "", ""});
+  sendGeneric(c.client, pkg.package, {0, DL_REGION_EVERYWHERE}, boxReals, {"parallel_bonds", "all", "", "gravel"});
+  sendGeneric(c.client, pkg.package, {0}, {boxReals.begin(), boxReals.begin() + 15}, {"parallel_bonds", "legacy", "gravel"});
   ASSERT_EQ(dl_wait_compiled(c.client), DL_OK) << dl_last_error(c.client);
   EXPECT_EQ(dl_finish(c.client, "done"), DL_OK);
   ASSERT_EQ(server.wait(), 0);
@@ -589,11 +577,14 @@ TEST(ClientCAbi, GenericParallelBondsCarryEveryRegionKind) {
   // An unknown region kind, and a body to ride on without a region, are refused by name.
   ClientGuard other;
   const long long badKind[] = {0, 3};
-  ASSERT_EQ(dl_set_data(pkg.package, badKind, 2, boxReals, 19, boxStrings, 4), DL_OK);
+  const char* boxStrings[] = {"parallel_bonds", "slab", "", ""};
+  ASSERT_EQ(dl_set_data(pkg.package, badKind, 2, boxReals.data(), 19, boxStrings, 4), DL_OK);
   EXPECT_EQ(dl_send_package(other.client, pkg.package), DL_ERR_ARGUMENT);
   EXPECT_NE(std::string(dl_last_error(other.client)).find("ints[1] (region) = 3"), std::string::npos)
       << dl_last_error(other.client);
-  ASSERT_EQ(dl_set_data(pkg.package, everywhereInts, 2, boxReals, 19, sphereStrings, 5), DL_OK);
+  const long long everywhereInts[] = {0, DL_REGION_EVERYWHERE};
+  const char* sphereStrings[] = {"parallel_bonds", "lump", "bucket", "gravel", "sand"};
+  ASSERT_EQ(dl_set_data(pkg.package, everywhereInts, 2, boxReals.data(), 19, sphereStrings, 5), DL_OK);
   EXPECT_EQ(dl_send_package(other.client, pkg.package), DL_ERR_ARGUMENT);
   EXPECT_NE(std::string(dl_last_error(other.client)).find("strings[2] (attached body) = \"bucket\""),
             std::string::npos)
