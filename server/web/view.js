@@ -448,7 +448,7 @@ let lodStale = false;      // the camera moved since the spheres were chosen
 let sizeRatio = null;          // per particle: quantised radius over camera distance
 const nearIndex = new Uint32Array(kNearBudget);  // the particles drawn as spheres
 let nearCount = 0;
-const kRatioBins = 64;          // histogram bins per factor of 2 ... over 2^16 in all
+const kRatioBins = 64;          // 4 bins per factor of 2: sizes up to 2^16 times the base
 const ratioHistogram = new Uint32Array(kRatioBins);
 
 /// Whether the camera moved since the last call. OrbitControls recomputes the camera from
@@ -672,8 +672,6 @@ state.project = (x, y, z) => {
   return { x: (p.x + 1) / 2 * canvas.clientWidth, y: (1 - p.y) / 2 * canvas.clientHeight, visible: Math.abs(p.z) <= 1 };
 };
 let drawn = 0, fpsStart = performance.now(), lastDraw = performance.now();
-// For benchmarks and tests: turn the camera about its target, as a user orbiting would.
-state.orbit = (on) => { controls.autoRotate = on; controls.autoRotateSpeed = 30; };
 function animate() {
   requestAnimationFrame(animate);
   const start = performance.now();

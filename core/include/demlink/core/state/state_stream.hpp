@@ -13,6 +13,7 @@
 /// nest (a component's state is a section inside the component section), and a
 /// reader can skip a section it does not need, which keeps the format easy to
 /// extend: a new kind of state is a new tag.
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -162,7 +163,7 @@ struct StateCodec<T, std::enable_if_t<std::is_arithmetic_v<T>>> {
   static constexpr std::size_t kBytes = sizeof(T);
   static void write(StateWriter& out, const T& value) {
     if constexpr (std::is_floating_point_v<T>) {
-      if (value != value) out.refuseNaN();
+      if (std::isnan(value)) out.refuseNaN();
     }
     out.writeBytes(&value, sizeof(T));
   }

@@ -14,6 +14,11 @@
 /// only sent when it holds events, and the mirrors wait for the next batch only after
 /// acting on the last, so the broadcasts and LIGGGHTS's collectives pair up in the same
 /// order on every rank.
+///
+/// Between every two steps of an interval rank 0 also broadcasts whether to go on
+/// (CosimOptions::stop_consensus): a shutdown cuts the interval at the same step on every
+/// rank, which then takes the shutdown from the next batch and writes the final
+/// checkpoint together.
 #include <string>
 
 #include "demlink/server/cosim/cosim_host.hpp"
