@@ -8,10 +8,11 @@
 ///      radii from the size distribution) starting at the floor, holding
 ///      overfill x packing_fraction x (box area x target height) of solid volume;
 ///   2. settle: a private World (the pit material, a floor and four side walls, the
-///      main world's contact model and |g| along -z, time step half the critical
-///      limit at a restitution tolerance of at least 10 %) runs until the rained column has had time to fall and the mean kinetic
-///      energy per particle is below the threshold (or max_settle_time passes, with a
-///      warning);
+///      main world's contact model and |g| along -z, time step the critical limit at the
+///      engine's default restitution tolerance, 1 %, and the impact speed of a fall from
+///      the top of the lattice) runs until the rained column has had time to fall and the
+///      mean kinetic energy per particle is below the threshold (or max_settle_time
+///      passes, with a warning);
 ///   3. keep: the particles whose top (z + r) lies at or below lower.z + target_height
 ///      are copied into the main world at rest, in lattice order.
 /// Why a private world: settling needs many steps; doing it apart from the scene keeps
