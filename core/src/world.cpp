@@ -16,6 +16,7 @@
 #include "demlink/core/step/integrator.hpp"
 #include "demlink/core/step/frame_motion.hpp"
 #include "demlink/core/parallel/parallel_loops.hpp"
+#include "demlink/core/walls/mesh_rebuild_check.hpp"
 
 namespace demlink::core {
 namespace {
@@ -534,8 +535,6 @@ void World::moveMeshes(StepContext& context) {
       mesh.advance(dt);
       watchdog_.noteEnergyFed();
     }
-    const bool farEnough = mesh.maxDisplacementSinceMark() > 0.5 * neighbours_.list.skin();
-    context.mesh_moved_far = context.mesh_moved_far || (walls_.mesh_colliding[m] != 0 && farEnough);
   }
 }
 
@@ -600,11 +599,15 @@ void World::updateNeighbours(const StepContext& context) {
 }
 
 bool World::neighbourListsStale(ThreadPool* pool) const {
-  // Mesh and deformable-surface near lists assume that no particle moved more than
-  // skin/2 (and the surface no more than skin/2): the classic rule. Pairs and planes
-  // alone need only their relative motion (rebuild_guard.hpp).
-  if (!walls_.meshes.empty() || !deformables_.bodies.empty()) return neighbours_.list.needsRebuild(particles_.position, pool);
-  return neighbours_.guard.stale(neighbours_.list.builtPositions(), particles_.position, pool);
+  // Deformable-surface near lists assume that no particle moved more than skin/2 (and
+  // the surface no more than skin/2): the classic rule. Pairs and planes need only their
+  // relative motion (rebuild_guard.hpp), rigid meshes the particles' motion seen from
+  // each mesh (mesh_rebuild_check.hpp).
+  if (!deformables_.bodies.empty()) return neighbours_.list.needsRebuild(particles_.position, pool);
+  const std::span<const Vec3> built = neighbours_.list.builtPositions();
+  if (neighbours_.guard.stale(built, particles_.position, pool)) return true;
+  return !walls_.meshes.empty() && meshNearListsStale(walls_.meshes, walls_.mesh_colliding, built, particles_.position,
+                                                      neighbours_.list.skin(), pool);
 }
 
 void World::armRebuildGuard() {

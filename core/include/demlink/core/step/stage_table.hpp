@@ -62,9 +62,9 @@ struct StepContext {
   double dt = 0.0;             ///< time step [s]
   std::uint64_t step = 0;      ///< index of the step being taken; it starts at step * dt
   ThreadPool* pool = nullptr;  ///< null: serial
-  /// Set by mesh_motion and deformable_motion: a colliding mesh or a deformable
-  /// surface moved more than skin/2 since the last neighbour build (neighbour_list
-  /// then rebuilds).
+  /// Set by deformable_motion: a deformable surface moved more than skin/2 since the
+  /// last neighbour build (neighbour_list then rebuilds). Rigid meshes are checked in
+  /// neighbour_list itself (mesh_rebuild_check.hpp).
   bool mesh_moved_far = false;
   /// The step may leave its second half kick owed to the next step's first kick
   /// (World::advance: another step follows, nothing between them reads velocities, and

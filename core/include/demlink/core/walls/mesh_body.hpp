@@ -110,6 +110,9 @@ class MeshBody {
   /// Upper bound on the displacement of any vertex since the last markNeighbourBuild()
   /// (or construction) [m].
   [[nodiscard]] double maxDisplacementSinceMark() const;
+  /// The pose at the last markNeighbourBuild().
+  [[nodiscard]] const Vec3& markPosition() const { return state_.mark_position; }
+  [[nodiscard]] const Quat& markOrientation() const { return state_.mark_orientation; }
 
   [[nodiscard]] const std::string& name() const { return name_; }
   [[nodiscard]] const std::vector<Vec3>& localVertices() const { return local_vertices_; }
