@@ -1,23 +1,31 @@
 #!/usr/bin/env bash
 # The excavator-and-truck site as a benchmark: demlink-server on the site scene
 # (examples/cosim/site_scene.json), the truck standing still (--stand-still) and the
-# excavator digging, both over loopback, for a fixed simulated time. Per run it prints
-# the real-time factor (simulated s per wall s of the exchanges, settling excluded), the
-# particle-steps per second per DEM thread, the pit's settling (wall time, simulated time,
-# packing fraction, bed top) apart, and the server's sampled stage timing.
-#   bench/run_site_bench.sh [--seconds T] [--runs K] [--bin DIR[,DIR2]] [--work DIR] [--perf]
-#     --seconds T   simulated time of each run (default 8: approach, penetration and drag)
+# excavator digging, both over loopback, for a fixed simulated time or one whole dig-dump
+# cycle. Per run it prints the real-time factor (simulated s per wall s of the exchanges,
+# settling excluded), the particle-steps per second per DEM thread, the pit's settling
+# (wall time, simulated time, packing fraction, bed top) apart, the server's sampled stage
+# timing, and what the excavator model saw: the mass it carried to the truck, the bucket's
+# peak fill, the peak and mean digging force, and the truck's load.
+#   bench/run_site_bench.sh [--seconds T] [--runs K] [--bin DIR[,DIR2]] [--fidelity P[,P2..]]
+#                           [--seeds S[,S2..]] [--work DIR] [--perf]
+#     --seconds T   simulated time of each run (default 8: approach, penetration and drag);
+#                   0: one whole cycle (dig, swing, dump into the truck, swing back)
 #     --runs K      runs per binary folder (default 1); with two folders the runs alternate A, B
 #     --bin DIR     folder(s) holding demlink-server, demlink-truck, demlink-excavator
 #                   (default: build/release's); two, comma-separated, for an A/B comparison
+#     --fidelity P  the truck's --fidelity: none (default: 0.2 ms, 10 % tolerance), draft,
+#                   engineering, validation; several, comma-separated, run in turn; with
+#                   validation among them the close compares every preset with it, seed by seed
+#     --seeds S     pit seeds (default: the scene's, 5); each seed is another bed
 #     --work DIR    logs and outputs (default bench/work/site)
 #     --perf        record the server with `perf record -g` from the first exchange on
 #                   (perf.data in the run's folder; `perf report -i ... --no-children`)
-# Medians over the runs of each folder close the output. The DEM threads are the truck's
-# simulation_box.threads (2).
+# Medians over the runs of each folder and preset close the output
+# (bench/site_presets_summary.py). The DEM threads are the truck's simulation_box.threads (2).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-seconds=8 runs=1 bins=() work=${DEMLINK_BENCH_WORK:-bench/work}/site perf=0
+seconds=8 runs=1 bins=() work=${DEMLINK_BENCH_WORK:-bench/work}/site perf=0 fidelities=none seeds=
 while (($#)); do
   case $1 in
     --seconds) seconds=$2; shift 2 ;;
@@ -25,10 +33,20 @@ while (($#)); do
     --bin) IFS=, read -r -a bins <<<"$2"; shift 2 ;;
     --work) work=$2; shift 2 ;;
     --perf) perf=1; shift ;;
+    --fidelity) fidelities=$2; shift 2 ;;
+    --seeds) seeds=$2; shift 2 ;;
     *) echo "run_site_bench: unknown option $1" >&2; exit 2 ;;
   esac
 done
-[[ $seconds =~ ^[0-9]+([.][0-9]+)?$ ]] || { echo "run_site_bench: --seconds $seconds: expected a positive number" >&2; exit 2; }
+[[ $seconds =~ ^[0-9]+([.][0-9]+)?$ ]] || { echo "run_site_bench: --seconds $seconds: expected a number >= 0" >&2; exit 2; }
+IFS=, read -r -a fidelityList <<<"$fidelities"
+for f in "${fidelityList[@]}"; do
+  [[ $f =~ ^(none|draft|engineering|validation)$ ]] || { echo "run_site_bench: --fidelity $f: expected none, draft, engineering or validation" >&2; exit 2; }
+done
+IFS=, read -r -a seedList <<<"${seeds:-scene}"
+for s in "${seedList[@]}"; do
+  [[ $s == scene || $s =~ ^[0-9]+$ ]] || { echo "run_site_bench: --seeds $s: expected whole numbers" >&2; exit 2; }
+done
 [[ $runs =~ ^[1-9][0-9]*$ ]] || { echo "run_site_bench: --runs $runs: expected a whole number >= 1" >&2; exit 2; }
 ((${#bins[@]})) || bins=(build/release)
 resolve() {  # folder -> "server truck excavator" (a build tree or a flat folder of the three)
@@ -43,23 +61,43 @@ for b in "${bins[@]}"; do resolve "$b" >/dev/null; done
 mkdir -p "$work"
 source scripts/lib/child_server.sh
 results=$work/results.tsv
-printf 'bin\trun\tload\tsettle_wall_s\tsettle_sim_s\tpacking\tbed_top_m\tparticles\tsim_s\twall_s\trtf\tpsteps_per_s_per_thread\n' >"$results"
+printf 'bin\trun\tload\tsettle_wall_s\tsettle_sim_s\tpacking\tbed_top_m\tparticles\tsim_s\twall_s\trtf\tpsteps_per_s_per_thread\tfidelity\tseed\ttime_step_s\tcarried_kg\tpeak_fill_kg\tdig_force_peak_N\tdig_force_mean_N\ttruck_load_kg\n' >"$results"
 
-one_run() {  # folder index, run number
-  local b=${bins[$1]} k=$2 dir
+scene_for() {  # seed -> the scene file to run
+  local seed=$1 out
+  [[ $seed == scene ]] && { echo examples/cosim/site_scene.json; return; }
+  out=$work/site_scene_seed_$seed.json
+  python3 - "$seed" "$out" <<'EOF'
+import json, sys
+scene = json.load(open("examples/cosim/site_scene.json"))
+for c in scene["components"]:
+    if "pit_generator" in c:
+        c["pit_generator"]["seed"] = sys.argv[1]
+json.dump(scene, open(sys.argv[2], "w"), indent=1)
+EOF
+  echo "$out"
+}
+
+one_run() {  # folder index, run number, fidelity, seed
+  local b=${bins[$1]} k=$2 fidelity=$3 seed=$4 dir
   read -r server truck excavator <<<"$(resolve "$b")"
-  dir=$work/run_${1}_$k
+  dir=$work/run_${1}_${k}_${fidelity}_$seed
   rm -rf "$dir" && mkdir -p "$dir"
-  local load
+  local load scene
   load=$(cut -d' ' -f1 /proc/loadavg)
-  "$server" --port 0 --once --scene examples/cosim/site_scene.json --output "$dir/server" >"$dir/server.log" 2>&1 &
+  scene=$(scene_for "$seed")
+  "$server" --port 0 --once --scene "$scene" --output "$dir/server" >"$dir/server.log" 2>&1 &
   local spid=$! port
   port=$(wait_for_server_port "$dir/server.log" "$spid" 60) || { cat "$dir/server.log" >&2; exit 1; }
-  "$truck" --port "$port" --scenario excavator --stand-still --max-time "$seconds" --timeout 1800 \
+  local truckArgs=(--max-time "$seconds") excavatorArgs=(--stop-at "$seconds")
+  # A whole cycle: the truck holds after the one dump, the excavator ends after swinging back.
+  [[ $seconds =~ ^0*([.]0*)?$ ]] && { truckArgs=(--dumps 1); excavatorArgs=(); }
+  [[ $fidelity != none ]] && truckArgs+=(--fidelity "$fidelity")
+  "$truck" --port "$port" --scenario excavator --stand-still "${truckArgs[@]}" --timeout 1800 \
     --output "$dir/truck" >"$dir/truck.log" 2>&1 &
   local tpid=$!
   sleep 0.5
-  "$excavator" --port "$port" --cycles 1 --stop-at "$seconds" --timeout 1800 --output "$dir/excavator" \
+  "$excavator" --port "$port" --cycles 1 "${excavatorArgs[@]}" --timeout 1800 --output "$dir/excavator" \
     >"$dir/excavator.log" 2>&1 &
   local epid=$! ppid=
   if ((perf)); then
@@ -86,25 +124,29 @@ one_run() {  # folder index, run number
   particles=$(sed -n 's/.*compiled, .* \([0-9]*\) particles$/\1/p' "$dir/excavator.log")
   local dt
   dt=$(sed -n 's/^time step: \([0-9.e+-]*\) s.*/\1/p' "$dir/server.log" | head -n1)
+  local summary=$dir/excavator/excavator_summary.txt carried fill dfp dfm truckLoad
+  carried=$(sed -n 's/^cycle_1_carried_kg = //p' "$summary")
+  fill=$(sed -n 's/^cycle_1_peak_fill_kg = //p' "$summary")
+  dfp=$(sed -n 's/^cycle_1_dig_force_peak_N = //p' "$summary")
+  dfm=$(sed -n 's/^cycle_1_dig_force_mean_N = //p' "$summary")
+  truckLoad=$(sed -n 's/.*finished (.*); load \([0-9.e+-]*\) kg.*/\1/p' "$dir/truck.log")
   awk -v b="$b" -v k="$k" -v load="$load" -v sw="${settle_wall:-}" -v ss="${settle_sim:-}" \
     -v pk="${packing:-}" -v top="${top:-}" -v n="$particles" -v sim="$sim" -v wall="$wall" -v dt="$dt" \
-    -v th="$threads" 'BEGIN { printf "%s\t%d\t%s\t%s\t%s\t%s\t%s\t%d\t%s\t%s\t%.4f\t%.4g\n", b, k, load, sw, ss, pk, top, n,
-                              sim, wall, sim / wall, n * (sim / dt) / wall / th }' >>"$results"
-  echo "[$b run $k, load $load] $(tail -n1 "$results" | cut -f4-)"
+    -v th="$threads" -v f="$fidelity" -v seed="$seed" -v c="$carried" -v fill="$fill" -v dfp="$dfp" -v dfm="$dfm" \
+    -v tl="${truckLoad:-}" \
+    'BEGIN { printf "%s\t%d\t%s\t%s\t%s\t%s\t%s\t%d\t%s\t%s\t%.4f\t%.4g\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n", b, k, load, sw, ss, pk,
+             top, n, sim, wall, sim / wall, n * (sim / dt) / wall / th, f, seed, dt, c, fill, dfp, dfm, tl }' >>"$results"
+  echo "[$b run $k, $fidelity, seed $seed, load $load] $(tail -n1 "$results" | cut -f4-12,15-)"
   grep -h 'stage timing' "$dir/server/sim_001/compile_report.txt" | sed 's/^/  /'
 }
 
 for ((k = 1; k <= runs; ++k)); do
-  for i in "${!bins[@]}"; do one_run "$i" "$k"; done
+  for seed in "${seedList[@]}"; do
+    for f in "${fidelityList[@]}"; do
+      for i in "${!bins[@]}"; do one_run "$i" "$k" "$f" "$seed"; done
+    done
+  done
 done
 echo
-echo "medians (real-time factor = simulated s / wall s of the exchanges; settling apart):"
-for b in "${bins[@]}"; do
-  # An empty settling cell (no "settled in" line) is missing: left out of its median.
-  awk -F'\t' -v b="$b" 'NR > 1 && $1 == b { n++; rtf[n] = $11; ps[n] = $12; if ($4 != "") sw[++m] = $4 }
-    function median(a, n,   i, j, t) { for (i = 1; i <= n; i++) for (j = i + 1; j <= n; j++) if (a[j] < a[i]) { t = a[i]; a[i] = a[j]; a[j] = t }
-                                       return n % 2 ? a[(n + 1) / 2] : 0.5 * (a[n / 2] + a[n / 2 + 1]) }
-    END { if (n) printf "  %s: real-time factor %.3f, %.3g particle-steps/s per thread, settling %.1f s wall (%d runs)\n",
-                        b, median(rtf, n), median(ps, n), m ? median(sw, m) : 0, n }' "$results"
-done
+python3 bench/site_presets_summary.py "$results"
 echo "table: $results"

@@ -97,7 +97,15 @@ struct CycleRecord {
   double after_dump = 0.0;  ///< [kg]
   double peak_fill = 0.0;   ///< [kg]
   double duration = 0.0;    ///< [s]
+  double dig_force_peak = 0.0;  ///< [N] largest |DEM force| on the bucket while digging
+  double dig_force_sum = 0.0;   ///< [N] sum of |DEM force| over the digging samples
+  int dig_samples = 0;          ///< samples in penetration, drag and curl
 };
+
+/// Digging: the phases in which the bucket cuts the bed.
+bool digging(ex::Phase phase) {
+  return phase == ex::Phase::kPenetrate || phase == ex::Phase::kDrag || phase == ex::Phase::kCurl;
+}
 
 int run(const Options& opt) {
   std::filesystem::create_directories(opt.output);
@@ -177,6 +185,13 @@ int run(const Options& opt) {
     if (static_cast<std::size_t>(cycle) < cycles.size()) {
       CycleRecord& c = cycles[static_cast<std::size_t>(cycle)];
       c.peak_fill = std::max(c.peak_fill, fillMass);
+      // The wrench read now is the mean over the interval just run, in the phase the
+      // operator had set for it (lastPhase).
+      if (digging(lastPhase)) {
+        c.dig_force_peak = std::max(c.dig_force_peak, force.norm());
+        c.dig_force_sum += force.norm();
+        ++c.dig_samples;
+      }
       if (op.phase() != lastPhase) {
         if (op.phase() == ex::Phase::kDump) c.carried = fillMass;
         if (lastPhase == ex::Phase::kDump) c.after_dump = fillMass;
@@ -224,11 +239,15 @@ int run(const Options& opt) {
   for (std::size_t i = 0; i < cycles.size(); ++i) {
     const CycleRecord& c = cycles[i];
     dug += c.carried - c.after_dump;
+    const double digMean = c.dig_samples > 0 ? c.dig_force_sum / c.dig_samples : 0.0;  // [N]
     summary << "cycle_" << i + 1 << "_carried_kg = " << c.carried << "\ncycle_" << i + 1
             << "_after_dump_kg = " << c.after_dump << "\ncycle_" << i + 1 << "_peak_fill_kg = " << c.peak_fill
-            << "\ncycle_" << i + 1 << "_duration_s = " << c.duration << "\n";
-    std::printf("excavator cycle %zu: carried %.1f kg, left after dump %.1f kg, peak fill %.1f kg, %.2f s\n", i + 1,
-                c.carried, c.after_dump, c.peak_fill, c.duration);
+            << "\ncycle_" << i + 1 << "_duration_s = " << c.duration << "\ncycle_" << i + 1
+            << "_dig_force_peak_N = " << c.dig_force_peak << "\ncycle_" << i + 1
+            << "_dig_force_mean_N = " << digMean << "\n";
+    std::printf("excavator cycle %zu: carried %.1f kg, left after dump %.1f kg, peak fill %.1f kg, %.2f s; "
+                "digging force peak %.2f kN, mean %.2f kN\n",
+                i + 1, c.carried, c.after_dump, c.peak_fill, c.duration, c.dig_force_peak / 1e3, digMean / 1e3);
   }
   summary << "mass_dumped_kg = " << dug << "\n";
   for (std::size_t i = 0; i < 4; ++i) {

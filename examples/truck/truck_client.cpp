@@ -18,6 +18,8 @@
 /// (for engines without a moving frame, such as the LIGGGHTS backend): holding -> done, and
 /// no package ever carries a frame motion; the body still rides on its suspension and the
 /// load is reported as before.
+#include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -74,6 +76,8 @@ struct Options {
   double timeout = 300.0;       ///< [s] bound of every wait for the server (the compile may generate a pit)
   double log_interval = 0.5;    ///< [s] simulated time between log lines; 0: every sample
   bool stand_still = false;     ///< never move the frame: holding -> done
+  int fidelity = 0;             ///< SimulationBox.fidelity: 0 none, 1 draft, 2 engineering, 3 validation
+  double time_step = 0.0;       ///< [s] 0: the preset's step for the site (site_layout.hpp), or kTimeStep
   std::string material = "gravel";
 };
 
@@ -138,6 +142,21 @@ std::optional<int> parse(int argc, char** argv, Options& o) {
   app.add_flag("--stand-still", o.stand_still,
                "never drive: no frame motion is sent (for the LIGGGHTS backend); the body still rides on its "
                "suspension, the load is reported, and the truck says Bye after holding");
+  cli::addValue(app, "--fidelity",
+                 "the simulation box's fidelity preset, draft, engineering or validation: the speed/accuracy "
+                 "choices it sets and the site's time step for it (default: none, a 0.2 ms step at a 10 % "
+                 "restitution tolerance)",
+                 [&o](const std::string& text) {
+                   const std::array<const char*, 3> names{"draft", "engineering", "validation"};
+                   const auto it = std::find(names.begin(), names.end(), text);
+                   if (it == names.end()) cli::refuse("--fidelity", text, "expected draft, engineering or validation");
+                   o.fidelity = static_cast<int>(it - names.begin()) + 1;
+                 })
+      ->type_name("PRESET");
+  cli::addNumber(app, "--time-step", o.time_step, {0.0, true},
+                 "DEM time step [s] (default: the preset's step for the site, or 2e-4); it must divide the 1 ms "
+                 "communication interval")
+      ->type_name("S");
   if (const std::optional<int> exitCode = cli::parse(app, argc, argv)) return exitCode;
   if (!o.expected_given && !o.source) o.expected = {"bucket", "bucket_fill"};  // demlink-excavator's components
   if (o.max_time <= 0.0) o.max_time = o.source ? 30.0 : 600.0;
@@ -283,11 +302,17 @@ int run(const Options& o) {
   // and the pit carries tens of kN (0.5 of a 60 mm radius is ~35 kN); whether one jams
   // that hard depends on round-off (one summation order of the pair forces reached 0.534,
   // the run then went on normally). The energy check still stops a blow-up.
+  // With a fidelity preset the preset sets the tolerance (NaN: not given) and the site's
+  // step for it is used (site_layout.hpp).
   std::vector<std::string> boxStrings{"simulation_box", kFrameName, kFrameName, kBodyName, kLoadName};
   if (o.source) boxStrings.emplace_back(kFeederName);
   for (const auto& n : o.expected) boxStrings.push_back(n);
-  link.send({0, 2},
-            {tc, site::kTimeStep, 0.0, 0.0, 0.0, -9.81, -5.0, -6.5, -2.0, 9.5, 3.0, 5.0, 0.25, 0.1, kNan, kNan, 0.7},
+  const std::array<double, 4> presetStep{site::kTimeStep, site::kDraftTimeStep, site::kEngineeringTimeStep,
+                                         site::kValidationTimeStep};
+  const double timeStep = o.time_step > 0.0 ? o.time_step : presetStep[static_cast<std::size_t>(o.fidelity)];
+  const double tolerance = o.fidelity == 0 ? 0.1 : kNan;
+  link.send({0, 2, 0, 0, o.fidelity},
+            {tc, timeStep, 0.0, 0.0, 0.0, -9.81, -5.0, -6.5, -2.0, 9.5, 3.0, 5.0, 0.25, tolerance, kNan, kNan, 0.7},
             boxStrings,
             "declare simulation_box");
   // The dump body: STL bytes sent from here, reference point = the body frame's origin.
