@@ -607,7 +607,7 @@ bool World::neighbourListsStale(ThreadPool* pool) const {
   const std::span<const Vec3> built = neighbours_.list.builtPositions();
   if (neighbours_.guard.stale(built, particles_.position, pool)) return true;
   return !walls_.meshes.empty() && meshNearListsStale(walls_.meshes, walls_.mesh_colliding, built, particles_.position,
-                                                      neighbours_.list.skin(), pool);
+                                                      particles_.radius, neighbours_.list.skin(), pool);
 }
 
 void World::armRebuildGuard() {

@@ -1,7 +1,6 @@
 #include "demlink/core/walls/mesh_rebuild_check.hpp"
 
 #include <algorithm>
-#include <cmath>
 #include <vector>
 
 #include "demlink/core/parallel/parallel_loops.hpp"
@@ -9,44 +8,57 @@
 namespace demlink::core {
 namespace {
 
-/// Largest |now - (p + Q (built - p0))|^2 over the particles, chunk-parallel; with Q the
-/// identity and p = p0 the largest squared absolute displacement.
-double largestBodyFrameShift2(std::span<const Vec3> built, std::span<const Vec3> now, const Mat3& q,
-                              const Vec3& p, const Vec3& p0, ThreadPool* pool) {
-  const std::size_t n = now.size();
-  const std::uint32_t chunks = chunkCount(n);
-  std::vector<double> largest(chunks, 0.0);
-  parallelParts(pool, chunks, [&](std::uint32_t chunk) {
-    double m = 0.0;
-    for (std::size_t i = chunkBegin(n, chunks, chunk); i < chunkBegin(n, chunks, chunk + 1); ++i) {
-      m = std::max(m, (now[i] - p - q * (built[i] - p0)).squaredNorm());
-    }
-    largest[chunk] = m;
-  });
-  return largest.empty() ? 0.0 : *std::max_element(largest.begin(), largest.end());
-}
+/// A mesh away from its mark: x_build maps to p + Q (x_build - p0) if carried along.
+struct Carried {
+  Mat3 q;
+  Vec3 p;
+  Vec3 p0;
+  double bound;  ///< largest distance of a vertex from p [m]
+};
 
 }  // namespace
 
 bool meshNearListsStale(std::span<const MeshBody> meshes, std::span<const char> colliding,
-                        std::span<const Vec3> built, std::span<const Vec3> now, double skin, ThreadPool* pool) {
+                        std::span<const Vec3> built, std::span<const Vec3> now, std::span<const double> radius,
+                        double skin, ThreadPool* pool) {
   if (built.size() != now.size()) return true;
-  const double skin2 = skin * skin;
-  double absolute2 = -1.0;  // largest squared absolute displacement, computed once when needed
+  bool anyAtMark = false;
+  std::vector<Carried> moving;
   for (std::size_t m = 0; m < meshes.size(); ++m) {
     if (colliding[m] == 0) continue;
     const MeshBody& mesh = meshes[m];
-    if (absolute2 < 0.0) absolute2 = largestBodyFrameShift2(built, now, Mat3::Identity(), Vec3::Zero(), Vec3::Zero(), pool);
-    const double moved = mesh.maxDisplacementSinceMark();
-    if (moved == 0.0) {
-      if (absolute2 > skin2) return true;
+    if (mesh.maxDisplacementSinceMark() == 0.0) {
+      anyAtMark = true;
       continue;
     }
-    if (std::sqrt(absolute2) + moved <= skin) continue;  // |u| <= |x - x_build| + mesh displacement
     const Mat3 q = (mesh.orientation() * mesh.markOrientation().conjugate()).normalized().toRotationMatrix();
-    if (largestBodyFrameShift2(built, now, q, mesh.position(), mesh.markPosition(), pool) > skin2) return true;
+    moving.push_back({q, mesh.position(), mesh.markPosition(), mesh.boundingRadius()});
   }
-  return false;
+  if (!anyAtMark && moving.empty()) return false;
+  // One pass: per chunk, whether some particle is more than the skin from where a mesh
+  // at its mark (absolute displacement) or a moving mesh (carried position) would have it.
+  const double skin2 = skin * skin;
+  const std::size_t n = now.size();
+  const std::uint32_t chunks = chunkCount(n);
+  std::vector<char> stale(chunks, 0);
+  parallelParts(pool, chunks, [&](std::uint32_t chunk) {
+    for (std::size_t i = chunkBegin(n, chunks, chunk); i < chunkBegin(n, chunks, chunk + 1); ++i) {
+      if (anyAtMark && (now[i] - built[i]).squaredNorm() > skin2) {
+        stale[chunk] = 1;
+        return;
+      }
+      for (const Carried& c : moving) {
+        // Out of the mesh's reach now: it touches none of its triangles, so none is missed.
+        const double reach = c.bound + radius[i];
+        if ((now[i] - c.p).squaredNorm() > reach * reach) continue;
+        if ((now[i] - c.p - c.q * (built[i] - c.p0)).squaredNorm() > skin2) {
+          stale[chunk] = 1;
+          return;
+        }
+      }
+    }
+  });
+  return std::find(stale.begin(), stale.end(), 1) != stale.end();
 }
 
 }  // namespace demlink::core

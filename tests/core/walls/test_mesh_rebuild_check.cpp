@@ -2,8 +2,9 @@
 // particles' displacement seen from the mesh's frame against the skin.
 //  - A mesh at its mark: the absolute displacement decides, with the whole skin.
 //  - A translated or rotated mesh: particles carried along (a load in a bucket) leave the
-//    list fresh however far they travel; particles left behind make it stale once the
-//    mesh has moved more than the skin away from them.
+//    list fresh however far they travel; particles left behind within the mesh's reach
+//    make it stale once the mesh has moved more than the skin away from them, those out
+//    of its reach do not.
 //  - A mesh outside its collision window, and a changed particle count.
 //  - In a world: a sphere resting in a tray carried at constant speed needs no rebuild
 //    while the tray travels 50 skins; the rest still holds the sphere (no missed contact).
@@ -29,7 +30,8 @@ std::vector<Vec3> builtPositions() { return {Vec3(0.0, 0.0, 0.011), Vec3(0.05, -
 bool stale(const MeshBody& mesh, const std::vector<Vec3>& now, char colliding = 1) {
   const std::vector<MeshBody> meshes{mesh};
   const std::vector<char> flags{colliding};
-  return meshNearListsStale(meshes, flags, builtPositions(), now, kSkin, nullptr);
+  const std::vector<double> radius(now.size(), 0.005);
+  return meshNearListsStale(meshes, flags, builtPositions(), now, radius, kSkin, nullptr);
 }
 
 TEST(MeshRebuildCheck, AMeshAtItsMarkLetsParticlesUseTheWholeSkin) {
@@ -49,7 +51,19 @@ TEST(MeshRebuildCheck, ParticlesCarriedByATranslatedMeshKeepTheListFresh) {
   EXPECT_FALSE(stale(mesh, carried));
   carried[0].z() += 1.1 * kSkin;  // one particle lifts off the floor by more than the skin
   EXPECT_TRUE(stale(mesh, carried));
-  EXPECT_TRUE(stale(mesh, builtPositions()));  // left behind: the mesh moved 33 skins
+  // Left behind 33 skins away: out of the tray's reach (bounding radius 0.143 m), so no
+  // contact of theirs can be missing now.
+  EXPECT_FALSE(stale(mesh, builtPositions()));
+}
+
+TEST(MeshRebuildCheck, ParticlesLeftBehindWithinReachMakeTheListStale) {
+  MeshBody mesh = tray();
+  mesh.setPose(mesh.position() + Vec3(1.1 * kSkin, 0.0, 0.0), mesh.orientation());
+  EXPECT_TRUE(stale(mesh, builtPositions()));
+  std::vector<Vec3> now = builtPositions();
+  now[2] += Vec3(1.0, 0.0, 0.0);  // the far particle: out of reach before and after
+  for (int k = 0; k < 2; ++k) now[k].x() += 1.1 * kSkin;
+  EXPECT_FALSE(stale(mesh, now));
 }
 
 TEST(MeshRebuildCheck, AMeshMovingLessThanTheSkinFromStillParticlesNeedsNoRebuild) {
@@ -67,7 +81,7 @@ TEST(MeshRebuildCheck, ParticlesCarriedByARotatedMeshKeepTheListFresh) {
   std::vector<Vec3> carried = builtPositions();
   for (Vec3& x : carried) x = mesh.position() + turn * (x - mesh.markPosition());
   EXPECT_FALSE(stale(mesh, carried));
-  EXPECT_TRUE(stale(mesh, builtPositions()));  // the far particle is 0.25 m off the axis
+  EXPECT_TRUE(stale(mesh, builtPositions()));  // particle 1, 6 cm off the axis, left behind by 4 skins
 }
 
 TEST(MeshRebuildCheck, AMeshOutOfContactAndAChangedCount) {

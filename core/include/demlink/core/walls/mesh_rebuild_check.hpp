@@ -10,10 +10,12 @@
 /// has u ~ 0, so a moving tool no longer forces a rebuild every skin/2 of its travel, and
 /// a still mesh lets particles use the whole skin instead of half of it.
 ///
-/// Cost: one pass over the particles for the meshes at their mark pose, and one per
-/// moving mesh unless the largest absolute displacement plus the mesh's own bound
-/// (MeshBody::maxDisplacementSinceMark) already stays within the skin. The answer does
-/// not depend on the thread count.
+/// A particle farther from a moving mesh's reference point than the mesh's bounding radius
+/// plus its own radius touches none of its triangles now, so it cannot be missing from the
+/// list: only the particles within that reach are transformed.
+///
+/// Cost: one pass over the particles per step (it stops at the first stale chunk). The
+/// answer does not depend on the thread count.
 #include <span>
 
 #include "demlink/core/base/math_types.hpp"
@@ -23,10 +25,10 @@
 namespace demlink::core {
 
 /// True when some mesh of `meshes` whose `colliding` entry is non-zero may miss a contact
-/// at positions `now`; `built` holds the positions at the last build (one per particle;
-/// a count that differs is stale), `skin` the lists' skin [m].
+/// at positions `now` of particles of `radius`; `built` holds the positions at the last
+/// build (one per particle; a count that differs is stale), `skin` the lists' skin [m].
 [[nodiscard]] bool meshNearListsStale(std::span<const MeshBody> meshes, std::span<const char> colliding,
-                                      std::span<const Vec3> built, std::span<const Vec3> now, double skin,
-                                      ThreadPool* pool);
+                                      std::span<const Vec3> built, std::span<const Vec3> now,
+                                      std::span<const double> radius, double skin, ThreadPool* pool);
 
 }  // namespace demlink::core
