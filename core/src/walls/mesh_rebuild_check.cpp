@@ -14,6 +14,9 @@ struct Carried {
   Vec3 p;
   Vec3 p0;
   double bound;  ///< largest distance of a vertex from p [m]
+  /// (skin - the mesh's displacement bound)^2, or -1: a particle that moved less than
+  /// skin - bound moved less than the skin in the mesh's frame (|u| <= |d| + bound).
+  double free2;
 };
 
 }  // namespace
@@ -32,7 +35,9 @@ bool meshNearListsStale(std::span<const MeshBody> meshes, std::span<const char> 
       continue;
     }
     const Mat3 q = (mesh.orientation() * mesh.markOrientation().conjugate()).normalized().toRotationMatrix();
-    moving.push_back({q, mesh.position(), mesh.markPosition(), mesh.boundingRadius()});
+    const double moved = mesh.maxDisplacementSinceMark();
+    const double free2 = moved < skin ? (skin - moved) * (skin - moved) : -1.0;
+    moving.push_back({q, mesh.position(), mesh.markPosition(), mesh.boundingRadius(), free2});
   }
   if (!anyAtMark && moving.empty()) return false;
   // One pass: per chunk, whether some particle is more than the skin from where a mesh
@@ -43,11 +48,13 @@ bool meshNearListsStale(std::span<const MeshBody> meshes, std::span<const char> 
   std::vector<char> stale(chunks, 0);
   parallelParts(pool, chunks, [&](std::uint32_t chunk) {
     for (std::size_t i = chunkBegin(n, chunks, chunk); i < chunkBegin(n, chunks, chunk + 1); ++i) {
-      if (anyAtMark && (now[i] - built[i]).squaredNorm() > skin2) {
+      const double d2 = (now[i] - built[i]).squaredNorm();
+      if (anyAtMark && d2 > skin2) {
         stale[chunk] = 1;
         return;
       }
       for (const Carried& c : moving) {
+        if (d2 <= c.free2) continue;
         // Out of the mesh's reach now: it touches none of its triangles, so none is missed.
         const double reach = c.bound + radius[i];
         if ((now[i] - c.p).squaredNorm() > reach * reach) continue;

@@ -70,6 +70,12 @@ TEST(MeshRebuildCheck, AMeshMovingLessThanTheSkinFromStillParticlesNeedsNoRebuil
   MeshBody mesh = tray();
   mesh.setPose(mesh.position() + Vec3(0.0, 0.0, 0.9 * kSkin), mesh.orientation());
   EXPECT_FALSE(stale(mesh, builtPositions()));
+  // A particle moving 0.2 skin the other way: 1.1 skins apart in the mesh's frame.
+  std::vector<Vec3> apart = builtPositions();
+  apart[0].z() -= 0.2 * kSkin;
+  EXPECT_TRUE(stale(mesh, apart));
+  apart[0].z() += 0.15 * kSkin;  // 0.95 skin apart
+  EXPECT_FALSE(stale(mesh, apart));
   mesh.setPose(mesh.position() + Vec3(0.0, 0.0, 0.2 * kSkin), mesh.orientation());
   EXPECT_TRUE(stale(mesh, builtPositions()));
 }
