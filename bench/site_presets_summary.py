@@ -2,7 +2,7 @@
 """Closes bench/run_site_bench.sh: medians per build and fidelity preset, and what each
 preset's speed costs in what the excavator model sees, against VALIDATION.
 
-    site_presets_summary.py RESULTS.tsv
+    site_presets_summary.py RESULTS.tsv   (lines starting with # are comments)
 
 Per build and preset: the median real-time factor, particle-steps per second per thread,
 settling wall time, and the median over runs of the carried mass, peak fill, peak and mean
@@ -39,7 +39,7 @@ def show(value, digits=4):
 
 def main(path):
     with open(path, newline="") as f:
-        rows = list(csv.DictReader(f, delimiter="\t"))
+        rows = list(csv.DictReader((line for line in f if not line.startswith("#")), delimiter="\t"))
     if not rows:
         print("site_presets_summary: no runs in " + path)
         return 1
