@@ -39,15 +39,15 @@ inline constexpr double kTruckBedWallHeight = 0.6;  ///< [m]
 
 // Engine and exchange. The site's critical time step is 4.73e-4 s (0.2 of the Rayleigh
 // time of the smallest gravel sphere; the compile report prints it); the restitution
-// limit at 2 m/s is 5.8e-4 s at a 10 % tolerance and about 1.1e-4 s at 1 %. Every step
-// divides the communication interval.
+// limit at 2 m/s is 5.8e-4 s at a 10 % tolerance and 1.06e-4 s at 1 % (gravel on steel).
+// Every step divides the communication interval.
 inline constexpr double kTimeStep = 2.0e-4;              ///< [s] the demo's default, 42 % of the limit
 inline constexpr double kCommunicationInterval = 1.0e-3;  ///< [s] (5 steps)
 // The step each fidelity preset (SimulationBox.fidelity) runs the site at: the largest
 // divisor of the interval within the preset's share of the limit (docs/accuracy.md).
 inline constexpr double kDraftTimeStep = 3.3333333333333335e-4;  ///< [s] 1/3 of the interval, 70 % of the limit
 inline constexpr double kEngineeringTimeStep = 2.0e-4;           ///< [s] 42 %, within the preset's 50 %
-inline constexpr double kValidationTimeStep = 1.0e-4;            ///< [s] within the 1 % restitution limit
+inline constexpr double kValidationTimeStep = 1.0e-4;            ///< [s] 94 % of the 1 % restitution limit
 
 // Default server address of the demo.
 inline constexpr const char* kDefaultHost = "127.0.0.1";

@@ -240,8 +240,9 @@ PitReport generatePit(World& world, const PitSpec& spec, const std::string& name
   settings.threads = world.settings().threads;
   settings.max_impact_velocity = std::max(world.settings().max_impact_velocity, g * fallTime);
   // The whole limit: it already holds the delivered restitution within the engine's default
-  // tolerance (1 %) at the rain's impact speed. Half of it gave beds of the same packing
-  // and top (seeds 5-7 of the excavator site, docs/benchmarks.md) in twice the steps.
+  // tolerance (1 %) at the rain's impact speed. Half of it took twice the steps for beds
+  // whose packing differed by less than two seed deviations (seeds 5-7 of the excavator
+  // site, docs/benchmarks.md).
   settings.time_step = criticalLimit(settings, material, grain.r_min, prefix);
   World pit(settings);
   pit.addMaterial(material);

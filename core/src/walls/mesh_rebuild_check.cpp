@@ -30,12 +30,12 @@ bool meshNearListsStale(std::span<const MeshBody> meshes, std::span<const char> 
   for (std::size_t m = 0; m < meshes.size(); ++m) {
     if (colliding[m] == 0) continue;
     const MeshBody& mesh = meshes[m];
-    if (mesh.maxDisplacementSinceMark() == 0.0) {
+    const double moved = mesh.maxDisplacementSinceMark();
+    if (moved == 0.0) {
       anyAtMark = true;
       continue;
     }
     const Mat3 q = (mesh.orientation() * mesh.markOrientation().conjugate()).normalized().toRotationMatrix();
-    const double moved = mesh.maxDisplacementSinceMark();
     const double free2 = moved < skin ? (skin - moved) * (skin - moved) : -1.0;
     moving.push_back({q, mesh.position(), mesh.markPosition(), mesh.boundingRadius(), free2});
   }
