@@ -508,7 +508,7 @@ void World::runStage(Stage stage, StepContext& context) {
     case Stage::kDeformableForces: return finishDeformables(context);
     case Stage::kNeighbourList: return updateNeighbours(context);
     case Stage::kForces: return (this->*compute_forces_)(context);
-    case Stage::kParallelBonds: return bonds_.step(walls_.meshes, time(), particles_, context.dt, context.force_step);
+    case Stage::kParallelBonds: return bonds_.step(context.pool, walls_.meshes, time(), particles_, context.dt, context.force_step);
     case Stage::kClumpForceSum: return gatherClumpForces();
     case Stage::kSecondHalfKick: return secondHalfKick(context);
     case Stage::kClumpHalfKick: return integrateClumps(0.5 * context.dt, 0.0, false);

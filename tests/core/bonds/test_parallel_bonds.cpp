@@ -334,6 +334,69 @@ World thrownBlock() {
   return world;
 }
 
+/// A bonded n x n x n block of spheres on `threads` DEM threads, its spheres rattling
+/// apart so that some of its bonds break (the block's centre sits still: no floor).
+World rattledBlock(int n, std::uint32_t threads) {
+  SimulationSettings settings = bondSettings(2.0e-7);
+  settings.max_impact_velocity = 2.0;
+  settings.threads = threads;
+  World world(settings);
+  world.addMaterial(test::bondedMaterial());
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      for (int k = 0; k < n; ++k) {
+        const double phase = i + 2.0 * j + 3.0 * k;
+        const Vec3 rattle(std::sin(phase), std::cos(1.7 * phase), std::sin(2.3 * phase));
+        addSphere(world, Vec3(kSpacing * i, kSpacing * j, kSpacing * k), 0.3 * rattle, 50.0 * rattle);
+      }
+    }
+  }
+  ParallelBondProperties props = bondProperties(1.0e10, 1.0e10);
+  props.tensile_strength = 6.0e4;
+  props.shear_strength = 6.0e4;
+  world.addBondRule(test::everywhere(props));
+  return world;
+}
+
+TEST(ParallelBond, BondStageGivesTheSameBitsOnAnyThreadCount) {
+  // The bonds advance in chunks over the pool and their loads are added in bond order
+  // afterwards: 1, 2 and 3 threads end in the same bits, particles and bonds.
+  // 8^3 spheres carry 1,344 bonds: several chunks of the stage's loop.
+  ASSERT_GE(maxThreads(), 2u);
+  std::vector<World> worlds;
+  for (std::uint32_t threads = 1; threads <= 3; ++threads) {
+    worlds.push_back(rattledBlock(8, std::min(threads, maxThreads())));
+    worlds.back().advance(400);
+  }
+  const World& one = worlds[0];
+  ASSERT_GT(one.bonds().bonds().size(), 1024u) << "the test needs several chunks of bonds";
+  ASSERT_GT(one.bonds().counts().broken, 0u) << "the test needs bonds that break";
+  ASSERT_GT(one.bonds().counts().intact, 0u) << "and bonds that hold";
+  std::printf("rattled block: %llu intact, %llu broken bonds\n",
+              static_cast<unsigned long long>(one.bonds().counts().intact),
+              static_cast<unsigned long long>(one.bonds().counts().broken));
+  for (std::size_t t = 1; t < worlds.size(); ++t) {
+    const World& other = worlds[t];
+    EXPECT_EQ(other.bonds().counts().broken, one.bonds().counts().broken) << t + 1 << " threads";
+    const ParticleArrays& p = one.particles();
+    const ParticleArrays& q = other.particles();
+    ASSERT_EQ(p.size(), q.size());
+    std::size_t differing = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      differing += p.position[i] != q.position[i] || p.angular_velocity[i] != q.angular_velocity[i] ||
+                   p.force[i] != q.force[i] || p.torque[i] != q.torque[i];
+    }
+    EXPECT_EQ(differing, 0u) << t + 1 << " threads: particles in other bits than on one";
+    for (std::size_t k = 0; k < one.bonds().bonds().size(); ++k) {
+      const ParallelBond& a = one.bonds().bonds()[k];
+      const ParallelBond& b = other.bonds().bonds()[k];
+      ASSERT_TRUE(a.broken == b.broken && a.normal_force == b.normal_force && a.shear_force == b.shear_force &&
+                  a.bending_moment == b.bending_moment && a.twisting_moment == b.twisting_moment)
+          << t + 1 << " threads: bond " << k;
+    }
+  }
+}
+
 TEST(ParallelBond, CheckpointRoundTripContinuesBitIdentically) {
   World uninterrupted = thrownBlock();
   uninterrupted.advance(600);

@@ -29,6 +29,7 @@
 namespace demlink::core {
 
 class MeshBody;
+class ThreadPool;
 class StateWriter;
 class StateReader;
 struct Material;
@@ -73,8 +74,10 @@ class BondSet {
 
   /// The bond stage: advances every intact bond by dt with the particles' state at the
   /// step's end and adds its load to their force and torque; then makes the bonds of
-  /// every rule whose creation step `stepCount` has reached.
-  void step(const std::vector<MeshBody>& meshes, double time, ParticleArrays& particles, double dt,
+  /// every rule whose creation step `stepCount` has reached. The bonds advance in chunks
+  /// over `pool` (null: serial), each writing only its own bonds and loads; the loads are
+  /// then added in bond order on the calling thread, so any thread count gives the same bits.
+  void step(ThreadPool* pool, const std::vector<MeshBody>& meshes, double time, ParticleArrays& particles, double dt,
             std::uint64_t stepCount);
   /// Follows a slot mapping (new slot of old slot, kRemovedSlot for removed particles).
   void remapSlots(std::span<const std::uint32_t> newSlotOfOld);
@@ -107,6 +110,9 @@ class BondSet {
   std::vector<char> made_;  ///< per rule
   std::vector<ParallelBond> bonds_;
   BondCounts counts_;
+  /// Scratch of step(): per bond, its load this step and what became of it (kBondOutcome*).
+  std::vector<BondLoad> loads_;
+  std::vector<std::uint8_t> outcomes_;
 };
 
 /// Candidate pairs (slots) among the `eligible` particles whose surfaces are at most
