@@ -11,14 +11,15 @@ namespace demlink::core {
 namespace {
 
 /// `v` projected onto the plane of unit normal `n`, with its length kept: the bond's
-/// in-plane vectors follow the plane as the pair turns.
+/// in-plane vectors follow the plane as the pair turns. One square root of the ratio of
+/// the squared lengths (the step sits on the bond stage's chain of dependent operations).
 Vec3 keepInPlane(const Vec3& v, const Vec3& n) {
-  const double length = v.norm();
-  if (length == 0.0) return v;
+  const double length2 = v.squaredNorm();
+  if (length2 == 0.0) return v;
   const Vec3 projected = v - n.dot(v) * n;
-  const double projectedLength = projected.norm();
-  if (projectedLength == 0.0) return Vec3::Zero();
-  return projected * (length / projectedLength);
+  const double projected2 = projected.squaredNorm();
+  if (projected2 == 0.0) return Vec3::Zero();
+  return projected * std::sqrt(length2 / projected2);
 }
 
 }  // namespace
@@ -42,17 +43,31 @@ BondSection BondSection::of(double radiusMultiplier, double ra, double rb) {
   return s;
 }
 
+namespace {
+
+BondStress stressOf(double normalForce, const Vec3& shearForce, double twistingMoment, const Vec3& bendingMoment,
+                    const BondSection& section) {
+  BondStress s;
+  s.tensile = normalForce / section.area + bendingMoment.norm() * section.radius / section.inertia;
+  s.shear = shearForce.norm() / section.area + std::abs(twistingMoment) * section.radius / section.polar;
+  return s;
+}
+
+}  // namespace
+
 BondLoad advanceParallelBond(ParallelBond& bond, const ParallelBondProperties& properties, const BondEnds& ends,
                              double dt) {
   BondLoad load;
   if (bond.broken) return load;
+  // The bond's state is read once into locals and written once at the end: updating its
+  // fields in place made the processor reload vectors it had just stored in pieces, a
+  // stall that took a third of this function's time.
   const BondSection section = BondSection::of(properties.radius_multiplier, ends.radius_a, ends.radius_b);
   const Vec3 branch = ends.position_b - ends.position_a;
   const double distance = branch.norm();
-  const Vec3 n = distance > 0.0 ? Vec3(branch / distance) : bond.normal;
-  bond.normal = n;
-  bond.shear_force = keepInPlane(bond.shear_force, n);
-  bond.bending_moment = keepInPlane(bond.bending_moment, n);
+  const Vec3 n = distance > 0.0 ? Vec3(branch * (1.0 / distance)) : bond.normal;
+  Vec3 shearForce = keepInPlane(bond.shear_force, n);
+  Vec3 bendingMoment = keepInPlane(bond.bending_moment, n);
 
   // The bond's centre: the middle of the gap (of the overlap when they overlap).
   const double halfGap = 0.5 * (distance - ends.radius_a - ends.radius_b);
@@ -68,12 +83,13 @@ BondLoad advanceParallelBond(ParallelBond& bond, const ParallelBondProperties& p
 
   const double kn = properties.normal_stiffness_per_area;
   const double ks = properties.shear_stiffness_per_area;
-  bond.normal_force += kn * section.area * normalSpeed * dt;
-  bond.shear_force += ks * section.area * dt * shearVelocity;
-  bond.twisting_moment += ks * section.polar * twistRate * dt;
-  bond.bending_moment += kn * section.inertia * dt * bendRate;
+  const double normalForce = bond.normal_force + kn * section.area * normalSpeed * dt;
+  shearForce += ks * section.area * dt * shearVelocity;
+  const double twistingMoment = bond.twisting_moment + ks * section.polar * twistRate * dt;
+  bendingMoment += kn * section.inertia * dt * bendRate;
 
-  const BondStress stress = bondStress(bond, section);
+  bond.normal = n;
+  const BondStress stress = stressOf(normalForce, shearForce, twistingMoment, bendingMoment, section);
   if (stress.tensile >= properties.tensile_strength || stress.shear >= properties.shear_strength) {
     bond.broken = true;
     bond.normal_force = 0.0;
@@ -82,18 +98,19 @@ BondLoad advanceParallelBond(ParallelBond& bond, const ParallelBondProperties& p
     bond.bending_moment.setZero();
     return load;
   }
-  const Vec3 moment = bond.twisting_moment * n + bond.bending_moment;
-  load.force_a = bond.normal_force * n + bond.shear_force;
-  load.torque_a = armA.cross(bond.shear_force) + moment;
-  load.torque_b = armB.cross(-bond.shear_force) - moment;
+  bond.normal_force = normalForce;
+  bond.shear_force = shearForce;
+  bond.twisting_moment = twistingMoment;
+  bond.bending_moment = bendingMoment;
+  const Vec3 moment = twistingMoment * n + bendingMoment;
+  load.force_a = normalForce * n + shearForce;
+  load.torque_a = armA.cross(shearForce) + moment;
+  load.torque_b = armB.cross(-shearForce) - moment;
   return load;
 }
 
 BondStress bondStress(const ParallelBond& bond, const BondSection& section) {
-  BondStress s;
-  s.tensile = bond.normal_force / section.area + bond.bending_moment.norm() * section.radius / section.inertia;
-  s.shear = bond.shear_force.norm() / section.area + std::abs(bond.twisting_moment) * section.radius / section.polar;
-  return s;
+  return stressOf(bond.normal_force, bond.shear_force, bond.twisting_moment, bond.bending_moment, section);
 }
 
 double bondStrainEnergy(const ParallelBond& bond, const ParallelBondProperties& properties,
