@@ -120,10 +120,13 @@ DEMLINK_FORCE_INLINE Vec3 contactForce(const ContactPairParams& p, const Vec3& n
 DEMLINK_FORCE_INLINE Vec3 rollingResistanceTorque(double rollingFriction, double rStar, double normalForce, const Vec3& n,
                                     const Vec3& omegaRel, double reducedInertia, double dt) {
   const Vec3 rolling = omegaRel - omegaRel.dot(n) * n;
-  const double speed = rolling.norm();
-  if (speed <= 0.0) return Vec3::Zero();
-  const double magnitude = std::min(rollingFriction * rStar * normalForce, reducedInertia * speed / dt);
-  return (-magnitude / speed) * rolling;
+  const double speed2 = rolling.squaredNorm();
+  if (speed2 <= 0.0) return Vec3::Zero();
+  // |T| / speed = min(mu_r R* F_n / speed, I* / dt): one division after the square root
+  // (the two limits divided by the speed apart), and I* / dt off that chain.
+  const double inverseSpeed = 1.0 / std::sqrt(speed2);
+  const double stopping = reducedInertia / dt;
+  return -std::min(rollingFriction * rStar * normalForce * inverseSpeed, stopping) * rolling;
 }
 
 }  // namespace demlink::core
