@@ -94,9 +94,9 @@ void BondSet::step(ThreadPool* pool, const std::vector<MeshBody>& meshes, double
   loads_.resize(n);
   outcomes_.resize(n);
   // A bond reads its particles and writes only itself, its load and its outcome. Bonds
-  // are in creation order, their particles anywhere in the slots: the particles of the
-  // bond kPrefetchAhead on are fetched while this one is computed (the reads of the
-  // particles, cache misses, were most of the stage's time).
+  // are in creation order, their particles anywhere in the slots, so reading them misses
+  // the cache: the particles of the bond kPrefetchAhead on are fetched while this one is
+  // computed.
   constexpr std::size_t kPrefetchAhead = 8;
   parallelChunks(pool, n, [&](std::size_t begin, std::size_t end) {
     for (std::size_t k = begin; k < end; ++k) {

@@ -59,9 +59,8 @@ BondLoad advanceParallelBond(ParallelBond& bond, const ParallelBondProperties& p
                              double dt) {
   BondLoad load;
   if (bond.broken) return load;
-  // The bond's state is read once into locals and written once at the end: updating its
-  // fields in place made the processor reload vectors it had just stored in pieces, a
-  // stall that took a third of this function's time.
+  // The bond's state goes through locals and is stored once at the end: fields stored in
+  // pieces and read back as vectors stall the processor's store forwarding.
   const BondSection section = BondSection::of(properties.radius_multiplier, ends.radius_a, ends.radius_b);
   const Vec3 branch = ends.position_b - ends.position_a;
   const double distance = branch.norm();

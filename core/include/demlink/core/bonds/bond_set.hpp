@@ -110,7 +110,7 @@ class BondSet {
   std::vector<char> made_;  ///< per rule
   std::vector<ParallelBond> bonds_;
   BondCounts counts_;
-  /// Scratch of step(): per bond, its load this step and what became of it (kBondOutcome*).
+  /// Scratch of step(): per bond, its load this step and what became of it (skipped, loaded, broke).
   std::vector<BondLoad> loads_;
   std::vector<std::uint8_t> outcomes_;
 };
