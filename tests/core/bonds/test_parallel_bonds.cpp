@@ -335,7 +335,7 @@ World thrownBlock() {
 }
 
 /// A bonded n x n x n block of spheres on `threads` DEM threads, its spheres rattling
-/// apart so that some of its bonds break (the block's centre sits still: no floor).
+/// apart so that some of its bonds break (no floor, no gravity).
 World rattledBlock(int n, std::uint32_t threads) {
   SimulationSettings settings = bondSettings(2.0e-7);
   settings.max_impact_velocity = 2.0;
