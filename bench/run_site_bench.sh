@@ -8,7 +8,7 @@
 # timing, and what the excavator model saw: the mass it carried to the truck, the bucket's
 # peak fill, the peak and mean digging force, and the truck's load.
 #   bench/run_site_bench.sh [--seconds T] [--runs K] [--bin DIR[,DIR2]] [--fidelity P[,P2..]]
-#                           [--seeds S[,S2..]] [--work DIR] [--perf]
+#                           [--seeds S[,S2..]] [--time-step S] [--modulus-scale S] [--work DIR] [--perf]
 #     --seconds T   simulated time of each run (default 8: approach, penetration and drag);
 #                   0: one whole cycle (dig, swing, dump into the truck, swing back)
 #     --runs K      runs per binary folder (default 1); with two folders the runs alternate A, B
@@ -18,6 +18,8 @@
 #                   engineering, validation; several, comma-separated, run in turn; with
 #                   validation among them the close compares every preset with it, seed by seed
 #     --seeds S     pit seeds (default: the scene's, 5); each seed is another bed
+#     --time-step S the truck's --time-step (default: the preset's step for the site)
+#     --modulus-scale S  the truck's --modulus-scale, a softening of the contacts (default: none)
 #     --work DIR    logs and outputs (default bench/work/site)
 #     --perf        record the server with `perf record -g` from the first exchange on
 #                   (perf.data in the run's folder; `perf report -i ... --no-children`)
@@ -25,7 +27,7 @@
 # (bench/site_presets_summary.py). The DEM threads are the truck's simulation_box.threads (2).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-seconds=8 runs=1 bins=() work=${DEMLINK_BENCH_WORK:-bench/work}/site perf=0 fidelities=none seeds=
+seconds=8 runs=1 bins=() work=${DEMLINK_BENCH_WORK:-bench/work}/site perf=0 fidelities=none seeds= timeStep= modulusScale=
 while (($#)); do
   case $1 in
     --seconds) seconds=$2; shift 2 ;;
@@ -35,6 +37,8 @@ while (($#)); do
     --perf) perf=1; shift ;;
     --fidelity) fidelities=$2; shift 2 ;;
     --seeds) seeds=$2; shift 2 ;;
+    --time-step) timeStep=$2; shift 2 ;;
+    --modulus-scale) modulusScale=$2; shift 2 ;;
     *) echo "run_site_bench: unknown option $1" >&2; exit 2 ;;
   esac
 done
@@ -93,6 +97,8 @@ one_run() {  # folder index, run number, fidelity, seed
   # A whole cycle: the truck holds after the one dump, the excavator ends after swinging back.
   [[ $seconds =~ ^0*([.]0*)?$ ]] && { truckArgs=(--dumps 1); excavatorArgs=(); }
   [[ $fidelity != none ]] && truckArgs+=(--fidelity "$fidelity")
+  [[ -n $timeStep ]] && truckArgs+=(--time-step "$timeStep")
+  [[ -n $modulusScale ]] && truckArgs+=(--modulus-scale "$modulusScale")
   "$truck" --port "$port" --scenario excavator --stand-still "${truckArgs[@]}" --timeout 1800 \
     --output "$dir/truck" >"$dir/truck.log" 2>&1 &
   local tpid=$!

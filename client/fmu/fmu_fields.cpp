@@ -38,6 +38,7 @@ const std::map<std::string, std::vector<FieldSpec>>& table() {
            {"max_impact_velocity", T::kReal, A::kReals, 14, 1, "m/s"},
            {"coarse_graining", T::kReal, A::kReals, 15, 1, ""},
            {"max_overlap_fraction", T::kReal, A::kReals, 16, 1, ""},
+           {"modulus_scale", T::kReal, A::kReals, 17, 1, ""},
            {"expected_count", T::kInteger, A::kInts, 0},
            {"threads", T::kInteger, A::kInts, 1},
            {"contact_model",

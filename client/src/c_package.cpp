@@ -105,7 +105,7 @@ std::unique_ptr<Component> componentFromPackage(const Package& p) {
     if (threads > static_cast<long long>(UINT32_MAX)) throw ArgumentError("simulation_box: ints[1] (threads) is too large");
     if (threads >= 0) c->message().set_threads(static_cast<std::uint32_t>(threads));
     // The speed/accuracy settings (docs/physics.md, docs/accuracy.md): contact law,
-    // integrator, fidelity preset, largest impact speed, coarse graining.
+    // integrator, fidelity preset, largest impact speed, coarse graining, softening.
     setContactAndIntegrator(c->message(), r.integer(2, 0), r.integer(3, 0), "simulation_box: ints[2..3]: ");
     const long long fidelity = r.integer(4, 0);
     if (fidelity < 0 || fidelity > 3) {
@@ -116,6 +116,7 @@ std::unique_ptr<Component> componentFromPackage(const Package& p) {
     if (r.hasReal(14)) c->message().set_max_impact_velocity(r.real(14));
     if (r.hasReal(15)) c->message().set_coarse_graining(r.real(15));
     if (r.hasReal(16)) c->message().mutable_watchdog()->set_max_overlap_fraction(r.real(16));
+    if (r.hasReal(17)) c->message().set_modulus_scale(r.real(17));
     out = std::move(c);
   } else if (kind == "material") {
     auto c = std::make_unique<Material>(name);

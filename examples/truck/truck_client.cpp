@@ -77,6 +77,7 @@ struct Options {
   double log_interval = 0.5;    ///< [s] simulated time between log lines; 0: every sample
   bool stand_still = false;     ///< never move the frame: holding -> done
   int fidelity = 0;             ///< SimulationBox.fidelity: 0 none, 1 draft, 2 engineering, 3 validation
+  double modulus_scale = 0.0;   ///< SimulationBox.modulus_scale; 0: not given
   double time_step = 0.0;       ///< [s] 0: the preset's step for the site (site_layout.hpp), or kTimeStep
   std::string material = "gravel";
 };
@@ -156,6 +157,11 @@ std::optional<int> parse(int argc, char** argv, Options& o) {
   cli::addNumber(app, "--time-step", o.time_step, {0.0, true},
                  "DEM time step [s] (default: the preset's step for the site, or 2e-4); it must divide the 1 ms "
                  "communication interval")
+      ->type_name("S");
+  cli::addNumber(app, "--modulus-scale", o.modulus_scale, {0.0, true},
+                 "softening factor of every Young's modulus for the contacts, in (0, 1] (SimulationBox.modulus_scale, "
+                 "docs/accuracy.md \"Softening\"): 0.2 allows --time-step 1e-3 and halves the digging force "
+                 "(default: 1, none)")
       ->type_name("S");
   if (const std::optional<int> exitCode = cli::parse(app, argc, argv)) return exitCode;
   if (!o.expected_given && !o.source) o.expected = {"bucket", "bucket_fill"};  // demlink-excavator's components
@@ -312,7 +318,8 @@ int run(const Options& o) {
   const double timeStep = o.time_step > 0.0 ? o.time_step : presetStep[static_cast<std::size_t>(o.fidelity)];
   const double tolerance = o.fidelity == 0 ? 0.1 : kNan;
   link.send({0, 2, 0, 0, o.fidelity},
-            {tc, timeStep, 0.0, 0.0, 0.0, -9.81, -5.0, -6.5, -2.0, 9.5, 3.0, 5.0, 0.25, tolerance, kNan, kNan, 0.7},
+            {tc, timeStep, 0.0, 0.0, 0.0, -9.81, -5.0, -6.5, -2.0, 9.5, 3.0, 5.0, 0.25, tolerance, kNan, kNan, 0.7,
+             o.modulus_scale > 0.0 ? o.modulus_scale : kNan},
             boxStrings,
             "declare simulation_box");
   // The dump body: STL bytes sent from here, reference point = the body frame's origin.

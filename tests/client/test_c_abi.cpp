@@ -365,8 +365,8 @@ TEST(ClientCAbi, GenericSimulationBoxCarriesOutputThreadsAndNames) {
   const char* boxStrings[] = {"simulation_box", "site", "site", "truck_body"};
   const long long boxInts[] = {0, 2, 2, 1, 3};
   const double boxReals[] = {0.001, 2e-4, 1.0, 0.0, 0.0, -9.81, -1.0, -2.0, -3.0, 4.0, 5.0, 6.0, 0.25, 0.05, 3.5, 2.0,
-                             0.7};
-  ASSERT_EQ(dl_set_data(pkg.package, boxInts, 5, boxReals, 17, boxStrings, 4), DL_OK);
+                             0.7, 0.5};
+  ASSERT_EQ(dl_set_data(pkg.package, boxInts, 5, boxReals, 18, boxStrings, 4), DL_OK);
   ASSERT_EQ(dl_send_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
   ASSERT_EQ(dl_wait_compiled(c.client), DL_OK) << dl_last_error(c.client);
   // The frame input: gravity unchanged (NaN), then a_f, Omega, alpha, origin.
@@ -383,6 +383,7 @@ TEST(ClientCAbi, GenericSimulationBoxCarriesOutputThreadsAndNames) {
   EXPECT_TRUE(contains(lines, "DECL site", "max_impact_velocity: 3.5"));
   EXPECT_TRUE(contains(lines, "DECL site", "fidelity: VALIDATION coarse_graining: 2"));
   EXPECT_TRUE(contains(lines, "DECL site", "watchdog { max_overlap_fraction: 0.7 }"));
+  EXPECT_TRUE(contains(lines, "DECL site", "modulus_scale: 0.5"));
   EXPECT_TRUE(contains(lines, "DECL site", "expected_names: \"site\" expected_names: \"truck_body\""));
   EXPECT_TRUE(contains(lines, "DECL site", "bounds { lower { x: -1 y: -2 z: -3 } upper { x: 4 y: 5 z: 6 } }"));
 

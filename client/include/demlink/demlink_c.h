@@ -58,7 +58,9 @@
  *                    (optional; NaN: default), [13] restitution tolerance (optional),
  *                    [14] max impact velocity [m/s] (optional), [15] coarse graining
  *                    factor >= 1 (optional), [16] watchdog overlap limit, a fraction of
- *                    the smaller radius in (0, 2] (optional; default 0.5); ints[0]
+ *                    the smaller radius in (0, 2] (optional; default 0.5), [17] modulus
+ *                    scale, a softening factor of every Young's modulus in (0, 1]
+ *                    (optional; default 1); ints[0]
  *                    expected component count (<= 0:
  *                    none), ints[1] engine threads (optional; negative: default 1, 0:
  *                    the usable CPUs less the load average), ints[2] contact model and ints[3] integrator (optional; as

@@ -172,6 +172,9 @@ std::string reportText(const CompiledSimulation& out, const core::World& world) 
   }
   for (const std::string& line : deformableReportLines(world)) text += line + "\n";
   for (const std::string& line : coarseGrainingReportLines(out.scene->coarse_graining)) text += line + "\n";
+  for (const std::string& line : softeningReportLines(out.scene->softening)) {
+    if (!line.starts_with("warning: ")) text += line + "\n";
+  }
   for (const std::string& line : fidelityReportLines(out.scene->fidelity, world)) {
     if (!line.starts_with("warning: ")) text += line + "\n";
   }
@@ -460,6 +463,9 @@ CompiledSimulation CosimCompiler::compile(const std::filesystem::path& sceneDire
     for (const std::string& warning : mesh.loadWarnings()) out.report.add_warnings(mesh.name() + ": " + warning);
   }
   for (const std::string& line : fidelityReportLines(out.scene->fidelity, world)) {
+    if (line.starts_with("warning: ")) out.report.add_warnings(line.substr(9));
+  }
+  for (const std::string& line : softeningReportLines(out.scene->softening)) {
     if (line.starts_with("warning: ")) out.report.add_warnings(line.substr(9));
   }
   out.report.set_text(reportText(out, world));

@@ -44,7 +44,7 @@ std::string formatDuration(double seconds) {
 /// world.initialize(), with the engine's "simulation_box.<field>" errors renamed
 /// to the SimulationBox's path in the scene.
 
-void logCompileReport(const core::World& world, const FidelityChoice& fidelity, std::uint64_t endStep,
+void logCompileReport(const core::World& world, const TranslatedScene& scene, std::uint64_t endStep,
                       std::uint64_t frameEvery, const std::string& directory) {
   const core::TimeStepReport& report = world.timeStepReport();
   const core::SimulationSettings& settings = world.settings();
@@ -62,7 +62,12 @@ void logCompileReport(const core::World& world, const FidelityChoice& fidelity, 
   } else {
     spdlog::info("time step: {:.4g} s = {:.1f} % of the limit", settings.time_step, percent);
   }
-  for (const std::string& line : fidelityReportLines(fidelity, world)) {
+  std::vector<std::string> choices = fidelityReportLines(scene.fidelity, world);
+  for (const std::vector<std::string>& more :
+       {coarseGrainingReportLines(scene.coarse_graining), softeningReportLines(scene.softening)}) {
+    choices.insert(choices.end(), more.begin(), more.end());
+  }
+  for (const std::string& line : choices) {
     if (line.starts_with("warning: ")) {
       spdlog::warn("{}", line.substr(9));
     } else {
@@ -159,7 +164,7 @@ RunSummary runHeadless(TranslatedScene& scene, const StepObserver& observer) {
   }
   RunDriver driver(world, run, plan, run.output_directory, box + ".output.directory");
   driver.setInitialiseSeconds(initialiseSeconds);
-  logCompileReport(world, scene.fidelity, endStep, plan.frame_every > 0 ? plan.frame_every : endStep,
+  logCompileReport(world, scene, endStep, plan.frame_every > 0 ? plan.frame_every : endStep,
                    driver.directory().string());
   for (const std::filesystem::path& csv : driver.sensorFiles()) spdlog::info("sensor output: {}", csv.string());
 

@@ -275,9 +275,11 @@ TranslatedScene translateScene(const v1::Scene& scene, const FileScope& files, S
   coarse.validate(boxPrefix + ".coarse_graining");
   core::SimulationSettings settings = toSettings(box, boxPrefix, coarse, fidelity);
   TranslatedScene out{core::World(std::move(settings), boxPrefix), toRunOptions(box, boxPrefix, use),
-                      std::move(fidelity), coarse};
+                      std::move(fidelity), coarse, {}};
 
-  const MaterialNames materials = addMaterials(scene, box, boxPrefix, files, coarse, out.world);
+  SceneMaterials declared = addMaterials(scene, box, boxPrefix, files, coarse, out.world);
+  out.softening = std::move(declared.softening);
+  const MaterialNames materials = std::move(declared.names);
   addMaterialPairs(scene, materials, coarse, out.world);
   addClumpTemplates(scene, out.world);
   const MaterialResolver resolve = [&](const std::string& name, const std::string& field) {

@@ -4,9 +4,13 @@
 #include "demlink/server/scene/translate_materials.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <map>
 #include <utility>
+#include <vector>
+
+#include <fmt/format.h>
 
 #include "demlink/core/base/input_error.hpp"
 #include "demlink/core/base/log_text.hpp"
@@ -63,12 +67,41 @@ core::Material translateMaterial(const v1::Material& declared, const std::string
   return material;
 }
 
-std::map<std::string, std::uint32_t> addMaterials(const v1::Scene& scene, const v1::SimulationBox& box,
-                                                  const std::string& boxPrefix, const FileScope& files,
-                                                  const core::CoarseGraining& coarse, core::World& world) {
+ModulusSoftening chooseSoftening(const v1::SimulationBox& box, const std::string& boxPrefix,
+                                 const std::vector<core::Material>& materials) {
+  ModulusSoftening out;
+  if (!box.has_modulus_scale()) return out;
+  out.factor = box.modulus_scale();
+  // Written so that NaN fails too.
+  if (!(out.factor > 0.0 && out.factor <= 1.0)) {
+    throw InputError(boxPrefix + ".modulus_scale", core::formatValue(out.factor),
+                     "must be in (0, 1]: a softening factor of Young's modulus");
+  }
+  for (const core::Material& m : materials) {
+    if (m.cohesion_energy_density > 0.0) out.cohesive.push_back(m.name);
+  }
+  return out;
+}
+
+std::vector<std::string> softeningReportLines(const ModulusSoftening& softening) {
+  if (softening.factor == 1.0) return {};
+  std::vector<std::string> lines{fmt::format(
+      "modulus_scale {:g} (docs/accuracy.md \"Softening\"): every material's Young's modulus x {:g} for its contacts; "
+      "the time-step limit grows {:.2f}-{:.2f}x",
+      softening.factor, softening.factor, std::pow(softening.factor, -0.4), std::pow(softening.factor, -0.5))};
+  for (const std::string& name : softening.cohesive) {
+    lines.push_back("warning: modulus_scale " + core::formatValue(softening.factor) + " softens cohesive material " +
+                    name + ": its cohesion grows with the contact area; recalibrate cohesion_energy_density "
+                    "(docs/materials.md)");
+  }
+  return lines;
+}
+
+SceneMaterials addMaterials(const v1::Scene& scene, const v1::SimulationBox& box, const std::string& boxPrefix,
+                            const FileScope& files, const core::CoarseGraining& coarse, core::World& world) {
   const core::MaterialDatabase database =
       sceneMaterialDatabase(box.materials_file(), files, boxPrefix + ".materials_file");
-  std::map<std::string, std::uint32_t> names;
+  std::vector<core::Material> declared;
   std::map<std::string, int> declaredBy;
   for (int i = 0; i < scene.components_size(); ++i) {
     const v1::ComponentDeclaration& component = scene.components(i);
@@ -81,9 +114,15 @@ std::map<std::string, std::uint32_t> addMaterials(const v1::Scene& scene, const 
       throw InputError(prefix + ".name", core::quotedLogText(material.name),
                        "material name already used by " + componentPath(it->second));
     }
-    names.emplace(material.name, world.addMaterial(material));
+    declared.push_back(std::move(material));
   }
-  return names;
+  SceneMaterials out;
+  out.softening = chooseSoftening(box, boxPrefix, declared);
+  for (core::Material& material : declared) {
+    material.youngs_modulus *= out.softening.factor;
+    out.names.emplace(material.name, world.addMaterial(material));
+  }
+  return out;
 }
 
 void addMaterialPairs(const v1::Scene& scene, const std::map<std::string, std::uint32_t>& materials,

@@ -31,6 +31,9 @@ model SimulationBox "Server address, communication interval and the DEM run's se
   parameter Real coarseGraining(unit = "1") = -1
     "Parcels of this factor times the grains' size from lattices and sources, same mass flow (negative: 1, none)"
     annotation (Dialog(group = "Speed and accuracy"));
+  parameter Real modulusScale(unit = "1") = -1
+    "Softening factor of every Young's modulus for the contacts, in (0, 1]: a larger time step, a softer material (negative: 1, none)"
+    annotation (Dialog(group = "Speed and accuracy"));
   parameter String expectedNames[:] = fill("", 0)
     "Names of components the server waits for besides the count (e.g. those of another tool's clients)"
     annotation (Dialog(group = "Coupling"));
@@ -69,7 +72,8 @@ initial algorithm
   DEMLink.Functions.declare(client, "simulation_box", "simBox", tc, {nComponents, threads, Integer(contactModel) - 1,
     Integer(integrator) - 1, Integer(fidelity) - 1}, cat(1, {DEMLink.Functions.optional(timeStep), endTime}, gravity,
     boundsLower, boundsUpper, {DEMLink.Functions.optional(vtkInterval), DEMLink.Functions.optional(restitutionTolerance),
-    DEMLink.Functions.optional(maxImpactVelocity), DEMLink.Functions.optional(coarseGraining)}), expectedNames);
+    DEMLink.Functions.optional(maxImpactVelocity), DEMLink.Functions.optional(coarseGraining),
+    DEMLink.Functions.optional(-1), DEMLink.Functions.optional(modulusScale)}), expectedNames);
   DEMLink.Functions.declarationsDone(client);
 equation
   connect(gravityIn, gravityNow);
@@ -119,7 +123,7 @@ algorithm
 interval through <code>outer simBox</code>. The box declares the DEM run's settings (time
 step, gravity, bounds, VTK output interval, and the speed/accuracy settings: engine
 threads, fidelity preset, contact law, integrator, restitution tolerance, largest impact
-speed, coarse graining) and the names of components the server waits for besides this
+speed, coarse graining, modulus scale) and the names of components the server waits for besides this
 model's own (<code>expectedNames</code>, e.g. another tool's clients). The model's own components are not counted: each says at the end of its
 initialisation that its declarations are done, and the server compiles once every
 connected client has said so. With <code>useGravityInput</code> the gravity follows the input

@@ -19,6 +19,7 @@
 #include "demlink/core/world.hpp"
 #include "demlink/server/scene/run_options.hpp"
 #include "demlink/server/scene/fidelity_preset.hpp"
+#include "demlink/server/scene/translate_materials.hpp"
 #include "demlink/server/scene/translate_mesh_body.hpp"
 #include "demlink/v1/scene.pb.h"
 
@@ -30,6 +31,7 @@ struct TranslatedScene {
   RunOptions run;
   FidelityChoice fidelity;  ///< what SimulationBox.fidelity chose, for the compile report
   core::CoarseGraining coarse_graining;  ///< SimulationBox.coarse_graining (factor 1: none)
+  ModulusSoftening softening;            ///< SimulationBox.modulus_scale (factor 1: none)
 };
 
 /// The compile report's line for a coarse-graining factor (none for factor 1).

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "demlink/core/materials/material.hpp"
 #include "demlink/core/particles/coarse_graining.hpp"
@@ -26,17 +27,38 @@ namespace demlink::server {
 [[nodiscard]] core::Material translateMaterial(const v1::Material& declared, const std::string& componentName,
                                                const std::string& fieldPrefix, const core::MaterialDatabase& database);
 
+/// How much the scene's contact moduli are softened (SimulationBox.modulus_scale).
+struct ModulusSoftening {
+  double factor = 1.0;                ///< every material's Young's modulus is multiplied by it [-]
+  std::vector<std::string> cohesive;  ///< softened materials with cohesion (they get stickier)
+};
+
+/// The softening box.modulus_scale asks for the scene's translated `materials` (factor 1
+/// when not given). Throws core::InputError naming `boxPrefix + ".modulus_scale"` outside (0, 1].
+[[nodiscard]] ModulusSoftening chooseSoftening(const v1::SimulationBox& box, const std::string& boxPrefix,
+                                               const std::vector<core::Material>& materials);
+
+/// The compile report's lines for `softening`: none for factor 1, else the factor and the
+/// limit's gain, and a "warning: " line per cohesive material it softens.
+[[nodiscard]] std::vector<std::string> softeningReportLines(const ModulusSoftening& softening);
+
+/// The world indices of the scene's materials by name, and their softening.
+struct SceneMaterials {
+  std::map<std::string, std::uint32_t> names;
+  ModulusSoftening softening;
+};
+
 /// Registers every material component with the world, in declaration order (its cohesion
-/// through `coarse`'s law); returns name -> world index. database_name values are looked
+/// through `coarse`'s law, its Young's modulus softened as chooseSoftening() says).
+/// database_name values are looked
 /// up in the built-in database and, when `box.materials_file` is given, in that file
 /// (resolved against `files`). Throws core::InputError naming
 /// `boxPrefix + ".materials_file"` for a file that is missing, outside the scene's
 /// folders, malformed or names a built-in material again (the place in the file and the
 /// reason follow), and "components[i].material.<field>" for a material's own errors.
-[[nodiscard]] std::map<std::string, std::uint32_t> addMaterials(const v1::Scene& scene, const v1::SimulationBox& box,
-                                                                const std::string& boxPrefix, const FileScope& files,
-                                                                const core::CoarseGraining& coarse,
-                                                                core::World& world);
+[[nodiscard]] SceneMaterials addMaterials(const v1::Scene& scene, const v1::SimulationBox& box,
+                                          const std::string& boxPrefix, const FileScope& files,
+                                          const core::CoarseGraining& coarse, core::World& world);
 
 /// Registers every material_pair component with the world. `materials` maps
 /// declared material names to world indices. Throws core::InputError naming
