@@ -55,6 +55,8 @@ double measure(const Measurement& measurement, const study::Grains& grains, std:
         return metric(study::runHeap(knobs, budget), "repose_angle_deg");
       case Quantity::BulkDensity:
         return metric(study::runBed(knobs, budget), "packing_fraction") * grains.material.density;
+      case Quantity::SlumpHeightRatio:
+        return metric(study::runSlump(knobs, budget), "slump_height_ratio");
       case Quantity::HopperDischarge:
         budget.hopper_orifice = measurement.orifice;
         return metric(study::runHopper(knobs, budget), "discharge_rate");

@@ -4,6 +4,9 @@
 /// calibrationBudget() so that one run takes seconds:
 ///   angle_of_repose   heap: a block of 300 grains collapses on a floor of the same
 ///                     material (0.3 s); the flank's angle [deg];
+///   slump_height_ratio slump: a column of 400 grains settles in a mould (0.15 s), the mould
+///                     is lifted and it slumps (0.3 s); its height after over before [-]
+///                     (cohesion holds the column up);
 ///   bulk_density      bed: 400 grains rain into a box 0.63 x 0.32 of the atlas's footprint
 ///                     (lengths in the grains' size) and settle (0.2 s); packing fraction of
 ///                     the bed's core x particle density [kg/m^3];

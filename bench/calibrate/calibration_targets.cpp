@@ -124,11 +124,15 @@ Targets checked(const v1::CalibrationTargets& in, const std::filesystem::path& f
     }
     out.measurements.push_back(hopper);
   }
+  if (m.has_slump_height_ratio()) {
+    out.measurements.push_back({Quantity::SlumpHeightRatio, required(true, m.slump_height_ratio(),
+                                                                     "measurements.slump_height_ratio", 0.0, true, 1.0)});
+  }
   if (out.measurements.size() < out.fit.size()) {
     throw InputError("measurements", std::to_string(out.measurements.size()) + " given",
                      "fitting " + std::to_string(out.fit.size()) +
                          " parameters needs at least as many measurements (angle_of_repose, bulk_density, "
-                         "hopper_discharge)");
+                         "hopper_discharge, slump_height_ratio)");
   }
   out.fit_seeds = seeds(in.has_fit_seeds(), in.fit_seeds(), 2, 1, "fit_seeds");
   out.uncertainty_seeds = seeds(in.has_uncertainty_seeds(), in.uncertainty_seeds(), 4, 2, "uncertainty_seeds");
@@ -159,6 +163,7 @@ const char* quantityName(Quantity quantity) {
     case Quantity::AngleOfRepose: return "angle_of_repose";
     case Quantity::BulkDensity: return "bulk_density";
     case Quantity::HopperDischarge: return "hopper_discharge";
+    case Quantity::SlumpHeightRatio: return "slump_height_ratio";
   }
   return "?";
 }
@@ -168,6 +173,7 @@ const char* quantityUnit(Quantity quantity) {
     case Quantity::AngleOfRepose: return "deg";
     case Quantity::BulkDensity: return "kg/m^3";
     case Quantity::HopperDischarge: return "kg/s";
+    case Quantity::SlumpHeightRatio: return "-";
   }
   return "?";
 }

@@ -20,7 +20,7 @@ enum class Parameter : std::uint8_t { SlidingFriction, RollingFriction, Cohesion
 void setParameter(core::Material& material, Parameter parameter, double value);
 
 /// A bulk quantity the user measured.
-enum class Quantity : std::uint8_t { AngleOfRepose, BulkDensity, HopperDischarge };
+enum class Quantity : std::uint8_t { AngleOfRepose, BulkDensity, HopperDischarge, SlumpHeightRatio };
 [[nodiscard]] const char* quantityName(Quantity quantity);
 [[nodiscard]] const char* quantityUnit(Quantity quantity);
 
@@ -31,7 +31,7 @@ struct FitParameter {
 
 struct Measurement {
   Quantity quantity = Quantity::AngleOfRepose;
-  double value = 0.0;    ///< in quantityUnit: deg, kg/m^3, kg/s
+  double value = 0.0;    ///< in quantityUnit: deg, kg/m^3, kg/s, -
   double orifice = 0.0;  ///< hopper discharge only: the square orifice's side [m]
 };
 

@@ -280,7 +280,8 @@ int check(const std::vector<Row>& rows, const std::vector<SeedValues>& summary,
   };
   const std::map<std::string, std::pair<double, double>> sane{
       {"restitution_ratio", {0.8, 1.2}},  {"packing_fraction", {0.3, 0.72}}, {"drag_force", {1e-4, 100.0}},
-      {"repose_angle_deg", {1.0, 60.0}},  {"heap_height", {0.005, 0.2}},      {"discharge_rate", {1e-4, 10.0}}};
+      {"repose_angle_deg", {1.0, 60.0}},  {"heap_height", {0.005, 0.2}},      {"discharge_rate", {1e-4, 10.0}},
+      {"slump_height_ratio", {0.05, 1.05}}};
   for (const Row& row : rows) {
     const std::string name = row.setting->knob + "=" + row.setting->value + " " + row.result.scene;
     require(row.result.status == "ok", name + " ran (" + row.result.status + ")");

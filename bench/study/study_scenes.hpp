@@ -12,7 +12,8 @@
 ///           force over the steady window (the last two thirds of its travel);
 ///   bed_cohesive  the same bed with a cohesive material (Budget::cohesion_energy_density,
 ///           the moist-soil law of docs/materials.md): the drag an excavator model feels;
-///   heap    a block of spheres collapses on a rough floor: angle of repose of the heap;
+///   heap    a block of spheres collapses on a rough floor: angle of repose of the heap,
+///           and (runSlump, demlink-calibrate only) a column's slump out of its mould;
 ///   hopper  a box with a square orifice in its floor, closed by a gate while it fills:
 ///           mass discharge rate once the gate opens.
 #include <cstdint>
@@ -72,6 +73,9 @@ struct Budget {
   /// k_c of the cohesive bed (bed_cohesive) [J/m^3]; see docs/accuracy.md "Cohesive drag".
   double cohesion_energy_density = 1.5e5;
   double heap_time = 0.4;            ///< [s]
+  std::size_t slump_grains = 400;    ///< slump test's column (runSlump)
+  double slump_settle = 0.15;        ///< [s] in the mould
+  double slump_time = 0.3;           ///< [s] after the mould is lifted
   double hopper_fill = 0.25;         ///< [s]
   double hopper_flow = 0.2;          ///< [s]
   /// Side of the hopper's square orifice [m]; the box's side is 2.4 times it and the grain
@@ -124,6 +128,11 @@ struct SettledBed {
 [[nodiscard]] SceneResult runBed(const Knobs& knobs, const Budget& budget, bool cohesive = false,
                                  SettledBed settled = {});
 [[nodiscard]] SceneResult runHeap(const Knobs& knobs, const Budget& budget);
+/// A slump test: a square column of grains settles in a mould (Budget::slump_settle), the
+/// mould is lifted (its walls stop touching the grains) and the column slumps for
+/// Budget::slump_time; metric slump_height_ratio, the 95th-percentile centre height after
+/// over the one before [-]. Cohesion holds the column up.
+[[nodiscard]] SceneResult runSlump(const Knobs& knobs, const Budget& budget);
 [[nodiscard]] SceneResult runHopper(const Knobs& knobs, const Budget& budget);
 /// Grains of the hopper scene for `knobs`' grains and `budget`'s orifice and scale
 /// (before coarse graining) [-].

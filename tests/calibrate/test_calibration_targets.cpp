@@ -84,6 +84,10 @@ INSTANTIATE_TEST_SUITE_P(
         BadTargets{"no_parameters", with("", kAngle), "t.json:fit", "(missing)"},
         BadTargets{"negative_angle", with(kMu, R"("angle_of_repose": -5)"), "t.json:measurements.angle_of_repose",
                    "-5"},
+        BadTargets{"slump_ratio_above_one", with(kMu, R"("slump_height_ratio": 1.2)"),
+                   "t.json:measurements.slump_height_ratio", "1.2"},
+        BadTargets{"zero_slump_ratio", with(kMu, R"("slump_height_ratio": 0)"),
+                   "t.json:measurements.slump_height_ratio", "0"},
         BadTargets{"denser_than_grains", with(kMu, R"("bulk_density": 2000)"), "t.json:measurements.bulk_density",
                    "2000"},
         BadTargets{"negative_rate", with(kMu, R"("hopper_discharge": {"rate": -0.1, "orifice": 0.02})"),
@@ -104,7 +108,8 @@ INSTANTIATE_TEST_SUITE_P(
     [](const ::testing::TestParamInfo<BadTargets>& param) { return std::string(param.param.what); });
 
 TEST(CalibrationTargets, TheExampleFilesAreValid) {
-  for (const char* name : {"wheat_targets.json", "synthetic_heap.json", "synthetic_heap_hopper.json"}) {
+  for (const char* name : {"wheat_targets.json", "synthetic_heap.json", "synthetic_heap_hopper.json",
+                           "synthetic_slump.json"}) {
     const Targets t = readTargets(std::string(DEMLINK_SOURCE_DIR) + "/examples/calibration/" + name);
     EXPECT_GE(t.measurements.size(), t.fit.size()) << name;
   }
