@@ -95,6 +95,10 @@ void SimulationWorker::loop() {
     }
     if (work) ++calls_done_;
     const bool ended = host_->simulationsFinished() > 0;
+    // A call that sends nothing while another is already queued is reported with that one
+    // (calls_done counts both): each report wakes the network thread, and a client's
+    // packages for one exchange arrive together.
+    if (out.empty() && !ended && pending_.load(std::memory_order_acquire) > 0) continue;
     report_(std::move(out), host_->status(), ended, calls_done_);
     if (ended) {
       const std::lock_guard lock(mutex_);

@@ -2,8 +2,9 @@
 /// One simulation's thread (docs/server.md, "Threads"): it runs the calls into its own
 /// CosimHost one at a time, in the order the network thread queued them, and the host's
 /// timers (poll() at nextDeadline()). After every call it hands what the host returned,
-/// with the host's status, to `report` (which posts it to the network thread). The thread
-/// ends by itself once its simulation has ended.
+/// with the host's status, to `report` (which posts it to the network thread), except a
+/// call that returned nothing while the next is already queued: the next call's report
+/// covers it. The thread ends by itself once its simulation has ended.
 ///
 /// The host is only ever touched by this thread, so it needs no locks; the network thread
 /// never waits for it except in finish() (server shutdown), which the host's stop flag
