@@ -86,8 +86,8 @@ const std::map<std::string, KindLayout>& layouts() {
   return table;
 }
 
-const char* const kDeclaredOnly[] = {"material",        "plane",         "single_particle",
-                                     "particle_system", "pit_generator", "parallel_bonds"};
+const char* const kDeclaredOnly[] = {"material",      "plane",          "single_particle", "particle_system",
+                                     "pit_generator", "parallel_bonds", "clump_template"};
 
 [[noreturn]] void bad(int line, const std::string& field, const std::string& value, const std::string& reason) {
   throw std::invalid_argument("FMU configuration line " + std::to_string(line) + ": " + field + " = '" + value +
@@ -159,7 +159,7 @@ bool isExchanged(const std::string& kind) {
   throw std::invalid_argument("component kind '" + kind +
                               "' cannot be carried by an FMU (exchanged: simulation_box, rigid_body, particle_source, "
                               "particle_sink, region_sensor, flow_sensor; declared only: material, plane, "
-                              "single_particle, particle_system, pit_generator, parallel_bonds)");
+                              "single_particle, particle_system, pit_generator, parallel_bonds, clump_template)");
 }
 
 const KindLayout& layoutOf(const std::string& kind) { return layouts().at(kind); }
@@ -230,6 +230,18 @@ void checkField(const Section& s, const FieldSpec& f, int line, const std::strin
       }
       break;
     }
+    case FieldType::kRealList: {
+      const std::vector<std::string> parts = words(value);
+      if (parts.empty() || parts.size() % static_cast<std::size_t>(f.count) != 0) {
+        bad(line, where, value,
+            "needs numbers in groups of " + std::to_string(f.count) + ", at least one group, got " +
+                std::to_string(parts.size()));
+      }
+      for (const std::string& part : parts) {
+        if (!std::isfinite(parseReal(line, where, part))) bad(line, where, value, "must be finite");
+      }
+      break;
+    }
     case FieldType::kInteger:
       (void)parseInt(line, where, value);
       break;
@@ -272,7 +284,9 @@ void buildLayout(Section& s) {
       }
     }
     if (!given && f.defaults.empty()) continue;
-    const std::size_t end = static_cast<std::size_t>(f.index + f.count);
+    const std::size_t end = f.type == FieldType::kRealList
+                                ? static_cast<std::size_t>(f.index) + words(s.given.at(f.name).second).size()
+                                : static_cast<std::size_t>(f.index + f.count);
     if (f.array == FieldArray::kReals) nReals = std::max(nReals, end);
     if (f.array == FieldArray::kInts) nInts = std::max(nInts, end);
     if (f.array == FieldArray::kStrings) nStrings = std::max(nStrings, end);
@@ -302,6 +316,10 @@ void buildLayout(Section& s) {
         if (it != s.given.end()) {
           values.clear();
           for (const std::string& part : words(it->second.second)) values.push_back(parseReal(line, where, part));
+        }
+        if (f.type == FieldType::kRealList) {  // the last field of its layout: to the end of reals
+          for (std::size_t i = 0; i < values.size(); ++i) s.spec.reals[static_cast<std::size_t>(f.index) - 1 + i] = values[i];
+          break;
         }
         for (int i = 0; i < f.count; ++i) {
           const std::size_t slot = static_cast<std::size_t>(f.index + i);

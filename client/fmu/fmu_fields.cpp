@@ -90,6 +90,7 @@ const std::map<std::string, std::vector<FieldSpec>>& table() {
        {
            {"material", T::kText, A::kStrings, 2, 1, "", {}, {}, {}, true},
            {"attached_to", T::kText, A::kStrings, 3},
+           {"clump_template", T::kText, A::kStrings, 4},
            {"region", T::kChoice, A::kInts, 1, 1, "", {{"box", 0}, {"disc", 1}}},
            {"centre", T::kReal, A::kReals, 1, 3, "m", {}, {}, {}, true},
            {"half_extents", T::kReal, A::kReals, 4, 3, "m", {}, {"region", "box"}},
@@ -131,6 +132,11 @@ const std::map<std::string, std::vector<FieldSpec>>& table() {
            {"clod_fraction", T::kReal, A::kReals, 10, 1, ""},
            {"clod_radius", T::kReal, A::kReals, 11, 1, "m"},
            {"clod_bonds", T::kText, A::kStrings, 3},
+           {"clump_template", T::kText, A::kStrings, 4},
+       }},
+      {"clump_template",
+       {
+           {"spheres", T::kRealList, A::kReals, 1, 4, "m", {}, {}, {}, true},
        }},
       {"parallel_bonds",
        {

@@ -19,6 +19,7 @@ enum class FieldType {
   kChoice,      ///< one of `choices` (stored as its number in ints)
   kText,        ///< the rest of the line (may be empty)
   kTextList,    ///< names separated by spaces, from `index` to the end of strings
+  kRealList,    ///< numbers in groups of `count`, from `index` to the end of reals
 };
 
 struct FieldSpec {

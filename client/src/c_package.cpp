@@ -169,6 +169,18 @@ std::unique_ptr<Component> componentFromPackage(const Package& p) {
     if (r.hasReal(15)) c->setStopTime(r.real(15));
     c->setSeed(static_cast<std::uint64_t>(r.integer(0, 0)));
     if (!r.text(3).empty()) c->attachTo(r.text(3));
+    if (!r.text(4).empty()) c->setClumpTemplate(r.text(4));
+    out = std::move(c);
+  } else if (kind == "clump_template") {
+    // reals[1..]: (x, y, z, radius) per sphere.
+    if (p.reals.size() < 5 || (p.reals.size() - 1) % 4 != 0) {
+      throw ArgumentError("clump_template: reals[1..] must be (x, y, z, radius) per sphere, at least one sphere; got " +
+                          std::to_string(p.reals.empty() ? 0 : p.reals.size() - 1) + " numbers");
+    }
+    auto c = std::make_unique<ClumpTemplate>(name);
+    for (std::size_t k = 1; k + 3 < p.reals.size(); k += 4) {
+      c->addSphere(Vec3{p.reals[k], p.reals[k + 1], p.reals[k + 2]}, p.reals[k + 3]);
+    }
     out = std::move(c);
   } else if (kind == "particle_sink" || kind == "region_sensor") {
     const long long shape = r.integer(0, 0);
@@ -207,6 +219,7 @@ std::unique_ptr<Component> componentFromPackage(const Package& p) {
     c->setMaterial(r.text(2)).setBox(r.vec(1), r.vec(4)).setRadiusRange(r.real(7), r.real(8));
     c->setTargetHeight(r.real(9)).setSeed(static_cast<std::uint64_t>(r.integer(0, 0)));
     if (r.hasReal(10)) c->setClods(r.real(10), r.hasReal(11) ? r.real(11) : 0.0, r.text(3));
+    if (!r.text(4).empty()) c->setClumpTemplate(r.text(4));
     out = std::move(c);
   } else if (kind == "parallel_bonds") {
     auto c = std::make_unique<ParallelBonds>(name);

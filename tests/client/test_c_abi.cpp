@@ -463,6 +463,46 @@ TEST(ClientCAbi, TypedDeclarationsOfPartsFilesAndEveryRegionShape) {
 
 // The source's generic layout as the Modelica ParticleSource fills it: a disc with discrete
 // sizes (pairs from reals[20]) and a box with a truncated normal (mean, std at [18], [19]).
+TEST(ClientCAbi, GenericClumpTemplateAndTheSourcesAndPitsThatUseIt) {
+  const std::string log = logFile("generic_clump");
+  FakeServerProcess server(1, 3, log);
+  ASSERT_NE(server.port(), 0);
+  ClientGuard c;
+  PackageGuard pkg;
+  ASSERT_EQ(dl_connect_to_host(c.client, "127.0.0.1", server.port(), "feed", nullptr), DL_OK) << dl_last_error(c.client);
+  const double nan = std::nan("");
+  const char* clumpStrings[] = {"clump_template", "pebble"};
+  const double clumpReals[] = {0.0, -0.002, 0.0, 0.0, 0.003, 0.002, 0.0, 0.0, 0.0025};
+  ASSERT_EQ(dl_set_data(pkg.package, nullptr, 0, clumpReals, 9, clumpStrings, 2), DL_OK);
+  ASSERT_EQ(dl_send_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
+  const char* sourceStrings[] = {"particle_source", "chute", "glass", "", "pebble"};
+  const long long sourceInts[] = {6, 0, 1};
+  const double sourceReals[] = {0.0, 0.0, 0.0, 1.0, 0.1, 0.1, 0.1, 0.003, 0.005, 100.0, nan};
+  ASSERT_EQ(dl_set_data(pkg.package, sourceInts, 3, sourceReals, 11, sourceStrings, 5), DL_OK);
+  ASSERT_EQ(dl_send_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
+  const char* pitStrings[] = {"pit_generator", "pit", "glass", "", "pebble"};
+  const long long pitInts[] = {7};
+  const double pitReals[] = {0.0, -1.0, -1.0, -1.0, 1.0, 1.0, 0.0, 0.003, 0.005, 0.0};
+  ASSERT_EQ(dl_set_data(pkg.package, pitInts, 1, pitReals, 10, pitStrings, 5), DL_OK);
+  ASSERT_EQ(dl_send_package(c.client, pkg.package), DL_OK) << dl_last_error(c.client);
+  ASSERT_EQ(dl_wait_compiled(c.client), DL_OK) << dl_last_error(c.client);
+  EXPECT_EQ(dl_finish(c.client, "done"), DL_OK);
+  ASSERT_EQ(server.wait(), 0);
+
+  const auto lines = readLines(log);
+  EXPECT_TRUE(contains(lines, "DECL pebble", "spheres { offset { x: -0.002 } radius: 0.003 }"));
+  EXPECT_TRUE(contains(lines, "DECL pebble", "spheres { offset { x: 0.002 } radius: 0.0025 }"));
+  EXPECT_TRUE(contains(lines, "DECL chute", "clump_template: \"pebble\""));
+  EXPECT_TRUE(contains(lines, "DECL pit", "clump_template: \"pebble\""));
+
+  // A sphere's four numbers are refused incomplete, by name.
+  ClientGuard other;
+  ASSERT_EQ(dl_set_data(pkg.package, nullptr, 0, clumpReals, 8, clumpStrings, 2), DL_OK);
+  EXPECT_EQ(dl_send_package(other.client, pkg.package), DL_ERR_ARGUMENT);
+  EXPECT_NE(std::string(dl_last_error(other.client)).find("clump_template: reals[1..]"), std::string::npos)
+      << dl_last_error(other.client);
+}
+
 TEST(ClientCAbi, GenericParticleSourceCarriesDiscRegionAndSizeDistributions) {
   const std::string log = logFile("generic_source");
   FakeServerProcess server(1, 2, log);

@@ -138,6 +138,28 @@ TEST(FmuConfig, NamedFieldsFillTheGenericLayout) {
   EXPECT_EQ(probe.strings, (std::vector<std::string>{"plate"}));
 }
 
+TEST(FmuConfig, ClumpTemplatesAndWhatPoursThemFillTheGenericLayout) {
+  const FmuConfig config = parseConfig(
+      "model = M\ninterval = 0.01\n[simulation_box box]\ntime_step = 2e-5\n"
+      "[clump_template pebble]\nspheres = -0.002 0 0 0.003  0.002 0 0 0.0025\n"
+      "[pit_generator bed]\nmaterial = gravel\nlower = 0 0 0\nupper = 1 1 1\nradius_min = 0.01\n"
+      "radius_max = 0.02\ntarget_height = 0.5\nclump_template = pebble\n");
+  ASSERT_EQ(config.components.size(), 3u);
+  const ComponentSpec& pebble = config.components[1];
+  EXPECT_EQ(pebble.kind, "clump_template");
+  EXPECT_EQ(pebble.reals, (std::vector<double>{-0.002, 0, 0, 0.003, 0.002, 0, 0, 0.0025}));  // reals[1..8]
+  const ComponentSpec& bed = config.components[2];
+  EXPECT_EQ(bed.strings, (std::vector<std::string>{"gravel", "", "pebble"}));  // strings[2..4]
+  // A sphere's four numbers, all of them.
+  try {
+    (void)parseConfig("model = M\ninterval = 0.01\n[clump_template pebble]\nspheres = 0 0 0\n");
+    FAIL() << "accepted three numbers";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("pebble.spheres = '0 0 0': needs numbers in groups of 4"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(FmuConfig, ParallelBondsAndClodsFillTheGenericLayout) {
   const FmuConfig config = parseConfig(
       "model = M\ninterval = 0.01\n[simulation_box box]\ntime_step = 2e-5\n"

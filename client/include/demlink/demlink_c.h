@@ -79,7 +79,11 @@
  *                    reals[1..3] box centre [m], [4..6] half extents [m], [7] r_min,
  *                    [8] r_max [m], [9] rate [1/s] (NaN: not given), [10] rate [kg/s]
  *                    (NaN: not given), [11..13] velocity [m/s], [14] start time [s],
- *                    [15] stop time [s] (NaN: never); ints[0] seed.
+ *                    [15] stop time [s] (NaN: never); ints[0] seed; strings[4] a
+ *                    clump_template the source pours instead of spheres ("" or omitted:
+ *                    spheres).
+ *   clump_template : reals[1..] (x, y, z, radius) [m] per sphere, offsets from the
+ *                    clump's reference point; at least one sphere.
  *   particle_sink,
  *   region_sensor  : ints[0] shape: 0 box, 1 sphere; box: reals[1..3] centre, [4..6] size [m],
  *                    [7..10] orientation w x y z (optional, NaN: none); sphere: reals[1..3]
@@ -93,7 +97,8 @@
  *   pit_generator  : strings[2] material; reals[1..3] lower, [4..6] upper corner [m],
  *                    [7] r_min, [8] r_max, [9] target height [m]; ints[0] seed; clods
  *                    (optional): reals[10] fraction [-], [11] radius [m], strings[3] the
- *                    parallel_bonds that join them.
+ *                    parallel_bonds that join them; strings[4] a clump_template
+ *                    the bed is made of ("" or omitted: spheres).
  *   parallel_bonds : reals[1] kn, [2] ks [Pa/m], [3] tensile, [4] shear strength [Pa],
  *                    [5] gap tolerance [m], [6] radius multiplier, [7] create time [s],
  *                    [8] fraction (each NaN or omitted: default); ints[0] seed; ints[1]

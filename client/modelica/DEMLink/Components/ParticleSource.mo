@@ -7,7 +7,7 @@ model ParticleSource "Inserts particles into a box or disc at a steady rate (par
     {startTime, DEMLink.Functions.optional(stopTime), discRadius, thickness},
     if sizes == DEMLink.Types.SizeDistribution.Normal then {mean, std} else {weightAtMin, weightAtMax},
     {if mod(i, 2) == 1 then discreteRadii[div(i + 1, 2)] else discreteWeights[div(i, 2)] for i in 1:2 * size(discreteRadii, 1)}),
-    final declStrings = {material, attachedTo});
+    final declStrings = {material, attachedTo, clumpTemplate});
   parameter String material = "gravel" "Material name";
   parameter DEMLink.Types.SourceRegion region = DEMLink.Types.SourceRegion.Box "Box or disc";
   parameter Modelica.Units.SI.Position centre[3] = {0, 0, 1} "Region centre (body frame when attached)";
@@ -41,6 +41,7 @@ model ParticleSource "Inserts particles into a box or disc at a steady rate (par
   parameter Modelica.Units.SI.Time stopTime = -1 "Insertion stops (negative: never)";
   parameter Integer seed = 1 "Random seed";
   parameter String attachedTo = "" "Rigid body whose mesh the box moves with (empty: fixed)";
+  parameter String clumpTemplate = "" "Name of a ClumpTemplate component: clumps of its shape instead of spheres (empty: spheres)";
   parameter Boolean use_rate_in = false "Rate from the input rate_in instead of the fixed rate"
     annotation (Evaluate = true, choices(checkBox = true), Dialog(group = "Run-time inputs"));
   parameter Boolean use_on_in = false "Insertion switched on and off by the input on_in"
