@@ -67,7 +67,7 @@ core::Material translateMaterial(const v1::Material& declared, const std::string
   return material;
 }
 
-ModulusSoftening chooseSoftening(const v1::SimulationBox& box, const std::string& boxPrefix,
+ModulusSoftening chooseSoftening(const v1::Scene& scene, const v1::SimulationBox& box, const std::string& boxPrefix,
                                  const std::vector<core::Material>& materials) {
   ModulusSoftening out;
   if (!box.has_modulus_scale()) return out;
@@ -78,7 +78,12 @@ ModulusSoftening chooseSoftening(const v1::SimulationBox& box, const std::string
                      "must be in (0, 1]: a softening factor of Young's modulus");
   }
   for (const core::Material& m : materials) {
-    if (m.cohesion_energy_density > 0.0) out.cohesive.push_back(m.name);
+    if (m.cohesion_energy_density > 0.0) out.cohesive.push_back("material " + m.name);
+  }
+  for (const v1::ComponentDeclaration& c : scene.components()) {
+    if (c.has_material_pair() && c.material_pair().cohesion_energy_density() > 0.0) {
+      out.cohesive.push_back("material_pair " + c.name());
+    }
   }
   return out;
 }
@@ -90,8 +95,8 @@ std::vector<std::string> softeningReportLines(const ModulusSoftening& softening)
       "the time-step limit grows {:.2f}-{:.2f}x",
       softening.factor, softening.factor, std::pow(softening.factor, -0.4), std::pow(softening.factor, -0.5))};
   for (const std::string& name : softening.cohesive) {
-    lines.push_back("warning: modulus_scale " + core::formatValue(softening.factor) + " softens cohesive material " +
-                    name + ": its cohesion grows with the contact area; recalibrate cohesion_energy_density "
+    lines.push_back("warning: modulus_scale " + core::formatValue(softening.factor) + " softens cohesive " + name +
+                    ": its cohesion grows with the contact area; recalibrate cohesion_energy_density "
                     "(docs/materials.md)");
   }
   return lines;
@@ -117,7 +122,7 @@ SceneMaterials addMaterials(const v1::Scene& scene, const v1::SimulationBox& box
     declared.push_back(std::move(material));
   }
   SceneMaterials out;
-  out.softening = chooseSoftening(box, boxPrefix, declared);
+  out.softening = chooseSoftening(scene, box, boxPrefix, declared);
   for (core::Material& material : declared) {
     material.youngs_modulus *= out.softening.factor;
     out.names.emplace(material.name, world.addMaterial(material));

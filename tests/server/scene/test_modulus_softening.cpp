@@ -62,12 +62,16 @@ TEST(ModulusSoftening, NoPresetSoftens) {
   }
 }
 
-TEST(ModulusSoftening, WarnsForEachCohesiveMaterialItSoftens) {
-  TranslatedScene t = translateScene(sceneWith(R"(, "modulus_scale": 0.5)", R"(, "cohesion_energy_density": 1e4)"), {});
+TEST(ModulusSoftening, WarnsForEachCohesiveMaterialOrPairItSoftens) {
+  const std::string wetPair =
+      R"({"name": "wet", "material_pair": {"material_a": "glass", "material_b": "steel", "cohesion_energy_density": 1e4}})";
+  TranslatedScene t =
+      translateScene(sceneWith(R"(, "modulus_scale": 0.5)", R"(, "cohesion_energy_density": 1e4)", wetPair), {});
   EXPECT_EQ(t.world.materials()[0].youngs_modulus, 0.5e7);
   EXPECT_EQ(t.world.materials()[0].cohesion_energy_density, 1e4);
   const std::vector<std::string> lines = softeningReportLines(t.softening);
   EXPECT_TRUE(hasLine(lines, "warning: modulus_scale 0.5 softens cohesive material glass"));
+  EXPECT_TRUE(hasLine(lines, "warning: modulus_scale 0.5 softens cohesive material_pair wet"));
   EXPECT_FALSE(hasLine(lines, "material steel"));
 }
 

@@ -30,16 +30,18 @@ namespace demlink::server {
 /// How much the scene's contact moduli are softened (SimulationBox.modulus_scale).
 struct ModulusSoftening {
   double factor = 1.0;                ///< every material's Young's modulus is multiplied by it [-]
-  std::vector<std::string> cohesive;  ///< softened materials with cohesion (they get stickier)
+  std::vector<std::string> cohesive;  ///< "material NAME" / "material_pair NAME" with cohesion (they get stickier)
 };
 
-/// The softening box.modulus_scale asks for the scene's translated `materials` (factor 1
-/// when not given). Throws core::InputError naming `boxPrefix + ".modulus_scale"` outside (0, 1].
-[[nodiscard]] ModulusSoftening chooseSoftening(const v1::SimulationBox& box, const std::string& boxPrefix,
+/// The softening box.modulus_scale asks for the scene's translated `materials` and its
+/// material pairs (factor 1 when not given). Throws core::InputError naming
+/// `boxPrefix + ".modulus_scale"` outside (0, 1].
+[[nodiscard]] ModulusSoftening chooseSoftening(const v1::Scene& scene, const v1::SimulationBox& box,
+                                               const std::string& boxPrefix,
                                                const std::vector<core::Material>& materials);
 
 /// The compile report's lines for `softening`: none for factor 1, else the factor and the
-/// limit's gain, and a "warning: " line per cohesive material it softens.
+/// limit's gain, and a "warning: " line per cohesive material or material pair it softens.
 [[nodiscard]] std::vector<std::string> softeningReportLines(const ModulusSoftening& softening);
 
 /// The world indices of the scene's materials by name, and their softening.
