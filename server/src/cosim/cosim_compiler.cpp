@@ -171,11 +171,7 @@ std::string reportText(const CompiledSimulation& out, const core::World& world) 
                                              : std::string("not exchanged"));
   }
   for (const std::string& line : deformableReportLines(world)) text += line + "\n";
-  for (const std::string& line : coarseGrainingReportLines(out.scene->coarse_graining)) text += line + "\n";
-  for (const std::string& line : softeningReportLines(out.scene->softening)) {
-    if (!line.starts_with("warning: ")) text += line + "\n";
-  }
-  for (const std::string& line : fidelityReportLines(out.scene->fidelity, world)) {
+  for (const std::string& line : choiceReportLines(*out.scene, world)) {
     if (!line.starts_with("warning: ")) text += line + "\n";
   }
   for (const std::string& warning : out.report.warnings()) text += "warning: " + warning + "\n";
@@ -462,10 +458,7 @@ CompiledSimulation CosimCompiler::compile(const std::filesystem::path& sceneDire
   for (const core::MeshBody& mesh : world.meshes()) {
     for (const std::string& warning : mesh.loadWarnings()) out.report.add_warnings(mesh.name() + ": " + warning);
   }
-  for (const std::string& line : fidelityReportLines(out.scene->fidelity, world)) {
-    if (line.starts_with("warning: ")) out.report.add_warnings(line.substr(9));
-  }
-  for (const std::string& line : softeningReportLines(out.scene->softening)) {
+  for (const std::string& line : choiceReportLines(*out.scene, world)) {
     if (line.starts_with("warning: ")) out.report.add_warnings(line.substr(9));
   }
   out.report.set_text(reportText(out, world));

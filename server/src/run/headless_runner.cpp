@@ -62,12 +62,7 @@ void logCompileReport(const core::World& world, const TranslatedScene& scene, st
   } else {
     spdlog::info("time step: {:.4g} s = {:.1f} % of the limit", settings.time_step, percent);
   }
-  std::vector<std::string> choices = fidelityReportLines(scene.fidelity, world);
-  for (const std::vector<std::string>& more :
-       {coarseGrainingReportLines(scene.coarse_graining), softeningReportLines(scene.softening)}) {
-    choices.insert(choices.end(), more.begin(), more.end());
-  }
-  for (const std::string& line : choices) {
+  for (const std::string& line : choiceReportLines(scene, world)) {
     if (line.starts_with("warning: ")) {
       spdlog::warn("{}", line.substr(9));
     } else {

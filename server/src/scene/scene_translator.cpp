@@ -389,4 +389,13 @@ std::vector<std::string> coarseGrainingReportLines(const core::CoarseGraining& c
                       std::pow(coarse.factor, 3), coarse.linearStiffness(1.0), coarse.cohesionEnergyDensity(1.0))};
 }
 
+std::vector<std::string> choiceReportLines(const TranslatedScene& scene, const core::World& world) {
+  std::vector<std::string> lines = fidelityReportLines(scene.fidelity, world);
+  for (const std::vector<std::string>& more :
+       {coarseGrainingReportLines(scene.coarse_graining), softeningReportLines(scene.softening)}) {
+    lines.insert(lines.end(), more.begin(), more.end());
+  }
+  return lines;
+}
+
 }  // namespace demlink::server

@@ -46,27 +46,8 @@ core::MaterialDatabase sceneMaterialDatabase(const std::string& materialsFile, c
   }
 }
 
-}  // namespace
-
-core::Material translateMaterial(const v1::Material& declared, const std::string& componentName,
-                                 const std::string& fieldPrefix, const core::MaterialDatabase& database) {
-  core::Material material;
-  if (!declared.database_name().empty()) {
-    material = database.at(declared.database_name(), fieldPrefix + ".database_name").material;
-  }
-  material.name = declared.name().empty() ? componentName : declared.name();
-  core::requireValidName(fieldPrefix + ".name", material.name);
-  if (declared.has_density()) material.density = declared.density();
-  if (declared.has_youngs_modulus()) material.youngs_modulus = declared.youngs_modulus();
-  if (declared.has_poisson_ratio()) material.poisson_ratio = declared.poisson_ratio();
-  if (declared.has_restitution()) material.restitution = declared.restitution();
-  if (declared.has_sliding_friction()) material.sliding_friction = declared.sliding_friction();
-  if (declared.has_rolling_friction()) material.rolling_friction = declared.rolling_friction();
-  if (declared.has_cohesion_energy_density()) material.cohesion_energy_density = declared.cohesion_energy_density();
-  material.validate(fieldPrefix);
-  return material;
-}
-
+/// The softening box.modulus_scale asks for (factor 1 when not given), with the cohesive
+/// materials and material pairs it softens.
 ModulusSoftening chooseSoftening(const v1::Scene& scene, const v1::SimulationBox& box, const std::string& boxPrefix,
                                  const std::vector<core::Material>& materials) {
   ModulusSoftening out;
@@ -88,11 +69,32 @@ ModulusSoftening chooseSoftening(const v1::Scene& scene, const v1::SimulationBox
   return out;
 }
 
+}  // namespace
+
+core::Material translateMaterial(const v1::Material& declared, const std::string& componentName,
+                                 const std::string& fieldPrefix, const core::MaterialDatabase& database) {
+  core::Material material;
+  if (!declared.database_name().empty()) {
+    material = database.at(declared.database_name(), fieldPrefix + ".database_name").material;
+  }
+  material.name = declared.name().empty() ? componentName : declared.name();
+  core::requireValidName(fieldPrefix + ".name", material.name);
+  if (declared.has_density()) material.density = declared.density();
+  if (declared.has_youngs_modulus()) material.youngs_modulus = declared.youngs_modulus();
+  if (declared.has_poisson_ratio()) material.poisson_ratio = declared.poisson_ratio();
+  if (declared.has_restitution()) material.restitution = declared.restitution();
+  if (declared.has_sliding_friction()) material.sliding_friction = declared.sliding_friction();
+  if (declared.has_rolling_friction()) material.rolling_friction = declared.rolling_friction();
+  if (declared.has_cohesion_energy_density()) material.cohesion_energy_density = declared.cohesion_energy_density();
+  material.validate(fieldPrefix);
+  return material;
+}
+
 std::vector<std::string> softeningReportLines(const ModulusSoftening& softening) {
   if (softening.factor == 1.0) return {};
   std::vector<std::string> lines{fmt::format(
       "modulus_scale {:g} (docs/accuracy.md \"Softening\"): every material's Young's modulus x {:g} for its contacts; "
-      "the time-step limit grows {:.2f}-{:.2f}x",
+      "the contacts' time-step limits grow {:.2f}-{:.2f}x",
       softening.factor, softening.factor, std::pow(softening.factor, -0.4), std::pow(softening.factor, -0.5))};
   for (const std::string& name : softening.cohesive) {
     lines.push_back("warning: modulus_scale " + core::formatValue(softening.factor) + " softens cohesive " + name +

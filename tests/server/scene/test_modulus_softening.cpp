@@ -48,6 +48,9 @@ TEST(ModulusSoftening, ExplicitScaleSoftensEveryMaterialAndRaisesTheLimit) {
               std::pow(4.0, 0.4), 1e-3);
   EXPECT_TRUE(hasLine(softeningReportLines(soft.softening), "modulus_scale 0.25"));
   EXPECT_FALSE(hasLine(softeningReportLines(soft.softening), "warning: "));
+  // Both runners print the scene's choices from one list.
+  EXPECT_TRUE(hasLine(choiceReportLines(soft, soft.world), "modulus_scale 0.25"));
+  EXPECT_FALSE(hasLine(choiceReportLines(stiff, stiff.world), "modulus_scale"));
 }
 
 TEST(ModulusSoftening, NoPresetSoftens) {

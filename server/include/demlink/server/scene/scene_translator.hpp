@@ -37,6 +37,11 @@ struct TranslatedScene {
 /// The compile report's line for a coarse-graining factor (none for factor 1).
 [[nodiscard]] std::vector<std::string> coarseGrainingReportLines(const core::CoarseGraining& coarse);
 
+/// The compile report's lines of the box's speed/accuracy choices in `world` (the scene's,
+/// initialised): the fidelity preset's, the coarse graining's and the softening's, warnings
+/// as lines starting "warning: ". Headless runs and co-simulations print the same.
+[[nodiscard]] std::vector<std::string> choiceReportLines(const TranslatedScene& scene, const core::World& world);
+
 /// What the scene is translated for. A co-simulation may run without an end time
 /// (end_time 0: until every client said Bye); a headless run needs one. CosimCheck is
 /// the server's start-up check of its scene file: as Cosim, but a pit_generator's fields

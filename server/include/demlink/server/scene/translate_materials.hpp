@@ -33,13 +33,6 @@ struct ModulusSoftening {
   std::vector<std::string> cohesive;  ///< "material NAME" / "material_pair NAME" with cohesion (they get stickier)
 };
 
-/// The softening box.modulus_scale asks for the scene's translated `materials` and its
-/// material pairs (factor 1 when not given). Throws core::InputError naming
-/// `boxPrefix + ".modulus_scale"` outside (0, 1].
-[[nodiscard]] ModulusSoftening chooseSoftening(const v1::Scene& scene, const v1::SimulationBox& box,
-                                               const std::string& boxPrefix,
-                                               const std::vector<core::Material>& materials);
-
 /// The compile report's lines for `softening`: none for factor 1, else the factor and the
 /// limit's gain, and a "warning: " line per cohesive material or material pair it softens.
 [[nodiscard]] std::vector<std::string> softeningReportLines(const ModulusSoftening& softening);
@@ -51,7 +44,8 @@ struct SceneMaterials {
 };
 
 /// Registers every material component with the world, in declaration order (its cohesion
-/// through `coarse`'s law, its Young's modulus softened as chooseSoftening() says).
+/// through `coarse`'s law, its Young's modulus times box.modulus_scale, which must be in
+/// (0, 1]: else core::InputError naming `boxPrefix + ".modulus_scale"`).
 /// database_name values are looked
 /// up in the built-in database and, when `box.materials_file` is given, in that file
 /// (resolved against `files`). Throws core::InputError naming
