@@ -43,7 +43,7 @@ EOF
     load=$(cut -d' ' -f1 /proc/loadavg)
     log=$work/$(basename "$b")_seed_$seed.log
     start=$(date +%s.%N)
-    "$run" "$scene" --output "$work/out_$(basename "$b")_$seed" >"$log" 2>&1
+    "$run" "$scene" --output "$work/out_$(basename "$b")_$seed" --overwrite >"$log" 2>&1
     end=$(date +%s.%N)
     line=$(grep -m1 'pit_generator pit: settled in' "$log")
     rained=$(sed -n 's/.*settling \([0-9]*\) particles.*/\1/p' "$log" | head -n1)
