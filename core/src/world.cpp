@@ -912,8 +912,7 @@ double World::kineticEnergy() const {
   for (const ClumpBody& body : clumps_.bodies) energy += body.kineticEnergy();
   for (std::size_t i = 0; i < particles_.size(); ++i) {
     if (particles_.clump_id[i] != 0) continue;  // counted with its body
-    energy += 0.5 * particles_.mass[i] * particles_.velocity[i].squaredNorm() +
-              0.5 / particles_.inv_inertia[i] * particles_.angular_velocity[i].squaredNorm();
+    energy += particles_.sphereKineticEnergy(i);
   }
   return energy;
 }

@@ -95,6 +95,24 @@ double criticalLimit(const SimulationSettings& settings, const Material& materia
 }
 
 
+/// The one rule of what the bed keeps: a sphere whose centre lies inside the box and whose
+/// top is at or below `surface`; a clump whose COM lies inside and whose highest member top
+/// is at or below it.
+bool insideBox(const Vec3& x, const PitSpec& spec) {
+  return (x.array() >= spec.lower.array()).all() && x.x() <= spec.upper.x() && x.y() <= spec.upper.y();
+}
+bool sphereKept(const ParticleArrays& p, std::size_t slot, const PitSpec& spec, double surface) {
+  return insideBox(p.position[slot], spec) && p.position[slot].z() + p.radius[slot] <= surface;
+}
+double clumpTop(const ParticleArrays& p, const ClumpBody& body) {
+  double top = -std::numeric_limits<double>::infinity();  // [m]
+  for (std::uint32_t slot : body.member_slots) top = std::max(top, p.position[slot].z() + p.radius[slot]);
+  return top;
+}
+bool clumpKept(const ParticleArrays& p, const ClumpBody& body, const PitSpec& spec, double surface) {
+  return insideBox(body.position, spec) && clumpTop(p, body) <= surface;
+}
+
 /// Copies the spheres whose top is at or below `surface` into `world`, in id order.
 void keepSpheres(World& world, const World& pit, const PitSpec& spec, double surface, PitReport& report,
                  const std::string& prefix) {
@@ -104,9 +122,8 @@ void keepSpheres(World& world, const World& pit, const PitSpec& spec, double sur
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return p.id[a] < p.id[b]; });
   report.bed_top = spec.lower.z();
   for (std::size_t i : order) {
+    if (!sphereKept(p, i, spec, surface)) continue;
     const Vec3& x = p.position[i];
-    const bool inside = (x.array() >= spec.lower.array()).all() && x.x() <= spec.upper.x() && x.y() <= spec.upper.y();
-    if (!inside || x.z() + p.radius[i] > surface) continue;
     ParticleSpec sphere;
     sphere.position = x;
     sphere.radius = p.radius[i];
@@ -128,11 +145,8 @@ void keepClumps(World& world, const World& pit, const PitSpec& spec, double surf
   std::sort(order.begin(), order.end(), [](const ClumpBody* a, const ClumpBody* b) { return a->id < b->id; });
   report.bed_top = spec.lower.z();
   for (const ClumpBody* body : order) {
+    if (!clumpKept(p, *body, spec, surface)) continue;
     const Vec3& x = body->position;
-    const bool inside = (x.array() >= spec.lower.array()).all() && x.x() <= spec.upper.x() && x.y() <= spec.upper.y();
-    double top = -std::numeric_limits<double>::infinity();  // [m]
-    for (std::uint32_t slot : body->member_slots) top = std::max(top, p.position[slot].z() + p.radius[slot]);
-    if (!inside || top > surface) continue;
     const ClumpTemplate& shape = pit.clumpTemplates()[body->template_index];
     ClumpSpec clump;
     clump.template_index = *spec.clump_template;
@@ -144,11 +158,32 @@ void keepClumps(World& world, const World& pit, const PitSpec& spec, double surf
     world.addClump(clump, prefix);
     ++report.kept;
     report.kept_mass += world.clumps().back().mass;
-    report.bed_top = std::max(report.bed_top, top);
+    report.bed_top = std::max(report.bed_top, clumpTop(p, *body));
   }
 }
 
 }  // namespace
+
+double keptMeanKineticEnergy(const World& pit, const PitSpec& spec) {
+  const double surface = spec.lower.z() + spec.target_height;
+  const ParticleArrays& p = pit.particles();
+  double energy = 0.0;  // [J]
+  std::size_t count = 0;
+  if (!pit.clumps().empty()) {
+    for (const ClumpBody& body : pit.clumps()) {
+      if (!clumpKept(p, body, spec, surface)) continue;
+      energy += body.kineticEnergy();
+      ++count;
+    }
+  } else {
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      if (!sphereKept(p, i, spec, surface)) continue;
+      energy += p.sphereKineticEnergy(i);
+      ++count;
+    }
+  }
+  return count > 0 ? energy / static_cast<double>(count) : std::numeric_limits<double>::infinity();
+}
 
 void PitSpec::validate(const std::string& prefix, double clumpBoundingRadius) const {
   for (int k = 0; k < 3; ++k) {
@@ -291,24 +326,24 @@ PitReport generatePit(World& world, const PitSpec& spec, const std::string& name
   const auto checkEvery = static_cast<std::uint64_t>(std::max(1.0, std::round(0.01 * fallTime / dt)));
   const auto maxSteps = static_cast<std::uint64_t>(std::ceil(maxTime / dt));
   spdlog::info("pit_generator {}: settling {} particles ({} x {} x {} lattice, r {:.4g}..{:.4g} m), dt {:.3g} s, "
-               "fall time {:.3g} s, kinetic energy threshold {:.3g} J per particle",
+               "fall time {:.3g} s, kinetic energy threshold {:.3g} J per particle below the target surface",
                name, report.rained, lattice.nx, lattice.ny, lattice.nz, grain.r_min, rMax, dt, fallTime,
                report.threshold);
   pit.initialize();
   using Clock = std::chrono::steady_clock;
   const Clock::time_point settleStart = Clock::now();
   Clock::time_point lastLog = settleStart;
-  const double count = static_cast<double>(report.rained);
+  const double surface = spec.lower.z() + spec.target_height;
   while (pit.stepCount() < maxSteps) {
     // Whole check intervals in one call: the steps between checks fuse their kicks.
     pit.advance(std::min(checkEvery - pit.stepCount() % checkEvery, maxSteps - pit.stepCount()));
-    report.final_mean_kinetic_energy = pit.kineticEnergy() / count;
+    report.final_mean_kinetic_energy = keptMeanKineticEnergy(pit, spec);
     if (pit.time() >= fallTime && report.final_mean_kinetic_energy < report.threshold) {
       report.settled = true;
       break;
     }
     if (std::chrono::duration<double>(Clock::now() - lastLog).count() >= 2.0) {
-      spdlog::info("pit_generator {}: settling t = {:.3f} s (at most {:.3f} s), kinetic energy {:.3g} J per particle",
+      spdlog::info("pit_generator {}: settling t = {:.3f} s (at most {:.3f} s), kinetic energy {:.3g} J per particle below the target",
                    name, pit.time(), maxTime, report.final_mean_kinetic_energy);
       lastLog = Clock::now();
     }
@@ -316,14 +351,13 @@ PitReport generatePit(World& world, const PitSpec& spec, const std::string& name
   report.settle_wall_seconds = std::chrono::duration<double>(Clock::now() - settleStart).count();
   report.settle_time = pit.time();
   report.settle_steps = pit.stepCount();
-  report.final_mean_kinetic_energy = pit.kineticEnergy() / count;
+  report.final_mean_kinetic_energy = keptMeanKineticEnergy(pit, spec);
   if (!report.settled) {
-    spdlog::warn("pit_generator {}: not settled after {:.3f} s (kinetic energy {:.3g} J per particle > {:.3g}); "
+    spdlog::warn("pit_generator {}: not settled after {:.3f} s (kinetic energy {:.3g} J per particle below the target > {:.3g}); "
                  "using the bed as it is",
                  name, report.settle_time, report.final_mean_kinetic_energy, report.threshold);
   }
 
-  const double surface = spec.lower.z() + spec.target_height;
   if (shape != nullptr) {
     keepClumps(world, pit, spec, surface, report, prefix);
   } else {

@@ -50,6 +50,11 @@ struct ParticleArrays {
 
   [[nodiscard]] std::size_t size() const { return position.size(); }
 
+  /// Translational plus rotational kinetic energy of the free sphere in `slot` [J].
+  [[nodiscard]] double sphereKineticEnergy(std::size_t slot) const {
+    return 0.5 * mass[slot] * velocity[slot].squaredNorm() + 0.5 / inv_inertia[slot] * angular_velocity[slot].squaredNorm();
+  }
+
   /// Appends a sphere with the given density [kg/m^3] and id.
   void append(const ParticleSpec& spec, double density, std::uint64_t stableId);
 
