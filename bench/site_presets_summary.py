@@ -4,7 +4,7 @@ preset's speed costs in what the excavator model sees, against VALIDATION.
 
     site_presets_summary.py RESULTS.tsv   (lines starting with # are comments)
 
-Per build and preset: the median real-time factor, particle-steps per second per thread,
+Per build (and backend, when a run names one other than native) and preset: the median real-time factor, particle-steps per second per thread,
 settling wall time, and the median over runs of the carried mass, peak fill, peak and mean
 digging force and truck load. With VALIDATION among the presets, each other preset's
 difference from it is taken seed by seed (same bed, same build) and reported as the
@@ -45,6 +45,9 @@ def main(path):
         return 1
     groups = {}
     for row in rows:
+        # A build on another backend than the native engine is its own group.
+        if row.get("backend") not in (None, "", "native"):
+            row["bin"] = f"{row['bin']} ({row['backend']})"
         groups.setdefault((row["bin"], row.get("fidelity", "none")), []).append(row)
     print("medians (real-time factor = simulated s / wall s of the exchanges; settling apart):")
     for (build, preset), runs in groups.items():
