@@ -668,36 +668,49 @@ void World::computeForces(StepContext& context) {
     return r;
   };
   // Pair chunks as PairLoopPartition::run schedules them (each odd chunk after its even
-  // neighbours); each chunk then adds the plane contacts of its own rows, which no chunk
-  // running beside it touches (while they are in its thread's cache, and without a loop
-  // of their own); then meshes (the passes of stage forces in stage_table.hpp). A particle near two planes
-  // adds their forces in plane order; each wall's load is the chunks' sums in chunk order,
-  // whoever ran them. Recording keeps list order: the planes run after all pairs then.
+  // neighbours); each chunk then adds the plane and mesh contacts of its own rows, which
+  // no chunk running beside it touches (while they are in its thread's cache, and without
+  // a loop of their own; the passes of stage forces in stage_table.hpp). A particle near
+  // two walls adds their forces in wall order; each plane's load is the chunks' sums in
+  // chunk order, and each mesh gets the chunks' surface loads in chunk order, i.e. in its
+  // near list's order (ascending slots), whoever ran them. Recording keeps list order:
+  // the walls run after all pairs then. Deformable surfaces run after the loop.
   ThreadPool* pool = pool_.get();
   const bool clear = !std::exchange(context.forces_cleared, false);
   const auto pairRows = contacts_.kernel == PairKernel::kAvx2Fma ? &particleContactRowsAvx2Fma<Law, kPasses>
                                                              : &particleContactRows<Law, kPasses>;
   const std::uint32_t chunks = parts.chunks();
-  const bool planesInChunks = !kPasses.recording;
-  // Per plane: one load per chunk, and the last for the slots after the listed rows.
-  const std::size_t loadsPerPlane = std::size_t{chunks} + 1;
-  walls_.plane_loads.assign(walls_.planes.size() * loadsPerPlane, PlaneLoad{});
-  const auto planeContacts = [&](std::size_t load, std::size_t begin, std::size_t end) {
+  const bool wallsInChunks = !kPasses.recording;
+  // Per wall: one load per chunk, and the last for the slots after the listed rows.
+  const std::size_t loadsPerWall = std::size_t{chunks} + 1;
+  walls_.plane_loads.assign(walls_.planes.size() * loadsPerWall, PlaneLoad{});
+  if (walls_.contact_chunks.size() < walls_.meshes.size() * loadsPerWall) {
+    walls_.contact_chunks.resize(walls_.meshes.size() * loadsPerWall);
+  }
+  const auto wallContacts = [&](std::size_t load, std::size_t begin, std::size_t end) {
     for (std::size_t w = 0; w < walls_.planes.size(); ++w) {
-      walls_.plane_loads[w * loadsPerPlane + load] = planeContactSlots<Law, kPasses>(
+      walls_.plane_loads[w * loadsPerWall + load] = planeContactSlots<Law, kPasses>(
           p, walls_.planes[w], contacts_.table, dt, begin, end, recording(ContactKind::kPlane, w, nullptr));
+    }
+    if constexpr (!kPasses.recording) {
+      for (std::size_t m = 0; m < walls_.meshes.size(); ++m) {
+        MeshContactChunk& part = walls_.contact_chunks[m * loadsPerWall + load];
+        part.loads.clear();
+        if (walls_.mesh_colliding[m] == 0) continue;
+        meshContactSlots<Law, kPasses>(p, walls_.meshes[m], walls_.mesh_near[m], contacts_.table, dt, begin, end, part);
+      }
     }
   };
   // The next step's first kick in the chunks (Stepper::beginStep): only where every force
-  // of a row is final when its chunks are, i.e. the chunks add the planes too, every slot
-  // has rows, and no mesh or deformable surface adds forces after the loop.
-  const bool kickInChunks = context.next_kick_in_forces && planesInChunks && chunks > 0 &&
-                            parts.rowEnd(chunks - 1) == p.size() && walls_.meshes.empty() && deformables_.bodies.empty();
+  // of a row is final when its chunks are, i.e. the chunks add the walls too, every slot
+  // has rows, and no deformable surface adds forces after the loop.
+  const bool kickInChunks = context.next_kick_in_forces && wallsInChunks && chunks > 0 &&
+                            parts.rowEnd(chunks - 1) == p.size() && deformables_.bodies.empty();
   const Vec3 gravity = state_.gravity;
   parts.run(pool, [&](std::uint32_t chunk) {
     const ChunkForces out = parts.start(chunk, p.force, p.torque, clear);
     pairRows(p, neighbours_.list, contacts_.table, dt, parts.rowBegin(chunk), parts.rowEnd(chunk), out, chunkRecords(chunk));
-    if (planesInChunks) planeContacts(chunk, parts.rowBegin(chunk), parts.rowEnd(chunk));
+    if (wallsInChunks) wallContacts(chunk, parts.rowBegin(chunk), parts.rowEnd(chunk));
     if (kickInChunks) {
       const auto [begin, end] = parts.rowsDoneAfter(chunk);
       kickTwiceAndDriftRows(p, gravity, 0.5 * dt, dt, begin, end);
@@ -713,26 +726,26 @@ void World::computeForces(StepContext& context) {
       recorder_.snapshot.contacts.insert(recorder_.snapshot.contacts.end(), records.begin(), records.end());
     }
   }
-  planeContacts(chunks, planesInChunks ? listed : 0, p.size());
+  wallContacts(chunks, wallsInChunks ? listed : 0, p.size());
   for (std::size_t w = 0; w < walls_.planes.size(); ++w) {
     PlaneWall& wall = walls_.planes[w];
     wall.force.setZero();
     wall.torque.setZero();
-    for (std::size_t c = 0; c < loadsPerPlane; ++c) {
-      wall.force += walls_.plane_loads[w * loadsPerPlane + c].force;
-      wall.torque += walls_.plane_loads[w * loadsPerPlane + c].torque;
+    for (std::size_t c = 0; c < loadsPerWall; ++c) {
+      wall.force += walls_.plane_loads[w * loadsPerWall + c].force;
+      wall.torque += walls_.plane_loads[w * loadsPerWall + c].torque;
     }
   }
   for (std::size_t m = 0; m < walls_.meshes.size(); ++m) {
-    walls_.meshes[m].clearWrench();
+    MeshBody& mesh = walls_.meshes[m];
+    mesh.clearWrench();
     if (walls_.mesh_colliding[m] == 0) continue;
     if constexpr (kPasses.recording) {
       std::vector<TriangleLoad>* loads = recorder_.settings.mesh_loads ? &recorder_.mesh_loads[m] : nullptr;
-      meshContactForces<Law, kPasses>(p, walls_.meshes[m], walls_.mesh_near[m], contacts_.table, dt,
-                                      walls_.contact_scratch, recording(ContactKind::kMesh, m, loads));
+      meshContactForces<Law, kPasses>(p, mesh, walls_.mesh_near[m], contacts_.table, dt, walls_.contact_scratch,
+                                      recording(ContactKind::kMesh, m, loads));
     } else {
-      meshContactForcesThreaded<Law, kPasses>(pool, p, walls_.meshes[m], walls_.mesh_near[m], contacts_.table, dt,
-                                              walls_.contact_chunks);
+      for (std::size_t c = 0; c < loadsPerWall; ++c) addSurfaceLoads(mesh, walls_.contact_chunks[m * loadsPerWall + c]);
     }
   }
   for (std::size_t d = 0; d < deformables_.bodies.size(); ++d) {

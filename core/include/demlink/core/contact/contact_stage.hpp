@@ -22,7 +22,6 @@
 #include "demlink/core/particles/neighbour_list.hpp"
 #include "demlink/core/particles/particle_arrays.hpp"
 #include "demlink/core/step/pair_loop_partition.hpp"
-#include "demlink/core/parallel/parallel_loops.hpp"
 #include "demlink/core/walls/plane_wall.hpp"
 
 namespace demlink::core {
@@ -435,35 +434,28 @@ void meshContactForces(ParticleArrays& p, Surface& mesh, MeshNearList& near, con
       [&mesh](std::uint32_t triangle, const Vec3& point, const Vec3& force) { mesh.addContactForce(triangle, point, force); });
 }
 
-/// Near-list entries per chunk of the threaded mesh pass: a few tens of microseconds of
-/// contacts, far more than claiming a chunk costs [-].
-inline constexpr std::size_t kMeshChunkEntries = 64;
-
-/// meshContactForces with the entries in chunks over the pool (chunks fixed by the list's
-/// length alone), then the surface's loads added chunk by chunk: the same sums in the same
-/// order as on one thread, so the same bits for any thread count. Without recording (its
-/// records keep list order in one vector).
+/// The contacts of a surface's near-list entries whose slots lie in [slotBegin, slotEnd)
+/// (the list is ascending in slot): added to the particles, the forces on the surface kept
+/// in `part`, in list order (addSurfaceLoads adds them). Disjoint stretches of slots touch
+/// disjoint particles and only read the surface, so they may run at once; the force stage
+/// runs each pair-loop chunk's own rows, beside its planes.
 template <class Law, ForcePasses kPasses, class Surface>
-void meshContactForcesThreaded(ThreadPool* pool, ParticleArrays& p, Surface& mesh, MeshNearList& near,
-                               const ContactPairTable& table, double dt, std::vector<MeshContactChunk>& chunkScratch) {
+void meshContactSlots(ParticleArrays& p, const Surface& mesh, MeshNearList& near, const ContactPairTable& table,
+                      double dt, std::size_t slotBegin, std::size_t slotEnd, MeshContactChunk& part) {
   static_assert(!kPasses.recording, "recorded contacts keep list order: run meshContactForces");
-  const std::size_t entries = near.slots.size();
-  const std::uint32_t chunks = chunkCount(entries, kMeshChunkEntries);
-  if (chunkScratch.size() < chunks) chunkScratch.resize(chunks);
-  parallelParts(pool, chunks, [&](std::uint32_t c) {
-    MeshContactChunk& chunk = chunkScratch[c];
-    chunk.loads.clear();
-    meshContactEntries<Law, kPasses>(p, mesh, near, table, dt, chunkBegin(entries, chunks, c),
-                                     chunkBegin(entries, chunks, c + 1), chunk.contacts, {},
-                                     [&chunk](std::uint32_t triangle, const Vec3& point, const Vec3& force) {
-                                       chunk.loads.push_back({triangle, point, force});
-                                     });
-  });
-  for (std::uint32_t c = 0; c < chunks; ++c) {
-    for (const MeshContactChunk::SurfaceLoad& load : chunkScratch[c].loads) {
-      mesh.addContactForce(load.triangle, load.point, load.force);
-    }
-  }
+  const auto first = std::lower_bound(near.slots.begin(), near.slots.end(), slotBegin);
+  const auto last = std::lower_bound(first, near.slots.end(), slotEnd);
+  meshContactEntries<Law, kPasses>(p, mesh, near, table, dt, static_cast<std::size_t>(first - near.slots.begin()),
+                                   static_cast<std::size_t>(last - near.slots.begin()), part.contacts, {},
+                                   [&part](std::uint32_t triangle, const Vec3& point, const Vec3& force) {
+                                     part.loads.push_back({triangle, point, force});
+                                   });
+}
+
+/// Adds what meshContactSlots kept to the surface.
+template <class Surface>
+void addSurfaceLoads(Surface& mesh, const MeshContactChunk& part) {
+  for (const MeshContactChunk::SurfaceLoad& load : part.loads) mesh.addContactForce(load.triangle, load.point, load.force);
 }
 
 }  // namespace demlink::core

@@ -81,9 +81,8 @@ void collectSphereMeshContacts(const Vec3& centre, double radius,
                                std::span<const std::array<std::uint32_t, 3>> triangles,
                                std::vector<MeshContactPoint>& out);
 
-/// A chunk's part of the threaded mesh contact pass (contact_stage.hpp,
-/// meshContactForcesThreaded): its contacts' scratch and the forces on the surface it
-/// leaves, in near-list order.
+/// A pair-loop chunk's part of a mesh's contacts (contact_stage.hpp, meshContactSlots):
+/// its contacts' scratch and the forces on the surface it leaves, in near-list order.
 struct MeshContactChunk {
   struct SurfaceLoad {
     std::uint32_t triangle;

@@ -23,7 +23,8 @@ struct Walls {
   /// Per plane and pair-loop chunk, then the slots after the listed rows (force stage scratch).
   std::vector<PlaneLoad> plane_loads;
   std::vector<MeshContactPoint> contact_scratch;  ///< force stage scratch of the mesh contacts
-  /// Force stage scratch of the threaded mesh contacts, per chunk of a near list.
+  /// Force stage scratch of the mesh contacts, per mesh and pair-loop chunk, then the
+  /// slots after the listed rows.
   std::vector<MeshContactChunk> contact_chunks;
 
   /// Adds a mesh with an empty near list, not colliding until the next update.
