@@ -80,6 +80,21 @@ void MeshNearList::restore(StateReader& in, std::size_t slotCount, std::size_t t
     in.fail(std::to_string(staged.offsets.size()), "mesh near-list offsets do not match its slots");
   }
   requireSameLength(in, staged.history, staged.triangles, "mesh histories and candidates differ in length");
+  // The force stage finds each pair-loop chunk's entries by slot and each contact's spring
+  // by triangle (binary searches), so both orders are part of the list.
+  const auto notAscending = [](const auto first, const auto last) {
+    return std::adjacent_find(first, last, [](std::uint32_t a, std::uint32_t b) { return a >= b; }) != last;
+  };
+  if (notAscending(staged.slots.begin(), staged.slots.end())) {
+    in.fail("slots", "mesh near-list slots are not strictly ascending");
+  }
+  for (std::size_t k = 0; k < staged.slots.size(); ++k) {
+    const auto row = staged.triangles.begin();
+    if (notAscending(row + staged.offsets[k], row + staged.offsets[k + 1])) {
+      in.fail("triangles of slot " + std::to_string(staged.slots[k]),
+              "mesh near-list triangles are not strictly ascending");
+    }
+  }
   *this = std::move(staged);
 }
 

@@ -11,6 +11,9 @@
 
 #include "demlink/core/walls/mesh_body.hpp"
 #include "demlink/core/walls/mesh_contact.hpp"
+#include "demlink/core/walls/mesh_near_list.hpp"
+#include "demlink/core/base/input_error.hpp"
+#include "demlink/core/state/state_stream.hpp"
 
 namespace demlink::core {
 namespace {
@@ -347,6 +350,47 @@ TEST(MeshContact, DuplicateCandidatesAreIgnored) {
   ASSERT_EQ(out.size(), 1u);
   EXPECT_EQ(out[0].triangle, 3u);
   EXPECT_EQ(out[0].feature, F::Face);
+}
+
+}  // namespace
+}  // namespace demlink::core
+
+namespace demlink::core {
+namespace {
+
+/// A near list as MeshNearList::save writes it.
+std::string nearListBytes(const std::vector<std::uint32_t>& slots, const std::vector<std::uint32_t>& offsets,
+                          const std::vector<std::uint32_t>& triangles) {
+  StateWriter out;
+  out.writeVector(slots);
+  out.writeVector(offsets);
+  out.writeVector(triangles);
+  out.writeVector(std::vector<Vec3>(triangles.size(), Vec3::Zero()));
+  return out.bytes();
+}
+
+/// The message restoring `bytes` into a list of 10 slots and 8 triangles throws; empty if none.
+std::string restoreError(const std::string& bytes) {
+  MeshNearList list;
+  StateReader in(bytes, "near.bin", "MESH");
+  try {
+    list.restore(in, 10, 8);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return {};
+}
+
+// The force stage finds a chunk's entries and a contact's spring by binary search, so a
+// checkpoint's list out of order is refused, naming what is out of order.
+TEST(MeshNearListRestore, RefusesSlotsOrTrianglesOutOfOrder) {
+  EXPECT_EQ(restoreError(nearListBytes({1, 4}, {0, 2, 3}, {0, 5, 2})), "");
+  const std::string slots = restoreError(nearListBytes({4, 1}, {0, 2, 3}, {0, 5, 2}));
+  EXPECT_NE(slots.find("slots are not strictly ascending"), std::string::npos) << slots;
+  const std::string twice = restoreError(nearListBytes({4, 4}, {0, 2, 3}, {0, 5, 2}));
+  EXPECT_NE(twice.find("slots are not strictly ascending"), std::string::npos) << twice;
+  const std::string triangles = restoreError(nearListBytes({1, 4}, {0, 2, 3}, {5, 0, 2}));
+  EXPECT_NE(triangles.find("triangles of slot 1"), std::string::npos) << triangles;
 }
 
 }  // namespace
