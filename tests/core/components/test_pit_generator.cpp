@@ -71,34 +71,6 @@ TEST(PitGenerator, BedReachesTheTargetInsideTheBoxWithSmallOverlaps) {
   EXPECT_GT(bed->report.settle_wall_seconds, 0.0);
 }
 
-// The settling criterion averages only what the bed keeps: grains rolling above the target
-// surface or lying outside the box's footprint do not count.
-TEST(PitGenerator, SettlingCriterionAveragesOnlyTheKeptParticles) {
-  const PitSpec spec = smallPit(1);  // surface at z = 0.12 m
-  World pit{SimulationSettings{}};
-  pit.addMaterial(test::testMaterial(0.5, 0.5));
-  auto add = [&](const Vec3& x, const Vec3& v, const Vec3& w) {
-    ParticleSpec sphere;
-    sphere.position = x;
-    sphere.velocity = v;
-    sphere.angular_velocity = w;
-    sphere.radius = 0.02;
-    pit.addParticle(sphere, "particles");
-  };
-  EXPECT_TRUE(std::isinf(keptMeanKineticEnergy(pit, spec)));
-  add(Vec3(0.0, 0.0, 0.05), Vec3(0.3, 0.0, -0.4), Vec3(0.0, 2.0, 0.0));  // kept: top 0.07 m
-  add(Vec3(0.1, 0.0, 0.09), Vec3(0.0, 0.1, 0.0), Vec3::Zero());          // kept: top 0.11 m
-  add(Vec3(0.0, 0.0, 0.11), Vec3(3.0, 0.0, 0.0), Vec3::Zero());          // above: top 0.13 m
-  add(Vec3(0.3, 0.0, 0.05), Vec3(0.0, 0.0, -5.0), Vec3::Zero());         // outside the box
-  const ParticleArrays& p = pit.particles();
-  auto energy = [&](std::size_t i) {
-    const double inertia = 0.4 * p.mass[i] * p.radius[i] * p.radius[i];
-    return 0.5 * p.mass[i] * p.velocity[i].squaredNorm() + 0.5 * inertia * p.angular_velocity[i].squaredNorm();
-  };
-  const double expected = 0.5 * (energy(0) + energy(1));
-  EXPECT_NEAR(keptMeanKineticEnergy(pit, spec), expected, 1e-12 * expected);
-}
-
 TEST(PitGenerator, SameSeedSameBedOtherSeedOtherBed) {
   const auto a = makeBed(3, 0.06);
   const auto b = makeBed(3, 0.06);
