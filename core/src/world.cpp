@@ -703,7 +703,8 @@ void World::computeForces(StepContext& context) {
   };
   // The next step's first kick in the chunks (Stepper::beginStep): only where every force
   // of a row is final when its chunks are, i.e. the chunks add the walls too, every slot
-  // has rows, and no deformable surface adds forces after the loop.
+  // has rows, and no deformable surface adds forces after the loop. (Scenes with meshes
+  // owe no kicks today: stages mesh_motion and mesh_contacts forbid it, stage_table.cpp.)
   const bool kickInChunks = context.next_kick_in_forces && wallsInChunks && chunks > 0 &&
                             parts.rowEnd(chunks - 1) == p.size() && deformables_.bodies.empty();
   const Vec3 gravity = state_.gravity;

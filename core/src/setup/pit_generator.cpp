@@ -95,24 +95,6 @@ double criticalLimit(const SimulationSettings& settings, const Material& materia
 }
 
 
-/// The one rule of what the bed keeps: a sphere whose centre lies inside the box and whose
-/// top is at or below `surface`; a clump whose COM lies inside and whose highest member top
-/// is at or below it.
-bool insideBox(const Vec3& x, const PitSpec& spec) {
-  return (x.array() >= spec.lower.array()).all() && x.x() <= spec.upper.x() && x.y() <= spec.upper.y();
-}
-bool sphereKept(const ParticleArrays& p, std::size_t slot, const PitSpec& spec, double surface) {
-  return insideBox(p.position[slot], spec) && p.position[slot].z() + p.radius[slot] <= surface;
-}
-double clumpTop(const ParticleArrays& p, const ClumpBody& body) {
-  double top = -std::numeric_limits<double>::infinity();  // [m]
-  for (std::uint32_t slot : body.member_slots) top = std::max(top, p.position[slot].z() + p.radius[slot]);
-  return top;
-}
-bool clumpKept(const ParticleArrays& p, const ClumpBody& body, const PitSpec& spec, double surface) {
-  return insideBox(body.position, spec) && clumpTop(p, body) <= surface;
-}
-
 /// Copies the spheres whose top is at or below `surface` into `world`, in id order.
 void keepSpheres(World& world, const World& pit, const PitSpec& spec, double surface, PitReport& report,
                  const std::string& prefix) {
@@ -122,8 +104,9 @@ void keepSpheres(World& world, const World& pit, const PitSpec& spec, double sur
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return p.id[a] < p.id[b]; });
   report.bed_top = spec.lower.z();
   for (std::size_t i : order) {
-    if (!sphereKept(p, i, spec, surface)) continue;
     const Vec3& x = p.position[i];
+    const bool inside = (x.array() >= spec.lower.array()).all() && x.x() <= spec.upper.x() && x.y() <= spec.upper.y();
+    if (!inside || x.z() + p.radius[i] > surface) continue;
     ParticleSpec sphere;
     sphere.position = x;
     sphere.radius = p.radius[i];
@@ -145,8 +128,11 @@ void keepClumps(World& world, const World& pit, const PitSpec& spec, double surf
   std::sort(order.begin(), order.end(), [](const ClumpBody* a, const ClumpBody* b) { return a->id < b->id; });
   report.bed_top = spec.lower.z();
   for (const ClumpBody* body : order) {
-    if (!clumpKept(p, *body, spec, surface)) continue;
     const Vec3& x = body->position;
+    const bool inside = (x.array() >= spec.lower.array()).all() && x.x() <= spec.upper.x() && x.y() <= spec.upper.y();
+    double top = -std::numeric_limits<double>::infinity();  // [m]
+    for (std::uint32_t slot : body->member_slots) top = std::max(top, p.position[slot].z() + p.radius[slot]);
+    if (!inside || top > surface) continue;
     const ClumpTemplate& shape = pit.clumpTemplates()[body->template_index];
     ClumpSpec clump;
     clump.template_index = *spec.clump_template;
@@ -158,7 +144,7 @@ void keepClumps(World& world, const World& pit, const PitSpec& spec, double surf
     world.addClump(clump, prefix);
     ++report.kept;
     report.kept_mass += world.clumps().back().mass;
-    report.bed_top = std::max(report.bed_top, clumpTop(p, *body));
+    report.bed_top = std::max(report.bed_top, top);
   }
 }
 
