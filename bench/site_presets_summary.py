@@ -9,8 +9,12 @@ settling wall time, and the median over runs of the carried mass, peak fill, pea
 digging force and truck load. With VALIDATION among the presets, each other preset's
 difference from it is taken seed by seed (same bed, same build) and reported as the
 median and range over the seeds, beside VALIDATION's own seed-to-seed scatter (sample
-standard deviation over the seeds as a share of its mean): a difference inside that
-scatter is not a cost the bench can see.
+standard deviation over the seeds as a share of its mean), and as the mean of the seed-by-
+seed differences with its 95 % confidence interval (Student's t over the seeds): a digging
+cycle is chaotic (any change of step sends it along another trajectory), so one seed's
+difference mixes the step's systematic cost with that spread; the mean over seeds says
+which part is systematic, and a mean whose interval holds zero is a cost the bench cannot
+resolve.
 """
 import csv
 import statistics
@@ -31,6 +35,23 @@ def number(text):
 def median(values):
     values = [v for v in values if v is not None]
     return statistics.median(values) if values else None
+
+
+# Two-sided 95 % quantiles of Student's t by degrees of freedom (1..10); beyond, 2.2 down
+# to the normal 1.96 is close enough for a bench of a few seeds.
+T95 = [12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228]
+
+
+def paired_difference(diffs):
+    """Mean of seed-by-seed differences, the half-width of its 95 % confidence interval
+    (None below 2 seeds), and whether the interval excludes zero: a cost the bench resolves."""
+    mean = statistics.mean(diffs)
+    if len(diffs) < 2:
+        return mean, None, False
+    dof = len(diffs) - 1
+    t = T95[dof - 1] if dof <= len(T95) else 2.0
+    half_width = t * statistics.stdev(diffs) / len(diffs) ** 0.5
+    return mean, half_width, abs(mean) > half_width
 
 
 def show(value, digits=4):
@@ -82,8 +103,12 @@ def main(path):
                     if a is not None and v not in (None, 0.0):
                         diffs.append(100.0 * (a - v) / abs(v))
                 if diffs:
+                    mean, half_width, resolved = paired_difference(diffs)
+                    spread = "" if half_width is None else (
+                        f"; mean {mean:+.1f} % +- {half_width:.1f} % (95 %): "
+                        + ("resolved" if resolved else "within the trajectories' spread"))
                     print(f"  {preset} {label}: {statistics.median(diffs):+.1f} % median "
-                          f"({min(diffs):+.1f} .. {max(diffs):+.1f} %, {len(diffs)} seeds)")
+                          f"({min(diffs):+.1f} .. {max(diffs):+.1f} %, {len(diffs)} seeds){spread}")
     return 0
 
 
