@@ -116,16 +116,18 @@ DEMLINK_FORCE_INLINE Vec3 contactForce(const ContactPairParams& p, const Vec3& n
 /// EPSD rolling resistance: a constant torque mu_r R* F_n opposing the relative
 /// rolling velocity (the tangential part of omega_B - omega_A). The magnitude is
 /// limited so it can stop, but never reverse, the relative rolling within one
-/// step (reducedInertia = (1/I_A + 1/I_B)^-1). Returns the torque ON B.
+/// step (the reduced inertia I* = (1/I_A + 1/I_B)^-1; inverseInertiaSum = 1/I_A + 1/I_B,
+/// 1/I_A against a wall). Returns the torque ON B.
 DEMLINK_FORCE_INLINE Vec3 rollingResistanceTorque(double rollingFriction, double rStar, double normalForce, const Vec3& n,
-                                    const Vec3& omegaRel, double reducedInertia, double dt) {
+                                    const Vec3& omegaRel, double inverseInertiaSum, double dt) {
   const Vec3 rolling = omegaRel - omegaRel.dot(n) * n;
   const double speed2 = rolling.squaredNorm();
   if (speed2 <= 0.0) return Vec3::Zero();
   // |T| / speed = min(mu_r R* F_n / speed, I* / dt): one division after the square root
-  // (the two limits divided by the speed apart), and I* / dt off that chain.
+  // (the two limits divided by the speed apart), and I* / dt as one division off that
+  // chain (a contact's divisions bound this pass).
   const double inverseSpeed = 1.0 / std::sqrt(speed2);
-  const double stopping = reducedInertia / dt;
+  const double stopping = 1.0 / (inverseInertiaSum * dt);
   return -std::min(rollingFriction * rStar * normalForce * inverseSpeed, stopping) * rolling;
 }
 

@@ -224,10 +224,9 @@ DEMLINK_FORCE_INLINE void particleContactRowsBody(ParticleArrays& p, NeighbourLi
         const std::uint32_t k = touching[m];
         const std::uint32_t i = rows[k];
         const std::uint32_t j = partners[k];
-        const double reducedInertia = 1.0 / (p.inv_inertia[i] + p.inv_inertia[j]);
         rollingTorques[m] = rollingResistanceTorque(params.rolling_friction, reduced[k].radius, normalForces[m],
                                                     normals[m], p.angular_velocity[j] - p.angular_velocity[i],
-                                                    reducedInertia, dt);
+                                                    p.inv_inertia[i] + p.inv_inertia[j], dt);
       }
     }
     for (std::uint32_t m = 0; m < count; ++m) {
@@ -303,7 +302,7 @@ DEMLINK_FORCE_INLINE Vec3 particleWallContact(ParticleArrays& p, std::size_t slo
   if constexpr (kPasses.rolling) {
     if (params.rolling_friction > 0.0) {
       p.torque[slot] += rollingResistanceTorque(params.rolling_friction, rStar, normalForce, normal,
-                                                p.angular_velocity[slot], 1.0 / p.inv_inertia[slot], dt);
+                                                p.angular_velocity[slot], p.inv_inertia[slot], dt);
     }
   }
   return f;
